@@ -1,0 +1,150 @@
+//! The one error type of the library. Every variant names the element at fault (vertex, face,
+//! edge, scheme, parameter) so that the CLI can print one clear line.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong between reading a mesh and writing a result.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the operating system said.
+        source: std::io::Error,
+    },
+    /// The OBJ parser rejected the file.
+    #[error("{path}: malformed OBJ: {message}")]
+    MalformedObj {
+        /// The file.
+        path: PathBuf,
+        /// What the parser said.
+        message: String,
+    },
+    /// A face of the input is not a triangle and cannot be used as one.
+    #[error("face {face} has {corners} corners; only triangles are supported")]
+    NotATriangle {
+        /// Face index in the file.
+        face: usize,
+        /// Number of corners found.
+        corners: usize,
+    },
+    /// A face refers to a vertex that does not exist.
+    #[error("face {face} refers to vertex {vertex}, but the mesh has only {count} vertices")]
+    VertexIndexOutOfRange {
+        /// Face index.
+        face: usize,
+        /// The bad vertex index.
+        vertex: usize,
+        /// Number of vertices.
+        count: usize,
+    },
+    /// The mesh has no faces.
+    #[error("the mesh is empty (no faces)")]
+    EmptyMesh,
+    /// A vertex coordinate or normal is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite coordinate")]
+    NonFiniteVertex {
+        /// Vertex index (after welding).
+        vertex: usize,
+    },
+    /// A face has (numerically) zero area or a repeated corner.
+    #[error("face {face} is degenerate (zero area or repeated corner)")]
+    DegenerateFace {
+        /// Face index.
+        face: usize,
+    },
+    /// Two faces use the same three vertices.
+    #[error("face {face} repeats face {first} (same three vertices)")]
+    DuplicateFace {
+        /// The later face.
+        face: usize,
+        /// The earlier face it repeats.
+        first: usize,
+    },
+    /// More than two faces share an edge.
+    #[error("edge ({a}, {b}) is non-manifold: shared by {faces} faces")]
+    NonManifoldEdge {
+        /// First vertex of the edge.
+        a: usize,
+        /// Second vertex of the edge.
+        b: usize,
+        /// How many faces share it.
+        faces: usize,
+    },
+    /// The faces around a vertex do not form a single fan (a "bow-tie").
+    #[error("vertex {vertex} is non-manifold: its faces form {fans} separate fans")]
+    NonManifoldVertex {
+        /// Vertex index.
+        vertex: usize,
+        /// Number of fans found around it.
+        fans: usize,
+    },
+    /// The surface cannot be oriented consistently (e.g. a Möbius strip).
+    #[error("the mesh is not orientable: no consistent orientation across edge ({a}, {b})")]
+    NonOrientable {
+        /// First vertex of the edge.
+        a: usize,
+        /// Second vertex of the edge.
+        b: usize,
+    },
+    /// A scheme that needs a closed mesh was given one with a boundary.
+    #[error("scheme '{scheme}' needs a closed mesh, but edge ({a}, {b}) is a boundary edge")]
+    OpenMesh {
+        /// The scheme.
+        scheme: String,
+        /// First vertex of a boundary edge.
+        a: usize,
+        /// Second vertex of a boundary edge.
+        b: usize,
+    },
+    /// The OBJ has no usable per-vertex normals but they were asked for.
+    #[error("normals=obj asked for, but {reason}")]
+    MissingNormals {
+        /// Why the file's normals cannot be used.
+        reason: String,
+    },
+    /// The scheme name is not registered.
+    #[error("unknown scheme '{name}' (known: {known})")]
+    UnknownScheme {
+        /// The name given.
+        name: String,
+        /// The registered names, comma separated.
+        known: String,
+    },
+    /// A parameter name is not understood by the scheme.
+    #[error("scheme '{scheme}' has no parameter '{name}' (known: {known})")]
+    UnknownParam {
+        /// The scheme.
+        scheme: String,
+        /// The parameter name given.
+        name: String,
+        /// The parameters it knows, comma separated.
+        known: String,
+    },
+    /// A parameter value is malformed or out of range.
+    #[error("bad value for parameter '{name}': {reason}")]
+    BadParam {
+        /// The parameter name.
+        name: String,
+        /// Why the value is rejected.
+        reason: String,
+    },
+    /// A scene file or command-line option is invalid.
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// The library's result type.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// Wraps an I/O error with the file it concerns.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}

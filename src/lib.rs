@@ -1,0 +1,14 @@
+//! smoothlab: smooth surfaces from triangle meshes with the classical schemes of the
+//! literature, ray-traced exactly and measured.
+//!
+//! Data flow (see DESIGN.md): [`mesh::Mesh`] → [`schemes::build`] → [`surface::Surface`] →
+//! metrics, export, render.
+
+pub mod bezier;
+pub mod error;
+pub mod geom;
+pub mod mesh;
+pub mod schemes;
+pub mod surface;
+
+pub use error::{Error, Result};

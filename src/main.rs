@@ -1,0 +1,3 @@
+//! The smoothlab command line: argument parsing and printing only.
+
+fn main() {}

@@ -1,0 +1,164 @@
+//! The scheme registry: every surface construction is one module here and one entry in
+//! [`SCHEMES`]. `build` checks the parameter names, fills in defaults and refuses meshes a
+//! scheme cannot take (by name), so scheme code only sees valid input.
+
+pub mod hb;
+
+use crate::error::{Error, Result};
+use crate::mesh::{Mesh, NormalSource};
+use crate::surface::Surface;
+
+/// One parameter a scheme understands.
+#[derive(Clone, Copy, Debug)]
+pub struct ParamSpec {
+    /// Name used in `--param name=value` and `[scheme.params]`.
+    pub name: &'static str,
+    /// Default value, as text.
+    pub default: &'static str,
+    /// One line of help.
+    pub help: &'static str,
+}
+
+/// A registered scheme.
+#[derive(Clone, Copy, Debug)]
+pub struct SchemeSpec {
+    /// Name used on the command line, in scenes and in results.
+    pub name: &'static str,
+    /// One line describing it, with its paper.
+    pub summary: &'static str,
+    /// Parameters it accepts.
+    pub params: &'static [ParamSpec],
+    /// True if it refuses meshes with boundary edges.
+    pub needs_closed_mesh: bool,
+    /// The construction.
+    pub build: fn(&Mesh, &Params) -> Result<Surface>,
+}
+
+/// Every scheme, in the order the gallery and tables show them.
+pub const SCHEMES: &[SchemeSpec] = &[hb::SPEC];
+
+/// Looks a scheme up by name.
+pub fn find(name: &str) -> Result<&'static SchemeSpec> {
+    SCHEMES
+        .iter()
+        .find(|s| s.name == name)
+        .ok_or_else(|| Error::UnknownScheme {
+            name: name.to_string(),
+            known: names().join(", "),
+        })
+}
+
+/// Registered scheme names.
+pub fn names() -> Vec<&'static str> {
+    SCHEMES.iter().map(|s| s.name).collect()
+}
+
+/// Builds `scheme` on `mesh` with the user's `name=value` pairs (unknown names are an error,
+/// missing ones take their defaults).
+pub fn build(scheme: &str, mesh: &Mesh, user: &[(String, String)]) -> Result<Surface> {
+    let spec = find(scheme)?;
+    let params = Params::resolve(spec, user)?;
+    if spec.needs_closed_mesh
+        && let Some((a, b)) = mesh.first_boundary_edge()
+    {
+        return Err(Error::OpenMesh {
+            scheme: spec.name.to_string(),
+            a: a as usize,
+            b: b as usize,
+        });
+    }
+    (spec.build)(mesh, &params)
+}
+
+/// A scheme's parameters with defaults filled in.
+#[derive(Clone, Debug)]
+pub struct Params {
+    values: Vec<(String, String)>,
+}
+
+impl Params {
+    /// Checks `user` against `spec` and fills in defaults.
+    pub fn resolve(spec: &SchemeSpec, user: &[(String, String)]) -> Result<Params> {
+        let mut values: Vec<(String, String)> = spec
+            .params
+            .iter()
+            .map(|p| (p.name.to_string(), p.default.to_string()))
+            .collect();
+        for (name, value) in user {
+            let slot =
+                values
+                    .iter_mut()
+                    .find(|(n, _)| n == name)
+                    .ok_or_else(|| Error::UnknownParam {
+                        scheme: spec.name.to_string(),
+                        name: name.clone(),
+                        known: spec
+                            .params
+                            .iter()
+                            .map(|p| p.name)
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })?;
+            slot.1 = value.clone();
+        }
+        Ok(Params { values })
+    }
+
+    /// All values, defaults filled in, in the scheme's order.
+    pub fn values(&self) -> &[(String, String)] {
+        &self.values
+    }
+
+    /// The text value of `name` (which the scheme declared).
+    pub fn text(&self, name: &str) -> &str {
+        self.values
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_str())
+            .unwrap_or_else(|| panic!("scheme asked for undeclared parameter '{name}'"))
+    }
+
+    /// `name` as a finite number.
+    pub fn number(&self, name: &str) -> Result<f64> {
+        let text = self.text(name);
+        match text.trim().parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(Error::BadParam {
+                name: name.to_string(),
+                reason: format!("'{text}' is not a finite number"),
+            }),
+        }
+    }
+
+    /// `name` as one of `choices`.
+    pub fn choice<'a>(&self, name: &str, choices: &[&'a str]) -> Result<&'a str> {
+        let text = self.text(name);
+        choices
+            .iter()
+            .find(|c| **c == text)
+            .copied()
+            .ok_or_else(|| Error::BadParam {
+                name: name.to_string(),
+                reason: format!("'{text}' is not one of {}", choices.join(", ")),
+            })
+    }
+
+    /// The `normals` parameter shared by normal-based schemes.
+    pub fn normal_source(&self) -> Result<NormalSource> {
+        Ok(match self.choice("normals", &["estimate", "obj"])? {
+            "obj" => NormalSource::Obj,
+            _ => NormalSource::Estimate,
+        })
+    }
+}
+
+/// Parses `name=value` (the CLI's `--param`).
+pub fn parse_param(text: &str) -> Result<(String, String)> {
+    match text.split_once('=') {
+        Some((n, v)) if !n.trim().is_empty() => Ok((n.trim().to_string(), v.trim().to_string())),
+        _ => Err(Error::BadParam {
+            name: text.to_string(),
+            reason: "expected name=value".to_string(),
+        }),
+    }
+}

@@ -1,0 +1,285 @@
+//! The common output of every scheme: a [`Surface`] is a list of [`Patch`]es, each of which
+//! knows the mesh face it belongs to, which piece of that face it is, and which sub-triangle of
+//! the face's domain it covers.
+//!
+//! A patch is a map `S(u, v)` over the unit triangle `u, v ≥ 0, u + v ≤ 1`, read as the
+//! barycentric point `(1−u−v, u, v)` of the patch's own domain (so corner 0 is `(u,v) = (0,0)`,
+//! corner 1 is `(1,0)`, corner 2 is `(0,1)`). Its `domain` gives the face-barycentric
+//! coordinates of those three corners. From the domains alone the surface finds which patch
+//! edges meet ([`Surface::joints`]) and which patch corners sit on mesh vertices
+//! ([`Surface::vertex_corners`]); metrics, export and the renderer need nothing else.
+//!
+//! Patch kinds are a closed enum ([`PatchGeometry`]) so that hot loops dispatch statically.
+
+use std::collections::HashMap;
+
+use glam::{DVec2, DVec3};
+
+use crate::bezier::TriangleBezier;
+use crate::geom::{Aabb, Jet};
+
+/// The geometry of one patch. Polynomial patches are Bézier triangles; non-polynomial
+/// (blended) patch kinds are added as further variants.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PatchGeometry {
+    /// A triangular Bézier patch of any degree.
+    Bezier(TriangleBezier),
+}
+
+/// One piece of a surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Patch {
+    /// The mesh face this patch belongs to.
+    pub face: u32,
+    /// Which piece of the face it is (scheme-specific numbering, e.g. HB00: 0..3 = S¹, S², S³, Sᵐ).
+    pub piece: u8,
+    /// Face-barycentric coordinates (weights of `faces[face][0..3]`) of the patch corners 0, 1, 2.
+    pub domain: [DVec3; 3],
+    /// The map itself.
+    pub geometry: PatchGeometry,
+}
+
+impl Patch {
+    /// Point at `(u, v)`.
+    pub fn eval(&self, u: f64, v: f64) -> DVec3 {
+        match &self.geometry {
+            PatchGeometry::Bezier(b) => b.eval(DVec3::new(1.0 - u - v, u, v)),
+        }
+    }
+
+    /// Position and first and second derivatives at `(u, v)`.
+    pub fn jet(&self, u: f64, v: f64) -> Jet {
+        match &self.geometry {
+            PatchGeometry::Bezier(b) => b.jet(u, v),
+        }
+    }
+
+    /// A box that contains the image of the sub-triangle of the `(u, v)` domain with corners
+    /// `tri` (conservative: it may be larger than the image, never smaller).
+    pub fn bounds(&self, tri: [DVec2; 3]) -> Aabb {
+        match &self.geometry {
+            PatchGeometry::Bezier(b) => {
+                let bary = tri.map(|c| DVec3::new(1.0 - c.x - c.y, c.x, c.y));
+                b.subdivide(bary).control_bounds()
+            }
+        }
+    }
+
+    /// Bounds of the whole patch.
+    pub fn full_bounds(&self) -> Aabb {
+        match &self.geometry {
+            PatchGeometry::Bezier(b) => b.control_bounds(),
+        }
+    }
+
+    /// Polynomial degree, if the patch is polynomial.
+    pub fn degree(&self) -> Option<usize> {
+        match &self.geometry {
+            PatchGeometry::Bezier(b) => Some(b.degree()),
+        }
+    }
+
+    /// The Bézier form, if the patch is polynomial.
+    pub fn as_bezier(&self) -> Option<&TriangleBezier> {
+        match &self.geometry {
+            PatchGeometry::Bezier(b) => Some(b),
+        }
+    }
+}
+
+/// The corners of the unit `(u, v)` triangle, in corner order.
+pub const UV_CORNERS: [DVec2; 3] = [DVec2::ZERO, DVec2::X, DVec2::Y];
+
+/// The `(u, v)` point at fraction `s` along edge `edge` of a patch (edge e runs from corner e
+/// to corner (e+1) mod 3).
+pub fn edge_uv(edge: usize, s: f64) -> DVec2 {
+    let (a, b) = (UV_CORNERS[edge % 3], UV_CORNERS[(edge + 1) % 3]);
+    a + (b - a) * s
+}
+
+/// One edge of one patch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PatchEdge {
+    /// Patch index in [`Surface::patches`].
+    pub patch: u32,
+    /// Edge 0, 1 or 2 (from corner e to corner e+1).
+    pub edge: u8,
+}
+
+/// Two patch edges that cover the same curve of the domain.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Joint {
+    /// One side.
+    pub a: PatchEdge,
+    /// The other side.
+    pub b: PatchEdge,
+    /// True if `b` runs in the opposite direction (fraction s on `a` is 1 − s on `b`).
+    pub reversed: bool,
+    /// True if the two patches belong to different mesh faces.
+    pub between_faces: bool,
+}
+
+/// A patch corner that sits on a mesh vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VertexCorner {
+    /// The mesh vertex.
+    pub vertex: u32,
+    /// The patch.
+    pub patch: u32,
+    /// Its corner (0, 1, 2).
+    pub corner: u8,
+}
+
+/// The surface a scheme builds from a mesh.
+#[derive(Clone, Debug)]
+pub struct Surface {
+    /// Registered scheme name.
+    pub scheme: String,
+    /// The scheme's parameters with defaults filled in, as `name → value`.
+    pub params: Vec<(String, String)>,
+    /// The patches.
+    pub patches: Vec<Patch>,
+}
+
+/// A point of a mesh's domain, independent of the face it is written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum DomainKey {
+    Vertex(u32),
+    /// On edge (a, b) with a < b, at fraction t from a (quantised).
+    Edge(u32, u32, i64),
+    /// Inside a face, at quantised barycentric (b1, b2).
+    Interior(u32, i64, i64),
+}
+
+/// Domain coordinates are exact simple fractions (0, 1/2, 1/3, …); quantising them to 1e-9
+/// identifies equal points written in different faces without tolerance games.
+fn quantise(x: f64) -> i64 {
+    (x * 1e9).round() as i64
+}
+
+fn domain_key(face_vertices: [u32; 3], face: u32, bary: DVec3) -> DomainKey {
+    let w = bary.to_array();
+    let q = w.map(quantise);
+    let one = quantise(1.0);
+    if let Some(c) = (0..3).find(|&c| q[c] == one) {
+        return DomainKey::Vertex(face_vertices[c]);
+    }
+    if let Some(c) = (0..3).find(|&c| q[c] == 0) {
+        let (i, j) = ((c + 1) % 3, (c + 2) % 3);
+        let (va, vb) = (face_vertices[i], face_vertices[j]);
+        return if va < vb {
+            DomainKey::Edge(va, vb, q[j])
+        } else {
+            DomainKey::Edge(vb, va, q[i])
+        };
+    }
+    DomainKey::Interior(face, q[1], q[2])
+}
+
+impl Surface {
+    /// Bounding box of all patches (control-net bounds: contains the surface).
+    pub fn bounds(&self) -> Aabb {
+        self.patches
+            .iter()
+            .fold(Aabb::EMPTY, |b, p| b.union(p.full_bounds()))
+    }
+
+    /// Every pair of patch edges that cover the same domain curve, found from the patch
+    /// domains and the mesh faces. Patch edges with no partner (mesh boundary) are left out.
+    pub fn joints(&self, faces: &[[u32; 3]]) -> Vec<Joint> {
+        let mut open: HashMap<(DomainKey, DomainKey), PatchEdge> = HashMap::new();
+        let mut joints = Vec::new();
+        for (pi, patch) in self.patches.iter().enumerate() {
+            let fv = faces[patch.face as usize];
+            let keys = patch.domain.map(|b| domain_key(fv, patch.face, b));
+            for e in 0..3 {
+                let here = PatchEdge {
+                    patch: pi as u32,
+                    edge: e as u8,
+                };
+                let (k0, k1) = (keys[e], keys[(e + 1) % 3]);
+                if let Some(other) = open.remove(&(k1, k0)) {
+                    joints.push(self.joint(other, here, true));
+                } else if let Some(other) = open.remove(&(k0, k1)) {
+                    joints.push(self.joint(other, here, false));
+                } else {
+                    open.insert((k0, k1), here);
+                }
+            }
+        }
+        joints
+    }
+
+    fn joint(&self, a: PatchEdge, b: PatchEdge, reversed: bool) -> Joint {
+        Joint {
+            a,
+            b,
+            reversed,
+            between_faces: self.patches[a.patch as usize].face
+                != self.patches[b.patch as usize].face,
+        }
+    }
+
+    /// Every patch corner that lies on a mesh vertex.
+    pub fn vertex_corners(&self, faces: &[[u32; 3]]) -> Vec<VertexCorner> {
+        let mut out = Vec::new();
+        for (pi, patch) in self.patches.iter().enumerate() {
+            let fv = faces[patch.face as usize];
+            for (c, b) in patch.domain.iter().enumerate() {
+                if let DomainKey::Vertex(v) = domain_key(fv, patch.face, *b) {
+                    out.push(VertexCorner {
+                        vertex: v,
+                        patch: pi as u32,
+                        corner: c as u8,
+                    });
+                }
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flat_patch(face: u32, domain: [DVec3; 3]) -> Patch {
+        Patch {
+            face,
+            piece: 0,
+            domain,
+            geometry: PatchGeometry::Bezier(TriangleBezier::new(
+                1,
+                vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+            )),
+        }
+    }
+
+    /// Two faces (0,1,2) and (2,1,3) share edge (1,2), written in opposite directions; a
+    /// 2-split of face 0 at the midpoint of edge (1,2) gives a joint inside the face.
+    #[test]
+    fn joints_are_found_from_domains() {
+        let faces = [[0, 1, 2], [2, 1, 3]];
+        let (e0, e1, e2) = (DVec3::X, DVec3::Y, DVec3::Z);
+        let mid12 = DVec3::new(0.0, 0.5, 0.5);
+        let surface = Surface {
+            scheme: "test".into(),
+            params: vec![],
+            patches: vec![
+                flat_patch(0, [e0, e1, mid12]),
+                flat_patch(0, [e0, mid12, e2]),
+                flat_patch(1, [e0, e1, e2]),
+            ],
+        };
+        let joints = surface.joints(&faces);
+        // Inside face 0: edge (corner 2 → 0) of patch 0 with edge (0 → 1) of patch 1.
+        let inside: Vec<_> = joints.iter().filter(|j| !j.between_faces).collect();
+        assert_eq!(inside.len(), 1, "{joints:?}");
+        assert!(inside[0].reversed);
+        // Face 1 edge (2 → 1) is covered by two half edges of face 0: no full-edge partner, so
+        // the halves stay unmatched (schemes must split both sides alike).
+        assert_eq!(joints.len(), 1, "{joints:?}");
+        let corners = surface.vertex_corners(&faces);
+        assert_eq!(corners.len(), 2 + 1 + 3);
+    }
+}
