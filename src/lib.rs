@@ -8,6 +8,7 @@ pub mod bezier;
 pub mod error;
 pub mod geom;
 pub mod mesh;
+pub mod render;
 pub mod schemes;
 pub mod surface;
 

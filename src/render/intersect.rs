@@ -1,0 +1,447 @@
+//! Ray–patch intersection: BVH traversal in f32 with an f64 Newton solve per leaf.
+//!
+//! The ray `o + t d` is written as the intersection of two planes `n1·x = n1·o`,
+//! `n2·x = n2·o` with `n1, n2 ⟂ d`, so a hit is a root of the 2×2 system
+//! `F(u, v) = (n1·(S(u,v) − o), n2·(S(u,v) − o)) = 0` and `t = (S − o)·d` follows. Newton
+//! starts at the leaf's centroid; a root is accepted when it lies in the leaf's sub-triangle
+//! grown by [`NewtonSettings::domain_tolerance`] (so a ray through a seam between two leaves is
+//! found by at least one of them). When Newton neither converges nor leaves the leaf (singular
+//! Jacobian, oscillation), the leaf is split into four recursively and Newton retried from each
+//! child whose control-net box the ray enters: seams never leak rays.
+//!
+//! The traversal closure only finds `(t, patch, u, v)`; full geometry is evaluated once for the
+//! closest hit by the caller.
+
+use glam::{DVec2, DVec3, Vec3A};
+use obvhs::ray::{Ray, RayHit};
+
+use crate::geom::Aabb;
+use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion, barycentric_in, split4};
+use crate::render::modes::overlay::face_edge_mask;
+use crate::surface::{Patch, Surface};
+
+/// A ray in f64. `dir` has unit length, so `t` is a distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray64 {
+    /// Start point.
+    pub origin: DVec3,
+    /// Unit direction.
+    pub dir: DVec3,
+}
+
+impl Ray64 {
+    /// A ray from `origin` along `dir` (normalised here).
+    pub fn new(origin: DVec3, dir: DVec3) -> Ray64 {
+        Ray64 {
+            origin,
+            dir: dir.normalize(),
+        }
+    }
+
+    /// The point at distance `t`.
+    pub fn at(&self, t: f64) -> DVec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// The cheap result of the hit test: which patch, where in its domain, how far.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Distance along the ray.
+    pub t: f64,
+    /// Patch index in [`Surface::patches`].
+    pub patch: u32,
+    /// Patch parameter u (barycentric `(1−u−v, u, v)`).
+    pub u: f64,
+    /// Patch parameter v.
+    pub v: f64,
+}
+
+/// Tunables of the per-leaf Newton solve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonSettings {
+    /// Iteration cap of one Newton run; beyond it the run counts as a failure.
+    pub max_iterations: u32,
+    /// Residual (world units, relative to the scene size) at which a root is accepted.
+    pub residual_tolerance: f64,
+    /// How far (in leaf-local barycentric units) outside its sub-triangle a root is still
+    /// accepted, so that rays through seams are caught by both neighbours.
+    pub domain_tolerance: f64,
+    /// An iterate further than this (leaf-local barycentric units) outside the leaf means the
+    /// ray meets the surface elsewhere: the run stops without counting as a failure. Valid
+    /// because leaves are flat with a narrow normal cone, so the first Newton step is close to
+    /// the planar intersection.
+    pub escape_distance: f64,
+    /// Levels of 4-splitting tried after a failed run.
+    pub fallback_depth: u32,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        NewtonSettings {
+            max_iterations: 8,
+            residual_tolerance: 1e-12,
+            domain_tolerance: 1e-7,
+            escape_distance: 1.0,
+            fallback_depth: 4,
+        }
+    }
+}
+
+/// Counters of one worker, summed in a fixed order afterwards (integers: exact, deterministic).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct IntersectCounters {
+    /// Newton runs started from a leaf centroid.
+    pub newton_runs: u64,
+    /// Runs whose root was accepted inside their leaf.
+    pub roots_accepted: u64,
+    /// Sum of iterations of accepted runs.
+    pub accepted_iterations: u64,
+    /// Largest iteration count of an accepted run.
+    pub accepted_iterations_max: u32,
+    /// Runs from a leaf centroid that neither converged nor left the leaf (fallback invoked).
+    pub newton_failures: u64,
+    /// Roots found by the fallback subdivision.
+    pub fallback_roots: u64,
+}
+
+impl IntersectCounters {
+    /// Adds `other` into `self`.
+    pub fn add(&mut self, other: &IntersectCounters) {
+        self.newton_runs += other.newton_runs;
+        self.roots_accepted += other.roots_accepted;
+        self.accepted_iterations += other.accepted_iterations;
+        self.accepted_iterations_max = self
+            .accepted_iterations_max
+            .max(other.accepted_iterations_max);
+        self.newton_failures += other.newton_failures;
+        self.fallback_roots += other.fallback_roots;
+    }
+}
+
+/// A surface ready for ray queries: the patches and their BVH.
+pub struct Tracer<'s> {
+    /// The surface.
+    pub surface: &'s Surface,
+    /// Its BVH.
+    pub bvh: PatchBvh,
+    /// Newton tunables.
+    pub newton: NewtonSettings,
+    /// Scene size used to make tolerances relative.
+    pub scale: f64,
+    /// Bounding box of the surface.
+    pub bounds: Aabb,
+    /// Per patch, which edges lie on mesh-face edges (for the boundary overlay).
+    pub face_edges: Vec<u8>,
+}
+
+/// Outcome of one Newton run.
+enum Newton {
+    /// Converged to `(u, v)` after `iterations` steps.
+    Root(DVec2, u32),
+    /// The iterate left the leaf: the ray meets the surface elsewhere (or not at all).
+    Escaped,
+    /// Neither: singular Jacobian, non-finite values or the iteration cap.
+    Failed,
+}
+
+impl<'s> Tracer<'s> {
+    /// Builds the BVH of `surface` with `criterion`.
+    pub fn new(
+        surface: &'s Surface,
+        criterion: &SubdivisionCriterion,
+        newton: NewtonSettings,
+    ) -> crate::Result<Tracer<'s>> {
+        let bvh = PatchBvh::build(surface, criterion)?;
+        let bounds = surface.bounds();
+        let scale = bounds
+            .diagonal()
+            .max(bounds.min.abs().max_element())
+            .max(bounds.max.abs().max_element());
+        Ok(Tracer {
+            surface,
+            bvh,
+            newton,
+            scale,
+            bounds,
+            face_edges: surface.patches.iter().map(face_edge_mask).collect(),
+        })
+    }
+
+    /// The closest hit with `t ∈ (t_min, t_max)`, or None.
+    pub fn closest_hit(
+        &self,
+        ray: &Ray64,
+        t_min: f64,
+        t_max: f64,
+        counters: &mut IntersectCounters,
+    ) -> Option<Hit> {
+        let planes = RayPlanes::new(ray);
+        let traversal = Ray::new(
+            Vec3A::new(
+                ray.origin.x as f32,
+                ray.origin.y as f32,
+                ray.origin.z as f32,
+            ),
+            Vec3A::new(ray.dir.x as f32, ray.dir.y as f32, ray.dir.z as f32),
+            // The f32 bounds are widened by the padding so that rounding of t never culls a leaf.
+            (t_min - self.bvh.padding).max(0.0) as f32,
+            if t_max.is_finite() {
+                (t_max + self.bvh.padding) as f32
+            } else {
+                f32::INFINITY
+            },
+        );
+        let mut best: Option<Hit> = None;
+        let mut best_t = t_max;
+        let mut record = RayHit::none();
+        self.bvh.bvh.ray_traverse(traversal, &mut record, |_, id| {
+            let leaf = &self.bvh.leaves[id];
+            match self.intersect_leaf(leaf, ray, &planes, t_min, best_t, counters) {
+                Some(hit) => {
+                    best_t = hit.t;
+                    best = Some(hit);
+                    // Rounded up (plus padding) so that the f32 culling never drops a box
+                    // that may still hold a closer f64 hit.
+                    (hit.t + self.bvh.padding) as f32
+                }
+                None => f32::INFINITY,
+            }
+        });
+        best
+    }
+
+    /// The closest hit by testing every leaf (no BVH): the reference for tests.
+    pub fn closest_hit_brute_force(
+        &self,
+        ray: &Ray64,
+        t_min: f64,
+        t_max: f64,
+        counters: &mut IntersectCounters,
+    ) -> Option<Hit> {
+        let planes = RayPlanes::new(ray);
+        let mut best: Option<Hit> = None;
+        let mut best_t = t_max;
+        for leaf in &self.bvh.leaves {
+            if let Some(hit) = self.intersect_leaf(leaf, ray, &planes, t_min, best_t, counters) {
+                best_t = hit.t;
+                best = Some(hit);
+            }
+        }
+        best
+    }
+
+    /// The hit of `ray` with one leaf, if it lies in `(t_min, t_max)`.
+    pub fn intersect_leaf(
+        &self,
+        leaf: &Leaf,
+        ray: &Ray64,
+        planes: &RayPlanes,
+        t_min: f64,
+        t_max: f64,
+        counters: &mut IntersectCounters,
+    ) -> Option<Hit> {
+        let patch = &self.surface.patches[leaf.patch as usize];
+        counters.newton_runs += 1;
+        match self.newton(patch, leaf.tri, planes) {
+            Newton::Root(uv, iterations) => {
+                let hit = self.accept(leaf.patch, patch, leaf.tri, uv, ray, t_min, t_max)?;
+                counters.roots_accepted += 1;
+                counters.accepted_iterations += u64::from(iterations);
+                counters.accepted_iterations_max = counters.accepted_iterations_max.max(iterations);
+                Some(hit)
+            }
+            Newton::Escaped => None,
+            Newton::Failed => {
+                counters.newton_failures += 1;
+                let hit = self.fallback(
+                    leaf.patch,
+                    patch,
+                    leaf.tri,
+                    ray,
+                    planes,
+                    t_min,
+                    t_max,
+                    self.newton.fallback_depth,
+                );
+                if hit.is_some() {
+                    counters.fallback_roots += 1;
+                }
+                hit
+            }
+        }
+    }
+
+    /// Recursive 4-split of a leaf domain whose Newton run failed: each child the ray's box
+    /// test admits is retried from its own centroid. Only runs on failures, so the allocation in
+    /// [`Patch::bounds`] stays out of the common path.
+    #[allow(clippy::too_many_arguments)]
+    fn fallback(
+        &self,
+        patch_index: u32,
+        patch: &Patch,
+        tri: [DVec2; 3],
+        ray: &Ray64,
+        planes: &RayPlanes,
+        t_min: f64,
+        t_max: f64,
+        depth: u32,
+    ) -> Option<Hit> {
+        if depth == 0 {
+            return None;
+        }
+        let mut best: Option<Hit> = None;
+        let mut best_t = t_max;
+        for child in split4(tri) {
+            let bounds = patch.bounds(child);
+            if !ray_enters_box(ray, &bounds, self.bvh.padding, t_min, best_t) {
+                continue;
+            }
+            let found = match self.newton(patch, child, planes) {
+                Newton::Root(uv, _) => {
+                    self.accept(patch_index, patch, child, uv, ray, t_min, best_t)
+                }
+                Newton::Escaped => None,
+                Newton::Failed => self.fallback(
+                    patch_index,
+                    patch,
+                    child,
+                    ray,
+                    planes,
+                    t_min,
+                    best_t,
+                    depth - 1,
+                ),
+            };
+            if let Some(hit) = found {
+                best_t = hit.t;
+                best = Some(hit);
+            }
+        }
+        best
+    }
+
+    /// Newton on the two-plane system from the centroid of `tri`.
+    fn newton(&self, patch: &Patch, tri: [DVec2; 3], planes: &RayPlanes) -> Newton {
+        let settings = &self.newton;
+        let tolerance = settings.residual_tolerance * self.scale;
+        let mut uv = (tri[0] + tri[1] + tri[2]) / 3.0;
+        let mut iterations = 0;
+        loop {
+            let jet = patch.jet(uv.x, uv.y);
+            let f = planes.residual(jet.p);
+            if !f.is_finite() {
+                return Newton::Failed;
+            }
+            if f.length() <= tolerance {
+                return Newton::Root(uv, iterations);
+            }
+            if iterations == settings.max_iterations {
+                return Newton::Failed;
+            }
+            let ju = planes.project(jet.du);
+            let jv = planes.project(jet.dv);
+            let det = ju.perp_dot(jv);
+            if !(det.abs() > 0.0) || !det.is_finite() {
+                return Newton::Failed;
+            }
+            // Solve [ju jv] Δ = f by Cramer's rule.
+            let step = DVec2::new(f.perp_dot(jv), ju.perp_dot(f)) / det;
+            uv -= step;
+            iterations += 1;
+            let local = barycentric_in(tri, uv);
+            if local.min_element() < -settings.escape_distance {
+                return Newton::Escaped;
+            }
+        }
+    }
+
+    /// A converged root as a hit, if it lies in the sub-triangle `tri` grown by the domain
+    /// tolerance and its distance is in `(t_min, t_max)`.
+    #[allow(clippy::too_many_arguments)]
+    fn accept(
+        &self,
+        patch_index: u32,
+        patch: &Patch,
+        tri: [DVec2; 3],
+        uv: DVec2,
+        ray: &Ray64,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<Hit> {
+        if !in_grown_triangle(tri, uv, self.newton.domain_tolerance) {
+            return None;
+        }
+        let p = patch.eval(uv.x, uv.y);
+        let t = (p - ray.origin).dot(ray.dir);
+        if t > t_min && t < t_max {
+            Some(Hit {
+                t,
+                patch: patch_index,
+                u: uv.x,
+                v: uv.y,
+            })
+        } else {
+            None
+        }
+    }
+}
+
+/// The ray as two planes through it, for the 2×2 Newton system.
+#[derive(Clone, Copy, Debug)]
+pub struct RayPlanes {
+    n1: DVec3,
+    n2: DVec3,
+    d1: f64,
+    d2: f64,
+}
+
+impl RayPlanes {
+    /// The planes of `ray` (normals orthonormal and perpendicular to the direction).
+    pub fn new(ray: &Ray64) -> RayPlanes {
+        let (n1, n2) = ray.dir.any_orthonormal_pair();
+        RayPlanes {
+            n1,
+            n2,
+            d1: n1.dot(ray.origin),
+            d2: n2.dot(ray.origin),
+        }
+    }
+
+    /// Signed distances of `p` from the two planes (zero on the ray's line).
+    pub fn residual(&self, p: DVec3) -> DVec2 {
+        DVec2::new(self.n1.dot(p) - self.d1, self.n2.dot(p) - self.d2)
+    }
+
+    /// A tangent vector in plane coordinates.
+    pub fn project(&self, v: DVec3) -> DVec2 {
+        DVec2::new(self.n1.dot(v), self.n2.dot(v))
+    }
+}
+
+/// Slab test of an f64 ray against a box grown by `pad`, restricted to `(t_min, t_max)`.
+pub fn ray_enters_box(ray: &Ray64, b: &Aabb, pad: f64, t_min: f64, t_max: f64) -> bool {
+    let lo = b.min - DVec3::splat(pad);
+    let hi = b.max + DVec3::splat(pad);
+    let mut near = t_min - pad;
+    let mut far = t_max + pad;
+    for axis in 0..3 {
+        let o = ray.origin[axis];
+        let d = ray.dir[axis];
+        if d == 0.0 {
+            if o < lo[axis] || o > hi[axis] {
+                return false;
+            }
+            continue;
+        }
+        let (a, b) = ((lo[axis] - o) / d, (hi[axis] - o) / d);
+        near = near.max(a.min(b));
+        far = far.min(a.max(b));
+    }
+    near <= far
+}
+
+/// Where a leaf's root must lie: its sub-triangle grown by `tolerance` (leaf-local units).
+pub fn in_grown_triangle(tri: [DVec2; 3], uv: DVec2, tolerance: f64) -> bool {
+    barycentric_in(tri, uv).min_element() >= -tolerance
+}
