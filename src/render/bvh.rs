@@ -9,7 +9,7 @@
 
 use std::time::{Duration, Instant};
 
-use glam::{DVec2, DVec3, Vec3A};
+use glam::{DVec2, DVec3, Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::build_cwbvh;
@@ -52,24 +52,40 @@ impl Default for SubdivisionCriterion {
     }
 }
 
-/// One BVH primitive: a sub-triangle of one patch's `(u, v)` domain.
+/// One BVH primitive: a sub-triangle of one patch's `(u, v)` domain, with the surface points
+/// at its corners (they span the plane from which Newton starts).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Leaf {
     /// Patch index in [`Surface::patches`].
     pub patch: u32,
     /// Corners of the sub-triangle in the patch's `(u, v)` coordinates (counter-clockwise).
-    pub tri: [DVec2; 3],
+    /// Stored in f32: corners are dyadic fractions from repeated halving, exact in f32 up to
+    /// depth 23.
+    pub uv: [[f32; 2]; 3],
+    /// Surface points at the three corners (f32 is plenty for a start point).
+    pub corners: [Vec3; 3],
 }
 
 impl Leaf {
-    /// Centroid of the sub-triangle: where Newton starts.
-    pub fn centroid(&self) -> DVec2 {
-        (self.tri[0] + self.tri[1] + self.tri[2]) / 3.0
+    /// A leaf of `patch` over the sub-triangle `tri` whose sub-patch has corner points `corners`.
+    pub fn new(patch: u32, tri: [DVec2; 3], corners: [DVec3; 3]) -> Leaf {
+        Leaf {
+            patch,
+            uv: tri.map(|c| [c.x as f32, c.y as f32]),
+            corners: corners.map(|p| p.as_vec3()),
+        }
     }
 
-    /// Barycentric coordinates of `uv` with respect to the sub-triangle.
-    pub fn local_barycentric(&self, uv: DVec2) -> DVec3 {
-        barycentric_in(self.tri, uv)
+    /// Corners of the sub-triangle in `(u, v)`.
+    pub fn tri(&self) -> [DVec2; 3] {
+        self.uv
+            .map(|c| DVec2::new(f64::from(c[0]), f64::from(c[1])))
+    }
+
+    /// Centroid of the sub-triangle.
+    pub fn centroid(&self) -> DVec2 {
+        let t = self.tri();
+        (t[0] + t[1] + t[2]) / 3.0
     }
 }
 
@@ -189,10 +205,11 @@ impl PatchBvh {
             .map(|(pi, patch)| match patch.as_bezier() {
                 Some(net) => subdivide_patch(pi as u32, net, criterion),
                 None => vec![(
-                    Leaf {
-                        patch: pi as u32,
-                        tri: UV_CORNERS,
-                    },
+                    Leaf::new(
+                        pi as u32,
+                        UV_CORNERS,
+                        UV_CORNERS.map(|c| patch.eval(c.x, c.y)),
+                    ),
                     patch.full_bounds(),
                 )],
             })
@@ -244,7 +261,9 @@ fn subdivide_patch(
         let done = depth >= criterion.max_depth
             || (depth >= criterion.min_depth && is_leaf(&piece, criterion));
         if done {
-            out.push((Leaf { patch, tri }, piece.control_bounds()));
+            let d = piece.degree();
+            let corners = [piece.point(d, 0), piece.point(0, d), piece.point(0, 0)];
+            out.push((Leaf::new(patch, tri, corners), piece.control_bounds()));
             continue;
         }
         let child_tris = split4(tri);

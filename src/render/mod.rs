@@ -9,6 +9,7 @@
 pub mod bvh;
 pub mod camera;
 pub mod film;
+pub mod fixtures;
 pub mod intersect;
 pub mod modes;
 pub mod output;
