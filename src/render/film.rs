@@ -353,3 +353,102 @@ fn render_tile<T: SurfaceTracer>(
     }
     tile
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::bvh::SubdivisionCriterion;
+    use crate::render::fixtures::octahedron_sphere;
+    use crate::render::intersect::{NewtonSettings, Tracer};
+    use crate::render::modes::ZebraParams;
+
+    fn small_settings(mode: Mode) -> RenderSettings {
+        RenderSettings {
+            width: 48,
+            height: 40,
+            spp: 4,
+            mode,
+            progress: false,
+            ..RenderSettings::default()
+        }
+    }
+
+    #[test]
+    fn image_is_identical_for_any_thread_count() {
+        let surface = octahedron_sphere(3, 1.0, 0);
+        let tracer = Tracer::new(
+            &surface,
+            &SubdivisionCriterion::default(),
+            NewtonSettings::default(),
+        )
+        .expect("tracer");
+        let camera = Camera::frame(&surface.bounds(), Camera::DEFAULT_VIEW, 35.0, 48.0 / 40.0)
+            .expect("camera");
+        let settings = small_settings(Mode::Zebra(ZebraParams::default()));
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("thread pool")
+                .install(|| render(&tracer, &camera, &settings).expect("render"))
+        };
+        let (one, stats_one) = run(1);
+        let (two, stats_two) = run(2);
+        assert_eq!(one, two, "frames differ between 1 and 2 threads");
+        assert_eq!(stats_one.rays, stats_two.rays);
+        assert_eq!(stats_one.newton_runs, stats_two.newton_runs);
+        assert!(stats_one.hits > 0 && stats_one.misses > 0, "{stats_one:?}");
+    }
+
+    /// The geometry record of a pixel is the exact surface point on the pixel-centre ray, and
+    /// its normal is the patch normal evaluated there.
+    #[test]
+    fn pixel_geometry_lies_on_ray_and_patch() {
+        let surface = octahedron_sphere(4, 2.0, 1);
+        let tracer = Tracer::new(
+            &surface,
+            &SubdivisionCriterion::default(),
+            NewtonSettings::default(),
+        )
+        .expect("tracer");
+        let (w, h) = (40u32, 30u32);
+        let camera = Camera::frame(
+            &surface.bounds(),
+            Camera::DEFAULT_VIEW,
+            40.0,
+            f64::from(w) / f64::from(h),
+        )
+        .expect("camera");
+        let mut settings = small_settings(Mode::Normals);
+        (settings.width, settings.height, settings.spp) = (w, h, 1);
+        let (frame, _) = render(&tracer, &camera, &settings).expect("render");
+        let diag = surface.bounds().diagonal();
+        let mut checked = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let Some(g) = frame.geometry[(y * w + x) as usize] else {
+                    continue;
+                };
+                let ray = camera.ray(
+                    2.0 * (f64::from(x) + 0.5) / f64::from(w) - 1.0,
+                    1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(h),
+                    f64::from(w) / f64::from(h),
+                );
+                let patch = &surface.patches[g.hit.patch as usize];
+                assert!(
+                    (g.position - ray.at(g.hit.t)).length() <= 1e-12 * diag,
+                    "pixel ({x},{y}) off its ray"
+                );
+                assert!(
+                    (g.position - patch.eval(g.hit.u, g.hit.v)).length() <= 1e-15 * diag,
+                    "pixel ({x},{y}) off its patch"
+                );
+                let n = patch.jet(g.hit.u, g.hit.v).normal();
+                assert!(g.normal.angle_between(n) <= 1e-9, "pixel ({x},{y}) normal");
+                assert_eq!(g.face, patch.face);
+                checked += 1;
+            }
+        }
+        assert!(checked > 100, "only {checked} pixels hit");
+    }
+}

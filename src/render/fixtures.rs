@@ -15,7 +15,11 @@ pub fn octahedron_faces() -> Vec<[DVec3; 3]> {
         for sy in [1.0, -1.0] {
             for sz in [1.0, -1.0] {
                 let (a, b, c) = (DVec3::X * sx, DVec3::Y * sy, DVec3::Z * sz);
-                faces.push(if sx * sy * sz > 0.0 { [a, b, c] } else { [a, c, b] });
+                faces.push(if sx * sy * sz > 0.0 {
+                    [a, b, c]
+                } else {
+                    [a, c, b]
+                });
             }
         }
     }

@@ -8,14 +8,18 @@
 
 pub mod bvh;
 pub mod camera;
+pub mod cli;
 pub mod film;
 pub mod fixtures;
 pub mod intersect;
+pub mod job;
 pub mod modes;
 pub mod output;
 pub mod sampler;
+pub mod scene;
 pub mod shaded;
 pub mod stats;
+pub mod tessellate;
 pub mod trace;
 
 pub use camera::{Camera, Projection};
