@@ -134,11 +134,10 @@ pub(super) fn parse(text: &str, origin: &Path) -> Result<(Mesh, LoadReport)> {
         ..Default::default()
     };
     // Materials were dropped with their statements, so the loader is never asked for one.
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut scan.geometry.as_bytes(), &options, |_| {
-            Ok(Default::default())
-        })
-        .map_err(|e| malformed(origin, e.to_string()))?;
+    let (models, _materials) = tobj::load_obj_buf(&mut scan.geometry.as_bytes(), &options, |_| {
+        Ok(Default::default())
+    })
+    .map_err(|e| malformed(origin, e.to_string()))?;
 
     let mut positions: Vec<DVec3> = Vec::new();
     let mut corners: Vec<u32> = Vec::new();
@@ -207,10 +206,9 @@ pub(super) fn parse(text: &str, origin: &Path) -> Result<(Mesh, LoadReport)> {
             .push(format!("dropped {unused} vertices used by no face"));
     }
     if scan.polylines > 0 {
-        report.warnings.push(format!(
-            "ignored {} polyline (l) records",
-            scan.polylines
-        ));
+        report
+            .warnings
+            .push(format!("ignored {} polyline (l) records", scan.polylines));
     }
     Ok((mesh, report))
 }

@@ -90,9 +90,10 @@ pub(super) fn assemble(
     let (twin, same_direction) = link_half_edges(&faces, &names)?;
     // The file's normals are matched to vertices before any face is flipped, while faces
     // still list their corners in file order.
-    let obj_normals = normals::per_vertex_from_corners(corner_normals, &faces, positions.len(), &|v| {
-        names.welded(v)
-    });
+    let obj_normals =
+        normals::per_vertex_from_corners(corner_normals, &faces, positions.len(), &|v| {
+            names.welded(v)
+        });
     let flipped = orientation_flips(&faces, &twin, &same_direction, &names)?;
     let twin = apply_flips(&mut faces, twin, &flipped);
     let reoriented: Vec<usize> = (0..faces.len()).filter(|&f| flipped[f]).collect();
@@ -316,7 +317,11 @@ fn apply_flips(faces: &mut [[u32; 3]], twin: Vec<u32>, flipped: &[bool]) -> Vec<
     }
     let renumber = |he: u32| -> u32 {
         let (f, e) = (he / 3, he % 3);
-        if flipped[f as usize] { 3 * f + (2 - e) } else { he }
+        if flipped[f as usize] {
+            3 * f + (2 - e)
+        } else {
+            he
+        }
     };
     for (face, &flip) in faces.iter_mut().zip(flipped) {
         if flip {
@@ -330,4 +335,281 @@ fn apply_flips(faces: &mut [[u32; 3]], twin: Vec<u32>, flipped: &[bool]) -> Vec<
         }
     }
     renumbered
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Instant;
+
+    use glam::DVec3;
+
+    use crate::error::Error;
+    use crate::mesh::generate::{self, analytic, bad};
+    use crate::mesh::{LoadReport, Mesh};
+
+    fn load((positions, faces): (Vec<DVec3>, Vec<[u32; 3]>)) -> crate::Result<(Mesh, LoadReport)> {
+        Mesh::from_triangles(positions, faces)
+    }
+
+    #[test]
+    fn clean_input_keeps_its_numbering_and_reports_nothing() {
+        let (positions, faces) = generate::icosahedron();
+        let (mesh, report) = load((positions.clone(), faces.clone())).unwrap();
+        assert_eq!(mesh.positions(), &positions[..]);
+        assert_eq!(mesh.faces(), &faces[..]);
+        assert_eq!(report, LoadReport::default());
+    }
+
+    #[test]
+    fn empty_mesh_is_rejected() {
+        let error = load((vec![DVec3::ZERO], vec![])).unwrap_err();
+        assert!(matches!(error, Error::EmptyMesh), "{error}");
+    }
+
+    #[test]
+    fn out_of_range_vertex_names_face_and_index() {
+        let (positions, mut faces) = generate::tetrahedron();
+        faces[2][1] = 9;
+        let error = load((positions, faces)).unwrap_err();
+        assert!(
+            matches!(
+                error,
+                Error::VertexIndexOutOfRange {
+                    face: 2,
+                    vertex: 9,
+                    count: 4
+                }
+            ),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn non_finite_coordinates_name_the_vertex() {
+        for bad_value in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let (mut positions, faces) = generate::octahedron();
+            positions[4].y = bad_value;
+            let error = load((positions, faces)).unwrap_err();
+            assert!(
+                matches!(error, Error::NonFiniteVertex { vertex: 4 }),
+                "{bad_value}: {error}"
+            );
+        }
+    }
+
+    #[test]
+    fn repeated_corner_is_degenerate() {
+        let (positions, mut faces) = generate::tetrahedron();
+        faces[3] = [faces[3][0], faces[3][1], faces[3][0]];
+        let error = load((positions, faces)).unwrap_err();
+        assert!(
+            matches!(error, Error::DegenerateFace { face: 3 }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn corners_that_weld_together_make_a_degenerate_face() {
+        // Vertex 3 is a copy of vertex 0, so face 1 has a repeated corner after welding.
+        let positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::ZERO];
+        let error = load((positions, vec![[0, 1, 2], [3, 2, 0]])).unwrap_err();
+        assert!(
+            matches!(error, Error::DegenerateFace { face: 1 }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn collinear_face_is_degenerate() {
+        let error = load(bad::collinear_face()).unwrap_err();
+        assert!(
+            matches!(error, Error::DegenerateFace { face: 1 }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn degenerate_threshold_is_relative_to_the_longest_edge() {
+        // |cross| / longest² is 2e-14 and 0.5e-14: just above and just below the threshold,
+        // at a scale (1e6) where an absolute threshold would misjudge both.
+        let scale = 1e6;
+        for (height, degenerate) in [(2e-14, false), (0.5e-14, true)] {
+            let positions = vec![
+                DVec3::ZERO,
+                DVec3::X * scale,
+                DVec3::new(0.5, height, 0.0) * scale,
+            ];
+            let result = load((positions, vec![[0, 1, 2]]));
+            assert_eq!(
+                matches!(result, Err(Error::DegenerateFace { face: 0 })),
+                degenerate,
+                "height {height}"
+            );
+        }
+    }
+
+    #[test]
+    fn duplicate_face_names_both_faces() {
+        let error = load(bad::tetrahedron_with_duplicate_face()).unwrap_err();
+        assert!(
+            matches!(error, Error::DuplicateFace { face: 4, first: 0 }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn three_faces_on_an_edge_are_non_manifold() {
+        let error = load(bad::book()).unwrap_err();
+        assert!(
+            matches!(
+                error,
+                Error::NonManifoldEdge {
+                    a: 0,
+                    b: 1,
+                    faces: 3
+                }
+            ),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn bow_tie_is_a_non_manifold_vertex() {
+        let error = load(bad::bow_tie()).unwrap_err();
+        assert!(
+            matches!(error, Error::NonManifoldVertex { vertex: 0, fans: 2 }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn two_closed_fans_at_one_vertex_are_non_manifold() {
+        // Two tetrahedra touching at one vertex (input vertex 0 of both).
+        let (positions, faces) = generate::tetrahedron();
+        let mut all_positions = positions.clone();
+        all_positions.extend(positions[1..].iter().map(|&p| 2.0 * positions[0] - p));
+        let mut all_faces = faces.clone();
+        all_faces.extend(
+            faces
+                .iter()
+                .map(|f| f.map(|v| if v == 0 { 0 } else { v + 3 })),
+        );
+        let error = load((all_positions, all_faces)).unwrap_err();
+        assert!(
+            matches!(error, Error::NonManifoldVertex { vertex: 0, fans: 2 }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn errors_name_vertices_by_input_index_after_dropping_and_welding() {
+        // The bow-tie behind an unused vertex and a welded copy of its centre: the centre is
+        // input vertex 1 (its copy, input 7, is welded into it).
+        let (positions, faces) = bad::bow_tie();
+        let mut shifted = vec![DVec3::splat(9.0)];
+        shifted.extend(&positions);
+        shifted.extend([DVec3::splat(8.0), positions[0]]);
+        let faces = vec![[1, 2, 5], [7, 3, 4]];
+        let error = load((shifted, faces)).unwrap_err();
+        assert!(
+            matches!(error, Error::NonManifoldVertex { vertex: 1, fans: 2 }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn mobius_strip_is_not_orientable() {
+        for segments in [3, 8, 15] {
+            let error = load(bad::mobius_strip(segments)).unwrap_err();
+            assert!(matches!(error, Error::NonOrientable { .. }), "{error}");
+        }
+    }
+
+    #[test]
+    fn flipped_face_is_reoriented_with_a_warning() {
+        let (mesh, report) = load(bad::octahedron_with_flipped_face()).unwrap();
+        assert_eq!(report.reoriented_faces, 1);
+        assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
+        assert!(
+            report.warnings[0].contains("face 3"),
+            "{:?}",
+            report.warnings
+        );
+        assert_eq!(mesh.faces(), &generate::octahedron().1[..]);
+    }
+
+    #[test]
+    fn orientation_follows_the_first_face_of_each_component() {
+        // Component 1: an octahedron whose face 0 is flipped, so the other seven flip to agree.
+        // Component 2: a shifted tetrahedron with one flipped face.
+        let (mut positions, mut faces) = generate::octahedron();
+        faces[0].swap(1, 2);
+        let (tetra_positions, tetra_faces) = generate::tetrahedron();
+        let base = positions.len() as u32;
+        positions.extend(tetra_positions.iter().map(|&p| p + DVec3::X * 5.0));
+        faces.extend(tetra_faces.iter().map(|f| f.map(|v| v + base)));
+        let last = faces.len() - 1;
+        faces[last].swap(1, 2);
+        let expected_first = faces[0];
+        let (mesh, report) = load((positions, faces)).unwrap();
+        assert_eq!(report.reoriented_faces, 8);
+        assert_eq!(mesh.faces()[0], expected_first);
+        assert_eq!(mesh.faces()[last], tetra_faces[3].map(|v| v + base));
+        // The octahedron is now inside out, consistently: every face normal points inwards.
+        for face in &mesh.faces()[..8] {
+            let [a, b, c] = face.map(|v| mesh.positions()[v as usize]);
+            assert!((b - a).cross(c - a).dot(a + b + c) < 0.0);
+        }
+    }
+
+    #[test]
+    fn welding_merges_identical_positions_and_drops_unused_vertices() {
+        let (mesh, report) = load(bad::octahedron_with_duplicate_vertices()).unwrap();
+        assert_eq!(report.welded, 2);
+        assert_eq!(
+            report.warnings,
+            vec!["dropped 1 vertices used by no face".to_string()]
+        );
+        let (positions, faces) = generate::octahedron();
+        assert_eq!(mesh.positions(), &positions[..]);
+        assert_eq!(mesh.faces(), &faces[..]);
+    }
+
+    #[test]
+    fn welding_is_by_bit_pattern_so_negative_zero_stays_apart() {
+        // A square as two triangles, the second written with copies of the diagonal's ends.
+        // With an exact copy of the origin both copies weld and the square loads; with -0.0
+        // the triangles share only the corner (1, 1, 0), which makes it a bow-tie.
+        let square = |origin_copy: DVec3| {
+            let positions = vec![
+                DVec3::ZERO,
+                DVec3::X,
+                DVec3::new(1.0, 1.0, 0.0),
+                origin_copy,
+                DVec3::new(1.0, 1.0, 0.0),
+                DVec3::Y,
+            ];
+            load((positions, vec![[0, 1, 2], [3, 4, 5]]))
+        };
+        let (mesh, report) = square(DVec3::ZERO).unwrap();
+        assert_eq!(report.welded, 2);
+        assert_eq!(mesh.vertex_count(), 4);
+        let error = square(DVec3::new(-0.0, 0.0, 0.0)).unwrap_err();
+        assert!(
+            matches!(error, Error::NonManifoldVertex { vertex: 2, fans: 2 }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn hundred_thousand_faces_load_well_under_a_second() {
+        let sampled = analytic::torus(250, 200, 1.0, 0.3);
+        assert_eq!(sampled.faces.len(), 100_000);
+        let start = Instant::now();
+        let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).unwrap();
+        let seconds = start.elapsed().as_secs_f64();
+        assert_eq!(mesh.euler_characteristic(), 0);
+        println!("100 000 faces loaded in {seconds:.3} s");
+        assert!(seconds < 0.5, "construction took {seconds:.3} s");
+    }
 }

@@ -81,12 +81,7 @@ pub fn tetrahedron_with_duplicate_face() -> Triangles {
 
 /// Two faces, the second with its three corners on the x axis: `DegenerateFace` 1.
 pub fn collinear_face() -> Triangles {
-    let positions = vec![
-        DVec3::ZERO,
-        DVec3::X,
-        DVec3::Y,
-        DVec3::new(0.5, 0.0, 0.0),
-    ];
+    let positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(0.5, 0.0, 0.0)];
     (positions, vec![[0, 1, 2], [0, 3, 1]])
 }
 

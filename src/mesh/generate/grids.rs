@@ -65,8 +65,12 @@ pub fn genus2() -> Triangles {
             if is_hole(i, j) {
                 continue;
             }
-            let (p00, p10, p11, p01) =
-                (grid(i, j), grid(i + 1, j), grid(i + 1, j + 1), grid(i, j + 1));
+            let (p00, p10, p11, p01) = (
+                grid(i, j),
+                grid(i + 1, j),
+                grid(i + 1, j + 1),
+                grid(i, j + 1),
+            );
             if on_rim(i, j) && on_rim(i + 1, j + 1) {
                 top_faces.extend([[p00, p10, p01], [p10, p11, p01]]);
             } else {
@@ -114,4 +118,3 @@ pub fn disk(rings: u32) -> Triangles {
     }
     (positions, faces)
 }
-

@@ -62,8 +62,16 @@ fn outward(face: [u32; 3], positions: &[DVec3]) -> [u32; 3] {
 
 /// Regular tetrahedron inscribed in the unit sphere.
 pub fn tetrahedron() -> Triangles {
-    let corners = [(1.0, 1.0, 1.0), (1.0, -1.0, -1.0), (-1.0, 1.0, -1.0), (-1.0, -1.0, 1.0)];
-    let raw: Vec<DVec3> = corners.iter().map(|&(x, y, z)| DVec3::new(x, y, z)).collect();
+    let corners = [
+        (1.0, 1.0, 1.0),
+        (1.0, -1.0, -1.0),
+        (-1.0, 1.0, -1.0),
+        (-1.0, -1.0, 1.0),
+    ];
+    let raw: Vec<DVec3> = corners
+        .iter()
+        .map(|&(x, y, z)| DVec3::new(x, y, z))
+        .collect();
     let faces = equilateral_hull(&raw, 8f64.sqrt());
     (raw.iter().map(|p| p.normalize()).collect(), faces)
 }
@@ -219,4 +227,3 @@ pub fn mixed_valence() -> Triangles {
         ],
     )
 }
-

@@ -93,4 +93,3 @@ impl SceneMesh {
         Ok(mesh.to_obj(&header))
     }
 }
-
