@@ -235,3 +235,6 @@ pub fn max_corner_mismatch(mesh: &Mesh, params: &Params) -> Result<f64> {
         .map(|(to_y, to_z)| macro_patch::corner_mismatch(&to_y, &to_z))
         .fold(0.0, f64::max))
 }
+
+#[cfg(test)]
+mod tests;
