@@ -99,9 +99,14 @@ pub struct IntersectCounters {
     pub accepted_iterations: u64,
     /// Largest iteration count of an accepted run.
     pub accepted_iterations_max: u32,
-    /// Runs from a leaf centroid that neither converged nor left the leaf (fallback invoked).
+    /// Runs that neither converged nor left the leaf (the fallback subdivision then searched
+    /// the leaf). Most are rays that miss the leaf while Newton wanders in the polynomial's
+    /// extension near it.
+    pub newton_unconverged: u64,
+    /// Real Newton failures: unconverged runs where the fallback then found a root in the leaf
+    /// (Newton missed a hit that exists).
     pub newton_failures: u64,
-    /// Roots found by the fallback subdivision.
+    /// Roots found by the fallback subdivision (one per real failure).
     pub fallback_roots: u64,
 }
 
@@ -114,6 +119,7 @@ impl IntersectCounters {
         self.accepted_iterations_max = self
             .accepted_iterations_max
             .max(other.accepted_iterations_max);
+        self.newton_unconverged += other.newton_unconverged;
         self.newton_failures += other.newton_failures;
         self.fallback_roots += other.fallback_roots;
     }
@@ -241,7 +247,7 @@ impl<'s> Tracer<'s> {
     ) -> Option<Hit> {
         let patch = &self.surface.patches[leaf.patch as usize];
         let tri = leaf.tri();
-        let start = match planar_start(leaf, tri, ray, self.newton.escape_distance) {
+        let start = match planar_start(leaf, tri, ray, START_REJECTION) {
             Start::Outside => return None,
             Start::At(uv) => uv,
             Start::Grazing => leaf.centroid(),
@@ -257,7 +263,7 @@ impl<'s> Tracer<'s> {
             }
             Newton::Escaped => None,
             Newton::Failed => {
-                counters.newton_failures += 1;
+                counters.newton_unconverged += 1;
                 let hit = self.fallback(
                     leaf.patch,
                     patch,
@@ -269,6 +275,7 @@ impl<'s> Tracer<'s> {
                     self.newton.fallback_depth,
                 );
                 if hit.is_some() {
+                    counters.newton_failures += 1;
                     counters.fallback_roots += 1;
                 }
                 hit
@@ -408,8 +415,8 @@ enum Start {
 /// The start point of Newton in `leaf` (see [`Start`]). The leaf is flat to a few percent of
 /// its size with a narrow normal cone, so the planar intersection is within that flatness of
 /// the true root, one Newton step closer than the centroid; the early rejection needs a margin
-/// of at least flatness / tan(angle to the plane), which `escape` (about one leaf size) covers
-/// for every ray steeper than the grazing limit.
+/// of at least flatness / tan(angle to the plane), which `escape` covers for every ray steeper
+/// than the grazing limit ([`START_REJECTION`]).
 fn planar_start(leaf: &Leaf, tri: [DVec2; 3], ray: &Ray64, escape: f64) -> Start {
     let [a, b, c] = leaf.corners.map(|p| p.as_dvec3());
     let (e1, e2) = (b - a, c - a);
@@ -433,8 +440,14 @@ fn planar_start(leaf: &Leaf, tri: [DVec2; 3], ray: &Ray64, escape: f64) -> Start
     Start::At(tri[0] * b0 + tri[1] * b1 + tri[2] * b2)
 }
 
-/// Cosine of the angle between ray and corner-plane normal below which a ray counts as grazing.
-const GRAZING_COS: f64 = 0.1;
+/// Cosine of the angle between ray and corner-plane normal below which a ray counts as grazing
+/// (about 11.5° from the plane).
+const GRAZING_COS: f64 = 0.2;
+
+/// How far (leaf-local barycentric units) outside its leaf a ray may meet the corner plane and
+/// still be tried. A root in the leaf lies within flatness / tan(angle to plane) ≤ 0.05 / 0.2 =
+/// 0.25 leaf sizes of the plane point for the default criterion, so 0.5 leaves a factor two.
+const START_REJECTION: f64 = 0.5;
 
 /// The ray as two planes through it, for the 2×2 Newton system.
 #[derive(Clone, Copy, Debug)]

@@ -11,6 +11,7 @@ pub mod camera;
 pub mod cli;
 pub mod film;
 pub mod fixtures;
+pub mod gallery;
 pub mod intersect;
 pub mod job;
 pub mod modes;

@@ -19,7 +19,7 @@ pub struct RenderStats {
     pub newton_iter_mean: f64,
     /// Largest Newton iteration count of an accepted root.
     pub newton_iter_max: u32,
-    /// Newton runs that neither converged nor left their leaf (fallback subdivision invoked).
+    /// Newton runs that missed a root the fallback subdivision then found in their leaf.
     pub newton_failures: u64,
     /// Leaf subdivision plus BVH build, milliseconds.
     pub bvh_build_ms: f64,
@@ -33,6 +33,9 @@ pub struct RenderStats {
     pub newton_runs: u64,
     /// Roots found by the fallback subdivision after a failed Newton run.
     pub fallback_roots: u64,
+    /// Newton runs that neither converged nor left their leaf (the fallback searched the leaf;
+    /// most find nothing: the ray misses that leaf).
+    pub newton_unconverged: u64,
     /// Number of patches.
     pub patches: u64,
     /// Half-range of the curvature colour map, when in curvature mode.
@@ -52,6 +55,7 @@ impl RenderStats {
         self.newton_failures = c.newton_failures;
         self.newton_runs = c.newton_runs;
         self.fallback_roots = c.fallback_roots;
+        self.newton_unconverged = c.newton_unconverged;
     }
 
     /// Writes the statistics as pretty JSON to `path`.

@@ -32,7 +32,10 @@ fn continuity(mesh: &Mesh, surface: &Surface) -> Continuity {
         for step in 0..=32 {
             let s = step as f64 / 32.0;
             let sb = if j.reversed { 1.0 - s } else { s };
-            let (ua, ub) = (edge_uv(j.a.edge as usize, s), edge_uv(j.b.edge as usize, sb));
+            let (ua, ub) = (
+                edge_uv(j.a.edge as usize, s),
+                edge_uv(j.b.edge as usize, sb),
+            );
             let (ja, jb) = (pa.jet(ua.x, ua.y), pb.jet(ub.x, ub.y));
             c.gap = c.gap.max((ja.p - jb.p).length() / diag);
             let (na, nb) = (ja.normal(), jb.normal());
