@@ -79,31 +79,52 @@ impl Camera {
         })
     }
 
-    /// A perspective camera that sees all of `bounds` (its bounding sphere) from direction
-    /// `from` (eye = centre + distance · from), with vertical field of view `fov_deg` and image
-    /// aspect `aspect` (width / height).
+    /// A perspective camera looking at the centre of `bounds` from direction `from`
+    /// (eye = centre + distance · from), with vertical field of view `fov_deg` and image aspect
+    /// `aspect` (width / height), as close as possible while all eight box corners stay in view
+    /// with a 5 % margin.
     pub fn frame(bounds: &Aabb, from: DVec3, fov_deg: f64, aspect: f64) -> Result<Camera> {
+        if bounds.is_empty() || !bounds.min.is_finite() || !bounds.max.is_finite() {
+            return Err(Error::Invalid(
+                "cannot frame an empty or non-finite box".into(),
+            ));
+        }
+        if !(fov_deg > 0.0 && fov_deg < 180.0) || !(aspect > 0.0 && aspect.is_finite()) {
+            return Err(Error::Invalid(format!(
+                "cannot frame with field of view {fov_deg}° and aspect {aspect}"
+            )));
+        }
         let center = bounds.center();
-        let radius = 0.5 * bounds.diagonal().max(1e-300);
-        let half = 0.5 * fov_deg.to_radians();
-        // The narrower of the two half-angles decides; 5 % margin keeps silhouettes off the edge.
-        let narrow = if aspect < 1.0 {
-            (half.tan() * aspect).atan()
-        } else {
-            half
-        };
-        let distance = 1.05 * radius / narrow.sin();
-        let dir = from.normalize_or_zero();
-        if dir == DVec3::ZERO {
+        let back = from.normalize_or_zero();
+        if back == DVec3::ZERO {
             return Err(Error::Invalid("framing direction must be non-zero".into()));
         }
-        let up = if dir.cross(DVec3::Y).length() > 1e-6 {
+        let up = if back.cross(DVec3::Y).length() > 1e-6 {
             DVec3::Y
         } else {
             DVec3::Z
         };
+        let right = up.cross(back).normalize();
+        let true_up = back.cross(right);
+        let tan_v = (0.5 * fov_deg.to_radians()).tan() / 1.05;
+        let tan_h = tan_v * aspect;
+        // A corner c (relative to the centre) is in view from distance D when
+        // |c·right| ≤ tan_h (D − c·back) and |c·up| ≤ tan_v (D − c·back).
+        let half = 0.5 * (bounds.max - bounds.min);
+        let mut distance = 1e-9 * half.length().max(1e-300);
+        for k in 0..8 {
+            let c = DVec3::new(
+                if k & 1 == 0 { -half.x } else { half.x },
+                if k & 2 == 0 { -half.y } else { half.y },
+                if k & 4 == 0 { -half.z } else { half.z },
+            );
+            let depth = c.dot(back);
+            distance = distance
+                .max(depth + c.dot(right).abs() / tan_h)
+                .max(depth + c.dot(true_up).abs() / tan_v);
+        }
         Camera::look_at(
-            center + dir * distance,
+            center + back * distance,
             center,
             up,
             Projection::Perspective { fov_deg },
@@ -199,16 +220,32 @@ mod tests {
     }
 
     #[test]
-    fn framing_keeps_the_bounding_sphere_in_view() {
+    fn framing_keeps_every_box_corner_in_view() {
         let b = Aabb {
-            min: DVec3::splat(-1.0),
-            max: DVec3::splat(1.0),
+            min: DVec3::new(-1.0, -0.5, -2.0),
+            max: DVec3::new(1.5, 0.5, 1.0),
         };
-        let fov = 30.0_f64;
-        let cam = Camera::frame(&b, Camera::DEFAULT_VIEW, fov, 1.0).expect("framing");
-        let d = (cam.eye - b.center()).length();
-        let seen = (0.5 * b.diagonal() / d).asin();
-        assert!(seen < 0.5 * fov.to_radians(), "sphere half-angle {seen}");
+        let (fov, aspect) = (30.0_f64, 1.5);
+        let cam = Camera::frame(&b, Camera::DEFAULT_VIEW, fov, aspect).expect("framing");
+        let tan_v = (0.5 * fov.to_radians()).tan();
+        let mut widest = 0.0_f64;
+        for k in 0..8 {
+            let corner = DVec3::new(
+                if k & 1 == 0 { b.min.x } else { b.max.x },
+                if k & 2 == 0 { b.min.y } else { b.max.y },
+                if k & 4 == 0 { b.min.z } else { b.max.z },
+            );
+            let rel = corner - cam.eye;
+            let depth = rel.dot(cam.forward());
+            let x = rel.dot(cam.right) / (depth * tan_v * aspect);
+            let y = rel.dot(cam.up) / (depth * tan_v);
+            assert!(
+                x.abs() <= 1.0 && y.abs() <= 1.0,
+                "corner {corner} at ({x}, {y})"
+            );
+            widest = widest.max(x.abs()).max(y.abs());
+        }
+        assert!(widest > 0.9, "framing is tight: widest corner at {widest}");
     }
 
     #[test]
