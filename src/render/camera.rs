@@ -84,9 +84,42 @@ impl Camera {
     /// `aspect` (width / height), as close as possible while all eight box corners stay in view
     /// with a 5 % margin.
     pub fn frame(bounds: &Aabb, from: DVec3, fov_deg: f64, aspect: f64) -> Result<Camera> {
+        let corners: Vec<DVec3> = (0..8)
+            .map(|k| {
+                DVec3::new(
+                    if k & 1 == 0 {
+                        bounds.min.x
+                    } else {
+                        bounds.max.x
+                    },
+                    if k & 2 == 0 {
+                        bounds.min.y
+                    } else {
+                        bounds.max.y
+                    },
+                    if k & 4 == 0 {
+                        bounds.min.z
+                    } else {
+                        bounds.max.z
+                    },
+                )
+            })
+            .collect();
+        Camera::frame_points(&corners, from, fov_deg, aspect)
+    }
+
+    /// Like [`Camera::frame`] but keeps the given points in view (e.g. points sampled on a
+    /// surface, which frame it tighter than its box), looking at the centre of their box.
+    pub fn frame_points(
+        points: &[DVec3],
+        from: DVec3,
+        fov_deg: f64,
+        aspect: f64,
+    ) -> Result<Camera> {
+        let bounds = Aabb::from_points(points);
         if bounds.is_empty() || !bounds.min.is_finite() || !bounds.max.is_finite() {
             return Err(Error::Invalid(
-                "cannot frame an empty or non-finite box".into(),
+                "cannot frame an empty or non-finite set of points".into(),
             ));
         }
         if !(fov_deg > 0.0 && fov_deg < 180.0) || !(aspect > 0.0 && aspect.is_finite()) {
@@ -108,16 +141,11 @@ impl Camera {
         let true_up = back.cross(right);
         let tan_v = (0.5 * fov_deg.to_radians()).tan() / 1.05;
         let tan_h = tan_v * aspect;
-        // A corner c (relative to the centre) is in view from distance D when
+        // A point c (relative to the centre) is in view from distance D when
         // |c·right| ≤ tan_h (D − c·back) and |c·up| ≤ tan_v (D − c·back).
-        let half = 0.5 * (bounds.max - bounds.min);
-        let mut distance = 1e-9 * half.length().max(1e-300);
-        for k in 0..8 {
-            let c = DVec3::new(
-                if k & 1 == 0 { -half.x } else { half.x },
-                if k & 2 == 0 { -half.y } else { half.y },
-                if k & 4 == 0 { -half.z } else { half.z },
-            );
+        let mut distance = 1e-6 * bounds.diagonal().max(1e-300);
+        for p in points {
+            let c = *p - center;
             let depth = c.dot(back);
             distance = distance
                 .max(depth + c.dot(right).abs() / tan_h)

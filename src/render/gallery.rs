@@ -8,13 +8,13 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::geom::Aabb;
 use crate::mesh::Mesh;
 use crate::mesh::generate::deformed_icosahedron;
 use crate::render::bvh::SubdivisionCriterion;
 use crate::render::camera::Camera;
 use crate::render::film::{Frame, RenderSettings, render};
 use crate::render::intersect::{NewtonSettings, Tracer};
+use crate::render::job::surface_samples;
 use crate::render::modes::{CurvatureParams, CurvatureRange, Mode, Overlay};
 use crate::render::output::{srgb8, write_png};
 use crate::render::stats::RenderStats;
@@ -74,10 +74,8 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
         .iter()
         .map(|spec| schemes::build(spec.name, &mesh, &[]))
         .collect::<Result<Vec<_>>>()?;
-    let bounds = surfaces
-        .iter()
-        .fold(Aabb::EMPTY, |b, s| b.union(s.bounds()));
-    let camera = Camera::frame(&bounds, Camera::DEFAULT_VIEW, 30.0, 1.0)?;
+    let samples: Vec<_> = surfaces.iter().flat_map(surface_samples).collect();
+    let camera = Camera::frame_points(&samples, Camera::DEFAULT_VIEW, 30.0, 1.0)?;
     let mut curvature_range: Option<f64> = None;
     let mut images = Vec::new();
     let mut frames: Vec<Frame> = Vec::new();

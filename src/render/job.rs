@@ -20,9 +20,26 @@ pub const DEFAULT_SIZE: [u32; 2] = [640, 480];
 /// Default samples per pixel.
 pub const DEFAULT_SPP: u32 = 4;
 
-/// The camera of `scene` for a surface with `bounds` and an image of aspect `aspect`: the
-/// scene's eye/target/up when an eye is given, automatic framing otherwise.
-pub fn scene_camera(scene: &SceneFile, bounds: &Aabb, aspect: f64) -> Result<Camera> {
+/// Points on `surface` (each patch on a 7×7 grid of its domain) for tight framing.
+pub fn surface_samples(surface: &Surface) -> Vec<DVec3> {
+    const N: u32 = 6;
+    let mut points = Vec::with_capacity(surface.patches.len() * 28);
+    for patch in &surface.patches {
+        for j in 0..=N {
+            for i in 0..=N - j {
+                points.push(patch.eval(f64::from(i) / f64::from(N), f64::from(j) / f64::from(N)));
+            }
+        }
+    }
+    points
+}
+
+/// The camera of `scene` for `surface` and an image of aspect `aspect`: the scene's
+/// eye/target/up when an eye is given (target defaults to the surface's centre), automatic
+/// framing of points sampled on the surface otherwise.
+pub fn scene_camera(scene: &SceneFile, surface: &Surface, aspect: f64) -> Result<Camera> {
+    let samples = surface_samples(surface);
+    let bounds = &Aabb::from_points(&samples);
     let c = &scene.camera;
     let fov = c.fov.unwrap_or(DEFAULT_FOV);
     let camera = match c.eye {
@@ -33,7 +50,7 @@ pub fn scene_camera(scene: &SceneFile, bounds: &Aabb, aspect: f64) -> Result<Cam
             Projection::Perspective { fov_deg: fov },
         )?,
         None => {
-            let framed = Camera::frame(bounds, Camera::DEFAULT_VIEW, fov, aspect)?;
+            let framed = Camera::frame_points(&samples, Camera::DEFAULT_VIEW, fov, aspect)?;
             if let Some(target) = c.target {
                 // Same view direction and distance as the automatic framing, around `target`.
                 let target = DVec3::from_array(target);
@@ -95,7 +112,7 @@ pub fn scene_settings(scene: &SceneFile) -> Result<RenderSettings> {
 pub fn render_scene(surface: &Surface, scene: &SceneFile) -> Result<(Frame, RenderStats)> {
     let settings = scene_settings(scene)?;
     let aspect = f64::from(settings.width) / f64::from(settings.height);
-    let camera = scene_camera(scene, &surface.bounds(), aspect)?;
+    let camera = scene_camera(scene, surface, aspect)?;
     match scene.render.tessellate {
         Some(n) => {
             let tracer = TessellatedTracer::new(surface, n)?;
