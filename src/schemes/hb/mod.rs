@@ -168,7 +168,12 @@ fn half_edge_curve(
     let here = &data[offsets[x as usize] + ring_index(mesh, x, y)];
     let there = &data[offsets[y as usize] + ring_index(mesh, y, x)];
     HalfEdgeCurve {
-        b: [here.b[0], here.b[1], here.b[2], 0.5 * (here.b[2] + there.b[2])],
+        b: [
+            here.b[0],
+            here.b[1],
+            here.b[2],
+            0.5 * (here.b[2] + there.b[2]),
+        ],
         v: [here.v0, here.v1, 0.5 * (here.v1 - there.v1)],
         phi0: here.phi0,
         psi: [here.psi0, 0.5 * (here.psi0 + psi0(mesh.valence(y)))],
@@ -196,19 +201,22 @@ fn face_corner_curves(
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let (shape, free) = shape_params(params)?;
     let (offsets, data) = all_half_edges(mesh, &shape);
-    let domains = piece_domains();
-    let patches: Vec<Patch> = mesh
+    let nets: Vec<macro_patch::MacroNets> = mesh
         .faces()
         .par_iter()
-        .enumerate()
-        .flat_map_iter(|(f, face)| {
-            let nets = macro_patch(&face_corner_curves(mesh, &offsets, &data, *face), free);
-            (0..4).map(move |piece| Patch {
-                face: f as u32,
+        .map(|face| macro_patch(&face_corner_curves(mesh, &offsets, &data, *face), free))
+        .collect();
+    let domains = piece_domains();
+    let patches: Vec<Patch> = (0..4 * nets.len())
+        .into_par_iter()
+        .map(|i| {
+            let (face, piece) = (i / 4, i % 4);
+            Patch {
+                face: face as u32,
                 piece: piece as u8,
                 domain: domains[piece],
-                geometry: PatchGeometry::Bezier(TriangleBezier::new(5, nets[piece].to_vec())),
-            })
+                geometry: PatchGeometry::Bezier(TriangleBezier::new(5, nets[face][piece].to_vec())),
+            }
         })
         .collect();
     Ok(Surface {
