@@ -10,3 +10,6 @@ pub mod triangle;
 
 pub use curve::CurveBezier;
 pub use triangle::TriangleBezier;
+
+#[cfg(test)]
+mod test_support;

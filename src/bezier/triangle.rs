@@ -1,10 +1,26 @@
 //! Triangular Bézier patches of any degree: de Casteljau evaluation, blossom, derivatives,
 //! subdivision over an arbitrary sub-triangle, degree elevation, edge curves, control-net bounds.
+//!
+//! The standard facts used here are those of Farin, *Curves and Surfaces for CAGD*, ch. 17
+//! (triangular patches), as recalled in [Piper87 §3.2–3.7]: the de Casteljau recursion
+//! [Piper87 eq. 8], directional derivatives from the intermediate de Casteljau points
+//! [Piper87 eq. 10], degree elevation [Piper87 §3.6] and subdivision through the blossom
+//! [Piper87 eq. 15].
+//!
+//! Every algorithm works on a control net stored in the module order (see [`index`]) and is
+//! built from one in-place kernel, [`de_casteljau_step`], which lowers a net of degree `m` to
+//! degree `m − 1` at one barycentric argument. For degree ≤ [`MAX_STACK_DEGREE`] the working net
+//! lives in a fixed-size stack array, so [`TriangleBezier::eval`], [`TriangleBezier::jet`] and
+//! [`TriangleBezier::blossom`] do not allocate.
 
 use glam::DVec3;
 
 use crate::bezier::CurveBezier;
+use crate::error::{Error, Result};
 use crate::geom::{Aabb, Jet};
+
+/// Highest degree whose evaluation runs on a stack array (no heap allocation).
+pub const MAX_STACK_DEGREE: usize = 8;
 
 /// Number of control points of a triangular patch of degree `d`: (d+1)(d+2)/2.
 pub const fn point_count(degree: usize) -> usize {
@@ -12,8 +28,80 @@ pub const fn point_count(degree: usize) -> usize {
 }
 
 /// Position of `b(i,j,k)` in the point list of a degree-`d` patch (`i+j+k = d`).
+///
+/// The rows with a larger `i` come first: there are `(d−i)(d−i+1)/2` points with first index
+/// above `i`; inside row `i`, `j` runs from `d−i` down to 0.
 pub const fn index(degree: usize, i: usize, j: usize) -> usize {
-    todo!()
+    let rest = degree - i;
+    rest * (rest + 1) / 2 + (rest - j)
+}
+
+/// One de Casteljau step in place [Piper87 eq. 8]: the first `point_count(m)` entries of `net`,
+/// a net of degree `m ≥ 1`, are replaced in their first `point_count(m − 1)` entries by
+/// `b'(i,j,k) = w0 b(i+1,j,k) + w1 b(i,j+1,k) + w2 b(i,j,k+1)`.
+///
+/// `w` need not sum to one: with a general argument this is one step of the blossom.
+/// In place is safe because, walking the new points in increasing index `n`, `b(i+1,j,k)` sits
+/// at the same index `n` of the old net and `b(i,j+1,k)`, `b(i,j,k+1)` at `n + (m−i)` and
+/// `n + (m−i) + 1`, which have not been overwritten yet.
+#[inline(always)]
+pub(crate) fn de_casteljau_step(net: &mut [DVec3], m: usize, w: DVec3) {
+    let mut n = 0;
+    for i in (0..m).rev() {
+        let row = m - i;
+        for _ in 0..row {
+            net[n] = w.x * net[n] + w.y * net[n + row] + w.z * net[n + row + 1];
+            n += 1;
+        }
+    }
+}
+
+/// Runs `f` on a mutable copy of `points`, held in a stack array when the net has degree
+/// ≤ [`MAX_STACK_DEGREE`] (so the hot evaluation paths never allocate), on the heap above.
+#[inline(always)]
+fn with_working_net<R>(points: &[DVec3], f: impl FnOnce(&mut [DVec3]) -> R) -> R {
+    #[inline(always)]
+    fn on_stack<const N: usize, R>(points: &[DVec3], f: impl FnOnce(&mut [DVec3]) -> R) -> R {
+        let mut net: [DVec3; N] = std::array::from_fn(|n| points[n]);
+        f(&mut net)
+    }
+    match points.len() {
+        1 => on_stack::<1, R>(points, f),
+        3 => on_stack::<3, R>(points, f),
+        6 => on_stack::<6, R>(points, f),
+        10 => on_stack::<10, R>(points, f),
+        15 => on_stack::<15, R>(points, f),
+        21 => on_stack::<21, R>(points, f),
+        28 => on_stack::<28, R>(points, f),
+        36 => on_stack::<36, R>(points, f),
+        45 => on_stack::<45, R>(points, f),
+        _ => f(&mut points.to_vec()),
+    }
+}
+
+/// Position and `(u, v)` derivatives of a degree-`d` patch (`d ≥ 2`) from its de Casteljau net
+/// of degree 2 at `w` (the six points `b^{d−2}(w)` in module order).
+///
+/// The last two de Casteljau levels hold the blossom values `b[e_a, w^{d−1}]` and
+/// `b[e_a, e_b, w^{d−2}]`, so with the directions `∂/∂u = e1 − e0`, `∂/∂v = e2 − e0`
+/// the first derivatives are `d·(r_010 − r_100)` etc. and the second ones
+/// `d(d−1)·q[a, b]` [Piper87 eq. 10; Farin, CAGD §17.6].
+#[inline(always)]
+fn jet_from_quadratic_level(q: &[DVec3], degree: usize, w: DVec3) -> Jet {
+    let (q200, q110, q101, q020, q011, q002) = (q[0], q[1], q[2], q[3], q[4], q[5]);
+    let r100 = w.x * q200 + w.y * q110 + w.z * q101;
+    let r010 = w.x * q110 + w.y * q020 + w.z * q011;
+    let r001 = w.x * q101 + w.y * q011 + w.z * q002;
+    let d = degree as f64;
+    let dd = d * (d - 1.0);
+    Jet {
+        p: w.x * r100 + w.y * r010 + w.z * r001,
+        du: d * (r010 - r100),
+        dv: d * (r001 - r100),
+        duu: dd * (q020 - 2.0 * q110 + q200),
+        duv: dd * (q011 - q110 - q101 + q200),
+        dvv: dd * (q002 - 2.0 * q101 + q200),
+    }
 }
 
 /// A triangular Bézier patch `B(w0,w1,w2) = Σ b(i,j,k) d!/(i!j!k!) w0^i w1^j w2^k`.
@@ -24,67 +112,431 @@ pub struct TriangleBezier {
 }
 
 impl TriangleBezier {
-    /// A patch from its control points in the module's order. Panics if the count is wrong.
+    /// A patch from its control points in the module's order. Panics if the count is wrong
+    /// (use [`TriangleBezier::try_new`] for points that come from outside the program).
     pub fn new(degree: usize, points: Vec<DVec3>) -> Self {
-        todo!()
+        assert_eq!(
+            points.len(),
+            point_count(degree),
+            "a degree-{degree} triangle has {} control points",
+            point_count(degree)
+        );
+        TriangleBezier { degree, points }
     }
+
+    /// A patch from control points read from outside (a file): the count must be
+    /// `(d+1)(d+2)/2` and every coordinate finite, else an error names the point at fault.
+    pub fn try_new(degree: usize, points: Vec<DVec3>) -> Result<Self> {
+        if points.len() != point_count(degree) {
+            return Err(Error::Invalid(format!(
+                "a degree-{degree} triangular patch needs {} control points, got {}",
+                point_count(degree),
+                points.len()
+            )));
+        }
+        if let Some(n) = points.iter().position(|p| !p.is_finite()) {
+            return Err(Error::Invalid(format!(
+                "control point {n} of a degree-{degree} triangular patch is not finite"
+            )));
+        }
+        Ok(TriangleBezier { degree, points })
+    }
+
     /// A patch whose point `b(i,j,k)` is `f(i, j, k)`.
-    pub fn from_fn(degree: usize, f: impl FnMut(usize, usize, usize) -> DVec3) -> Self {
-        todo!()
+    pub fn from_fn(degree: usize, mut f: impl FnMut(usize, usize, usize) -> DVec3) -> Self {
+        let mut points = Vec::with_capacity(point_count(degree));
+        for i in (0..=degree).rev() {
+            for j in (0..=degree - i).rev() {
+                points.push(f(i, j, degree - i - j));
+            }
+        }
+        TriangleBezier { degree, points }
     }
+
     /// Polynomial degree.
     pub fn degree(&self) -> usize {
         self.degree
     }
+
     /// Control points in the module's order.
     pub fn points(&self) -> &[DVec3] {
         &self.points
     }
-    /// Control point `b(i,j,k)` (k = d − i − j).
+
+    /// Control point `b(i,j,k)` (k = d − i − j). Panics if `i + j > d`.
     pub fn point(&self, i: usize, j: usize) -> DVec3 {
-        todo!()
+        assert!(
+            i + j <= self.degree,
+            "b({i},{j},·) of a degree-{} triangle",
+            self.degree
+        );
+        self.points[index(self.degree, i, j)]
     }
-    /// Sets control point `b(i,j,k)`.
+
+    /// Sets control point `b(i,j,k)`. Panics if `i + j > d`.
     pub fn set_point(&mut self, i: usize, j: usize, p: DVec3) {
-        todo!()
+        assert!(
+            i + j <= self.degree,
+            "b({i},{j},·) of a degree-{} triangle",
+            self.degree
+        );
+        self.points[index(self.degree, i, j)] = p;
     }
-    /// Point at barycentric coordinates `bary` (need not sum to one for blossoms; here it should).
+
+    /// Point at barycentric coordinates `bary` by de Casteljau [Piper87 eq. 8]
+    /// (need not sum to one for blossoms; here it should). Allocation-free for degree ≤ 8.
     pub fn eval(&self, bary: DVec3) -> DVec3 {
-        todo!()
+        let degree = self.degree;
+        with_working_net(&self.points, |net| {
+            for m in (1..=degree).rev() {
+                de_casteljau_step(net, m, bary);
+            }
+            net[0]
+        })
     }
+
     /// Position and first/second derivatives with respect to `(u, v)`, barycentric `(1−u−v, u, v)`.
     /// Allocation-free for degree ≤ 8.
+    ///
+    /// de Casteljau runs down to degree 2; the last levels give the derivatives
+    /// [Piper87 eq. 10] (see `jet_from_quadratic_level`). Degrees 0 and 1 have zero second
+    /// derivatives.
     pub fn jet(&self, u: f64, v: f64) -> Jet {
-        todo!()
+        let w = DVec3::new(1.0 - u - v, u, v);
+        let b = &self.points;
+        match self.degree {
+            0 => Jet {
+                p: b[0],
+                ..Jet::default()
+            },
+            1 => Jet {
+                p: w.x * b[0] + w.y * b[1] + w.z * b[2],
+                du: b[1] - b[0],
+                dv: b[2] - b[0],
+                ..Jet::default()
+            },
+            degree => with_working_net(b, |net| {
+                for m in (3..=degree).rev() {
+                    de_casteljau_step(net, m, w);
+                }
+                jet_from_quadratic_level(net, degree, w)
+            }),
+        }
     }
-    /// The blossom (polar form) at `d` barycentric arguments.
+
+    /// The blossom (polar form) at `d` barycentric arguments: symmetric, affine in each
+    /// argument, and equal to the patch on the diagonal (Farin, CAGD §17.4). Computed by one
+    /// de Casteljau step per argument. Panics unless `args.len() == d`.
     pub fn blossom(&self, args: &[DVec3]) -> DVec3 {
-        todo!()
+        let degree = self.degree;
+        assert_eq!(
+            args.len(),
+            degree,
+            "the blossom of a degree-{degree} patch takes {degree} arguments"
+        );
+        with_working_net(&self.points, |net| {
+            for (m, &w) in (1..=degree).rev().zip(args) {
+                de_casteljau_step(net, m, w);
+            }
+            net[0]
+        })
     }
+
     /// The same surface over the sub-triangle with barycentric corners `corners` (each a
     /// barycentric point of this patch's domain): the result's corner `b(d,0,0)` is at
     /// `corners[0]`, `b(0,d,0)` at `corners[1]`, `b(0,0,d)` at `corners[2]`.
+    ///
+    /// `b'(i,j,k) = blossom(c0^i, c1^j, c2^k)` [Piper87 eq. 15; Farin, CAGD §17.8]. The
+    /// blossom is evaluated incrementally: the net after `i` steps at `c0` is shared by all
+    /// points with that `i`, and the net after `j` further steps at `c1` by all with that `(i,j)`.
+    /// For corners inside the domain every step is a convex combination (stable); outside it
+    /// is extrapolation and loses accuracy with the distance.
     pub fn subdivide(&self, corners: [DVec3; 3]) -> TriangleBezier {
-        todo!()
+        let d = self.degree;
+        let [c0, c1, c2] = corners;
+        let mut points = vec![DVec3::ZERO; point_count(d)];
+        let mut after_c0 = self.points.clone();
+        let mut after_c1 = Vec::with_capacity(point_count(d));
+        let mut after_c2 = Vec::with_capacity(point_count(d));
+        for i in 0..=d {
+            if i > 0 {
+                de_casteljau_step(&mut after_c0, d - i + 1, c0);
+            }
+            after_c1.clear();
+            after_c1.extend_from_slice(&after_c0[..point_count(d - i)]);
+            for j in 0..=d - i {
+                if j > 0 {
+                    de_casteljau_step(&mut after_c1, d - i - j + 1, c1);
+                }
+                let k = d - i - j;
+                after_c2.clear();
+                after_c2.extend_from_slice(&after_c1[..point_count(k)]);
+                for m in (1..=k).rev() {
+                    de_casteljau_step(&mut after_c2, m, c2);
+                }
+                points[index(d, i, j)] = after_c2[0];
+            }
+        }
+        TriangleBezier { degree: d, points }
     }
-    /// The same surface as a patch of degree d+1.
+
+    /// The same surface as a patch of degree d+1 [Piper87 §3.6]:
+    /// `b'(i) = (i0 b(i−e0) + i1 b(i−e1) + i2 b(i−e2)) / (d+1)`.
     pub fn elevate(&self) -> TriangleBezier {
-        todo!()
+        let d = self.degree;
+        let scale = 1.0 / (d + 1) as f64;
+        TriangleBezier::from_fn(d + 1, |i, j, k| {
+            let mut sum = DVec3::ZERO;
+            if i > 0 {
+                sum += i as f64 * self.point(i - 1, j);
+            }
+            if j > 0 {
+                sum += j as f64 * self.point(i, j - 1);
+            }
+            if k > 0 {
+                sum += k as f64 * self.point(i, j);
+            }
+            sum * scale
+        })
     }
+
     /// Boundary curve `edge` (0: corner 0 → corner 1, where k = 0; 1: corner 1 → corner 2,
-    /// where i = 0; 2: corner 2 → corner 0, where j = 0).
+    /// where i = 0; 2: corner 2 → corner 0, where j = 0). On an edge only that edge's control
+    /// points contribute [Piper87 §3.4], so they are the curve's control points.
+    /// Panics if `edge > 2`.
     pub fn edge_curve(&self, edge: usize) -> CurveBezier {
-        todo!()
+        let d = self.degree;
+        let points = (0..=d)
+            .map(|l| match edge {
+                0 => self.point(d - l, l),
+                1 => self.point(0, d - l),
+                2 => self.point(l, 0),
+                _ => panic!("a triangle has edges 0, 1, 2, not {edge}"),
+            })
+            .collect();
+        CurveBezier::new(points)
     }
+
     /// Bounding box of the control points (contains the patch: convex-hull property).
     pub fn control_bounds(&self) -> Aabb {
         Aabb::from_points(&self.points)
     }
+
+    /// A box that contains the patch over the sub-triangle with barycentric `corners` (inside
+    /// the domain), conservative even under the rounding of the subdivision: the control
+    /// bounds of [`TriangleBezier::subdivide`], grown by a bound on its floating-point error.
+    ///
+    /// Each of the `d` de Casteljau steps per sub-net point is a convex combination, adding at
+    /// most about three ulps of the largest coordinate magnitude (weights that sum to one only up to
+    /// rounding add one more); the margin `8(d+1)·ε·max|b|` covers that with room to spare.
+    pub fn sub_triangle_bounds(&self, corners: [DVec3; 3]) -> Aabb {
+        let bounds = self.subdivide(corners).control_bounds();
+        let magnitude = self
+            .points
+            .iter()
+            .fold(0.0_f64, |m, p| m.max(p.abs().max_element()));
+        let margin = 8.0 * (self.degree + 1) as f64 * f64::EPSILON * magnitude;
+        Aabb {
+            min: bounds.min - DVec3::splat(margin),
+            max: bounds.max + DVec3::splat(margin),
+        }
+    }
+
     /// The patch with every control point mapped by `f` (exact for affine maps).
     pub fn map_points(&self, f: impl Fn(DVec3) -> DVec3) -> TriangleBezier {
         TriangleBezier {
             degree: self.degree,
             points: self.points.iter().map(|&p| f(p)).collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bezier::test_support::{Rng, bernstein_partial, bernstein_sum, rel_err, scale_of};
+
+    /// Degrees the property tests run over: 1..=7 as specified, plus 0 and the heap path above
+    /// [`MAX_STACK_DEGREE`].
+    const DEGREES: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 11];
+
+    /// Parameters inside the domain and slightly outside (extrapolation must be right too).
+    fn sample_params(rng: &mut Rng) -> Vec<(f64, f64)> {
+        let mut params = vec![(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0 / 3.0, 1.0 / 3.0)];
+        for _ in 0..12 {
+            let w = rng.bary_inside();
+            params.push((w.y, w.z));
+        }
+        params.push((-0.1, 0.3));
+        params.push((0.7, 0.45));
+        params
+    }
+
+    #[test]
+    fn index_follows_the_documented_order() {
+        for d in 0..=9 {
+            let mut expected = 0;
+            for i in (0..=d).rev() {
+                for j in (0..=d - i).rev() {
+                    assert_eq!(index(d, i, j), expected, "d={d} i={i} j={j}");
+                    expected += 1;
+                }
+            }
+            assert_eq!(expected, point_count(d));
+            let patch =
+                TriangleBezier::from_fn(d, |i, j, k| DVec3::new(i as f64, j as f64, k as f64));
+            assert_eq!(patch.points()[0], DVec3::new(d as f64, 0.0, 0.0));
+            assert_eq!(
+                patch.points()[point_count(d) - 1],
+                DVec3::new(0.0, 0.0, d as f64)
+            );
+            for i in 0..=d {
+                for j in 0..=d - i {
+                    assert_eq!(
+                        patch.point(i, j),
+                        DVec3::new(i as f64, j as f64, (d - i - j) as f64)
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn set_point_and_try_new() {
+        let mut patch = TriangleBezier::from_fn(3, |_, _, _| DVec3::ZERO);
+        patch.set_point(1, 1, DVec3::ONE);
+        assert_eq!(patch.points()[index(3, 1, 1)], DVec3::ONE);
+        assert_eq!(
+            patch.points().iter().filter(|p| **p == DVec3::ONE).count(),
+            1
+        );
+        assert!(TriangleBezier::try_new(2, vec![DVec3::ZERO; 6]).is_ok());
+        let err = TriangleBezier::try_new(2, vec![DVec3::ZERO; 5]).unwrap_err();
+        assert!(
+            err.to_string().contains("needs 6 control points, got 5"),
+            "{err}"
+        );
+        let mut bad = vec![DVec3::ZERO; 6];
+        bad[4].y = f64::NAN;
+        let err = TriangleBezier::try_new(2, bad).unwrap_err();
+        assert!(err.to_string().contains("control point 4"), "{err}");
+    }
+
+    #[test]
+    fn eval_equals_the_bernstein_sum() {
+        let mut rng = Rng::new(1);
+        for d in DEGREES {
+            for offset in [0.0, 5.0] {
+                let patch = rng.triangle(d, offset);
+                let scale = scale_of(patch.points());
+                for (u, v) in sample_params(&mut rng) {
+                    let w = DVec3::new(1.0 - u - v, u, v);
+                    let err = rel_err(patch.eval(w), bernstein_sum(&patch, w), scale);
+                    assert!(err <= 1e-12, "d={d} (u,v)=({u},{v}) rel err {err:e}");
+                }
+            }
+        }
+    }
+
+    /// The exact `(u, v)` derivatives of the Bernstein sum by the chain rule through
+    /// `w = (1−u−v, u, v)`: `∂u = ∂w1 − ∂w0`, `∂v = ∂w2 − ∂w0`.
+    fn exact_jet(patch: &TriangleBezier, u: f64, v: f64) -> Jet {
+        let w = DVec3::new(1.0 - u - v, u, v);
+        let dw = |a: [usize; 3]| bernstein_partial(patch, w, a);
+        Jet {
+            p: dw([0, 0, 0]),
+            du: dw([0, 1, 0]) - dw([1, 0, 0]),
+            dv: dw([0, 0, 1]) - dw([1, 0, 0]),
+            duu: dw([0, 2, 0]) - 2.0 * dw([1, 1, 0]) + dw([2, 0, 0]),
+            duv: dw([0, 1, 1]) - dw([1, 1, 0]) - dw([1, 0, 1]) + dw([2, 0, 0]),
+            dvv: dw([0, 0, 2]) - 2.0 * dw([1, 0, 1]) + dw([2, 0, 0]),
+        }
+    }
+
+    fn jet_fields(jet: &Jet) -> [(&'static str, DVec3); 6] {
+        [
+            ("p", jet.p),
+            ("du", jet.du),
+            ("dv", jet.dv),
+            ("duu", jet.duu),
+            ("duv", jet.duv),
+            ("dvv", jet.dvv),
+        ]
+    }
+
+    #[test]
+    fn jet_equals_exact_derivatives_of_the_bernstein_sum() {
+        let mut rng = Rng::new(2);
+        for d in DEGREES {
+            let patch = rng.triangle(d, 1.0);
+            // Derivatives grow like d(d−1)·|b|: measure relative to that.
+            let scale = scale_of(patch.points()) * (d * d).max(1) as f64;
+            for (u, v) in sample_params(&mut rng) {
+                let jet = patch.jet(u, v);
+                let exact = exact_jet(&patch, u, v);
+                for ((name, got), (_, want)) in jet_fields(&jet).into_iter().zip(jet_fields(&exact))
+                {
+                    let err = rel_err(got, want, scale);
+                    assert!(
+                        err <= 1e-11,
+                        "d={d} (u,v)=({u},{v}) {name}: rel err {err:e}"
+                    );
+                }
+                assert_eq!(jet.p, patch.eval(DVec3::new(1.0 - u - v, u, v)), "d={d}");
+            }
+        }
+    }
+
+    /// Central differences of the position: every derivative of the jet, with the O(h²)
+    /// truncation error of a central difference. Halving h must divide the error by ~4
+    /// (or, for the low degrees where the difference quotient is exact, leave it at rounding).
+    #[test]
+    fn jet_matches_central_differences_with_second_order_truncation() {
+        let mut rng = Rng::new(3);
+        let central = |patch: &TriangleBezier, u: f64, v: f64, h: f64| {
+            let p =
+                |du: f64, dv: f64| patch.eval(DVec3::new(1.0 - u - v - du - dv, u + du, v + dv));
+            Jet {
+                p: p(0.0, 0.0),
+                du: (p(h, 0.0) - p(-h, 0.0)) / (2.0 * h),
+                dv: (p(0.0, h) - p(0.0, -h)) / (2.0 * h),
+                duu: (p(h, 0.0) - 2.0 * p(0.0, 0.0) + p(-h, 0.0)) / (h * h),
+                duv: (p(h, h) - p(h, -h) - p(-h, h) + p(-h, -h)) / (4.0 * h * h),
+                dvv: (p(0.0, h) - 2.0 * p(0.0, 0.0) + p(0.0, -h)) / (h * h),
+            }
+        };
+        let h = 1e-2;
+        for d in DEGREES {
+            let patch = rng.triangle(d, 0.0);
+            let scale = scale_of(patch.points()) * (d * d).max(1) as f64;
+            for (u, v) in sample_params(&mut rng) {
+                let jet = patch.jet(u, v);
+                let coarse = central(&patch, u, v, h);
+                let fine = central(&patch, u, v, h / 2.0);
+                for (((name, exact), (_, c)), (_, f)) in jet_fields(&jet)
+                    .into_iter()
+                    .zip(jet_fields(&coarse))
+                    .zip(jet_fields(&fine))
+                    .skip(1)
+                {
+                    let (err_coarse, err_fine) = ((c - exact).length(), (f - exact).length());
+                    // Rounding in the difference quotients: ~ε·|b|/h² for the second ones.
+                    let rounding = 1e-9 * scale;
+                    if err_coarse > 1e3 * rounding {
+                        let ratio = err_coarse / err_fine;
+                        assert!(
+                            (3.5..=4.5).contains(&ratio),
+                            "d={d} (u,v)=({u},{v}) {name}: error ratio {ratio} for h → h/2 \
+                             ({err_coarse:e} → {err_fine:e})"
+                        );
+                    } else {
+                        assert!(
+                            err_fine <= 1e3 * rounding,
+                            "d={d} {name}: {err_coarse:e} → {err_fine:e}"
+                        );
+                    }
+                }
+            }
         }
     }
 }

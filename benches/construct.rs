@@ -1,0 +1,24 @@
+//! Construction throughput of every registered scheme (faces per second) on an icosphere of
+//! 81,920 faces (valences 5 and 6).
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use smoothlab::mesh::{Mesh, generate};
+use smoothlab::schemes;
+
+fn construct(c: &mut Criterion) {
+    let sphere = generate::analytic::sphere(6);
+    let (mesh, _) = Mesh::from_triangles(sphere.positions, sphere.faces).expect("valid icosphere");
+    let mut group = c.benchmark_group("construct");
+    group.sample_size(10);
+    group.measurement_time(std::time::Duration::from_secs(4));
+    group.throughput(Throughput::Elements(mesh.face_count() as u64));
+    for spec in schemes::SCHEMES {
+        group.bench_function(format!("{}/icosphere-81920", spec.name), |b| {
+            b.iter(|| schemes::build(spec.name, &mesh, &[]).expect("builds"))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, construct);
+criterion_main!(benches);

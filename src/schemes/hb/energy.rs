@@ -1,0 +1,250 @@
+//! The thin-plate energy that chooses the six free control points of an HB00 macro-patch
+//! (`free=energy`, the paper's colour plate [HB00 §9]).
+//!
+//! `E = Σ_pieces ∫ |S_xx|² + 2|S_xy|² + |S_yy|² dx dy`, with the face taken as the equilateral
+//! triangle of side 1 (a fixed reference domain, so the minimiser is affine invariant: E is a
+//! quadratic form in the control points with scalar coefficients, the same for x, y and z).
+//! Per piece, `D_a D_b S = d(d−1) Σ_γ (Δ_a Δ_b b)_γ B^{d−2}_γ` with barycentric directions
+//! `a, b`, and `∫ B^m_α B^m_β = 2·Area · m!² (α+β)! / (α! β! (2m+2)!)` (products of factorials over
+//! the three components).
+
+use glam::{DVec2, DVec3};
+
+use super::macro_patch::{QUINTIC, free_point_columns, piece_domains};
+use crate::bezier::triangle::{index, point_count};
+
+const DEGREE: usize = 5;
+const NETS: usize = 4 * QUINTIC;
+
+/// Multi-indices (i, j, k) of degree `d` in storage order.
+fn multi_indices(d: usize) -> Vec<[usize; 3]> {
+    let mut out = Vec::with_capacity(point_count(d));
+    for i in (0..=d).rev() {
+        for j in (0..=d - i).rev() {
+            out.push([i, j, d - i - j]);
+        }
+    }
+    out
+}
+
+fn factorial(n: usize) -> f64 {
+    (1..=n).map(|k| k as f64).product()
+}
+
+/// Gram matrix `∫ B_α B_β` of the degree-`m` Bernstein basis over a triangle of area `area`.
+fn bernstein_gram(m: usize, area: f64) -> Vec<Vec<f64>> {
+    let idx = multi_indices(m);
+    let fact3 = |a: [usize; 3]| a.iter().map(|&x| factorial(x)).product::<f64>();
+    idx.iter()
+        .map(|a| {
+            idx.iter()
+                .map(|b| {
+                    let sum = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+                    2.0 * area * factorial(m).powi(2) * fact3(sum)
+                        / (fact3(*a) * fact3(*b) * factorial(2 * m + 2))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Thin-plate energy matrix (21 × 21) of a quintic over the 2-D triangle `corners`.
+fn thin_plate_matrix(corners: [DVec2; 3]) -> Vec<Vec<f64>> {
+    let area2 = (corners[1] - corners[0]).perp_dot(corners[2] - corners[0]);
+    // ∇λ_i = rot90(c_{i+2} − c_{i+1}) / (2A).
+    let grad: [DVec2; 3] =
+        std::array::from_fn(|i| (corners[(i + 2) % 3] - corners[(i + 1) % 3]).perp() / area2);
+    let gx = grad.map(|g| g.x);
+    let gy = grad.map(|g| g.y);
+    let low = multi_indices(DEGREE - 2);
+    let gram = bernstein_gram(DEGREE - 2, area2.abs() / 2.0);
+    let scale = ((DEGREE * (DEGREE - 1)) as f64).powi(2);
+    let mut qm = vec![vec![0.0; QUINTIC]; QUINTIC];
+    for (a, b, weight) in [(gx, gx, 1.0), (gx, gy, 2.0), (gy, gy, 1.0)] {
+        // Rows: coefficient γ of D_a D_b S as a combination of the 21 control points.
+        let rows: Vec<[f64; QUINTIC]> = low
+            .iter()
+            .map(|g| {
+                let mut row = [0.0; QUINTIC];
+                for (s, a_s) in a.iter().enumerate() {
+                    for (t, b_t) in b.iter().enumerate() {
+                        let mut m = *g;
+                        m[s] += 1;
+                        m[t] += 1;
+                        row[index(DEGREE, m[0], m[1])] += a_s * b_t;
+                    }
+                }
+                row
+            })
+            .collect();
+        for (g1, r1) in rows.iter().enumerate() {
+            for (g2, r2) in rows.iter().enumerate() {
+                let w = weight * scale * gram[g1][g2];
+                for i in 0..QUINTIC {
+                    if r1[i] == 0.0 {
+                        continue;
+                    }
+                    for j in 0..QUINTIC {
+                        qm[i][j] += w * r1[i] * r2[j];
+                    }
+                }
+            }
+        }
+    }
+    qm
+}
+
+/// The constant 6 × 84 map `L = −(GᵀQG)⁻¹ GᵀQ` from the nets completed with zero free points to
+/// the energy-minimising free points (three middle twists, then the three points `D_k`).
+pub(super) fn free_point_map() -> [[f64; NETS]; 6] {
+    let equilateral = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(1.0, 0.0),
+        DVec2::new(0.5, 3f64.sqrt() / 2.0),
+    ];
+    let to_2d = |b: DVec3| b.x * equilateral[0] + b.y * equilateral[1] + b.z * equilateral[2];
+    let pieces: Vec<Vec<Vec<f64>>> = piece_domains()
+        .iter()
+        .map(|d| thin_plate_matrix(d.map(to_2d)))
+        .collect();
+    let q_times = |col: &[f64; NETS]| -> [f64; NETS] {
+        std::array::from_fn(|i| {
+            let (piece, a) = (i / QUINTIC, i % QUINTIC);
+            (0..QUINTIC)
+                .map(|b| pieces[piece][a][b] * col[piece * QUINTIC + b])
+                .sum()
+        })
+    };
+    let g = free_point_columns();
+    let qg: Vec<[f64; NETS]> = g.iter().map(q_times).collect();
+    // H = GᵀQG (6 × 6, symmetric positive definite).
+    let mut h = [[0.0; 6]; 6];
+    for r in 0..6 {
+        for c in 0..6 {
+            h[r][c] = (0..NETS).map(|i| g[r][i] * qg[c][i]).sum();
+        }
+    }
+    let h_inv = invert6(h);
+    std::array::from_fn(|r| {
+        std::array::from_fn(|i| -(0..6).map(|c| h_inv[r][c] * qg[c][i]).sum::<f64>())
+    })
+}
+
+/// Inverse of a symmetric positive definite 6 × 6 matrix (Gauss–Jordan with partial pivoting).
+fn invert6(mut a: [[f64; 6]; 6]) -> [[f64; 6]; 6] {
+    let mut inv = [[0.0; 6]; 6];
+    for (i, row) in inv.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    for col in 0..6 {
+        let pivot = (col..6)
+            .max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))
+            .unwrap_or(col);
+        a.swap(col, pivot);
+        inv.swap(col, pivot);
+        let p = a[col][col];
+        assert!(p.abs() > 1e-12, "thin-plate system of the free points is singular");
+        for j in 0..6 {
+            a[col][j] /= p;
+            inv[col][j] /= p;
+        }
+        for r in 0..6 {
+            if r != col {
+                let f = a[r][col];
+                for j in 0..6 {
+                    a[r][j] -= f * a[col][j];
+                    inv[r][j] -= f * inv[col][j];
+                }
+            }
+        }
+    }
+    inv
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The Gram matrix integrates products exactly: its total is the triangle's area
+    /// (partition of unity squared), and ∫ B_{(3,0,0)}² = ∫ λ0⁶ = 2A·6!/8!.
+    #[test]
+    fn bernstein_gram_sums_to_area() {
+        let g = bernstein_gram(3, 0.7);
+        let total: f64 = g.iter().flatten().sum();
+        assert!((total - 0.7).abs() < 1e-14, "{total}");
+        // ∫ λ0^6 = 2A 6!/8! = 2A/56.
+        assert!((g[0][0] - 2.0 * 0.7 / 56.0).abs() < 1e-15);
+    }
+
+    /// A quadratic function has constant second derivatives: the thin-plate energy of its
+    /// quintic form over a triangle equals (f_xx² + 2 f_xy² + f_yy²) × area.
+    #[test]
+    fn thin_plate_energy_of_a_quadratic_is_exact() {
+        let corners = [
+            DVec2::new(0.2, 0.1),
+            DVec2::new(1.3, 0.4),
+            DVec2::new(0.5, 1.2),
+        ];
+        let f = |p: DVec2| 0.5 * 3.0 * p.x * p.x + 2.0 * p.x * p.y - 0.5 * p.y * p.y + p.x;
+        // Quintic Bézier coefficients of f: interpolate its values at the 21 domain points.
+        let idx = multi_indices(5);
+        let pts: Vec<DVec2> = idx
+            .iter()
+            .map(|m| {
+                (m[0] as f64 * corners[0] + m[1] as f64 * corners[1] + m[2] as f64 * corners[2])
+                    / 5.0
+            })
+            .collect();
+        // Solve the 21×21 interpolation system B c = f(pts) by Gaussian elimination.
+        let n = idx.len();
+        let mut a: Vec<Vec<f64>> = pts
+            .iter()
+            .map(|p| {
+                let l = barycentric(corners, *p);
+                let mut row: Vec<f64> = idx
+                    .iter()
+                    .map(|m| {
+                        factorial(5) / (factorial(m[0]) * factorial(m[1]) * factorial(m[2]))
+                            * l[0].powi(m[0] as i32)
+                            * l[1].powi(m[1] as i32)
+                            * l[2].powi(m[2] as i32)
+                    })
+                    .collect();
+                row.push(f(*p));
+                row
+            })
+            .collect();
+        for c in 0..n {
+            let piv = (c..n)
+                .max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))
+                .unwrap();
+            a.swap(c, piv);
+            for r in 0..n {
+                if r != c {
+                    let fct = a[r][c] / a[c][c];
+                    for j in c..=n {
+                        a[r][j] -= fct * a[c][j];
+                    }
+                }
+            }
+        }
+        let coef: Vec<f64> = (0..n).map(|r| a[r][n] / a[r][r]).collect();
+        let qm = thin_plate_matrix(corners);
+        let energy: f64 = (0..n)
+            .map(|i| (0..n).map(|j| coef[i] * qm[i][j] * coef[j]).sum::<f64>())
+            .sum();
+        let area = (corners[1] - corners[0]).perp_dot(corners[2] - corners[0]) / 2.0;
+        let expected = (3.0f64.powi(2) + 2.0 * 2.0f64.powi(2) + 1.0) * area;
+        assert!(
+            (energy - expected).abs() < 1e-9 * expected,
+            "{energy} vs {expected}"
+        );
+    }
+
+    fn barycentric(c: [DVec2; 3], p: DVec2) -> [f64; 3] {
+        let a2 = (c[1] - c[0]).perp_dot(c[2] - c[0]);
+        let l1 = (p - c[0]).perp_dot(c[2] - c[0]) / a2;
+        let l2 = (c[1] - c[0]).perp_dot(p - c[0]) / a2;
+        [1.0 - l1 - l2, l1, l2]
+    }
+}

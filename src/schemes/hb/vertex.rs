@@ -1,0 +1,254 @@
+//! What HB00 computes around one mesh vertex `v` from its one-ring alone (locality): the first
+//! three control points of every boundary-curve piece leaving `v` [HB00 §6, eqs. 9–15], the
+//! twists of the macro-patches at `v` [HB00 eq. 17], and the first two control points of the
+//! quadratic piece of the cross-boundary function `V_i` next to `v` [HB00 eqs. 19–23].
+//!
+//! Notation follows HB00 §2: `v` has order `n`, neighbours `p_1..p_n` ordered so that
+//! `(v, p_i, p_{i+1})` is a face (macro-patch `M^i(u_i, u_{i+1})`), `θ = 2π/n`. Indices in code
+//! start at 0.
+//!
+//! Two places of the OCR text are re-derived here instead of transcribed:
+//! * eq. 14 prints `r²_i = 12(b2 − 2b1 + b0)`, but the boundary piece is a cubic in `2u`, so
+//!   `M_{u_i u_i}(0,0) = 4 · 6 (b2 − 2b1 + b0) = 24(…)`, which is also the factor the paper's own
+//!   twist derivation (`24Φ⁰(b2 − 2b1 + b0)`) uses.
+//! * eq. 23 (`v¹`) is garbled; `v¹ = v⁰ + V'(0)/4` follows from eq. 22 and the quadratic being
+//!   written in the local parameter `2u` (so `V'(0) = 4(v¹ − v⁰)`). The twists are solved from
+//!   (II_T) through the preimages `b̃` of §6 rather than read off eq. 17; the unit tests check
+//!   (II_T), (19) and (21) numerically.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+
+/// The shape parameters of HB00: α (eq. 9), β (eq. 12), γ0, γ1, γ2 (eq. 15, γ0+γ1+γ2 = 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeParams {
+    /// α: 1 interpolates the mesh vertices, other values pull `b0` towards the ring centroid.
+    pub alpha: f64,
+    /// β: magnitude of the boundary-curve tangents (eq. 12).
+    pub beta: f64,
+    /// γ0, γ1, γ2: weights of `b0`, `b1` and Loop's point `d` in `b2` (eq. 15).
+    pub gamma: [f64; 3],
+}
+
+/// The curve and cross-boundary data of one directed edge `v → p_i` that `v` determines alone.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct HalfEdgeData {
+    /// `b0, b1, b2` of the cubic boundary piece on `[0, ½]` (eqs. 10, 13, 15).
+    pub b: [DVec3; 3],
+    /// `v⁰ = V_i(0)` (eq. 23).
+    pub v0: DVec3,
+    /// `v¹`, second control point of the quadratic piece of `V_i` on `[0, ½]` (from eq. 22).
+    pub v1: DVec3,
+    /// `Φ_i(0) = cos(2π/n)` (eq. 6).
+    pub phi0: f64,
+    /// `Ψ_i(0) = sin(2π/n)` (eq. 20).
+    pub psi0: f64,
+}
+
+/// `Φ_i(0) = cos(2π/n)` [HB00 eq. 6].
+pub fn phi0(n: usize) -> f64 {
+    (2.0 * PI / n as f64).cos()
+}
+
+/// `Ψ_i(0) = sin(2π/n)` [HB00 eq. 20].
+pub fn psi0(n: usize) -> f64 {
+    (2.0 * PI / n as f64).sin()
+}
+
+/// Fills `out[i]` with the data of edge `v → ring[i]` for every neighbour (eqs. 9–23).
+/// `ring_valence[i]` is the order of `ring[i]` (it enters `Ψ'_i(0)`, eq. 22).
+pub fn half_edges(
+    v: DVec3,
+    ring: &[DVec3],
+    ring_valence: &[usize],
+    shape: &ShapeParams,
+    out: &mut [HalfEdgeData],
+) {
+    let n = ring.len();
+    let nf = n as f64;
+    let theta = 2.0 * PI / nf;
+    let (c, s) = (theta.cos(), theta.sin());
+    let tan_half = (theta / 2.0).tan();
+    let ShapeParams { alpha, beta, gamma } = *shape;
+
+    // Discrete Fourier sums C = Σ cos(θj) p_j, S = Σ sin(θj) p_j, so that
+    // Σ cos(θ(j−i)) p_j = cos(θi) C + sin(θi) S and Σ sin(θ(j−i)) p_j = cos(θi) S − sin(θi) C.
+    let (mut fc, mut fs, mut mean) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+    for (j, p) in ring.iter().enumerate() {
+        let (sj, cj) = (theta * j as f64).sin_cos();
+        fc += cj * *p;
+        fs += sj * *p;
+        mean += *p;
+    }
+    mean /= nf;
+    let cos_sum = |i: usize| {
+        let (si, ci) = (theta * i as f64).sin_cos();
+        ci * fc + si * fs
+    };
+    let sin_sum = |i: usize| {
+        let (si, ci) = (theta * i as f64).sin_cos();
+        ci * fs - si * fc
+    };
+
+    // eq. 9/10: b0, the same for every edge at v.
+    let b0 = alpha * v + (1.0 - alpha) * mean;
+    // eq. 12: r¹_i = M_{u_i}(0,0) = (6β/n) Σ cos(θ(j−i)) p_j; eq. 11: b1 = b0 + r¹/6.
+    let r1 = |i: usize| (6.0 * beta / nf) * cos_sum(i % n);
+    // Φ on [0, ½] is cos θ (1 − 2u) + u (eq. 8): Φ⁰ = cos θ, Φ¹ = Φ'(0) = 1 − 2cos θ.
+    let (phi_0, phi_1) = (c, 1.0 - 2.0 * c);
+    let [g0, g1, g2] = gamma;
+
+    for i in 0..n {
+        let (prev, next) = (ring[(i + n - 1) % n], ring[(i + 1) % n]);
+        let r1_i = r1(i);
+        let b1 = b0 + r1_i / 6.0;
+        // eq. 15 with Loop's point d_i = (2v + p_{i−1} + 2p_i + p_{i+1}) / 6.
+        let d = (2.0 * v + prev + 2.0 * ring[i] + next) / 6.0;
+        let b2 = g0 * b0 + g1 * b1 + g2 * d;
+        // Second derivative of the boundary curve at v (eq. 14, factor re-derived: 24).
+        let r2_i = 24.0 * (b2 - 2.0 * b1 + b0);
+
+        // Twist t_i = M^i_{u_i u_{i+1}}(0,0) from (II_T): ½(t_i + t_{i−1}) = Φ¹ r¹_i + Φ⁰ r²_i.
+        // The right side is T applied to the same combination of the preimages
+        // b̃1_i = b0 + (β/n) Σ [cos(θ(j−i)) + tan(θ/2) sin(θ(j−i))] p_j and
+        // b̃2_i = γ0 b0 + γ1 b̃1_i + γ2 (v + p_i + p_{i+1}) / 3 (HB00 §6), hence eq. 17:
+        let b1_pre = b0 + (beta / nf) * (cos_sum(i) + tan_half * sin_sum(i));
+        let b2_pre = g0 * b0 + g1 * b1_pre + g2 * (v + ring[i] + next) / 3.0;
+        let twist = (24.0 * phi_0 - 6.0 * phi_1) * b0
+            + (6.0 * phi_1 - 48.0 * phi_0) * b1_pre
+            + 24.0 * phi_0 * b2_pre;
+
+        // eq. 19: r¹_{i+1} = Φ⁰ r¹_i + Ψ⁰ V_i(0).
+        let v0 = (r1(i + 1) - c * r1_i) / s;
+        // eq. 22 with Ψ'_i(0) = sin(2π/n_i) − sin(2π/n) (Ψ linear over [0,1], eq. 20).
+        let psi_1 = psi0(ring_valence[i]) - s;
+        let v_prime = (twist - phi_1 * r1_i - phi_0 * r2_i - psi_1 * v0) / s;
+        out[i] = HalfEdgeData {
+            b: [b0, b1, b2],
+            v0,
+            v1: v0 + v_prime / 4.0,
+            phi0: c,
+            psi0: s,
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic, irregular one-ring: neighbours roughly around v, with noise.
+    fn ring(n: usize, seed: u64) -> Vec<DVec3> {
+        let mut state = seed;
+        let mut rnd = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        (0..n)
+            .map(|j| {
+                let a = 2.0 * PI * j as f64 / n as f64 + 0.3 * rnd();
+                DVec3::new(a.cos() * (1.0 + 0.3 * rnd()), a.sin(), 0.4 * rnd())
+            })
+            .collect()
+    }
+
+    const SHAPES: [ShapeParams; 3] = [
+        ShapeParams {
+            alpha: 1.0,
+            beta: 1.0 / 3.0,
+            gamma: [1.0 / 3.0, 0.0, 2.0 / 3.0],
+        },
+        ShapeParams {
+            alpha: 1.0,
+            beta: 0.1,
+            gamma: [-3.7, 4.6, 0.1],
+        },
+        ShapeParams {
+            alpha: 0.6,
+            beta: 0.45,
+            gamma: [0.2, 0.5, 0.3],
+        },
+    ];
+
+    /// The twists solve (II_T) and V satisfies (19) and (21): the three conditions the paper
+    /// derives its formulas from, checked for orders 3..16 and several shapes.
+    #[test]
+    fn twists_and_cross_boundary_data_satisfy_the_g1_conditions_at_the_vertex() {
+        for n in 3..=16 {
+            for (k, shape) in SHAPES.iter().enumerate() {
+                let v = DVec3::new(0.1, -0.05, 0.3);
+                let p = ring(n, (n * 7 + k) as u64);
+                let valences: Vec<usize> = (0..n).map(|i| 3 + (i * 5 + n) % 10).collect();
+                let mut he = vec![HalfEdgeData::default(); n];
+                half_edges(v, &p, &valences, shape, &mut he);
+                let (phi_0, phi_1) = (phi0(n), 1.0 - 2.0 * phi0(n));
+                let r1 = |i: usize| 6.0 * (he[i % n].b[1] - he[i % n].b[0]);
+                let r2 = |i: usize| 24.0 * (he[i].b[2] - 2.0 * he[i].b[1] + he[i].b[0]);
+                // Twist from (21): t_i = Φ¹ r¹_i + Φ⁰ r²_i + Ψ' V(0) + Ψ⁰ V'(0).
+                let twist = |i: usize| {
+                    let psi_1 = psi0(valences[i]) - psi0(n);
+                    phi_1 * r1(i)
+                        + phi_0 * r2(i)
+                        + psi_1 * he[i].v0
+                        + psi0(n) * 4.0 * (he[i].v1 - he[i].v0)
+                };
+                for i in 0..n {
+                    // (19)
+                    let lhs = r1(i + 1);
+                    let rhs = phi_0 * r1(i) + psi0(n) * he[i].v0;
+                    assert!((lhs - rhs).length() < 1e-13, "eq. 19, n={n} i={i}");
+                    // (II_T): ½ t_i + ½ t_{i−1} = Φ¹ r¹_i + Φ⁰ r²_i.
+                    let lhs = 0.5 * (twist(i) + twist((i + n - 1) % n));
+                    let rhs = phi_1 * r1(i) + phi_0 * r2(i);
+                    assert!(
+                        (lhs - rhs).length() < 1e-11 * (1.0 + rhs.length()),
+                        "(II_T) n={n} shape={k} i={i}: {lhs} vs {rhs}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Tangent vectors of a Fourier one-ring satisfy r¹_{i+1} + r¹_{i−1} = 2 cos θ r¹_i, the
+    /// homogeneous system (5) with Φ⁰ = cos(2π/n) (eq. 6).
+    #[test]
+    fn tangents_solve_the_homogeneous_vertex_system() {
+        for n in 3..=16 {
+            let p = ring(n, n as u64);
+            let mut he = vec![HalfEdgeData::default(); n];
+            half_edges(DVec3::ZERO, &p, &vec![6; n], &SHAPES[0], &mut he);
+            let r1 = |i: usize| he[i % n].b[1] - he[i % n].b[0];
+            for i in 0..n {
+                let res = r1(i + n - 1) + r1(i + 1) - 2.0 * phi0(n) * r1(i);
+                assert!(res.length() < 1e-14, "n={n} i={i}: {res}");
+            }
+        }
+    }
+
+    /// With the default shape, a regular planar hexagonal one-ring gives straight boundary
+    /// pieces parametrised by arc length (linear precision): b_k = v + k e_i / 6, and zero twist.
+    #[test]
+    fn default_shape_has_linear_precision_on_a_regular_planar_ring() {
+        let p: Vec<DVec3> = (0..6)
+            .map(|j| {
+                let a = PI / 3.0 * j as f64;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        let mut he = vec![HalfEdgeData::default(); 6];
+        half_edges(DVec3::ZERO, &p, &[6; 6], &SHAPES[0], &mut he);
+        for i in 0..6 {
+            for k in 0..3 {
+                let expected = p[i] * k as f64 / 6.0;
+                assert!((he[i].b[k] - expected).length() < 1e-15, "b{k} of edge {i}");
+            }
+            // V constant: the cross derivative is e_{i+1} − ½ e_i everywhere.
+            assert!((he[i].v1 - he[i].v0).length() < 1e-14, "V' ≠ 0 at edge {i}");
+            let cross = 0.5 * p[i] + psi0(6) * he[i].v0;
+            assert!((cross - p[(i + 1) % 6]).length() < 1e-15);
+        }
+    }
+}
