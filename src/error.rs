@@ -46,7 +46,7 @@ pub enum Error {
     /// A vertex coordinate or normal is NaN or infinite.
     #[error("vertex {vertex} has a non-finite coordinate")]
     NonFiniteVertex {
-        /// Vertex index (after welding).
+        /// Vertex index as numbered by the input (for an OBJ file: 0-based, in file order).
         vertex: usize,
     },
     /// A face has (numerically) zero area or a repeated corner.
@@ -104,6 +104,12 @@ pub enum Error {
     MissingNormals {
         /// Why the file's normals cannot be used.
         reason: String,
+    },
+    /// The angle-weighted face normals around a vertex cancel, so it has no normal.
+    #[error("vertex {vertex} has no defined normal: the normals of the faces around it cancel")]
+    UndefinedNormal {
+        /// Vertex index.
+        vertex: usize,
     },
     /// The scheme name is not registered.
     #[error("unknown scheme '{name}' (known: {known})")]

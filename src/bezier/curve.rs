@@ -18,6 +18,21 @@ fn de_casteljau_step(net: &mut [DVec3], m: usize, t: f64) {
     }
 }
 
+/// Highest degree whose evaluation runs on a stack array (no heap allocation).
+const MAX_STACK_DEGREE: usize = 15;
+
+/// Runs `f` on a mutable copy of `points`, on the stack up to [`MAX_STACK_DEGREE`].
+#[inline(always)]
+fn with_working_net<R>(points: &[DVec3], f: impl FnOnce(&mut [DVec3]) -> R) -> R {
+    if points.len() <= MAX_STACK_DEGREE + 1 {
+        let mut net = [DVec3::ZERO; MAX_STACK_DEGREE + 1];
+        net[..points.len()].copy_from_slice(points);
+        f(&mut net[..points.len()])
+    } else {
+        f(&mut points.to_vec())
+    }
+}
+
 /// A Bézier curve `C(t) = Σ p_i B_i^d(t)`, `t ∈ [0, 1]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CurveBezier {
@@ -41,13 +56,15 @@ impl CurveBezier {
         &self.points
     }
 
-    /// Point at `t` (de Casteljau, Farin CAGD §3.1).
+    /// Point at `t` (de Casteljau, Farin CAGD §3.1). Allocation-free up to degree 15.
     pub fn eval(&self, t: f64) -> DVec3 {
-        let mut net = self.points.clone();
-        for m in (1..=self.degree()).rev() {
-            de_casteljau_step(&mut net, m, t);
-        }
-        net[0]
+        let degree = self.degree();
+        with_working_net(&self.points, |net| {
+            for m in (1..=degree).rev() {
+                de_casteljau_step(net, m, t);
+            }
+            net[0]
+        })
     }
 
     /// The blossom (polar form) at `d` parameters: symmetric, affine in each, equal to the
@@ -59,11 +76,12 @@ impl CurveBezier {
             d,
             "the blossom of a degree-{d} curve takes {d} arguments"
         );
-        let mut net = self.points.clone();
-        for (m, &t) in (1..=d).rev().zip(args) {
-            de_casteljau_step(&mut net, m, t);
-        }
-        net[0]
+        with_working_net(&self.points, |net| {
+            for (m, &t) in (1..=d).rev().zip(args) {
+                de_casteljau_step(net, m, t);
+            }
+            net[0]
+        })
     }
 
     /// The derivative curve (degree d−1; a single zero point for d = 0): the hodograph
@@ -145,5 +163,158 @@ impl CurveBezier {
     /// Bounding box of the control points (contains the curve: convex-hull property).
     pub fn control_bounds(&self) -> Aabb {
         Aabb::from_points(&self.points)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bezier::test_support::{Rng, curve_bernstein_sum, rel_err, scale_of};
+
+    /// 1..=7 as specified, plus 0 and degrees on the heap path.
+    const DEGREES: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 16, 20];
+
+    fn params() -> Vec<f64> {
+        (0..=20).map(|n| -0.1 + 1.2 * n as f64 / 20.0).collect()
+    }
+
+    #[test]
+    fn eval_equals_the_bernstein_sum() {
+        let mut rng = Rng::new(20);
+        for d in DEGREES {
+            let curve = rng.curve(d);
+            let scale = scale_of(curve.points());
+            for t in params() {
+                let err = rel_err(curve.eval(t), curve_bernstein_sum(&curve, t), scale);
+                assert!(err <= 1e-12, "d={d} t={t}: rel err {err:e}");
+            }
+            assert_eq!(curve.eval(0.0), curve.points()[0]);
+            assert_eq!(curve.eval(1.0), curve.points()[d]);
+        }
+    }
+
+    #[test]
+    fn blossom_is_symmetric_and_the_curve_on_the_diagonal() {
+        let mut rng = Rng::new(21);
+        for d in DEGREES {
+            let curve = rng.curve(d);
+            let scale = scale_of(curve.points());
+            for t in params() {
+                let err = rel_err(curve.blossom(&vec![t; d]), curve.eval(t), scale);
+                assert!(err <= 1e-12, "d={d} t={t}: rel err {err:e}");
+            }
+            let mut args: Vec<f64> = (0..d).map(|_| rng.range(-0.5, 1.5)).collect();
+            let value = curve.blossom(&args);
+            args.reverse();
+            let err = rel_err(curve.blossom(&args), value, scale);
+            assert!(err <= 1e-12, "d={d} reversed: rel err {err:e}");
+        }
+    }
+
+    #[test]
+    fn split_halves_reproduce_the_curve() {
+        let mut rng = Rng::new(22);
+        for d in DEGREES {
+            let curve = rng.curve(d);
+            let scale = scale_of(curve.points());
+            for t in [0.0, 0.3, 0.5, 0.77, 1.0] {
+                let (left, right) = curve.split(t);
+                assert_eq!((left.degree(), right.degree()), (d, d));
+                for n in 0..=10 {
+                    let s = n as f64 / 10.0;
+                    let err_left = rel_err(left.eval(s), curve.eval(s * t), scale);
+                    let err_right = rel_err(right.eval(s), curve.eval(t + s * (1.0 - t)), scale);
+                    assert!(
+                        err_left <= 1e-12,
+                        "d={d} t={t} s={s}: left rel err {err_left:e}"
+                    );
+                    assert!(
+                        err_right <= 1e-12,
+                        "d={d} t={t} s={s}: right rel err {err_right:e}"
+                    );
+                }
+                // The halves meet at the split point, bit for bit.
+                assert_eq!(left.points()[d], right.points()[0], "d={d} t={t}");
+            }
+        }
+    }
+
+    #[test]
+    fn subsegment_reproduces_the_curve_and_can_reverse_it() {
+        let mut rng = Rng::new(23);
+        for d in DEGREES {
+            let curve = rng.curve(d);
+            let scale = scale_of(curve.points());
+            for (t0, t1) in [(0.0, 1.0), (0.2, 0.9), (0.8, 0.1), (0.4, 0.45)] {
+                let piece = curve.subsegment(t0, t1);
+                assert_eq!(piece.degree(), d);
+                for n in 0..=10 {
+                    let s = n as f64 / 10.0;
+                    let err = rel_err(piece.eval(s), curve.eval(t0 + s * (t1 - t0)), scale);
+                    assert!(err <= 1e-12, "d={d} [{t0},{t1}] s={s}: rel err {err:e}");
+                }
+            }
+            assert_eq!(curve.subsegment(0.0, 1.0), curve, "d={d}");
+        }
+    }
+
+    /// The hodograph against the derivative of the explicit Bernstein sum (via central
+    /// differences with second-order truncation: halving h divides the error by ~4).
+    #[test]
+    fn derivative_matches_central_differences() {
+        let mut rng = Rng::new(24);
+        for d in DEGREES {
+            let curve = rng.curve(d);
+            let derivative = curve.derivative();
+            assert_eq!(derivative.degree(), d.saturating_sub(1));
+            let scale = scale_of(curve.points()) * d.max(1) as f64;
+            let central = |t: f64, h: f64| (curve.eval(t + h) - curve.eval(t - h)) / (2.0 * h);
+            let h = 1e-2;
+            for t in params() {
+                let exact = derivative.eval(t);
+                let err_coarse = (central(t, h) - exact).length();
+                let err_fine = (central(t, h / 2.0) - exact).length();
+                let rounding = 1e-12 * scale;
+                if err_coarse > 1e3 * rounding {
+                    let ratio = err_coarse / err_fine;
+                    assert!(
+                        (3.5..=4.5).contains(&ratio),
+                        "d={d} t={t}: error ratio {ratio} ({err_coarse:e} → {err_fine:e})"
+                    );
+                } else {
+                    assert!(err_fine <= 1e3 * rounding, "d={d} t={t}: {err_fine:e}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn elevation_reproduces_the_curve() {
+        let mut rng = Rng::new(25);
+        for d in DEGREES {
+            let curve = rng.curve(d);
+            let elevated = curve.elevate();
+            assert_eq!(elevated.degree(), d + 1);
+            assert_eq!(elevated.points()[0], curve.points()[0]);
+            assert_eq!(elevated.points()[d + 1], curve.points()[d]);
+            let scale = scale_of(curve.points());
+            for t in params() {
+                let err = rel_err(elevated.eval(t), curve.eval(t), scale);
+                assert!(err <= 1e-12, "d={d} t={t}: rel err {err:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn control_bounds_contain_the_curve() {
+        let mut rng = Rng::new(26);
+        for d in DEGREES {
+            let curve = rng.curve(d);
+            let bounds = curve.control_bounds();
+            for n in 0..=100 {
+                let p = curve.eval(n as f64 / 100.0);
+                assert!(bounds.contains(p, 0.0), "d={d}: {p} outside {bounds:?}");
+            }
+        }
     }
 }

@@ -7,6 +7,7 @@
 
 pub mod curve;
 pub mod triangle;
+pub mod triangle_forms;
 
 pub use curve::CurveBezier;
 pub use triangle::TriangleBezier;

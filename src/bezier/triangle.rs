@@ -1,5 +1,6 @@
-//! Triangular Bézier patches of any degree: de Casteljau evaluation, blossom, derivatives,
-//! subdivision over an arbitrary sub-triangle, degree elevation, edge curves, control-net bounds.
+//! Triangular Bézier patches of any degree: storage order, de Casteljau evaluation, blossom,
+//! and the position-and-derivatives jet the ray tracer and the metrics read. Subdivision,
+//! elevation, edge curves and bounds are in [`crate::bezier::triangle_forms`].
 //!
 //! The standard facts used here are those of Farin, *Curves and Surfaces for CAGD*, ch. 17
 //! (triangular patches), as recalled in [Piper87 §3.2–3.7]: the de Casteljau recursion
@@ -15,9 +16,8 @@
 
 use glam::DVec3;
 
-use crate::bezier::CurveBezier;
 use crate::error::{Error, Result};
-use crate::geom::{Aabb, Jet};
+use crate::geom::Jet;
 
 /// Highest degree whose evaluation runs on a stack array (no heap allocation).
 pub const MAX_STACK_DEGREE: usize = 8;
@@ -242,106 +242,6 @@ impl TriangleBezier {
         })
     }
 
-    /// The same surface over the sub-triangle with barycentric corners `corners` (each a
-    /// barycentric point of this patch's domain): the result's corner `b(d,0,0)` is at
-    /// `corners[0]`, `b(0,d,0)` at `corners[1]`, `b(0,0,d)` at `corners[2]`.
-    ///
-    /// `b'(i,j,k) = blossom(c0^i, c1^j, c2^k)` [Piper87 eq. 15; Farin, CAGD §17.8]. The
-    /// blossom is evaluated incrementally: the net after `i` steps at `c0` is shared by all
-    /// points with that `i`, and the net after `j` further steps at `c1` by all with that `(i,j)`.
-    /// For corners inside the domain every step is a convex combination (stable); outside it
-    /// is extrapolation and loses accuracy with the distance.
-    pub fn subdivide(&self, corners: [DVec3; 3]) -> TriangleBezier {
-        let d = self.degree;
-        let [c0, c1, c2] = corners;
-        let mut points = vec![DVec3::ZERO; point_count(d)];
-        let mut after_c0 = self.points.clone();
-        let mut after_c1 = Vec::with_capacity(point_count(d));
-        let mut after_c2 = Vec::with_capacity(point_count(d));
-        for i in 0..=d {
-            if i > 0 {
-                de_casteljau_step(&mut after_c0, d - i + 1, c0);
-            }
-            after_c1.clear();
-            after_c1.extend_from_slice(&after_c0[..point_count(d - i)]);
-            for j in 0..=d - i {
-                if j > 0 {
-                    de_casteljau_step(&mut after_c1, d - i - j + 1, c1);
-                }
-                let k = d - i - j;
-                after_c2.clear();
-                after_c2.extend_from_slice(&after_c1[..point_count(k)]);
-                for m in (1..=k).rev() {
-                    de_casteljau_step(&mut after_c2, m, c2);
-                }
-                points[index(d, i, j)] = after_c2[0];
-            }
-        }
-        TriangleBezier { degree: d, points }
-    }
-
-    /// The same surface as a patch of degree d+1 [Piper87 §3.6]:
-    /// `b'(i) = (i0 b(i−e0) + i1 b(i−e1) + i2 b(i−e2)) / (d+1)`.
-    pub fn elevate(&self) -> TriangleBezier {
-        let d = self.degree;
-        let scale = 1.0 / (d + 1) as f64;
-        TriangleBezier::from_fn(d + 1, |i, j, k| {
-            let mut sum = DVec3::ZERO;
-            if i > 0 {
-                sum += i as f64 * self.point(i - 1, j);
-            }
-            if j > 0 {
-                sum += j as f64 * self.point(i, j - 1);
-            }
-            if k > 0 {
-                sum += k as f64 * self.point(i, j);
-            }
-            sum * scale
-        })
-    }
-
-    /// Boundary curve `edge` (0: corner 0 → corner 1, where k = 0; 1: corner 1 → corner 2,
-    /// where i = 0; 2: corner 2 → corner 0, where j = 0). On an edge only that edge's control
-    /// points contribute [Piper87 §3.4], so they are the curve's control points.
-    /// Panics if `edge > 2`.
-    pub fn edge_curve(&self, edge: usize) -> CurveBezier {
-        let d = self.degree;
-        let points = (0..=d)
-            .map(|l| match edge {
-                0 => self.point(d - l, l),
-                1 => self.point(0, d - l),
-                2 => self.point(l, 0),
-                _ => panic!("a triangle has edges 0, 1, 2, not {edge}"),
-            })
-            .collect();
-        CurveBezier::new(points)
-    }
-
-    /// Bounding box of the control points (contains the patch: convex-hull property).
-    pub fn control_bounds(&self) -> Aabb {
-        Aabb::from_points(&self.points)
-    }
-
-    /// A box that contains the patch over the sub-triangle with barycentric `corners` (inside
-    /// the domain), conservative even under the rounding of the subdivision: the control
-    /// bounds of [`TriangleBezier::subdivide`], grown by a bound on its floating-point error.
-    ///
-    /// Each of the `d` de Casteljau steps per sub-net point is a convex combination, adding at
-    /// most about three ulps of the largest coordinate magnitude (weights that sum to one only up to
-    /// rounding add one more); the margin `8(d+1)·ε·max|b|` covers that with room to spare.
-    pub fn sub_triangle_bounds(&self, corners: [DVec3; 3]) -> Aabb {
-        let bounds = self.subdivide(corners).control_bounds();
-        let magnitude = self
-            .points
-            .iter()
-            .fold(0.0_f64, |m, p| m.max(p.abs().max_element()));
-        let margin = 8.0 * (self.degree + 1) as f64 * f64::EPSILON * magnitude;
-        Aabb {
-            min: bounds.min - DVec3::splat(margin),
-            max: bounds.max + DVec3::splat(margin),
-        }
-    }
-
     /// The patch with every control point mapped by `f` (exact for affine maps).
     pub fn map_points(&self, f: impl Fn(DVec3) -> DVec3) -> TriangleBezier {
         TriangleBezier {
@@ -536,6 +436,86 @@ mod tests {
                         );
                     }
                 }
+            }
+        }
+    }
+
+    /// Barycentric arguments that sum to one but lie anywhere near the domain.
+    fn random_args(rng: &mut Rng, count: usize) -> Vec<DVec3> {
+        (0..count)
+            .map(|_| {
+                let (u, v) = (rng.range(-0.5, 1.5), rng.range(-0.5, 1.5));
+                DVec3::new(1.0 - u - v, u, v)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn blossom_on_the_diagonal_is_the_patch() {
+        let mut rng = Rng::new(4);
+        for d in DEGREES {
+            let patch = rng.triangle(d, 2.0);
+            let scale = scale_of(patch.points());
+            for _ in 0..8 {
+                let w = rng.bary_inside();
+                let err = rel_err(patch.blossom(&vec![w; d]), patch.eval(w), scale);
+                assert!(err <= 1e-12, "d={d}: rel err {err:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn blossom_is_symmetric() {
+        let mut rng = Rng::new(5);
+        for d in DEGREES.into_iter().filter(|&d| d >= 2) {
+            let patch = rng.triangle(d, 0.0);
+            let scale = scale_of(patch.points());
+            for _ in 0..8 {
+                let args = random_args(&mut rng, d);
+                let value = patch.blossom(&args);
+                let mut reversed = args.clone();
+                reversed.reverse();
+                let mut rotated = args.clone();
+                rotated.rotate_left(1);
+                let mut swapped = args.clone();
+                swapped.swap(0, d - 1);
+                for (name, permuted) in [
+                    ("reversed", reversed),
+                    ("rotated", rotated),
+                    ("swapped", swapped),
+                ] {
+                    let err = rel_err(patch.blossom(&permuted), value, scale);
+                    assert!(err <= 1e-12, "d={d} {name}: rel err {err:e}");
+                }
+            }
+        }
+    }
+
+    /// `b[.., αx + (1−α)y, ..] = α b[.., x, ..] + (1−α) b[.., y, ..]` in every slot, also for α
+    /// outside [0, 1].
+    #[test]
+    fn blossom_is_affine_in_each_argument() {
+        let mut rng = Rng::new(6);
+        for d in DEGREES.into_iter().filter(|&d| d >= 1) {
+            let patch = rng.triangle(d, 1.0);
+            let scale = scale_of(patch.points());
+            for slot in 0..d {
+                let mut args = random_args(&mut rng, d);
+                let (x, y) = (random_args(&mut rng, 1)[0], random_args(&mut rng, 1)[0]);
+                let alpha = rng.range(-1.0, 2.0);
+                args[slot] = x;
+                let at_x = patch.blossom(&args);
+                args[slot] = y;
+                let at_y = patch.blossom(&args);
+                args[slot] = alpha * x + (1.0 - alpha) * y;
+                let at_mix = patch.blossom(&args);
+                let amplification = alpha.abs() + (1.0 - alpha).abs();
+                let err = rel_err(
+                    at_mix,
+                    alpha * at_x + (1.0 - alpha) * at_y,
+                    scale * amplification,
+                );
+                assert!(err <= 1e-12, "d={d} slot {slot} α={alpha}: rel err {err:e}");
             }
         }
     }

@@ -1,14 +1,34 @@
 //! Triangle meshes: OBJ input, welding, validation with typed errors, half-edge topology,
 //! ordered one-rings and vertex normals. Every scheme reads its input through [`Mesh`].
+//!
+//! Loading runs one pipeline for every source ([`Mesh::from_triangles`], [`Mesh::parse_obj`],
+//! [`Mesh::load_obj`]):
+//! 1. reject an empty mesh, out-of-range indices and non-finite coordinates;
+//! 2. drop vertices used by no face and weld vertices with bit-identical positions;
+//! 3. reject degenerate and duplicate faces, non-manifold edges;
+//! 4. orient every connected component consistently (or report a non-orientable one);
+//! 5. build the half-edge topology and the ordered one-rings, rejecting bow-tie vertices.
+//!
+//! Errors name vertices as the input numbers them (the index into `positions`, or for an OBJ
+//! file the 0-based position of the `v` line), so a user can find the element at fault. Faces
+//! are numbered in input order, 0-based. After loading, the mesh has its own vertex numbering
+//! (see [`Mesh::from_triangles`]).
 
 pub mod generate;
+mod normals;
+mod obj;
+mod topology;
+mod validate;
 
 use std::path::Path;
 
 use glam::DVec3;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::geom::Aabb;
+
+use normals::ObjNormals;
+use topology::{NO_TWIN, Topology};
 
 /// Where vertex normals come from (`--param normals=estimate|obj`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -47,25 +67,54 @@ pub struct MeshEdge {
 pub struct Mesh {
     positions: Vec<DVec3>,
     faces: Vec<[u32; 3]>,
-    obj_normals: Option<Vec<DVec3>>,
+    obj_normals: ObjNormals,
+    topology: Topology,
 }
 
 impl Mesh {
     /// Builds and validates a mesh (weld, checks, orientation, topology).
+    ///
+    /// Vertices used by no face are dropped (one warning line) and vertices with bit-identical
+    /// positions are welded into the first of them; the remaining vertices keep their input
+    /// order, so a clean input keeps its numbering. Faces keep their input order; a face is
+    /// only ever re-oriented by swapping its last two corners, so `faces()[f][0]` is always the
+    /// first corner given for face `f`.
     pub fn from_triangles(
         positions: Vec<DVec3>,
         faces: Vec<[u32; 3]>,
     ) -> Result<(Mesh, LoadReport)> {
-        todo!()
+        validate::assemble(
+            positions,
+            faces,
+            None,
+            Err("the mesh was not read from an OBJ file".to_string()),
+        )
     }
+
     /// Loads an OBJ file (position indices only; normals kept per position when consistent).
+    ///
+    /// See [`Mesh::parse_obj`] for what is read; a missing or unreadable file is
+    /// [`Error::Io`] naming the path.
     pub fn load_obj(path: &Path) -> Result<(Mesh, LoadReport)> {
-        todo!()
+        let bytes = std::fs::read(path).map_err(|source| Error::io(path, source))?;
+        let text = String::from_utf8(bytes).map_err(|e| Error::MalformedObj {
+            path: path.to_path_buf(),
+            message: format!("not UTF-8 text ({e})"),
+        })?;
+        obj::parse(&text, path)
     }
+
     /// Parses OBJ text (for embedded meshes and tests).
+    ///
+    /// Only positions, normals and faces are read; objects, groups and materials are ignored, so
+    /// all objects of a file form one mesh. Per-corner normal and texture indices never split a
+    /// vertex. Polygons with more than three corners are rejected ([`Error::NotATriangle`])
+    /// rather than triangulated: how a polygon is split changes every surface built on it, so
+    /// that choice stays with the modeller that made the file.
     pub fn parse_obj(text: &str) -> Result<(Mesh, LoadReport)> {
-        todo!()
+        obj::parse(text, Path::new("<OBJ text>"))
     }
+
     /// Vertex positions.
     pub fn positions(&self) -> &[DVec3] {
         &self.positions
@@ -82,46 +131,99 @@ impl Mesh {
     pub fn face_count(&self) -> usize {
         self.faces.len()
     }
+    /// Number of undirected edges.
+    pub fn edge_count(&self) -> usize {
+        // Every interior edge has two half-edges, every boundary edge one.
+        let boundary = self.topology.boundary_half_edges;
+        (3 * self.faces.len() + boundary) / 2
+    }
+    /// Euler characteristic V − E + F (2 − 2g for a closed surface of genus g).
+    pub fn euler_characteristic(&self) -> i64 {
+        self.vertex_count() as i64 - self.edge_count() as i64 + self.face_count() as i64
+    }
     /// Number of edges at vertex `v`.
     pub fn valence(&self, v: u32) -> usize {
-        todo!()
+        self.one_ring(v).len()
     }
     /// Neighbours of `v` ordered so that `(v, ring[j], ring[j+1])` is a face (indices mod n
     /// for an interior vertex; for a boundary vertex the fan starts and ends at the boundary).
+    ///
+    /// For a boundary vertex, `(v, ring[0])` is the boundary edge whose face runs from `v` to
+    /// `ring[0]`, and `(ring[n-1], v)` is the other boundary edge. Returns a slice into stored
+    /// arrays (no allocation). Panics if `v` is not a vertex of the mesh.
     pub fn one_ring(&self, v: u32) -> &[u32] {
-        todo!()
+        self.topology.one_ring(v)
     }
     /// `ring_faces(v)[j]` is the face `(v, one_ring(v)[j], one_ring(v)[j+1])`.
+    ///
+    /// It has n entries for an interior vertex of valence n and n − 1 for a boundary vertex.
     pub fn ring_faces(&self, v: u32) -> &[u32] {
-        todo!()
+        self.topology.ring_faces(v)
     }
     /// True if `v` lies on a boundary edge.
     pub fn is_boundary_vertex(&self, v: u32) -> bool {
-        todo!()
+        self.topology.boundary_vertex[v as usize]
     }
     /// True if no edge is a boundary edge.
     pub fn is_closed(&self) -> bool {
-        todo!()
+        self.topology.boundary_half_edges == 0
     }
     /// The first boundary edge, if any (for "needs a closed mesh" errors).
+    ///
+    /// The edge is returned in the direction its face runs along it.
     pub fn first_boundary_edge(&self) -> Option<(u32, u32)> {
-        todo!()
+        let he = self.topology.twin.iter().position(|&t| t == NO_TWIN)?;
+        let face = self.faces[he / 3];
+        Some((face[he % 3], face[(he + 1) % 3]))
     }
     /// The face across edge `e` of face `f` (edge e runs from `faces[f][e]` to
     /// `faces[f][(e+1)%3]`) and that edge's index in the neighbour; None on a boundary.
     pub fn neighbor(&self, f: u32, e: usize) -> Option<(u32, usize)> {
-        todo!()
+        assert!(e < 3, "a triangle has edges 0, 1, 2; asked for edge {e}");
+        let twin = self.topology.twin[3 * f as usize + e];
+        (twin != NO_TWIN).then(|| (twin / 3, (twin % 3) as usize))
     }
-    /// All undirected edges, each once.
+    /// All undirected edges, each once, in order of their first half-edge (face by face).
     pub fn edges(&self) -> Vec<MeshEdge> {
-        todo!()
+        let mut edges = Vec::with_capacity(self.edge_count());
+        for (he, &twin) in self.topology.twin.iter().enumerate() {
+            if twin != NO_TWIN && (twin as usize) < he {
+                continue;
+            }
+            let face = self.faces[he / 3];
+            let (from, to) = (face[he % 3], face[(he + 1) % 3]);
+            edges.push(MeshEdge {
+                a: from.min(to),
+                b: from.max(to),
+                faces: (he as u32 / 3, (twin != NO_TWIN).then_some(twin / 3)),
+            });
+        }
+        edges
     }
     /// One unit normal per vertex.
+    ///
+    /// [`NormalSource::Estimate`] is the angle-weighted average of the incident face normals
+    /// [Thürmer & Wüthrich 1998]; [`NormalSource::Obj`] returns the file's normals (unit length) or
+    /// [`Error::MissingNormals`] saying why they cannot be used.
     pub fn vertex_normals(&self, source: NormalSource) -> Result<Vec<DVec3>> {
-        todo!()
+        match source {
+            NormalSource::Estimate => normals::angle_weighted(&self.positions, &self.faces),
+            NormalSource::Obj => self.obj_normals.per_vertex(),
+        }
+    }
+    /// Unit normal of face `f` (from its counter-clockwise corners).
+    pub fn face_normal(&self, f: u32) -> DVec3 {
+        let [a, b, c] = self.faces[f as usize].map(|v| self.positions[v as usize]);
+        (b - a).cross(c - a).normalize()
     }
     /// Bounding box of the vertices.
     pub fn bounds(&self) -> Aabb {
         Aabb::from_points(&self.positions)
+    }
+    /// The mesh as OBJ text: `header` as comment lines, then `v` and `f` records. Coordinates
+    /// are written in Rust's shortest round-trip form, so parsing the text gives back the
+    /// identical mesh.
+    pub fn to_obj(&self, header: &str) -> String {
+        obj::write(header, &self.positions, &self.faces)
     }
 }
