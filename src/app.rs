@@ -278,7 +278,8 @@ pub fn run_schemes() -> Output {
 
 /// The mesh of the default job: the embedded deformed icosahedron.
 pub fn default_mesh() -> Result<Mesh> {
-    todo!("the embedded deformed icosahedron comes with mesh::generate")
+    let (positions, faces) = crate::mesh::generate::deformed_icosahedron();
+    Ok(Mesh::from_triangles(positions, faces)?.0)
 }
 
 /// `smoothlab` without arguments: the metrics table of every scheme on the embedded
