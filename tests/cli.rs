@@ -404,3 +404,47 @@ fn schemes_lists_names_and_params() {
         assert!(text.contains(name), "{name} missing: {text}");
     }
 }
+
+#[test]
+fn default_job_prints_every_scheme() {
+    let out = smoothlab(&[]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("deformed icosahedron (20 faces)"), "{text}");
+    for name in ["flat", "pn", "hb"] {
+        assert!(
+            text.lines().any(|l| l.starts_with(name)),
+            "{name} row missing: {text}"
+        );
+    }
+}
+
+#[test]
+fn all_on_a_closed_mesh_measures_every_scheme() {
+    let dir = scratch("all-closed");
+    let json = dir.join("m.json");
+    let out = metrics_of(
+        &dir,
+        "tet.obj",
+        TETRAHEDRON,
+        &["--scheme", "all", "--json", json.to_str().expect("utf-8")],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("JSON");
+    let list = value.as_array().expect("list");
+    let names: Vec<&str> = list.iter().filter_map(|m| m["scheme"].as_str()).collect();
+    assert_eq!(names, ["flat", "pn", "hb"]);
+    // hb is G1 (4 patches per face); pn is not.
+    assert_eq!(list[2]["patches"], 16);
+    assert!(
+        list[2]["g1_max_rad"].as_f64().expect("number") <= 1e-9,
+        "{}",
+        list[2]
+    );
+    assert!(
+        list[1]["g1_max_rad"].as_f64().expect("number") > 0.1,
+        "{}",
+        list[1]
+    );
+}

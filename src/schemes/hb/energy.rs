@@ -143,7 +143,10 @@ fn invert6(mut a: [[f64; 6]; 6]) -> [[f64; 6]; 6] {
         a.swap(col, pivot);
         inv.swap(col, pivot);
         let p = a[col][col];
-        assert!(p.abs() > 1e-12, "thin-plate system of the free points is singular");
+        assert!(
+            p.abs() > 1e-12,
+            "thin-plate system of the free points is singular"
+        );
         for j in 0..6 {
             a[col][j] /= p;
             inv[col][j] /= p;

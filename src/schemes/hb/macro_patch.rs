@@ -112,7 +112,11 @@ fn linear_times_quadratic(a: [f64; 2], b: [DVec3; 3]) -> [DVec3; 4] {
 /// half-edge parameter `s = 2u`.
 fn cross_derivative(h: &HalfEdgeCurve, sign: f64) -> [DVec3; 5] {
     let b = h.b;
-    let tangent = [6.0 * (b[1] - b[0]), 6.0 * (b[2] - b[1]), 6.0 * (b[3] - b[2])];
+    let tangent = [
+        6.0 * (b[1] - b[0]),
+        6.0 * (b[2] - b[1]),
+        6.0 * (b[3] - b[2]),
+    ];
     let phi_e = linear_times_quadratic([h.phi0, 0.5], tangent);
     let psi_v = linear_times_quadratic(h.psi, h.v);
     let c: [DVec3; 4] = std::array::from_fn(|m| phi_e[m] + sign * psi_v[m]);
@@ -221,9 +225,8 @@ fn complete(nets: &mut MacroNets, twists: [DVec3; 3], d_points: [DVec3; 3]) {
 /// two twists of its row.
 fn zero_twist_free_points(nets: &MacroNets) -> ([DVec3; 3], [DVec3; 3]) {
     let m = &nets[3];
-    let twists: [DVec3; 3] = std::array::from_fn(|c| {
-        m[mid(c, [4, 1, 0])] + m[mid(c, [4, 0, 1])] - m[mid(c, [5, 0, 0])]
-    });
+    let twists: [DVec3; 3] =
+        std::array::from_fn(|c| m[mid(c, [4, 1, 0])] + m[mid(c, [4, 0, 1])] - m[mid(c, [5, 0, 0])]);
     let d = std::array::from_fn(|k| 0.5 * (twists[(k + 1) % 3] + twists[(k + 2) % 3]));
     (twists, d)
 }

@@ -168,7 +168,12 @@ fn half_edge_curve(
     let here = &data[offsets[x as usize] + ring_index(mesh, x, y)];
     let there = &data[offsets[y as usize] + ring_index(mesh, y, x)];
     HalfEdgeCurve {
-        b: [here.b[0], here.b[1], here.b[2], 0.5 * (here.b[2] + there.b[2])],
+        b: [
+            here.b[0],
+            here.b[1],
+            here.b[2],
+            0.5 * (here.b[2] + there.b[2]),
+        ],
         v: [here.v0, here.v1, 0.5 * (here.v1 - there.v1)],
         phi0: here.phi0,
         psi: [here.psi0, 0.5 * (here.psi0 + psi0(mesh.valence(y)))],

@@ -27,7 +27,11 @@ fn continuity(mesh: &Mesh, surface: &Surface) -> Continuity {
     // Every mesh edge is covered by two half-edge joints, every face has three inner edges.
     let between = joints.iter().filter(|j| j.between_faces).count();
     assert_eq!(between, 2 * mesh.edges().len(), "joints between faces");
-    assert_eq!(joints.len() - between, 3 * mesh.face_count(), "joints inside faces");
+    assert_eq!(
+        joints.len() - between,
+        3 * mesh.face_count(),
+        "joints inside faces"
+    );
     for j in &joints {
         let (pa, pb) = (
             &surface.patches[j.a.patch as usize],
@@ -36,7 +40,10 @@ fn continuity(mesh: &Mesh, surface: &Surface) -> Continuity {
         for step in 0..=32 {
             let s = step as f64 / 32.0;
             let sb = if j.reversed { 1.0 - s } else { s };
-            let (ua, ub) = (edge_uv(j.a.edge as usize, s), edge_uv(j.b.edge as usize, sb));
+            let (ua, ub) = (
+                edge_uv(j.a.edge as usize, s),
+                edge_uv(j.b.edge as usize, sb),
+            );
             let (ja, jb) = (pa.jet(ua.x, ua.y), pb.jet(ub.x, ub.y));
             c.gap = c.gap.max((ja.p - jb.p).length() / diag);
             let (na, nb) = (ja.normal(), jb.normal());
