@@ -107,9 +107,18 @@ fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
         Err(e) => {
+            // clap's message is a paragraph (e.g. "required arguments were not provided:"
+            // followed by their names), then usage: keep the paragraph, on one line.
             let text = e.to_string();
-            let first = text.lines().next().unwrap_or("invalid arguments");
-            eprintln!("error: {}", first.trim_start_matches("error: "));
+            let paragraph: Vec<&str> = text
+                .lines()
+                .take_while(|l| !l.trim().is_empty())
+                .map(str::trim)
+                .collect();
+            eprintln!(
+                "error: {}",
+                paragraph.join(" ").trim_start_matches("error: ")
+            );
             return ExitCode::FAILURE;
         }
     };

@@ -187,11 +187,9 @@ fn recompute(json: &str) -> Independent {
     };
     let (mut sum, mut count) = (0.0, 0usize);
     for a in 0..tris.len() {
-        for ea in 0..3 {
-            let (a0, a1) = ends[a][ea];
+        for (ea, &(a0, a1)) in ends[a].iter().enumerate() {
             for b in a + 1..tris.len() {
-                for eb in 0..3 {
-                    let (b0, b1) = ends[b][eb];
+                for (eb, &(b0, b1)) in ends[b].iter().enumerate() {
                     // Shared edges run in opposite directions on consistently oriented patches;
                     // a same-direction match is an orientation flip and must show as π.
                     let reversed = norm(sub(a0, b1)) <= tol && norm(sub(a1, b0)) <= tol;
