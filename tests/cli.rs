@@ -448,3 +448,31 @@ fn all_on_a_closed_mesh_measures_every_scheme() {
         list[1]
     );
 }
+
+#[test]
+fn pn_takes_the_file_normals_when_asked() {
+    let dir = scratch("pn-obj-normals");
+    // The tetrahedron's vertices are on a sphere about the origin: the sphere's normals.
+    let with_normals = TETRAHEDRON
+        .replace(
+            "f 1 2 3",
+            "vn 1 1 1\nvn 1 -1 -1\nvn -1 1 -1\nvn -1 -1 1\nf 1//1 2//2 3//3",
+        )
+        .replace("f 1 4 2", "f 1//1 4//4 2//2")
+        .replace("f 1 3 4", "f 1//1 3//3 4//4")
+        .replace("f 2 4 3", "f 2//2 4//4 3//3");
+    let out = metrics_of(
+        &dir,
+        "tet-vn.obj",
+        &with_normals,
+        &["--scheme", "pn", "--param", "normals=obj"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let out = metrics_of(
+        &dir,
+        "tet.obj",
+        TETRAHEDRON,
+        &["--scheme", "pn", "--param", "normals=obj"],
+    );
+    assert_fails_naming(&out, &["normals=obj"]);
+}
