@@ -201,19 +201,22 @@ fn face_corner_curves(
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let (shape, free) = shape_params(params)?;
     let (offsets, data) = all_half_edges(mesh, &shape);
-    let domains = piece_domains();
-    let patches: Vec<Patch> = mesh
+    let nets: Vec<macro_patch::MacroNets> = mesh
         .faces()
         .par_iter()
-        .enumerate()
-        .flat_map_iter(|(f, face)| {
-            let nets = macro_patch(&face_corner_curves(mesh, &offsets, &data, *face), free);
-            (0..4).map(move |piece| Patch {
-                face: f as u32,
+        .map(|face| macro_patch(&face_corner_curves(mesh, &offsets, &data, *face), free))
+        .collect();
+    let domains = piece_domains();
+    let patches: Vec<Patch> = (0..4 * nets.len())
+        .into_par_iter()
+        .map(|i| {
+            let (face, piece) = (i / 4, i % 4);
+            Patch {
+                face: face as u32,
                 piece: piece as u8,
                 domain: domains[piece],
-                geometry: PatchGeometry::Bezier(TriangleBezier::new(5, nets[piece].to_vec())),
-            })
+                geometry: PatchGeometry::Bezier(TriangleBezier::new(5, nets[face][piece].to_vec())),
+            }
         })
         .collect();
     Ok(Surface {
