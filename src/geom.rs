@@ -115,7 +115,7 @@ impl Jet {
     pub fn curvature(&self) -> Option<Curvature> {
         let n = self.cross();
         let len = n.length();
-        if !(len > 0.0) || !len.is_finite() {
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return None;
         }
         let n = n / len;
@@ -126,7 +126,7 @@ impl Jet {
         );
         let (l, m, nn) = (self.duu.dot(n), self.duv.dot(n), self.dvv.dot(n));
         let det1 = e * g - f * f;
-        if !(det1 > 0.0) {
+        if det1.is_nan() || det1 <= 0.0 {
             return None;
         }
         let gaussian = (l * nn - m * m) / det1;

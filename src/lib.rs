@@ -4,10 +4,13 @@
 //! Data flow (see DESIGN.md): [`mesh::Mesh`] → [`schemes::build`] → [`surface::Surface`] →
 //! metrics, export, render.
 
+pub mod app;
 pub mod bezier;
 pub mod error;
+pub mod export;
 pub mod geom;
 pub mod mesh;
+pub mod metrics;
 pub mod render;
 pub mod schemes;
 pub mod surface;

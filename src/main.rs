@@ -1,13 +1,17 @@
-//! The smoothlab command line: argument parsing and printing only.
+//! The smoothlab command line: argument parsing and printing only; the work is done by
+//! [`smoothlab::app`].
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{Parser, Subcommand, ValueEnum};
+use smoothlab::app::{self, Output};
+use smoothlab::export::Format;
 
-/// Smooth surfaces from triangle meshes, ray-traced exactly and measured.
+/// Smooth surfaces from triangle meshes with classical schemes, ray-traced exactly and
+/// measured. Without a command: the default job on the embedded deformed icosahedron.
 #[derive(Parser)]
-#[command(version, about)]
+#[command(name = "smoothlab", version)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -15,34 +19,131 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Ray-trace a surface exactly to PNG + EXR (zebra, isophote, curvature, …).
+    /// Build one scheme (or all) on a mesh and print the smoothness metrics.
+    Metrics {
+        /// The mesh (OBJ).
+        mesh: PathBuf,
+        /// Scheme name, or `all`.
+        #[arg(long)]
+        scheme: String,
+        /// Scheme parameter `name=value` (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// Also write the metrics JSON here.
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+    },
+    /// Build a scheme on a mesh and write its patches.
+    Export {
+        /// The mesh (OBJ).
+        mesh: PathBuf,
+        /// Scheme name.
+        #[arg(long)]
+        scheme: String,
+        /// Output format.
+        #[arg(long, value_enum)]
+        format: FormatArg,
+        /// Output file.
+        #[arg(short = 'o', long = "output", value_name = "FILE")]
+        output: PathBuf,
+        /// Subdivisions per patch edge (obj only).
+        #[arg(long, default_value_t = 8)]
+        tess: usize,
+        /// Scheme parameter `name=value` (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+    },
+    /// List the schemes and their parameters.
+    Schemes,
+    /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
     Render(smoothlab::render::cli::RenderArgs),
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum FormatArg {
+    /// smoothlab-patches JSON.
+    Json,
+    /// BezierView type-3 records.
+    Bv,
+    /// Tessellated OBJ with exact normals.
+    Obj,
+}
+
+impl From<FormatArg> for Format {
+    fn from(f: FormatArg) -> Format {
+        match f {
+            FormatArg::Json => Format::Json,
+            FormatArg::Bv => Format::BezierView,
+            FormatArg::Obj => Format::Obj,
+        }
+    }
+}
+
+fn run(cli: Cli) -> smoothlab::Result<Output> {
+    match cli.command {
+        None => {
+            let mut output = app::run_default()?;
+            output.stdout += &smoothlab::render::cli::run_gallery(Path::new("out/gallery"))?;
+            Ok(output)
+        }
+        Some(Command::Render(args)) => Ok(Output {
+            stdout: smoothlab::render::cli::render_summary(
+                &smoothlab::render::cli::render_command(&args)?,
+            ),
+            warnings: Vec::new(),
+        }),
+        Some(Command::Metrics {
+            mesh,
+            scheme,
+            params,
+            json,
+        }) => app::run_metrics(&mesh, &scheme, &params, json.as_deref()),
+        Some(Command::Export {
+            mesh,
+            scheme,
+            format,
+            output,
+            tess,
+            params,
+        }) => app::run_export(&mesh, &scheme, format.into(), &output, tess, &params),
+        Some(Command::Schemes) => Ok(app::run_schemes()),
+    }
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match cli.command {
-        Some(Command::Render(args)) => smoothlab::render::cli::render_command(&args).map(|stats| {
-            println!(
-                "{} rays, {} hits, Newton mean {:.2} max {}, {} failures, BVH {:.1} ms, render {:.1} ms",
-                stats.rays,
-                stats.hits,
-                stats.newton_iter_mean,
-                stats.newton_iter_max,
-                stats.newton_failures,
-                stats.bvh_build_ms,
-                stats.render_ms
-            );
-        }),
-        None => smoothlab::render::gallery::render_gallery(Path::new("out/gallery")).map(|g| {
-            print!("{}", smoothlab::render::gallery::gallery_table(&g));
-            println!("wrote {}", g.sheet.display());
-        }),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => {
+            // --help and --version.
+            print!("{e}");
+            return ExitCode::SUCCESS;
+        }
         Err(e) => {
-            eprintln!("smoothlab: {e}");
+            // clap's message is a paragraph (e.g. "required arguments were not provided:"
+            // followed by their names), then usage: keep the paragraph, on one line.
+            let text = e.to_string();
+            let paragraph: Vec<&str> = text
+                .lines()
+                .take_while(|l| !l.trim().is_empty())
+                .map(str::trim)
+                .collect();
+            eprintln!(
+                "error: {}",
+                paragraph.join(" ").trim_start_matches("error: ")
+            );
+            return ExitCode::FAILURE;
+        }
+    };
+    match run(cli) {
+        Ok(output) => {
+            for w in &output.warnings {
+                eprintln!("warning: {w}");
+            }
+            print!("{}", output.stdout);
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
             ExitCode::FAILURE
         }
     }

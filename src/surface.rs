@@ -60,7 +60,7 @@ impl Patch {
         match &self.geometry {
             PatchGeometry::Bezier(b) => {
                 let bary = tri.map(|c| DVec3::new(1.0 - c.x - c.y, c.x, c.y));
-                b.subdivide(bary).control_bounds()
+                b.sub_triangle_bounds(bary)
             }
         }
     }

@@ -168,7 +168,6 @@ impl CurveBezier {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
     use crate::bezier::test_support::{Rng, curve_bernstein_sum, rel_err, scale_of};
 
     /// 1..=7 as specified, plus 0 and degrees on the heap path.

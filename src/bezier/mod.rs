@@ -4,6 +4,10 @@
 //! patch of degree d has control points `b(i,j,k)`, `i+j+k = d`, stored with i from d down to 0,
 //! then j from d−i down to 0. Corner `b(d,0,0)` is at barycentric (1,0,0). The patch is also
 //! read as a map of `(u, v)` through the barycentric point `(1−u−v, u, v)`.
+//!
+//! [`triangle`] holds the patch type, its storage order and its evaluation (point, jet,
+//! blossom); [`triangle_forms`] the other Bézier forms of the same patch (sub-triangle,
+//! higher degree, boundary curves) and its bounds; [`curve`] the Bézier curves.
 
 pub mod curve;
 pub mod triangle;

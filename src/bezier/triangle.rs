@@ -41,17 +41,21 @@ pub const fn index(degree: usize, i: usize, j: usize) -> usize {
 /// `b'(i,j,k) = w0 b(i+1,j,k) + w1 b(i,j+1,k) + w2 b(i,j,k+1)`.
 ///
 /// `w` need not sum to one: with a general argument this is one step of the blossom.
-/// In place is safe because, walking the new points in increasing index `n`, `b(i+1,j,k)` sits
-/// at the same index `n` of the old net and `b(i,j+1,k)`, `b(i,j,k+1)` at `n + (m−i)` and
-/// `n + (m−i) + 1`, which have not been overwritten yet.
+/// In place is safe because the new row `i` (`m − i` points) lands exactly where the old row
+/// `i+1` was, and it reads only that old row and the old row `i`, which lies after it and has
+/// not been overwritten yet. Rows are handled as slices, so the inner loop has no index checks.
 #[inline(always)]
 pub(crate) fn de_casteljau_step(net: &mut [DVec3], m: usize, w: DVec3) {
-    let mut n = 0;
+    // Old row i (first index i, m−i+1 points) starts at (m−i)(m−i+1)/2.
+    let row_start = |i: usize| (m - i) * (m - i + 1) / 2;
     for i in (0..m).rev() {
-        let row = m - i;
-        for _ in 0..row {
-            net[n] = w.x * net[n] + w.y * net[n + row] + w.z * net[n + row + 1];
-            n += 1;
+        let len = m - i;
+        let (head, tail) = net.split_at_mut(row_start(i));
+        let target = &mut head[row_start(i + 1)..];
+        let row_i = &tail[..=len];
+        // target[n] holds old b(i+1, len−1−n, ·); row_i[n] = b(i, len−n, ·), row_i[n+1] = b(i, len−1−n, ·).
+        for ((t, &b_j), &b_k) in target.iter_mut().zip(row_i).zip(&row_i[1..]) {
+            *t = w.x * *t + w.y * b_j + w.z * b_k;
         }
     }
 }

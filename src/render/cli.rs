@@ -188,6 +188,31 @@ pub fn render_command(args: &RenderArgs) -> Result<RenderStats> {
     Ok(stats)
 }
 
+/// One line about a finished render, for the terminal.
+pub fn render_summary(stats: &RenderStats) -> String {
+    format!(
+        "{} rays, {} hits; Newton {:.2} mean, {} max, {} failures; BVH {:.1} ms ({} leaves), render {:.1} ms\n",
+        stats.rays,
+        stats.hits,
+        stats.newton_iter_mean,
+        stats.newton_iter_max,
+        stats.newton_failures,
+        stats.bvh_build_ms,
+        stats.leaves,
+        stats.render_ms
+    )
+}
+
+/// Renders the gallery into `out_dir` and returns its table and where the sheet went.
+pub fn run_gallery(out_dir: &std::path::Path) -> Result<String> {
+    let gallery = crate::render::gallery::render_gallery(out_dir)?;
+    Ok(format!(
+        "\ngallery renders:\n{}wrote {}\n",
+        crate::render::gallery::gallery_table(&gallery),
+        gallery.sheet.display()
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

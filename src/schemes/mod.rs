@@ -2,7 +2,9 @@
 //! [`SCHEMES`]. `build` checks the parameter names, fills in defaults and refuses meshes a
 //! scheme cannot take (by name), so scheme code only sees valid input.
 
+pub mod flat;
 pub mod hb;
+pub mod pn;
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, NormalSource};
@@ -35,7 +37,7 @@ pub struct SchemeSpec {
 }
 
 /// Every scheme, in the order the gallery and tables show them.
-pub const SCHEMES: &[SchemeSpec] = &[hb::SPEC];
+pub const SCHEMES: &[SchemeSpec] = &[flat::SPEC, pn::SPEC, hb::SPEC];
 
 /// Looks a scheme up by name.
 pub fn find(name: &str) -> Result<&'static SchemeSpec> {

@@ -24,6 +24,14 @@ fn continuity(mesh: &Mesh, surface: &Surface) -> Continuity {
         inside_faces: 0.0,
     };
     let joints: Vec<Joint> = surface.joints(mesh.faces());
+    // Every mesh edge is covered by two half-edge joints, every face has three inner edges.
+    let between = joints.iter().filter(|j| j.between_faces).count();
+    assert_eq!(between, 2 * mesh.edges().len(), "joints between faces");
+    assert_eq!(
+        joints.len() - between,
+        3 * mesh.face_count(),
+        "joints inside faces"
+    );
     for j in &joints {
         let (pa, pb) = (
             &surface.patches[j.a.patch as usize],
@@ -105,6 +113,10 @@ fn check(mesh_name: &str, mesh: &Mesh, p: &Params, interpolates: bool) {
         c.inside_faces <= 1e-9,
         "normal jump inside faces {} rad on {label}",
         c.inside_faces
+    );
+    eprintln!(
+        "{label}: gap {:.1e}, normal jump between faces {:.1e} rad, inside {:.1e} rad",
+        c.gap, c.between_faces, c.inside_faces
     );
     if interpolates {
         let e = interpolation_error(mesh, &surface);

@@ -1,0 +1,383 @@
+//! What the command line does, minus argument parsing and printing: loading a mesh with its
+//! warnings, building schemes with timing, measuring, exporting, and formatting tables. Each
+//! command returns an [`Output`] (text for stdout plus warnings) so that it can be tested
+//! without running the binary.
+
+use std::path::Path;
+use std::time::Instant;
+
+use crate::error::{Error, Result};
+use crate::export::{self, Format};
+use crate::mesh::Mesh;
+use crate::metrics::Metrics;
+use crate::schemes::{self, SCHEMES};
+use crate::surface::Surface;
+
+/// The `--scheme` value that selects every registered scheme.
+pub const ALL_SCHEMES: &str = "all";
+
+/// What a command produced: text for standard output and warnings (one line each, printed
+/// by the binary as `warning: …` on standard error).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Output {
+    /// Text for standard output.
+    pub stdout: String,
+    /// Warnings, one line each, without the `warning:` prefix.
+    pub warnings: Vec<String>,
+}
+
+/// Loads an OBJ mesh; the loader's report (welded vertices, re-oriented faces, …) becomes
+/// warnings.
+pub fn load_mesh(path: &Path) -> Result<(Mesh, Vec<String>)> {
+    let (mesh, report) = Mesh::load_obj(path)?;
+    Ok((mesh, report.warnings))
+}
+
+/// Parses every `--param name=value`.
+pub fn parse_params(raw: &[String]) -> Result<Vec<(String, String)>> {
+    raw.iter().map(|p| schemes::parse_param(p)).collect()
+}
+
+/// Builds `scheme` on `mesh` and returns the surface with the construction time in ms.
+pub fn build_timed(
+    scheme: &str,
+    mesh: &Mesh,
+    params: &[(String, String)],
+) -> Result<(Surface, f64)> {
+    let start = Instant::now();
+    let surface = schemes::build(scheme, mesh, params)?;
+    Ok((surface, start.elapsed().as_secs_f64() * 1e3))
+}
+
+/// One scheme to run, with the parameters meant for it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SchemeRun {
+    /// Registered scheme name.
+    pub scheme: &'static str,
+    /// `name=value` pairs for it.
+    pub params: Vec<(String, String)>,
+}
+
+/// The schemes a `--scheme` value selects, each with the parameters meant for it.
+///
+/// For one scheme the parameters go to it unchanged (the registry rejects unknown names).
+/// For [`ALL_SCHEMES`] each parameter goes to the schemes that declare it, and a parameter
+/// that no scheme declares is an error.
+pub fn select_schemes(selection: &str, params: &[(String, String)]) -> Result<Vec<SchemeRun>> {
+    if selection != ALL_SCHEMES {
+        let spec = schemes::find(selection)?;
+        return Ok(vec![SchemeRun {
+            scheme: spec.name,
+            params: params.to_vec(),
+        }]);
+    }
+    if let Some((name, _)) = params
+        .iter()
+        .find(|(n, _)| !SCHEMES.iter().any(|s| s.params.iter().any(|p| p.name == n)))
+    {
+        let mut known: Vec<&str> = SCHEMES
+            .iter()
+            .flat_map(|s| s.params.iter().map(|p| p.name))
+            .collect();
+        known.sort_unstable();
+        known.dedup();
+        return Err(Error::UnknownParam {
+            scheme: ALL_SCHEMES.to_string(),
+            name: name.clone(),
+            known: known.join(", "),
+        });
+    }
+    Ok(SCHEMES
+        .iter()
+        .map(|s| {
+            let own = params
+                .iter()
+                .filter(|(n, _)| s.params.iter().any(|p| p.name == n))
+                .cloned()
+                .collect();
+            SchemeRun {
+                scheme: s.name,
+                params: own,
+            }
+        })
+        .collect())
+}
+
+/// Builds and measures every selected scheme on `mesh`. With [`ALL_SCHEMES`], a scheme that
+/// refuses an open mesh is skipped with a warning instead of failing the whole run.
+pub fn measure_schemes(
+    mesh: &Mesh,
+    selection: &str,
+    params: &[(String, String)],
+) -> Result<(Vec<Metrics>, Vec<String>)> {
+    let mut results = Vec::new();
+    let mut warnings = Vec::new();
+    for run in select_schemes(selection, params)? {
+        match build_timed(run.scheme, mesh, &run.params) {
+            Ok((surface, ms)) => results.push(Metrics::measure(&surface, mesh, ms)),
+            Err(e @ Error::OpenMesh { .. }) if selection == ALL_SCHEMES => {
+                warnings.push(format!("skipped: {e}"));
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Ok((results, warnings))
+}
+
+fn cell(x: Option<f64>) -> String {
+    x.map_or_else(|| "-".to_string(), |x| format!("{x:.2e}"))
+}
+
+/// An aligned text table of metrics, one row per scheme. Lengths are relative to the
+/// bounding-box diagonal, angles in radians; `-` marks a figure over an empty set.
+pub fn metrics_table(metrics: &[Metrics]) -> String {
+    let header = [
+        "scheme",
+        "faces",
+        "patches",
+        "build_ms",
+        "interp",
+        "G0_gap",
+        "G1_max",
+        "G1_mean",
+        "G1_between",
+        "G1_inside",
+        "curv_jump",
+        "regularity",
+    ];
+    let rows: Vec<Vec<String>> = metrics
+        .iter()
+        .map(|m| {
+            vec![
+                m.scheme.clone(),
+                m.faces.to_string(),
+                m.patches.to_string(),
+                format!("{:.2}", m.construct_ms),
+                cell(m.interp_max_rel),
+                cell(m.g0_max_rel),
+                cell(m.g1_max_rad),
+                cell(m.g1_mean_rad),
+                cell(m.g1_between_faces_max_rad),
+                cell(m.g1_inside_faces_max_rad),
+                cell(m.curvature_jump_max_rel),
+                cell(m.min_regularity_rel),
+            ]
+        })
+        .collect();
+    let widths: Vec<usize> = (0..header.len())
+        .map(|c| {
+            rows.iter()
+                .map(|r| r[c].chars().count())
+                .chain([header[c].len()])
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let line = |cells: Vec<&str>| {
+        let padded: Vec<String> = cells
+            .iter()
+            .zip(&widths)
+            .enumerate()
+            .map(|(c, (text, &w))| {
+                // Names left-aligned, numbers right-aligned.
+                if c == 0 {
+                    format!("{text:<w$}")
+                } else {
+                    format!("{text:>w$}")
+                }
+            })
+            .collect();
+        padded.join("  ").trim_end().to_string() + "\n"
+    };
+    let mut out = line(header.to_vec());
+    for row in &rows {
+        out += &line(row.iter().map(String::as_str).collect());
+    }
+    out
+}
+
+/// The metrics JSON of DESIGN.md: a list with one object per scheme.
+pub fn metrics_json(metrics: &[Metrics]) -> Result<String> {
+    serde_json::to_string_pretty(metrics).map_err(|e| Error::Invalid(format!("metrics JSON: {e}")))
+}
+
+/// Every registered scheme with its summary and parameters (default and help).
+pub fn schemes_listing() -> String {
+    let mut out = String::new();
+    for spec in SCHEMES {
+        let closed = if spec.needs_closed_mesh {
+            " [closed meshes only]"
+        } else {
+            ""
+        };
+        out += &format!("{}: {}{closed}\n", spec.name, spec.summary);
+        for p in spec.params {
+            out += &format!("    {}={}  {}\n", p.name, p.default, p.help);
+        }
+    }
+    out
+}
+
+fn write_file(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+}
+
+/// `smoothlab metrics MESH --scheme S|all [--param k=v]… [--json F]`.
+pub fn run_metrics(
+    mesh_path: &Path,
+    selection: &str,
+    raw_params: &[String],
+    json: Option<&Path>,
+) -> Result<Output> {
+    let params = parse_params(raw_params)?;
+    // Check the scheme and parameters before the (possibly slow) mesh load.
+    select_schemes(selection, &params)?;
+    let (mesh, mut warnings) = load_mesh(mesh_path)?;
+    let (metrics, skipped) = measure_schemes(&mesh, selection, &params)?;
+    warnings.extend(skipped);
+    if let Some(path) = json {
+        write_file(path, &metrics_json(&metrics)?)?;
+    }
+    Ok(Output {
+        stdout: metrics_table(&metrics),
+        warnings,
+    })
+}
+
+/// `smoothlab export MESH --scheme S --format json|bv|obj -o F [--tess N] [--param k=v]…`.
+pub fn run_export(
+    mesh_path: &Path,
+    scheme: &str,
+    format: Format,
+    out_path: &Path,
+    tess: usize,
+    raw_params: &[String],
+) -> Result<Output> {
+    let params = parse_params(raw_params)?;
+    schemes::find(scheme)?;
+    let (mesh, warnings) = load_mesh(mesh_path)?;
+    let (surface, _) = build_timed(scheme, &mesh, &params)?;
+    write_file(out_path, &export::export(&surface, format, tess)?)?;
+    Ok(Output {
+        stdout: format!(
+            "wrote {} patches of '{scheme}' to {}\n",
+            surface.patches.len(),
+            out_path.display()
+        ),
+        warnings,
+    })
+}
+
+/// `smoothlab schemes`.
+pub fn run_schemes() -> Output {
+    Output {
+        stdout: schemes_listing(),
+        warnings: Vec::new(),
+    }
+}
+
+/// The mesh of the default job: the embedded deformed icosahedron.
+pub fn default_mesh() -> Result<Mesh> {
+    let (positions, faces) = crate::mesh::generate::deformed_icosahedron();
+    Ok(Mesh::from_triangles(positions, faces)?.0)
+}
+
+/// `smoothlab` without arguments: the metrics table of every scheme on the embedded
+/// deformed icosahedron (the gallery renders are added to this job by the renderer).
+pub fn run_default() -> Result<Output> {
+    let mesh = default_mesh()?;
+    let (metrics, warnings) = measure_schemes(&mesh, ALL_SCHEMES, &[])?;
+    Ok(Output {
+        stdout: format!(
+            "every scheme on the embedded deformed icosahedron ({} faces):\n{}",
+            mesh.face_count(),
+            metrics_table(&metrics)
+        ),
+        warnings,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pair(n: &str, v: &str) -> (String, String) {
+        (n.to_string(), v.to_string())
+    }
+
+    #[test]
+    fn one_scheme_keeps_its_params() {
+        let sel = select_schemes("pn", &[pair("normals", "obj")]).expect("known");
+        let expected = SchemeRun {
+            scheme: "pn",
+            params: vec![pair("normals", "obj")],
+        };
+        assert_eq!(sel, vec![expected]);
+        let err = select_schemes("nope", &[]).expect_err("unknown scheme");
+        assert!(matches!(err, Error::UnknownScheme { .. }), "{err}");
+    }
+
+    #[test]
+    fn all_routes_params_to_the_schemes_that_declare_them() {
+        let sel = select_schemes(ALL_SCHEMES, &[pair("normals", "obj")]).expect("declared");
+        assert_eq!(sel.len(), SCHEMES.len());
+        for run in &sel {
+            let declares = schemes::find(run.scheme)
+                .expect("registered")
+                .params
+                .iter()
+                .any(|p| p.name == "normals");
+            assert_eq!(run.params.len(), usize::from(declares), "{}", run.scheme);
+        }
+        let err = select_schemes(ALL_SCHEMES, &[pair("bogus", "1")]).expect_err("undeclared");
+        assert!(err.to_string().contains("'bogus'"), "{err}");
+    }
+
+    #[test]
+    fn registry_order_is_flat_pn_hb() {
+        assert_eq!(&schemes::names()[..3], ["flat", "pn", "hb"]);
+        let listing = schemes_listing();
+        assert!(listing.contains("normals=estimate"), "{listing}");
+    }
+
+    #[test]
+    fn table_is_aligned() {
+        let m = Metrics {
+            scheme: "pn".into(),
+            params: Default::default(),
+            faces: 20,
+            patches: 20,
+            construct_ms: 0.5,
+            interp_max_rel: Some(0.0),
+            g0_max_rel: Some(1e-17),
+            g1_max_rad: Some(0.25),
+            g1_mean_rad: Some(0.1),
+            g1_between_faces_max_rad: Some(0.25),
+            g1_inside_faces_max_rad: None,
+            curvature_jump_max_rel: Some(1.0),
+            gaussian_jump_max_rel: Some(1.0),
+            mean_jump_max_rel: Some(0.5),
+            min_regularity_rel: Some(0.9),
+            continuity_order: None,
+            joints: 30,
+            joints_between_faces: 30,
+            samples_per_joint: 17,
+            singular_samples: 0,
+        };
+        let table = metrics_table(&[
+            m.clone(),
+            Metrics {
+                scheme: "flat".into(),
+                ..m
+            },
+        ]);
+        let lines: Vec<&str> = table.lines().collect();
+        assert_eq!(lines.len(), 3);
+        assert!(lines.iter().all(|l| l.len() == lines[0].len()), "{table}");
+        assert!(
+            lines[1].contains("2.50e-1") && lines[1].ends_with("9.00e-1"),
+            "{table}"
+        );
+        assert!(lines[1].contains(" - "), "empty set shown as '-': {table}");
+    }
+}

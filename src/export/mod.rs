@@ -1,0 +1,60 @@
+//! Writing surfaces for other tools: the patch JSON of DESIGN.md ([`json`]), BezierView's
+//! `.bv` files ([`bezierview`]) and a tessellated OBJ with exact normals ([`obj`]).
+//!
+//! Every writer returns the file's text; the caller decides where it goes.
+
+pub mod bezierview;
+pub mod json;
+pub mod obj;
+
+use crate::error::{Error, Result};
+use crate::surface::Surface;
+
+/// An export format (`--format`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// `smoothlab-patches` JSON (Bézier control points of every patch).
+    Json,
+    /// BezierView type-3 triangular patch records.
+    BezierView,
+    /// Triangle mesh sampled from the patches, with exact normals.
+    Obj,
+}
+
+impl Format {
+    /// Parses a `--format` value.
+    pub fn parse(name: &str) -> Result<Format> {
+        match name {
+            "json" => Ok(Format::Json),
+            "bv" => Ok(Format::BezierView),
+            "obj" => Ok(Format::Obj),
+            _ => Err(Error::Invalid(format!(
+                "unknown export format '{name}' (known: json, bv, obj)"
+            ))),
+        }
+    }
+}
+
+/// The text of `surface` in `format`; `tess` is the number of subdivisions per patch edge
+/// for [`Format::Obj`] and is ignored otherwise.
+pub fn export(surface: &Surface, format: Format, tess: usize) -> Result<String> {
+    match format {
+        Format::Json => json::to_json(surface),
+        Format::BezierView => bezierview::to_bv(surface),
+        Format::Obj => obj::to_obj(surface, tess),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_parse_by_name() {
+        assert_eq!(Format::parse("json").ok(), Some(Format::Json));
+        assert_eq!(Format::parse("bv").ok(), Some(Format::BezierView));
+        assert_eq!(Format::parse("obj").ok(), Some(Format::Obj));
+        let err = Format::parse("stl").expect_err("unknown format");
+        assert!(err.to_string().contains("'stl'"), "{err}");
+    }
+}

@@ -1,0 +1,383 @@
+//! How smooth is a surface, really? Figures measured on a built [`Surface`] against the mesh
+//! it was built from, for every scheme alike:
+//!
+//! * along every joint of two patch edges ([`Surface::joints`], sampled as described in
+//!   [`joints`]): the G0 gap, the normal-angle jump (max and mean; separately for joints
+//!   between mesh faces and inside a face) and the relative jumps of Gaussian and mean
+//!   curvature;
+//! * at every patch corner that sits on a mesh vertex ([`Surface::vertex_corners`]): the
+//!   interpolation error;
+//! * on a grid over every patch: the regularity `min |Su × Sv| / mean |Su × Sv|`.
+//!
+//! Lengths are relative to the bounding-box diagonal of the mesh vertices. The result
+//! serialises to the metrics JSON of DESIGN.md. Joints and patches are measured in parallel;
+//! the per-item results are collected in order and reduced sequentially, so every figure
+//! (including the mean) is bit-for-bit the same for any thread count.
+
+pub mod joints;
+pub mod patchwise;
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::mesh::Mesh;
+use crate::surface::Surface;
+
+pub use joints::{CurvatureFloor, JOINT_SAMPLES, JointStats, normal_angle};
+
+/// The measured figures of one surface (one scheme on one mesh). Field names are the keys of
+/// the metrics JSON contract in DESIGN.md. Figures over an empty set (e.g. joints inside
+/// faces, for a scheme with one patch per face) are `None`, written as `null`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Metrics {
+    /// Scheme name.
+    pub scheme: String,
+    /// The scheme's parameters, defaults filled in.
+    pub params: BTreeMap<String, String>,
+    /// Number of mesh faces.
+    pub faces: usize,
+    /// Number of patches.
+    pub patches: usize,
+    /// Wall-clock time of the construction, in milliseconds.
+    pub construct_ms: f64,
+    /// Largest `|S(corner) − vertex|` over patch corners on mesh vertices, relative to the
+    /// bounding-box diagonal.
+    pub interp_max_rel: Option<f64>,
+    /// Largest gap between the two sides of a joint, relative to the diagonal.
+    pub g0_max_rel: Option<f64>,
+    /// Largest normal-angle jump over all joints (rad).
+    pub g1_max_rad: Option<f64>,
+    /// Mean normal-angle jump over all regular joint samples (rad).
+    pub g1_mean_rad: Option<f64>,
+    /// Largest normal-angle jump over joints between different mesh faces (rad).
+    pub g1_between_faces_max_rad: Option<f64>,
+    /// Largest normal-angle jump over joints inside one mesh face (rad).
+    pub g1_inside_faces_max_rad: Option<f64>,
+    /// Largest relative jump of Gaussian or mean curvature over all joints
+    /// (see [`CurvatureFloor`] for the floor of the relative measure).
+    pub curvature_jump_max_rel: Option<f64>,
+    /// Largest relative jump of the Gaussian curvature.
+    pub gaussian_jump_max_rel: Option<f64>,
+    /// Largest relative jump of the mean curvature.
+    pub mean_jump_max_rel: Option<f64>,
+    /// Smallest `min |Su × Sv| / mean |Su × Sv|` over the patches (0 = a singular point).
+    pub min_regularity_rel: Option<f64>,
+    /// The lowest measured geometric continuity order over all joints (not measured yet).
+    pub continuity_order: Option<u32>,
+    /// Number of joints (pairs of patch edges) measured.
+    pub joints: usize,
+    /// Of which between different mesh faces.
+    pub joints_between_faces: usize,
+    /// Samples taken along each joint.
+    pub samples_per_joint: usize,
+    /// Joint samples where a side has `Su × Sv = 0`, left out of the G1 and curvature figures.
+    pub singular_samples: usize,
+}
+
+impl Metrics {
+    /// Measures `surface`, built from `mesh` in `construct_ms` milliseconds.
+    pub fn measure(surface: &Surface, mesh: &Mesh, construct_ms: f64) -> Metrics {
+        Self::measure_faces(surface, mesh.faces(), mesh.positions(), construct_ms)
+    }
+
+    /// Measures `surface` against the mesh given as `faces` over `positions` (the form used
+    /// by [`Metrics::measure`]; hand-made surfaces in tests use it directly).
+    pub fn measure_faces(
+        surface: &Surface,
+        faces: &[[u32; 3]],
+        positions: &[DVec3],
+        construct_ms: f64,
+    ) -> Metrics {
+        let diag = diagonal(positions);
+        let floor = CurvatureFloor::for_diagonal(diag);
+        let joint_list = surface.joints(faces);
+        let per_joint: Vec<JointStats> = joint_list
+            .par_iter()
+            .map(|j| joints::measure_joint(surface, j, floor))
+            .collect();
+        let sums = JointSums::reduce(&per_joint);
+        let regularity = patchwise::min_regularity(surface);
+        let interp = patchwise::interpolation_error(surface, faces, positions);
+        Metrics {
+            scheme: surface.scheme.clone(),
+            params: surface.params.iter().cloned().collect(),
+            faces: faces.len(),
+            patches: surface.patches.len(),
+            construct_ms,
+            interp_max_rel: interp.map(|e| e / diag),
+            g0_max_rel: sums.gap_max.map(|g| g / diag),
+            g1_max_rad: max_of(sums.angle_between, sums.angle_inside),
+            g1_mean_rad: (sums.regular_samples > 0)
+                .then(|| sums.angle_sum / sums.regular_samples as f64),
+            g1_between_faces_max_rad: sums.angle_between,
+            g1_inside_faces_max_rad: sums.angle_inside,
+            curvature_jump_max_rel: max_of(sums.gaussian_jump, sums.mean_jump),
+            gaussian_jump_max_rel: sums.gaussian_jump,
+            mean_jump_max_rel: sums.mean_jump,
+            min_regularity_rel: regularity,
+            continuity_order: None,
+            joints: per_joint.len(),
+            joints_between_faces: per_joint.iter().filter(|j| j.between_faces).count(),
+            samples_per_joint: JOINT_SAMPLES,
+            singular_samples: sums.singular_samples,
+        }
+    }
+}
+
+/// Bounding-box diagonal of the vertices; 1 for a degenerate (single-point) set so that
+/// relative figures stay finite (a validated mesh never has one).
+fn diagonal(positions: &[DVec3]) -> f64 {
+    let d = crate::geom::Aabb::from_points(positions).diagonal();
+    if d > 0.0 && d.is_finite() { d } else { 1.0 }
+}
+
+fn max_of(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(x.max(y)),
+        (x, None) => x,
+        (None, y) => y,
+    }
+}
+
+/// The joint figures reduced over all joints, in joint order.
+#[derive(Default)]
+struct JointSums {
+    gap_max: Option<f64>,
+    angle_between: Option<f64>,
+    angle_inside: Option<f64>,
+    angle_sum: f64,
+    regular_samples: usize,
+    singular_samples: usize,
+    gaussian_jump: Option<f64>,
+    mean_jump: Option<f64>,
+}
+
+impl JointSums {
+    fn reduce(per_joint: &[JointStats]) -> JointSums {
+        let mut sums = JointSums::default();
+        for j in per_joint {
+            sums.gap_max = max_of(sums.gap_max, Some(j.gap_max));
+            sums.singular_samples += j.singular_samples;
+            if j.regular_samples == 0 {
+                continue;
+            }
+            let slot = if j.between_faces {
+                &mut sums.angle_between
+            } else {
+                &mut sums.angle_inside
+            };
+            *slot = max_of(*slot, Some(j.angle_max));
+            sums.angle_sum += j.angle_sum;
+            sums.regular_samples += j.regular_samples;
+            sums.gaussian_jump = max_of(sums.gaussian_jump, Some(j.gaussian_jump_max));
+            sums.mean_jump = max_of(sums.mean_jump, Some(j.mean_jump_max));
+        }
+        sums
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bezier::TriangleBezier;
+    use crate::surface::{Patch, PatchGeometry};
+    use glam::DVec2;
+
+    const E0: DVec3 = DVec3::X;
+    const E1: DVec3 = DVec3::Y;
+    const E2: DVec3 = DVec3::Z;
+
+    fn bezier_patch(face: u32, piece: u8, domain: [DVec3; 3], b: TriangleBezier) -> Patch {
+        Patch {
+            face,
+            piece,
+            domain,
+            geometry: PatchGeometry::Bezier(b),
+        }
+    }
+
+    fn surface(patches: Vec<Patch>) -> Surface {
+        Surface {
+            scheme: "test".into(),
+            params: vec![("p".into(), "1".into())],
+            patches,
+        }
+    }
+
+    /// A cubic graph surface over the plane triangle (0,0), (1,0), (0,1) with irregular
+    /// heights: one polynomial, so any pieces of it join with every continuity.
+    fn cubic() -> TriangleBezier {
+        let corner = [DVec2::ZERO, DVec2::X, DVec2::Y];
+        TriangleBezier::from_fn(3, |i, j, k| {
+            let xy = (i as f64 * corner[0] + j as f64 * corner[1] + k as f64 * corner[2]) / 3.0;
+            let z = 0.3 * (1.3 * i as f64 + 0.7 * j as f64 * j as f64 + 2.1 * k as f64).sin();
+            DVec3::new(xy.x, xy.y, z)
+        })
+    }
+
+    /// Faces (A,B,C) and (C,B,D) of a parallelogram in the cubic's domain, D = B + C − A.
+    /// Face 0 is split into two pieces from B to the midpoint of C–A; face 1 is one piece.
+    /// Everything is a piece of one polynomial, so every joint is exactly smooth.
+    fn pieces_of_one_polynomial() -> (Surface, Vec<[u32; 3]>, Vec<DVec3>) {
+        let t = cubic();
+        let (a, b, c) = (E0, E1, E2);
+        let d = b + c - a;
+        let mid_ca = 0.5 * (c + a);
+        let positions = vec![t.eval(a), t.eval(b), t.eval(c), t.eval(d)];
+        let faces = vec![[0, 1, 2], [2, 1, 3]];
+        let patches = vec![
+            bezier_patch(0, 0, [E1, E2, 0.5 * (E2 + E0)], t.subdivide([b, c, mid_ca])),
+            bezier_patch(0, 1, [E1, 0.5 * (E2 + E0), E0], t.subdivide([b, mid_ca, a])),
+            bezier_patch(1, 0, [E0, E1, E2], t.subdivide([c, b, d])),
+        ];
+        (surface(patches), faces, positions)
+    }
+
+    #[test]
+    fn pieces_of_one_polynomial_measure_zero() {
+        let (s, faces, positions) = pieces_of_one_polynomial();
+        let m = Metrics::measure_faces(&s, &faces, &positions, 1.5);
+        assert_eq!((m.joints, m.joints_between_faces), (2, 1), "{m:?}");
+        assert!(
+            m.interp_max_rel.expect("corners on vertices") <= 1e-15,
+            "{m:?}"
+        );
+        assert!(m.g0_max_rel.expect("joints") <= 1e-15, "{m:?}");
+        assert!(
+            m.g1_between_faces_max_rad.expect("between") <= 1e-12,
+            "{m:?}"
+        );
+        assert!(m.g1_inside_faces_max_rad.expect("inside") <= 1e-12, "{m:?}");
+        assert!(m.g1_mean_rad.expect("samples") <= 1e-12, "{m:?}");
+        assert!(
+            m.curvature_jump_max_rel.expect("curvature") <= 1e-10,
+            "{m:?}"
+        );
+        assert!(m.min_regularity_rel.expect("patches") > 0.1, "{m:?}");
+        assert_eq!(m.singular_samples, 0);
+        assert_eq!((m.faces, m.patches, m.construct_ms), (2, 3, 1.5));
+        assert_eq!(m.params.get("p").map(String::as_str), Some("1"));
+    }
+
+    fn linear(points: [DVec3; 3]) -> TriangleBezier {
+        TriangleBezier::new(1, points.to_vec())
+    }
+
+    /// Two planar triangles over the common edge 1–2 (the x axis), face 1 rotated by
+    /// `theta` about it: the mesh's dihedral kink.
+    fn hinge(theta: f64) -> (Vec<[u32; 3]>, Vec<DVec3>) {
+        let positions = vec![
+            DVec3::new(0.5, -1.0, 0.0),
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(0.5, theta.cos(), theta.sin()),
+        ];
+        (vec![[0, 1, 2], [2, 1, 3]], positions)
+    }
+
+    fn flat_surface(faces: &[[u32; 3]], positions: &[DVec3]) -> Surface {
+        let patches = faces
+            .iter()
+            .enumerate()
+            .map(|(f, fv)| {
+                let corners = fv.map(|v| positions[v as usize]);
+                bezier_patch(f as u32, 0, [E0, E1, E2], linear(corners))
+            })
+            .collect();
+        surface(patches)
+    }
+
+    #[test]
+    fn kink_measures_the_dihedral_angle() {
+        let theta = 0.3;
+        let (faces, positions) = hinge(theta);
+        let m = Metrics::measure_faces(&flat_surface(&faces, &positions), &faces, &positions, 0.0);
+        // The two face normals are (0,0,−1) and (0, sin θ, −cos θ).
+        let between = m.g1_between_faces_max_rad.expect("one joint");
+        assert!((between - theta).abs() <= 1e-15, "{between}");
+        assert!((m.g1_mean_rad.expect("samples") - theta).abs() <= 1e-15);
+        assert_eq!(m.g1_max_rad, m.g1_between_faces_max_rad);
+        assert_eq!(m.g1_inside_faces_max_rad, None, "no joint inside a face");
+        assert!(m.g0_max_rel.expect("joint") <= 1e-16);
+        assert_eq!(m.interp_max_rel, Some(0.0));
+        // Planes: K = H = 0 on both sides, no jump.
+        assert_eq!(m.curvature_jump_max_rel, Some(0.0));
+        let r = m.min_regularity_rel.expect("patches");
+        assert!((r - 1.0).abs() <= 1e-14, "{r}");
+    }
+
+    #[test]
+    fn gap_is_measured_exactly() {
+        let (faces, positions) = hinge(0.0);
+        let mut s = flat_surface(&faces, &positions);
+        let delta = 1e-3;
+        let lifted = s.patches[1]
+            .as_bezier()
+            .expect("polynomial")
+            .map_points(|p| p + DVec3::new(0.0, 0.0, delta));
+        s.patches[1].geometry = PatchGeometry::Bezier(lifted);
+        let m = Metrics::measure_faces(&s, &faces, &positions, 0.0);
+        let diag = crate::geom::Aabb::from_points(&positions).diagonal();
+        let gap = m.g0_max_rel.expect("joint") * diag;
+        assert!((gap - delta).abs() <= 1e-12 * delta, "gap {gap}");
+        assert!((m.interp_max_rel.expect("corners") * diag - delta).abs() <= 1e-12 * delta);
+        // Parallel planes: normals agree exactly.
+        assert_eq!(m.g1_max_rad, Some(0.0));
+    }
+
+    /// A patch parametrised against its face's orientation has the opposite normal: an
+    /// honest jump of π.
+    #[test]
+    fn orientation_flip_is_a_jump_of_pi() {
+        let (faces, positions) = hinge(0.0);
+        let mut s = flat_surface(&faces, &positions);
+        let fv = faces[1].map(|v| positions[v as usize]);
+        s.patches[1] = bezier_patch(1, 0, [E0, E2, E1], linear([fv[0], fv[2], fv[1]]));
+        let m = Metrics::measure_faces(&s, &faces, &positions, 0.0);
+        let jump = m.g1_max_rad.expect("joint");
+        assert!((jump - std::f64::consts::PI).abs() <= 1e-15, "{jump}");
+    }
+
+    #[test]
+    fn result_does_not_depend_on_thread_count() {
+        let (s, faces, positions) = pieces_of_one_polynomial();
+        let run = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("thread pool")
+                .install(|| Metrics::measure_faces(&s, &faces, &positions, 0.0))
+        };
+        assert_eq!(run(1), run(3));
+    }
+
+    #[test]
+    fn json_has_the_contract_keys() {
+        let (s, faces, positions) = pieces_of_one_polynomial();
+        let m = Metrics::measure_faces(&s, &faces, &positions, 0.0);
+        let value = serde_json::to_value(&m).expect("serialisable");
+        for key in [
+            "scheme",
+            "params",
+            "faces",
+            "patches",
+            "construct_ms",
+            "interp_max_rel",
+            "g0_max_rel",
+            "g1_max_rad",
+            "g1_mean_rad",
+            "g1_between_faces_max_rad",
+            "g1_inside_faces_max_rad",
+            "curvature_jump_max_rel",
+            "continuity_order",
+            "min_regularity_rel",
+        ] {
+            assert!(value.get(key).is_some(), "missing key {key}");
+        }
+        assert!(value["continuity_order"].is_null());
+        assert_eq!(value["params"]["p"], "1");
+    }
+}

@@ -1,0 +1,478 @@
+//! End-to-end tests of the `smoothlab` binary: every bad input gives exit code 1 and exactly
+//! one `error: …` line naming the element at fault; good input writes the contracted files.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A fresh directory for one test's files.
+fn scratch(test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("cli")
+        .join(test);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write test file");
+    path
+}
+
+fn smoothlab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+        .args(args)
+        .output()
+        .expect("run smoothlab")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Asserts a clean failure: exit code 1, one stderr line `error: …` containing every
+/// fragment, no panic.
+fn assert_fails_naming(out: &Output, fragments: &[&str]) {
+    let err = stderr(out);
+    assert_eq!(out.status.code(), Some(1), "exit code; stderr: {err}");
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "one line expected: {err}");
+    assert!(lines[0].starts_with("error: "), "{err}");
+    for f in fragments {
+        assert!(lines[0].contains(f), "'{f}' missing from: {err}");
+    }
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// A regular tetrahedron, consistently oriented (outward).
+const TETRAHEDRON: &str = "\
+v 1 1 1
+v 1 -1 -1
+v -1 1 -1
+v -1 -1 1
+f 1 2 3
+f 1 4 2
+f 1 3 4
+f 2 4 3
+";
+
+fn metrics_of(dir: &Path, name: &str, obj: &str, extra: &[&str]) -> Output {
+    let mesh = write(dir, name, obj);
+    let mut args = vec!["metrics", mesh.to_str().expect("utf-8 path")];
+    args.extend_from_slice(extra);
+    smoothlab(&args)
+}
+
+#[test]
+fn missing_file_names_the_path() {
+    let dir = scratch("missing");
+    let path = dir.join("no-such-mesh.obj");
+    let out = smoothlab(&["metrics", path.to_str().expect("utf-8"), "--scheme", "flat"]);
+    assert_fails_naming(&out, &["no-such-mesh.obj"]);
+}
+
+#[test]
+fn malformed_obj_names_the_file() {
+    let dir = scratch("malformed");
+    let out = metrics_of(
+        &dir,
+        "bad.obj",
+        "v 0 0 zero\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        &["--scheme", "flat"],
+    );
+    assert_fails_naming(&out, &["bad.obj"]);
+}
+
+#[test]
+fn out_of_range_index_names_the_face() {
+    let dir = scratch("range");
+    let out = metrics_of(
+        &dir,
+        "range.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n",
+        &["--scheme", "flat"],
+    );
+    assert_fails_naming(&out, &["face 0"]);
+}
+
+#[test]
+fn nan_names_the_vertex() {
+    let dir = scratch("nan");
+    let out = metrics_of(
+        &dir,
+        "nan.obj",
+        "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n",
+        &["--scheme", "flat"],
+    );
+    assert_fails_naming(&out, &["vertex 1", "non-finite"]);
+}
+
+#[test]
+fn degenerate_face_is_named() {
+    let dir = scratch("degenerate");
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n";
+    let out = metrics_of(&dir, "degenerate.obj", obj, &["--scheme", "flat"]);
+    assert_fails_naming(&out, &["face 1", "degenerate"]);
+}
+
+#[test]
+fn duplicate_face_names_both() {
+    let dir = scratch("duplicate");
+    // The same triangle twice, with opposite orientation: every edge still has two faces.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n";
+    let out = metrics_of(&dir, "duplicate.obj", obj, &["--scheme", "flat"]);
+    assert_fails_naming(&out, &["face 1", "face 0"]);
+}
+
+#[test]
+fn non_manifold_edge_is_named() {
+    let dir = scratch("nonmanifold-edge");
+    // Three triangles on edge (0, 1), pointing in different directions.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0.5 -1 0\nv 0.5 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
+    let out = metrics_of(&dir, "fin.obj", obj, &["--scheme", "flat"]);
+    assert_fails_naming(&out, &["edge (0, 1)", "non-manifold"]);
+}
+
+#[test]
+fn bow_tie_names_the_vertex() {
+    let dir = scratch("bowtie");
+    // Two triangles touching only at vertex 0.
+    let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv -1 0 0\nv -1 -1 0\nf 1 2 3\nf 1 4 5\n";
+    let out = metrics_of(&dir, "bowtie.obj", obj, &["--scheme", "flat"]);
+    assert_fails_naming(&out, &["vertex 0", "non-manifold"]);
+}
+
+/// A Möbius strip of `n` quads (2n triangles) with its geometry, so no face is degenerate.
+fn moebius(n: usize) -> String {
+    let mut obj = String::new();
+    for i in 0..n {
+        let s = std::f64::consts::TAU * i as f64 / n as f64;
+        for w in [0.3, -0.3] {
+            let r = 1.0 + w * (s / 2.0).cos();
+            obj += &format!(
+                "v {} {} {}\n",
+                r * s.cos(),
+                r * s.sin(),
+                w * (s / 2.0).sin()
+            );
+        }
+    }
+    // Vertex 2i+1 is (i, top), 2i+2 is (i, bottom) in OBJ numbering; the last quad closes the
+    // strip with a half twist (top meets bottom).
+    for i in 0..n {
+        let (t, b) = (2 * i + 1, 2 * i + 2);
+        let (t1, b1) = if i + 1 < n { (t + 2, b + 2) } else { (2, 1) };
+        obj += &format!("f {t} {b} {b1}\nf {t} {b1} {t1}\n");
+    }
+    obj
+}
+
+#[test]
+fn moebius_strip_is_not_orientable() {
+    let dir = scratch("moebius");
+    let out = metrics_of(&dir, "moebius.obj", &moebius(8), &["--scheme", "flat"]);
+    assert_fails_naming(&out, &["not orientable", "edge ("]);
+}
+
+#[test]
+fn open_mesh_is_refused_by_hb_by_name() {
+    let dir = scratch("open-hb");
+    let open: String = TETRAHEDRON
+        .lines()
+        .take(7)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let out = metrics_of(&dir, "open.obj", &open, &["--scheme", "hb"]);
+    assert_fails_naming(&out, &["'hb'", "boundary edge"]);
+}
+
+#[test]
+fn unknown_scheme_lists_the_known_ones() {
+    let dir = scratch("unknown-scheme");
+    let out = metrics_of(&dir, "tet.obj", TETRAHEDRON, &["--scheme", "nurbs"]);
+    assert_fails_naming(&out, &["'nurbs'", "flat", "pn", "hb"]);
+}
+
+#[test]
+fn unknown_param_is_named() {
+    let dir = scratch("unknown-param");
+    let out = metrics_of(
+        &dir,
+        "tet.obj",
+        TETRAHEDRON,
+        &["--scheme", "pn", "--param", "tension=2"],
+    );
+    assert_fails_naming(&out, &["'tension'", "'pn'", "normals"]);
+    let out = metrics_of(
+        &dir,
+        "tet.obj",
+        TETRAHEDRON,
+        &["--scheme", "all", "--param", "tension=2"],
+    );
+    assert_fails_naming(&out, &["'tension'"]);
+}
+
+#[test]
+fn bad_param_value_is_named() {
+    let dir = scratch("bad-param");
+    let out = metrics_of(
+        &dir,
+        "tet.obj",
+        TETRAHEDRON,
+        &["--scheme", "pn", "--param", "normals=sideways"],
+    );
+    assert_fails_naming(&out, &["'normals'", "sideways"]);
+    let out = metrics_of(
+        &dir,
+        "tet.obj",
+        TETRAHEDRON,
+        &["--scheme", "pn", "--param", "normals"],
+    );
+    assert_fails_naming(&out, &["name=value"]);
+}
+
+#[test]
+fn bad_arguments_give_one_line() {
+    let out = smoothlab(&[
+        "export", "x.obj", "--scheme", "pn", "--format", "stl", "-o", "y",
+    ]);
+    assert_fails_naming(&out, &["stl"]);
+}
+
+#[test]
+fn inconsistent_orientation_is_repaired_with_a_warning() {
+    let dir = scratch("reorient");
+    // The last face of the tetrahedron written the wrong way round.
+    let flipped = TETRAHEDRON.replace("f 2 4 3", "f 2 3 4");
+    let out = metrics_of(&dir, "flipped.obj", &flipped, &["--scheme", "flat"]);
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(err.lines().any(|l| l.starts_with("warning: ")), "{err}");
+    // Re-oriented, the flat surface has the tetrahedron's dihedral kink (π − acos(1/3)) at
+    // every edge, not an orientation flip of π.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("1.91e0"), "{stdout}");
+}
+
+#[test]
+fn metrics_json_has_the_contract_keys() {
+    let dir = scratch("metrics-json");
+    let json = dir.join("metrics.json");
+    let out = metrics_of(
+        &dir,
+        "tet.obj",
+        TETRAHEDRON,
+        &["--scheme", "pn", "--json", json.to_str().expect("utf-8")],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&json).expect("metrics JSON written");
+    let value: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+    let list = value.as_array().expect("a list, one object per scheme");
+    assert_eq!(list.len(), 1);
+    let m = &list[0];
+    for key in [
+        "scheme",
+        "params",
+        "faces",
+        "patches",
+        "construct_ms",
+        "interp_max_rel",
+        "g0_max_rel",
+        "g1_max_rad",
+        "g1_mean_rad",
+        "g1_between_faces_max_rad",
+        "g1_inside_faces_max_rad",
+        "curvature_jump_max_rel",
+        "continuity_order",
+        "min_regularity_rel",
+    ] {
+        assert!(m.get(key).is_some(), "missing key {key} in {m}");
+    }
+    assert_eq!(m["scheme"], "pn");
+    assert_eq!(m["params"]["normals"], "estimate");
+    assert_eq!(
+        (m["faces"].as_u64(), m["patches"].as_u64()),
+        (Some(4), Some(4))
+    );
+    // PN triangles are not G1: the metric sees it.
+    assert!(m["g1_max_rad"].as_f64().expect("number") > 0.1, "{m}");
+}
+
+#[test]
+fn all_on_an_open_mesh_skips_hb_with_a_warning() {
+    let dir = scratch("all-open");
+    let open: String = TETRAHEDRON
+        .lines()
+        .take(7)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let json = dir.join("m.json");
+    let out = metrics_of(
+        &dir,
+        "open.obj",
+        &open,
+        &["--scheme", "all", "--json", json.to_str().expect("utf-8")],
+    );
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("warning: skipped") && err.contains("'hb'"),
+        "{err}"
+    );
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("JSON");
+    let names: Vec<&str> = value
+        .as_array()
+        .expect("list")
+        .iter()
+        .filter_map(|m| m["scheme"].as_str())
+        .collect();
+    assert_eq!(names, ["flat", "pn"]);
+}
+
+fn export(dir: &Path, format: &str, extra: &[&str]) -> (Output, PathBuf) {
+    let mesh = write(dir, "tet.obj", TETRAHEDRON);
+    let target = dir.join(format!("out.{format}"));
+    let mut args = vec![
+        "export",
+        mesh.to_str().expect("utf-8"),
+        "--scheme",
+        "pn",
+        "--format",
+        format,
+        "-o",
+        target.to_str().expect("utf-8"),
+    ];
+    args.extend_from_slice(extra);
+    (smoothlab(&args), target)
+}
+
+#[test]
+fn export_writes_json_bv_and_obj() {
+    let dir = scratch("export");
+    let (out, path) = export(&dir, "json", &[]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).expect("json written")).expect("JSON");
+    assert_eq!(value["format"], "smoothlab-patches");
+    assert_eq!(value["scheme"], "pn");
+    assert_eq!(value["patches"].as_array().map(Vec::len), Some(4));
+    assert_eq!(value["patches"][0]["degree"], 3);
+
+    let (out, path) = export(&dir, "bv", &[]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let bv = std::fs::read_to_string(path).expect("bv written");
+    assert_eq!(bv.lines().count(), 4 * (1 + 10));
+    assert_eq!(bv.lines().filter(|l| *l == "3 3").count(), 4);
+
+    let (out, path) = export(&dir, "obj", &["--tess", "3"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let obj = std::fs::read_to_string(path).expect("obj written");
+    assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), 4 * 10);
+    assert_eq!(obj.lines().filter(|l| l.starts_with("vn ")).count(), 4 * 10);
+    assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 4 * 9);
+
+    let (out, _) = export(&dir, "obj", &["--tess", "0"]);
+    assert_fails_naming(&out, &["--tess"]);
+}
+
+#[test]
+fn export_to_an_unwritable_path_names_it() {
+    let dir = scratch("export-unwritable");
+    let mesh = write(&dir, "tet.obj", TETRAHEDRON);
+    let target = dir.join("no-such-dir").join("out.json");
+    let out = smoothlab(&[
+        "export",
+        mesh.to_str().expect("utf-8"),
+        "--scheme",
+        "flat",
+        "--format",
+        "json",
+        "-o",
+        target.to_str().expect("utf-8"),
+    ]);
+    assert_fails_naming(&out, &["no-such-dir"]);
+}
+
+#[test]
+fn schemes_lists_names_and_params() {
+    let out = smoothlab(&["schemes"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for name in ["flat:", "pn:", "hb:", "normals=estimate"] {
+        assert!(text.contains(name), "{name} missing: {text}");
+    }
+}
+
+#[test]
+fn default_job_prints_every_scheme() {
+    let out = smoothlab(&[]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("deformed icosahedron (20 faces)"), "{text}");
+    for name in ["flat", "pn", "hb"] {
+        assert!(
+            text.lines().any(|l| l.starts_with(name)),
+            "{name} row missing: {text}"
+        );
+    }
+}
+
+#[test]
+fn all_on_a_closed_mesh_measures_every_scheme() {
+    let dir = scratch("all-closed");
+    let json = dir.join("m.json");
+    let out = metrics_of(
+        &dir,
+        "tet.obj",
+        TETRAHEDRON,
+        &["--scheme", "all", "--json", json.to_str().expect("utf-8")],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("JSON");
+    let list = value.as_array().expect("list");
+    let names: Vec<&str> = list.iter().filter_map(|m| m["scheme"].as_str()).collect();
+    assert_eq!(names, ["flat", "pn", "hb"]);
+    // hb is G1 (4 patches per face); pn is not.
+    assert_eq!(list[2]["patches"], 16);
+    assert!(
+        list[2]["g1_max_rad"].as_f64().expect("number") <= 1e-9,
+        "{}",
+        list[2]
+    );
+    assert!(
+        list[1]["g1_max_rad"].as_f64().expect("number") > 0.1,
+        "{}",
+        list[1]
+    );
+}
+
+#[test]
+fn pn_takes_the_file_normals_when_asked() {
+    let dir = scratch("pn-obj-normals");
+    // The tetrahedron's vertices are on a sphere about the origin: the sphere's normals.
+    let with_normals = TETRAHEDRON
+        .replace(
+            "f 1 2 3",
+            "vn 1 1 1\nvn 1 -1 -1\nvn -1 1 -1\nvn -1 -1 1\nf 1//1 2//2 3//3",
+        )
+        .replace("f 1 4 2", "f 1//1 4//4 2//2")
+        .replace("f 1 3 4", "f 1//1 3//3 4//4")
+        .replace("f 2 4 3", "f 2//2 4//4 3//3");
+    let out = metrics_of(
+        &dir,
+        "tet-vn.obj",
+        &with_normals,
+        &["--scheme", "pn", "--param", "normals=obj"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let out = metrics_of(
+        &dir,
+        "tet.obj",
+        TETRAHEDRON,
+        &["--scheme", "pn", "--param", "normals=obj"],
+    );
+    assert_fails_naming(&out, &["normals=obj"]);
+}
