@@ -201,9 +201,7 @@ fn resolve_mode<T: SurfaceTracer>(
             p.half_range = match p.range {
                 CurvatureRange::Fixed(r) => r,
                 CurvatureRange::Auto { percentile } => {
-                    let mut values = curvature_probe(tracer, camera, settings, p.quantity);
-                    let r = abs_percentile(&mut values, percentile);
-                    if r > 0.0 && r.is_finite() { r } else { 1.0 }
+                    auto_curvature_range(tracer, camera, settings, p.quantity, percentile)
                 }
             };
             stats.curvature_half_range = Some(p.half_range);
@@ -211,6 +209,20 @@ fn resolve_mode<T: SurfaceTracer>(
         }
         other => other.clone(),
     }
+}
+
+/// The automatic half-range of the curvature map: the `percentile` of |value| seen through a
+/// coarse grid of pixel centres (1 where nothing curved is in view).
+pub fn auto_curvature_range<T: SurfaceTracer>(
+    tracer: &T,
+    camera: &Camera,
+    settings: &RenderSettings,
+    quantity: crate::render::modes::CurvatureQuantity,
+    percentile: f64,
+) -> f64 {
+    let mut values = curvature_probe(tracer, camera, settings, quantity);
+    let r = abs_percentile(&mut values, percentile);
+    if r > 0.0 && r.is_finite() { r } else { 1.0 }
 }
 
 /// Curvature values seen through a coarse grid (≤ 96 × 96) of pixel centres.

@@ -2,8 +2,9 @@
 //! the deformed icosahedron, in zebra, isophote and curvature mode, from one shared camera, plus
 //! one side-by-side sheet (rows = schemes, columns = modes).
 //!
-//! The curvature colour range is chosen once (95th percentile of |H| on the first scheme) and
-//! then fixed for all schemes, so their colours compare.
+//! The curvature colour range is chosen once — the largest over the schemes of the automatic
+//! range (95th percentile of |H| in view) — and then fixed for all schemes, so their colours
+//! compare.
 
 use std::path::{Path, PathBuf};
 
@@ -12,7 +13,7 @@ use crate::mesh::Mesh;
 use crate::mesh::generate::deformed_icosahedron;
 use crate::render::bvh::SubdivisionCriterion;
 use crate::render::camera::Camera;
-use crate::render::film::{Frame, RenderSettings, render};
+use crate::render::film::{Frame, RenderSettings, auto_curvature_range, render};
 use crate::render::intersect::{NewtonSettings, Tracer};
 use crate::render::job::surface_samples;
 use crate::render::modes::{CurvatureParams, CurvatureRange, Mode, Overlay};
@@ -76,19 +77,37 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
         .collect::<Result<Vec<_>>>()?;
     let samples: Vec<_> = surfaces.iter().flat_map(surface_samples).collect();
     let camera = Camera::frame_points(&samples, Camera::DEFAULT_VIEW, 30.0, 1.0)?;
-    let mut curvature_range: Option<f64> = None;
+    let tracers = surfaces
+        .iter()
+        .map(|s| {
+            Tracer::new(
+                s,
+                &SubdivisionCriterion::default(),
+                NewtonSettings::default(),
+            )
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let curvature = CurvatureParams::default();
+    let percentile = match curvature.range {
+        CurvatureRange::Auto { percentile } => percentile,
+        CurvatureRange::Fixed(_) => 95.0,
+    };
+    let probe_settings = RenderSettings {
+        width: options.size,
+        height: options.size,
+        ..RenderSettings::default()
+    };
+    let half_range = tracers
+        .iter()
+        .map(|t| auto_curvature_range(t, &camera, &probe_settings, curvature.quantity, percentile))
+        .fold(0.0_f64, f64::max);
     let mut images = Vec::new();
     let mut frames: Vec<Frame> = Vec::new();
-    for surface in &surfaces {
-        let tracer = Tracer::new(
-            surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )?;
+    for (surface, tracer) in surfaces.iter().zip(&tracers) {
         for mode_name in GALLERY_MODES {
             let mode = match Mode::by_name(mode_name)? {
                 Mode::Curvature(p) => Mode::Curvature(CurvatureParams {
-                    range: curvature_range.map_or(p.range, CurvatureRange::Fixed),
+                    range: CurvatureRange::Fixed(half_range),
                     legend: true,
                     ..p
                 }),
@@ -103,10 +122,7 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
                 progress: false,
                 ..RenderSettings::default()
             };
-            let (frame, stats) = render(&tracer, &camera, &settings)?;
-            if curvature_range.is_none() {
-                curvature_range = stats.curvature_half_range;
-            }
+            let (frame, stats) = render(tracer, &camera, &settings)?;
             let path = out_dir.join(format!("{}-{mode_name}.png", surface.scheme));
             write_png(&frame, &path)?;
             images.push(GalleryImage {
