@@ -17,6 +17,7 @@ use obvhs::ray::{Ray, RayHit};
 
 use crate::geom::Aabb;
 use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion, barycentric_in, split4};
+use crate::render::evaluate::point_and_tangents;
 use crate::render::modes::overlay::face_edge_mask;
 use crate::surface::{Patch, Surface};
 
@@ -143,8 +144,8 @@ pub struct Tracer<'s> {
 
 /// Outcome of one Newton run.
 enum Newton {
-    /// Converged to `(u, v)` after `iterations` steps.
-    Root(DVec2, u32),
+    /// Converged to `(u, v)` after `iterations` steps, at surface point `p`.
+    Root(DVec2, u32, DVec3),
     /// The iterate left the leaf: the ray meets the surface elsewhere (or not at all).
     Escaped,
     /// Neither: singular Jacobian, non-finite values or the iteration cap.
@@ -254,8 +255,8 @@ impl<'s> Tracer<'s> {
         };
         counters.newton_runs += 1;
         match self.newton(patch, tri, start, planes) {
-            Newton::Root(uv, iterations) => {
-                let hit = self.accept(leaf.patch, patch, tri, uv, ray, t_min, t_max)?;
+            Newton::Root(uv, iterations, p) => {
+                let hit = self.accept(leaf.patch, tri, uv, p, ray, t_min, t_max)?;
                 counters.roots_accepted += 1;
                 counters.accepted_iterations += u64::from(iterations);
                 counters.accepted_iterations_max = counters.accepted_iterations_max.max(iterations);
@@ -310,8 +311,8 @@ impl<'s> Tracer<'s> {
             }
             let centroid = (child[0] + child[1] + child[2]) / 3.0;
             let found = match self.newton(patch, child, centroid, planes) {
-                Newton::Root(uv, _) => {
-                    self.accept(patch_index, patch, child, uv, ray, t_min, best_t)
+                Newton::Root(uv, _, p) => {
+                    self.accept(patch_index, child, uv, p, ray, t_min, best_t)
                 }
                 Newton::Escaped => None,
                 Newton::Failed => self.fallback(
@@ -340,19 +341,19 @@ impl<'s> Tracer<'s> {
         let mut uv = start;
         let mut iterations = 0;
         loop {
-            let jet = patch.jet(uv.x, uv.y);
-            let f = planes.residual(jet.p);
+            let (p, su, sv) = point_and_tangents(patch, uv.x, uv.y);
+            let f = planes.residual(p);
             if !f.is_finite() {
                 return Newton::Failed;
             }
             if f.length() <= tolerance {
-                return Newton::Root(uv, iterations);
+                return Newton::Root(uv, iterations, p);
             }
             if iterations == settings.max_iterations {
                 return Newton::Failed;
             }
-            let ju = planes.project(jet.du);
-            let jv = planes.project(jet.dv);
+            let ju = planes.project(su);
+            let jv = planes.project(sv);
             let det = ju.perp_dot(jv);
             if !(det.abs() > 0.0) || !det.is_finite() {
                 return Newton::Failed;
@@ -374,9 +375,9 @@ impl<'s> Tracer<'s> {
     fn accept(
         &self,
         patch_index: u32,
-        patch: &Patch,
         tri: [DVec2; 3],
         uv: DVec2,
+        p: DVec3,
         ray: &Ray64,
         t_min: f64,
         t_max: f64,
@@ -384,7 +385,6 @@ impl<'s> Tracer<'s> {
         if !in_grown_triangle(tri, uv, self.newton.domain_tolerance) {
             return None;
         }
-        let p = patch.eval(uv.x, uv.y);
         let t = (p - ray.origin).dot(ray.dir);
         if t > t_min && t < t_max {
             Some(Hit {

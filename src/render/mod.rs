@@ -9,6 +9,7 @@
 pub mod bvh;
 pub mod camera;
 pub mod cli;
+pub mod evaluate;
 pub mod film;
 pub mod fixtures;
 pub mod gallery;

@@ -48,6 +48,7 @@ pub struct TessellatedTracer<'s> {
     padding: f64,
     bounds: Aabb,
     face_edges: Vec<u8>,
+    level: u32,
 }
 
 /// Vertex index of grid point (i, j) (u = i/N, v = j/N, i + j ≤ N) of a patch's grid.
@@ -134,6 +135,7 @@ impl<'s> TessellatedTracer<'s> {
             padding,
             bounds,
             face_edges: surface.patches.iter().map(face_edge_mask).collect(),
+            level: n,
         })
     }
 
@@ -211,36 +213,9 @@ impl SurfaceTracer for TessellatedTracer<'_> {
     }
 
     fn shading_point(&self, hit: &Hit, ray: &Ray64) -> ShadingPoint {
-        // Re-find the triangle of the hit from its parameters: the grid cell containing (u, v).
         let patch = &self.surface.patches[hit.patch as usize];
+        let (normal, [va, vb, vc], upper) = self.interpolate(hit.patch, hit.u, hit.v);
         let n = self.grid_level();
-        let per_patch = (n + 1) * (n + 2) / 2;
-        let base = hit.patch * per_patch;
-        let uv = DVec2::new(hit.u, hit.v) * f64::from(n);
-        let i = (uv.x.floor().max(0.0) as u32).min(n - 1);
-        let j = (uv.y.floor().max(0.0) as u32).min(n - 1 - i.min(n - 1));
-        let (fu, fv) = (uv.x - f64::from(i), uv.y - f64::from(j));
-        let upper = fu + fv > 1.0 && i + j + 1 < n;
-        let (tri, w) = if upper {
-            let tri = [
-                base + grid_index(n, i + 1, j),
-                base + grid_index(n, i + 1, j + 1),
-                base + grid_index(n, i, j + 1),
-            ];
-            // Barycentrics in the upper triangle (i+1,j), (i+1,j+1), (i,j+1).
-            (tri, DVec3::new(1.0 - fv, fu + fv - 1.0, 1.0 - fu))
-        } else {
-            let tri = [
-                base + grid_index(n, i, j),
-                base + grid_index(n, i + 1, j),
-                base + grid_index(n, i, j + 1),
-            ];
-            (tri, DVec3::new(1.0 - fu - fv, fu, fv))
-        };
-        let [va, vb, vc] = tri.map(|k| self.vertices[k as usize]);
-        let normal =
-            (va.normal.as_dvec3() * w.x + vb.normal.as_dvec3() * w.y + vc.normal.as_dvec3() * w.z)
-                .normalize_or_zero();
         let position = ray.at(hit.t);
         let scale = f64::from(n);
         let (du, dv) = if upper {
@@ -292,12 +267,66 @@ impl SurfaceTracer for TessellatedTracer<'_> {
 }
 
 impl TessellatedTracer<'_> {
+    /// The interpolated (Phong) normal of the tessellation at patch parameters `(u, v)`, with
+    /// the three vertices of the grid triangle containing them and whether it is an upper
+    /// (i+1,j)–(i+1,j+1)–(i,j+1) triangle.
+    pub fn interpolate(&self, patch: u32, u: f64, v: f64) -> (DVec3, [TessVertex; 3], bool) {
+        let n = self.grid_level();
+        let base = patch * ((n + 1) * (n + 2) / 2);
+        let uv = DVec2::new(u, v) * f64::from(n);
+        let i = (uv.x.floor().max(0.0) as u32).min(n - 1);
+        let j = (uv.y.floor().max(0.0) as u32).min(n - 1 - i);
+        let (fu, fv) = (uv.x - f64::from(i), uv.y - f64::from(j));
+        let upper = fu + fv > 1.0 && i + j + 1 < n;
+        let (tri, w) = if upper {
+            let tri = [
+                base + grid_index(n, i + 1, j),
+                base + grid_index(n, i + 1, j + 1),
+                base + grid_index(n, i, j + 1),
+            ];
+            // Barycentrics of (fu, fv) in the cell's upper triangle (1,0), (1,1), (0,1).
+            (tri, DVec3::new(1.0 - fv, fu + fv - 1.0, 1.0 - fu))
+        } else {
+            let tri = [
+                base + grid_index(n, i, j),
+                base + grid_index(n, i + 1, j),
+                base + grid_index(n, i, j + 1),
+            ];
+            (tri, DVec3::new(1.0 - fu - fv, fu, fv))
+        };
+        let vertices = tri.map(|k| self.vertices[k as usize]);
+        let [va, vb, vc] = vertices;
+        let normal =
+            (va.normal.as_dvec3() * w.x + vb.normal.as_dvec3() * w.y + vc.normal.as_dvec3() * w.z)
+                .normalize_or_zero();
+        (normal, vertices, upper)
+    }
+
+    /// Largest angle (radians) between the interpolated normal and the exact patch normal over
+    /// `samples` quasi-random parameter points per patch.
+    pub fn max_normal_error(&self, samples: u32) -> f64 {
+        let mut worst = 0.0_f64;
+        for (p, patch) in self.surface.patches.iter().enumerate() {
+            for k in 0..samples {
+                // R2 low-discrepancy points folded into the triangle.
+                let a = (0.5 + f64::from(k) * 0.754_877_666_246_692_7).fract();
+                let b = (0.5 + f64::from(k) * 0.569_840_290_998_053_3).fract();
+                let (u, v) = if a + b > 1.0 {
+                    (1.0 - a, 1.0 - b)
+                } else {
+                    (a, b)
+                };
+                let exact = patch.jet(u, v).normal();
+                let (approx, _, _) = self.interpolate(p as u32, u, v);
+                worst = worst.max(approx.angle_between(exact));
+            }
+        }
+        worst
+    }
+
     /// Segments per patch edge.
     pub fn grid_level(&self) -> u32 {
-        let per_patch = self.vertices.len() / self.surface.patches.len();
-        // per_patch = (n+1)(n+2)/2
-        let n = ((((8 * per_patch + 1) as f64).sqrt() - 3.0) / 2.0).round();
-        n as u32
+        self.level
     }
 }
 
