@@ -53,7 +53,8 @@ impl Default for SubdivisionCriterion {
 }
 
 /// One BVH primitive: a sub-triangle of one patch's `(u, v)` domain, with the surface points
-/// at its corners (they span the plane from which Newton starts).
+/// at its corners (they span the plane from which Newton starts) and an oriented box around
+/// the sub-patch's control net in the frame of that plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Leaf {
     /// Patch index in [`Surface::patches`].
@@ -64,15 +65,53 @@ pub struct Leaf {
     pub uv: [[f32; 2]; 3],
     /// Surface points at the three corners (f32 is plenty for a start point).
     pub corners: [Vec3; 3],
+    /// Oriented box: rows of the frame (first edge, in-plane normal to it, plane normal).
+    pub axes: [Vec3; 3],
+    /// Oriented box: smallest coordinates of the control points in the frame at `corners[0]`.
+    pub lo: Vec3,
+    /// Oriented box: largest coordinates.
+    pub hi: Vec3,
 }
 
 impl Leaf {
-    /// A leaf of `patch` over the sub-triangle `tri` whose sub-patch has corner points `corners`.
-    pub fn new(patch: u32, tri: [DVec2; 3], corners: [DVec3; 3]) -> Leaf {
+    /// A leaf of `patch` over the sub-triangle `tri` whose sub-patch has control points
+    /// `points` and corner points `corners`.
+    ///
+    /// The oriented box is computed with the frame exactly as stored (f32 origin and axes,
+    /// used in f64), so it contains every control point — hence, by the convex-hull property,
+    /// the sub-patch — whatever the rounding of the frame; a relative 1e-9 pad covers the f64
+    /// arithmetic.
+    pub fn new(patch: u32, tri: [DVec2; 3], corners: [DVec3; 3], points: &[DVec3]) -> Leaf {
+        let origin = corners[0].as_vec3().as_dvec3();
+        let x = (corners[1] - corners[0]).normalize_or_zero();
+        let plane = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+        let z = plane.normalize_or_zero();
+        let axes = if x == DVec3::ZERO || z == DVec3::ZERO {
+            [DVec3::X, DVec3::Y, DVec3::Z]
+        } else {
+            [x, z.cross(x), z]
+        };
+        let axes = axes.map(|a| a.as_vec3());
+        let frame = axes.map(|a| a.as_dvec3());
+        let mut lo = DVec3::INFINITY;
+        let mut hi = DVec3::NEG_INFINITY;
+        for &p in points.iter().chain(corners.iter()) {
+            let q = p - origin;
+            let c = DVec3::new(frame[0].dot(q), frame[1].dot(q), frame[2].dot(q));
+            lo = lo.min(c);
+            hi = hi.max(c);
+        }
+        let pad = 1e-9 * (hi - lo).max_element().max(origin.abs().max_element());
+        let (lo, hi) = (lo - DVec3::splat(pad), hi + DVec3::splat(pad));
+        let down = |v: DVec3| Vec3::new(f32_down(v.x), f32_down(v.y), f32_down(v.z));
+        let up = |v: DVec3| Vec3::new(f32_up(v.x), f32_up(v.y), f32_up(v.z));
         Leaf {
             patch,
             uv: tri.map(|c| [c.x as f32, c.y as f32]),
             corners: corners.map(|p| p.as_vec3()),
+            axes,
+            lo: down(lo),
+            hi: up(hi),
         }
     }
 
@@ -87,6 +126,44 @@ impl Leaf {
         let t = self.tri();
         (t[0] + t[1] + t[2]) / 3.0
     }
+
+    /// True if the ray `origin + t dir`, `t ∈ [t_min, t_max]`, meets the oriented box (a
+    /// conservative test: false means the ray cannot meet the sub-patch).
+    pub fn ray_meets_box(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64) -> bool {
+        let q = origin - self.corners[0].as_dvec3();
+        let (mut near, mut far) = (t_min, t_max);
+        for axis in 0..3 {
+            let a = self.axes[axis].as_dvec3();
+            let (o, d) = (a.dot(q), a.dot(dir));
+            let (lo, hi) = (f64::from(self.lo[axis]), f64::from(self.hi[axis]));
+            if d == 0.0 {
+                if o < lo || o > hi {
+                    return false;
+                }
+                continue;
+            }
+            let inv = 1.0 / d;
+            let (t0, t1) = ((lo - o) * inv, (hi - o) * inv);
+            near = near.max(t0.min(t1));
+            far = far.min(t0.max(t1));
+            if near > far {
+                return false;
+            }
+        }
+        true
+    }
+}
+
+/// The largest f32 not above `x`.
+fn f32_down(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) > x { f.next_down() } else { f }
+}
+
+/// The smallest f32 not below `x`.
+fn f32_up(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) < x { f.next_up() } else { f }
 }
 
 /// Barycentric coordinates of `p` in the triangle `tri` (non-degenerate).
@@ -134,17 +211,9 @@ const CHILD_CORNERS: [[DVec3; 3]; 4] = {
 pub fn outward_f32(b: &Aabb, pad: f64) -> obvhs::aabb::Aabb {
     let lo = b.min - DVec3::splat(pad);
     let hi = b.max + DVec3::splat(pad);
-    let down = |x: f64| {
-        let f = x as f32;
-        if f as f64 > x { f.next_down() } else { f }
-    };
-    let up = |x: f64| {
-        let f = x as f32;
-        if (f as f64) < x { f.next_up() } else { f }
-    };
     obvhs::aabb::Aabb::new(
-        Vec3A::new(down(lo.x), down(lo.y), down(lo.z)),
-        Vec3A::new(up(hi.x), up(hi.y), up(hi.z)),
+        Vec3A::new(f32_down(lo.x), f32_down(lo.y), f32_down(lo.z)),
+        Vec3A::new(f32_up(hi.x), f32_up(hi.y), f32_up(hi.z)),
     )
 }
 
@@ -205,11 +274,24 @@ impl PatchBvh {
             .map(|(pi, patch)| match patch.as_bezier() {
                 Some(net) => subdivide_patch(pi as u32, net, criterion),
                 None => vec![(
-                    Leaf::new(
-                        pi as u32,
-                        UV_CORNERS,
-                        UV_CORNERS.map(|c| patch.eval(c.x, c.y)),
-                    ),
+                    {
+                        let b = patch.full_bounds();
+                        let box_corners: Vec<DVec3> = (0..8)
+                            .map(|k| {
+                                DVec3::new(
+                                    if k & 1 == 0 { b.min.x } else { b.max.x },
+                                    if k & 2 == 0 { b.min.y } else { b.max.y },
+                                    if k & 4 == 0 { b.min.z } else { b.max.z },
+                                )
+                            })
+                            .collect();
+                        Leaf::new(
+                            pi as u32,
+                            UV_CORNERS,
+                            UV_CORNERS.map(|c| patch.eval(c.x, c.y)),
+                            &box_corners,
+                        )
+                    },
                     patch.full_bounds(),
                 )],
             })
@@ -263,7 +345,10 @@ fn subdivide_patch(
         if done {
             let d = piece.degree();
             let corners = [piece.point(d, 0), piece.point(0, d), piece.point(0, 0)];
-            out.push((Leaf::new(patch, tri, corners), piece.control_bounds()));
+            out.push((
+                Leaf::new(patch, tri, corners, piece.points()),
+                piece.control_bounds(),
+            ));
             continue;
         }
         let child_tris = split4(tri);

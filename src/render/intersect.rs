@@ -246,6 +246,9 @@ impl<'s> Tracer<'s> {
         t_max: f64,
         counters: &mut IntersectCounters,
     ) -> Option<Hit> {
+        if !leaf.ray_meets_box(ray.origin, ray.dir, t_min, t_max) {
+            return None;
+        }
         let patch = &self.surface.patches[leaf.patch as usize];
         let tri = leaf.tri();
         let start = match planar_start(leaf, tri, ray, START_REJECTION) {
