@@ -226,3 +226,63 @@ fn million_rays_stay_inside_closed_hb_surfaces() {
         assert_eq!(misses, 0, "{name}");
     }
 }
+
+/// Wall-clock throughput probe for tuning (run with `--ignored`): 65 536 camera rays on an hb
+/// torus of 15 360 patches, one thread. The criterion bench benches/render.rs is the reference.
+#[test]
+#[ignore]
+fn primary_ray_throughput_probe() {
+    use smoothlab::render::camera::Camera;
+    use smoothlab::render::job::surface_samples;
+    let sampled = smoothlab::mesh::generate::analytic::torus(60, 32, 1.0, 0.35);
+    let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).expect("torus");
+    let surface = smoothlab::schemes::build("hb", &mesh, &[]).expect("hb");
+    let tracer = Tracer::new(
+        &surface,
+        &SubdivisionCriterion::default(),
+        NewtonSettings::default(),
+    )
+    .expect("tracer");
+    let camera = Camera::frame_points(&surface_samples(&surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
+        .expect("camera");
+    let side = 256u32;
+    let rays: Vec<Ray64> = (0..side * side)
+        .map(|k| {
+            let (x, y) = (k % side, k / side);
+            camera.ray(
+                2.0 * (f64::from(x) + 0.5) / f64::from(side) - 1.0,
+                1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(side),
+                1.0,
+            )
+        })
+        .collect();
+    // On-CPU time of this thread (Linux schedstat, ns): the machine is shared, so wall time
+    // understates what one core does.
+    let cpu_ns = || -> Option<f64> {
+        let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+        text.split_whitespace().next()?.parse().ok()
+    };
+    let cpu_start = cpu_ns();
+    let start = std::time::Instant::now();
+    let mut counters = IntersectCounters::default();
+    let mut hits = 0;
+    for _ in 0..5 {
+        for ray in &rays {
+            hits += u64::from(
+                tracer
+                    .closest_hit(ray, 0.0, f64::INFINITY, &mut counters)
+                    .is_some(),
+            );
+        }
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let cpu_seconds = cpu_ns()
+        .zip(cpu_start)
+        .map_or(seconds, |(end, begin)| (end - begin) * 1e-9);
+    println!(
+        "{:.0} rays/s wall, {:.0} rays/s per core (on-CPU time), {hits} hits, {:?}",
+        5.0 * rays.len() as f64 / seconds,
+        5.0 * rays.len() as f64 / cpu_seconds,
+        counters
+    );
+}

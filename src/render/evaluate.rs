@@ -6,6 +6,7 @@
 use glam::DVec3;
 
 use crate::bezier::triangle::{index, point_count};
+
 use crate::surface::Patch;
 
 /// Largest degree evaluated on the stack (28 control points).
@@ -24,15 +25,28 @@ pub fn point_and_tangents(patch: &Patch, u: f64, v: f64) -> (DVec3, DVec3, DVec3
     }
     let w = DVec3::new(1.0 - u - v, u, v);
     let mut b = [DVec3::ZERO; point_count(MAX_STACK_DEGREE)];
-    b[..point_count(d)].copy_from_slice(net.points());
-    // One de Casteljau step from degree m to m−1 in place: the new b(i,j,k) lands where the
-    // old b(i+1,j,k) was, which no later (smaller i) row still needs.
-    for m in (2..=d).rev() {
-        for i in (0..m).rev() {
-            for j in (0..m - i).rev() {
-                b[index(m - 1, i, j)] = w.x * b[index(m, i + 1, j)]
-                    + w.y * b[index(m, i, j + 1)]
-                    + w.z * b[index(m, i, j)];
+    // In the storage order, the points with first index i form "row" r = d − i, starting at
+    // T(r) = r(r+1)/2, with position s = r − j along it. One de Casteljau step maps rows r−1
+    // and r of degree m to row r−1 of degree m−1:
+    //   b'[T(r−1)+s] = w0 b[T(r−1)+s] + w1 b[T(r)+s] + w2 b[T(r)+s+1],
+    // so it runs in place with r ascending and streams through memory. The first step reads
+    // the net directly (no copy).
+    let src = net.points();
+    if d == 1 {
+        b[..3].copy_from_slice(src);
+    } else {
+        for r in 1..=d {
+            let (prev, row) = (r * (r - 1) / 2, r * (r + 1) / 2);
+            for s in 0..r {
+                b[prev + s] = w.x * src[prev + s] + w.y * src[row + s] + w.z * src[row + s + 1];
+            }
+        }
+    }
+    for m in (2..d).rev() {
+        for r in 1..=m {
+            let (prev, row) = (r * (r - 1) / 2, r * (r + 1) / 2);
+            for s in 0..r {
+                b[prev + s] = w.x * b[prev + s] + w.y * b[row + s] + w.z * b[row + s + 1];
             }
         }
     }

@@ -435,6 +435,10 @@ mod tests {
         (settings.width, settings.height, settings.spp) = (w, h, 1);
         let (frame, _) = render(&tracer, &camera, &settings).expect("render");
         let diag = surface.bounds().diagonal();
+        assert!(
+            tracer.root_tolerance() < 1e-9 * diag,
+            "root tolerance within the contract"
+        );
         let mut checked = 0;
         for y in 0..h {
             for x in 0..w {
@@ -448,7 +452,7 @@ mod tests {
                 );
                 let patch = &surface.patches[g.hit.patch as usize];
                 assert!(
-                    (g.position - ray.at(g.hit.t)).length() <= 1e-12 * diag,
+                    (g.position - ray.at(g.hit.t)).length() <= tracer.root_tolerance(),
                     "pixel ({x},{y}) off its ray"
                 );
                 assert!(

@@ -63,7 +63,10 @@ pub struct Hit {
 pub struct NewtonSettings {
     /// Iteration cap of one Newton run; beyond it the run counts as a failure.
     pub max_iterations: u32,
-    /// Residual (world units, relative to the scene size) at which a root is accepted.
+    /// Distance from the ray (relative to the scene's bounding-box diagonal) at which a root
+    /// is accepted; [`Tracer::root_tolerance`] adds a few hundred ulps of the coordinates for
+    /// scenes far from the origin. 1e-10 is ten times below the 1e-9 hit-accuracy contract and
+    /// well above f64 evaluation noise, so Newton never stalls on rounding.
     pub residual_tolerance: f64,
     /// How far (in leaf-local barycentric units) outside its sub-triangle a root is still
     /// accepted, so that rays through seams are caught by both neighbours.
@@ -81,7 +84,7 @@ impl Default for NewtonSettings {
     fn default() -> Self {
         NewtonSettings {
             max_iterations: 8,
-            residual_tolerance: 1e-12,
+            residual_tolerance: 1e-10,
             domain_tolerance: 1e-7,
             escape_distance: 1.0,
             fallback_depth: 4,
@@ -134,12 +137,15 @@ pub struct Tracer<'s> {
     pub bvh: PatchBvh,
     /// Newton tunables.
     pub newton: NewtonSettings,
-    /// Scene size used to make tolerances relative.
-    pub scale: f64,
+    /// Absolute root tolerance: see [`Tracer::root_tolerance`].
+    pub tolerance: f64,
     /// Bounding box of the surface.
     pub bounds: Aabb,
     /// Per patch, which edges lie on mesh-face edges (for the boundary overlay).
     pub face_edges: Vec<u8>,
+    /// Per patch, a bound on |∂²S/∂δ²| for unit `(u, v)` directions δ (see
+    /// [`second_derivative_bound`]); infinite when unknown.
+    pub second_bounds: Vec<f64>,
 }
 
 /// Outcome of one Newton run.
@@ -161,18 +167,28 @@ impl<'s> Tracer<'s> {
     ) -> crate::Result<Tracer<'s>> {
         let bvh = PatchBvh::build(surface, criterion)?;
         let bounds = surface.bounds();
-        let scale = bounds
-            .diagonal()
-            .max(bounds.min.abs().max_element())
-            .max(bounds.max.abs().max_element());
+        let magnitude = bounds.min.abs().max(bounds.max.abs()).max_element();
+        let tolerance =
+            newton.residual_tolerance * bounds.diagonal() + 256.0 * f64::EPSILON * magnitude;
         Ok(Tracer {
             surface,
             bvh,
             newton,
-            scale,
+            tolerance,
             bounds,
             face_edges: surface.patches.iter().map(face_edge_mask).collect(),
+            second_bounds: surface
+                .patches
+                .iter()
+                .map(|p| p.as_bezier().map_or(f64::INFINITY, second_derivative_bound))
+                .collect(),
         })
+    }
+
+    /// Largest distance of an accepted root from its ray:
+    /// `residual_tolerance × diagonal + 256 ε × max |coordinate|`.
+    pub fn root_tolerance(&self) -> f64 {
+        self.tolerance
     }
 
     /// The closest hit with `t ∈ (t_min, t_max)`, or None.
@@ -257,7 +273,7 @@ impl<'s> Tracer<'s> {
             Start::Grazing => leaf.centroid(),
         };
         counters.newton_runs += 1;
-        match self.newton(patch, tri, start, planes) {
+        match self.newton(leaf.patch, tri, start, planes) {
             Newton::Root(uv, iterations, p) => {
                 let hit = self.accept(leaf.patch, tri, uv, p, ray, t_min, t_max)?;
                 counters.roots_accepted += 1;
@@ -313,7 +329,7 @@ impl<'s> Tracer<'s> {
                 continue;
             }
             let centroid = (child[0] + child[1] + child[2]) / 3.0;
-            let found = match self.newton(patch, child, centroid, planes) {
+            let found = match self.newton(patch_index, child, centroid, planes) {
                 Newton::Root(uv, _, p) => {
                     self.accept(patch_index, child, uv, p, ray, t_min, best_t)
                 }
@@ -338,9 +354,17 @@ impl<'s> Tracer<'s> {
     }
 
     /// Newton on the two-plane system from `start`, for a root in the sub-triangle `tri`.
-    fn newton(&self, patch: &Patch, tri: [DVec2; 3], start: DVec2, planes: &RayPlanes) -> Newton {
+    fn newton(
+        &self,
+        patch_index: u32,
+        tri: [DVec2; 3],
+        start: DVec2,
+        planes: &RayPlanes,
+    ) -> Newton {
+        let patch = &self.surface.patches[patch_index as usize];
+        let second_bound = 2.0 * self.second_bounds[patch_index as usize];
         let settings = &self.newton;
-        let tolerance = settings.residual_tolerance * self.scale;
+        let tolerance = self.tolerance;
         let mut uv = start;
         let mut iterations = 0;
         loop {
@@ -365,6 +389,15 @@ impl<'s> Tracer<'s> {
             let step = DVec2::new(f.perp_dot(jv), ju.perp_dot(f)) / det;
             uv -= step;
             iterations += 1;
+            // Taylor: after an exact Newton step the residual is at most ½ M |Δ|² (M bounds
+            // the second derivatives on the patch), and so is the error of the linearised
+            // point. When that is below tolerance the step is the last one and no further
+            // evaluation is needed. Only inside the patch domain, where M is valid.
+            let taylor = 0.5 * second_bound * step.length_squared();
+            if taylor <= tolerance && uv.x >= 0.0 && uv.y >= 0.0 && uv.x + uv.y <= 1.0 {
+                let p_new = p - su * step.x - sv * step.y;
+                return Newton::Root(uv, iterations, p_new);
+            }
             let local = barycentric_in(tri, uv);
             if local.min_element() < -settings.escape_distance {
                 return Newton::Escaped;
@@ -400,6 +433,33 @@ impl<'s> Tracer<'s> {
             None
         }
     }
+}
+
+/// A bound on the second derivative of a Bézier triangle in any unit `(u, v)` direction over
+/// its domain. With δ = δu (e1 − e0) + δv (e2 − e0), `D²S(δ, δ) = d(d−1) Σ B^{d−2}_{ijk}
+/// (δu² Q11 + 2 δu δv Q12 + δv² Q22)` where Q are second differences of the control net, so
+/// `d(d−1) (max|Q11| + max|Q12| + max|Q22|)` bounds it (2|δu δv| ≤ 1).
+pub fn second_derivative_bound(net: &crate::bezier::TriangleBezier) -> f64 {
+    let d = net.degree();
+    if d < 2 {
+        return 0.0;
+    }
+    let (mut q11, mut q12, mut q22) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for i in 0..=d - 2 {
+        for j in 0..=d - 2 - i {
+            // b(i+a, j+b, k+c) with (a, b, c) one of the six second-order offsets.
+            let b00 = net.point(i + 2, j);
+            let b01 = net.point(i + 1, j + 1);
+            let b02 = net.point(i + 1, j);
+            let b11 = net.point(i, j + 2);
+            let b12 = net.point(i, j + 1);
+            let b22 = net.point(i, j);
+            q11 = q11.max((b11 - 2.0 * b01 + b00).length());
+            q12 = q12.max((b12 - b01 - b02 + b00).length());
+            q22 = q22.max((b22 - 2.0 * b02 + b00).length());
+        }
+    }
+    (d * (d - 1)) as f64 * (q11 + q12 + q22)
 }
 
 /// Where Newton starts in a leaf.
@@ -523,6 +583,56 @@ mod tests {
         let phi = std::f64::consts::TAU * uniform(seed, i, 0, 1);
         let r = (1.0 - z * z).max(0.0).sqrt();
         DVec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+
+    /// The second-derivative bound holds at sampled points in sampled directions.
+    #[test]
+    fn second_derivative_bound_holds() {
+        let surface = octahedron_sphere(5, 1.7, 0);
+        for patch in &surface.patches {
+            let net = patch.as_bezier().expect("Bézier patch");
+            let bound = second_derivative_bound(net);
+            for k in 0..50u64 {
+                let u = uniform(4, k, 0, 0);
+                let v = uniform(4, k, 0, 1) * (1.0 - u);
+                let jet = patch.jet(u, v);
+                let angle = std::f64::consts::TAU * uniform(4, k, 0, 2);
+                let (du, dv) = (angle.cos(), angle.sin());
+                let d2 = jet.duu * du * du + 2.0 * jet.duv * du * dv + jet.dvv * dv * dv;
+                assert!(
+                    d2.length() <= bound * (1.0 + 1e-12),
+                    "{} > {bound}",
+                    d2.length()
+                );
+            }
+        }
+    }
+
+    /// Every sampled point of a leaf's sub-patch lies in its oriented box.
+    #[test]
+    fn oriented_boxes_contain_their_sub_patches() {
+        let surface = octahedron_sphere(4, 1.0, 1);
+        let tracer = Tracer::new(
+            &surface,
+            &SubdivisionCriterion::default(),
+            NewtonSettings::default(),
+        )
+        .expect("tracer");
+        for leaf in &tracer.bvh.leaves {
+            let patch = &surface.patches[leaf.patch as usize];
+            let tri = leaf.tri();
+            for k in 0..30u64 {
+                let a = uniform(5, k, 0, 0);
+                let b = uniform(5, k, 0, 1) * (1.0 - a);
+                let uv = tri[0] * (1.0 - a - b) + tri[1] * a + tri[2] * b;
+                let p = patch.eval(uv.x, uv.y);
+                // A zero-length ray at p meets the box iff p is inside.
+                assert!(
+                    leaf.ray_meets_box(p, DVec3::X, 0.0, 0.0),
+                    "point {p} outside its leaf box"
+                );
+            }
+        }
     }
 
     /// Vertical rays on a height field whose x, y are exactly u, v: the exact hit is known.
@@ -660,8 +770,10 @@ mod tests {
                 worst = worst.max((p - ray.at(hit.t)).length() / diag);
             }
         }
-        // Newton stops at a residual of `residual_tolerance × scale`; that is the guarantee.
-        let bound = tracer.newton.residual_tolerance * tracer.scale / diag;
+        // Newton stops at a residual of `root_tolerance()`; that is the guarantee, and it is
+        // below the contract of 1e-9 × diagonal.
+        let bound = tracer.root_tolerance() / diag;
+        assert!(bound < 1e-9, "{bound}");
         assert!(
             worst <= bound,
             "largest hit-to-ray distance {worst:e} × diagonal > {bound:e}"
