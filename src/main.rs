@@ -56,7 +56,7 @@ enum Command {
     /// List the schemes and their parameters.
     Schemes,
     /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
-    Render(smoothlab::render::cli::RenderArgs),
+    Render(Box<smoothlab::render::cli::RenderArgs>),
 }
 
 #[derive(Clone, Copy, ValueEnum)]

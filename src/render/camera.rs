@@ -122,7 +122,7 @@ impl Camera {
                 "cannot frame an empty or non-finite set of points".into(),
             ));
         }
-        if !(fov_deg > 0.0 && fov_deg < 180.0) || !(aspect > 0.0 && aspect.is_finite()) {
+        if !(fov_deg > 0.0 && fov_deg < 180.0 && aspect > 0.0 && aspect.is_finite()) {
             return Err(Error::Invalid(format!(
                 "cannot frame with field of view {fov_deg}° and aspect {aspect}"
             )));

@@ -382,7 +382,7 @@ impl<'s> Tracer<'s> {
             let ju = planes.project(su);
             let jv = planes.project(sv);
             let det = ju.perp_dot(jv);
-            if !(det.abs() > 0.0) || !det.is_finite() {
+            if det == 0.0 || !det.is_finite() {
                 return Newton::Failed;
             }
             // Solve [ju jv] Δ = f by Cramer's rule.
@@ -486,7 +486,7 @@ fn planar_start(leaf: &Leaf, tri: [DVec2; 3], ray: &Ray64, escape: f64) -> Start
     let normal = e1.cross(e2);
     let along = ray.dir.dot(normal);
     let len = normal.length();
-    if !(along.abs() > GRAZING_COS * len) {
+    if along.is_nan() || along.abs() <= GRAZING_COS * len {
         return Start::Grazing;
     }
     // Möller–Trumbore barycentrics of the ray–plane point.

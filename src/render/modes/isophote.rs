@@ -32,7 +32,7 @@ impl IsophoteParams {
         let bands = self.bands.max(1);
         let band = (((c + 1.0) * 0.5 * f64::from(bands)) as u32).min(bands - 1);
         let shade = 0.55 + 0.45 * c;
-        if band % 2 == 0 {
+        if band.is_multiple_of(2) {
             DVec3::new(0.95, 0.78, 0.35) * shade
         } else {
             DVec3::new(0.05, 0.09, 0.25) * shade

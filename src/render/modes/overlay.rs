@@ -54,7 +54,7 @@ impl Overlay {
         let jet = &sp.jet;
         let (e, f, g) = (jet.du.dot(jet.du), jet.du.dot(jet.dv), jet.dv.dot(jet.dv));
         let det = e * g - f * f;
-        if !(det > 0.0) {
+        if det.is_nan() || det <= 0.0 {
             return colour;
         }
         let (u, v) = (sp.hit.u, sp.hit.v);
