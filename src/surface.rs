@@ -280,6 +280,6 @@ mod tests {
         // the halves stay unmatched (schemes must split both sides alike).
         assert_eq!(joints.len(), 1, "{joints:?}");
         let corners = surface.vertex_corners(&faces);
-        assert_eq!(corners.len(), 2 + 1 + 3);
+        assert_eq!(corners.len(), 2 + 2 + 3);
     }
 }

@@ -181,7 +181,7 @@ impl Mesh {
     pub fn neighbor(&self, f: u32, e: usize) -> Option<(u32, usize)> {
         assert!(e < 3, "a triangle has edges 0, 1, 2; asked for edge {e}");
         let twin = self.topology.twin[3 * f as usize + e];
-        (twin != NO_TWIN).then(|| (twin / 3, (twin % 3) as usize))
+        (twin != NO_TWIN).then_some((twin / 3, (twin % 3) as usize))
     }
     /// All undirected edges, each once, in order of their first half-edge (face by face).
     pub fn edges(&self) -> Vec<MeshEdge> {

@@ -505,7 +505,7 @@ mod tests {
     fn errors_name_vertices_by_input_index_after_dropping_and_welding() {
         // The bow-tie behind an unused vertex and a welded copy of its centre: the centre is
         // input vertex 1 (its copy, input 7, is welded into it).
-        let (positions, faces) = bad::bow_tie();
+        let (positions, _) = bad::bow_tie();
         let mut shifted = vec![DVec3::splat(9.0)];
         shifted.extend(&positions);
         shifted.extend([DVec3::splat(8.0), positions[0]]);

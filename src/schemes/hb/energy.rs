@@ -222,11 +222,12 @@ mod tests {
                 .max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))
                 .unwrap();
             a.swap(c, piv);
-            for r in 0..n {
+            let pivot_row = a[c].clone();
+            for (r, row) in a.iter_mut().enumerate() {
                 if r != c {
-                    let fct = a[r][c] / a[c][c];
-                    for j in c..=n {
-                        a[r][j] -= fct * a[c][j];
+                    let fct = row[c] / pivot_row[c];
+                    for (x, p) in row.iter_mut().zip(&pivot_row).skip(c) {
+                        *x -= fct * p;
                     }
                 }
             }

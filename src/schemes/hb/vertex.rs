@@ -195,10 +195,10 @@ mod tests {
                         + psi_1 * he[i].v0
                         + psi0(n) * 4.0 * (he[i].v1 - he[i].v0)
                 };
-                for i in 0..n {
+                for (i, h) in he.iter().enumerate() {
                     // (19)
                     let lhs = r1(i + 1);
-                    let rhs = phi_0 * r1(i) + psi0(n) * he[i].v0;
+                    let rhs = phi_0 * r1(i) + psi0(n) * h.v0;
                     assert!((lhs - rhs).length() < 1e-13, "eq. 19, n={n} i={i}");
                     // (II_T): ½ t_i + ½ t_{i−1} = Φ¹ r¹_i + Φ⁰ r²_i.
                     let lhs = 0.5 * (twist(i) + twist((i + n - 1) % n));
