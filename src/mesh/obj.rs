@@ -163,7 +163,6 @@ pub(super) fn parse(text: &str, origin: &Path) -> Result<(Mesh, LoadReport)> {
         triangulate: false,
         ignore_points: false,
         ignore_lines: false,
-        ..Default::default()
     };
     // Materials were dropped with their statements, so the loader is never asked for one.
     let (models, _materials) = tobj::load_obj_buf(&mut scan.geometry.as_bytes(), &options, |_| {

@@ -305,8 +305,8 @@ mod tests {
                 degree[edge.a as usize] += 1;
                 degree[edge.b as usize] += 1;
             }
-            for v in 0..mesh.vertex_count() {
-                assert_eq!(mesh.valence(v as u32), degree[v], "{name} v{v}");
+            for (v, &edges_at_v) in degree.iter().enumerate() {
+                assert_eq!(mesh.valence(v as u32), edges_at_v, "{name} v{v}");
             }
         }
     }

@@ -80,6 +80,13 @@ impl SceneMesh {
         Ok(Mesh::from_triangles(positions, faces)?.0)
     }
 
+    /// Where the file is committed: `scenes/<name>.obj` under the crate root.
+    pub fn path(&self) -> std::path::PathBuf {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes")
+            .join(format!("{}.obj", self.name))
+    }
+
     /// The text of `scenes/<name>.obj`: a header saying what the mesh is, then the mesh.
     pub fn obj_text(&self) -> Result<String> {
         let mesh = self.mesh()?;
@@ -97,22 +104,15 @@ impl SceneMesh {
     }
 }
 
-/// The committed file of `scene`, relative to the crate root.
-pub fn scene_path(scene: &SceneMesh) -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(format!("{}.obj", scene.name))
-}
-
 #[cfg(test)]
 mod tests {
-    use super::{SCENES, scene_path};
+    use super::SCENES;
     use crate::mesh::Mesh;
 
     #[test]
     fn committed_scene_files_match_their_generators() {
         for scene in &SCENES {
-            let path = scene_path(scene);
+            let path = scene.path();
             let (from_file, report) = Mesh::load_obj(&path).unwrap();
             let generated = scene.mesh().unwrap();
             assert_eq!(
@@ -154,7 +154,7 @@ mod tests {
     #[ignore = "writes scenes/*.obj; run after changing a generator"]
     fn write_scenes() {
         for scene in &SCENES {
-            let path = scene_path(scene);
+            let path = scene.path();
             std::fs::create_dir_all(path.parent().unwrap()).unwrap();
             std::fs::write(&path, scene.obj_text().unwrap()).unwrap();
         }
