@@ -9,10 +9,15 @@ use glam::DVec3;
 
 /// The result of dropping unused vertices and welding identical ones.
 pub(super) struct Welding {
+    /// The surviving positions, in input order.
     pub(super) positions: Vec<DVec3>,
+    /// The faces renumbered to the surviving vertices.
     pub(super) faces: Vec<[u32; 3]>,
+    /// For each surviving vertex, the first input vertex merged into it (names it in errors).
     pub(super) representative: Vec<u32>,
+    /// Used input vertices merged into an earlier one.
     pub(super) welded: usize,
+    /// Input vertices used by no face.
     pub(super) unused: usize,
 }
 

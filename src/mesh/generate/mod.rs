@@ -287,9 +287,8 @@ mod tests {
 
     #[test]
     fn deformed_icosahedron_has_no_mirror_symmetry_left() {
-        // No two vertices at the same distance from the centre would survive a symmetry
-        // that maps vertices to vertices; the distances must all differ except for pairs
-        // related by the untouched axis-aligned scalings.
+        // The moved vertices are at distances from the centre that no other vertex has, so no
+        // symmetry of the mesh can map one of them to another vertex.
         let (positions, _) = deformed_icosahedron();
         let pulled: Vec<f64> = [0, 5, 10].iter().map(|&v| positions[v].length()).collect();
         for (i, &r) in pulled.iter().enumerate() {
