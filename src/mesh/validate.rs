@@ -289,7 +289,7 @@ mod tests {
     use glam::DVec3;
 
     use crate::error::Error;
-    use crate::mesh::generate::{self, analytic, bad};
+    use crate::mesh::generate::{self, bad};
     use crate::mesh::{LoadReport, Mesh};
 
     fn load((positions, faces): (Vec<DVec3>, Vec<[u32; 3]>)) -> crate::Result<(Mesh, LoadReport)> {
