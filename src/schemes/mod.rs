@@ -5,6 +5,7 @@
 pub mod flat;
 pub mod hb;
 pub mod pn;
+pub mod vertex_rings;
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, NormalSource};
