@@ -144,6 +144,8 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
         "G1_inside",
         "curv_jump",
         "regularity",
+        "undulation",
+        "inflect",
     ];
     let rows: Vec<Vec<String>> = metrics
         .iter()
@@ -161,6 +163,8 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
                 cell(m.g1_inside_faces_max_rad),
                 cell(m.curvature_jump_max_rel),
                 cell(m.min_regularity_rel),
+                format!("{:.2e}", m.network_undulation_max_rad),
+                m.network_inflections_max.to_string(),
             ]
         })
         .collect();
@@ -358,6 +362,11 @@ mod tests {
             gaussian_jump_max_rel: Some(1.0),
             mean_jump_max_rel: Some(0.5),
             min_regularity_rel: Some(0.9),
+            network_undulation_max_rad: 0.0,
+            network_undulation_total_rad: 0.0,
+            network_inflections_max: 0,
+            network_curves_with_inflections: 0,
+            network_chord_deviation_max_rel: 0.1,
             continuity_order: None,
             joints: 30,
             joints_between_faces: 30,
@@ -375,7 +384,7 @@ mod tests {
         assert_eq!(lines.len(), 3);
         assert!(lines.iter().all(|l| l.len() == lines[0].len()), "{table}");
         assert!(
-            lines[1].contains("2.50e-1") && lines[1].ends_with("9.00e-1"),
+            lines[1].contains("2.50e-1") && lines[1].contains(" 9.00e-1 "),
             "{table}"
         );
         assert!(lines[1].contains(" - "), "empty set shown as '-': {table}");

@@ -15,6 +15,7 @@
 //! (including the mean) is bit-for-bit the same for any thread count.
 
 pub mod joints;
+pub mod network;
 pub mod patchwise;
 
 use std::collections::BTreeMap;
@@ -65,6 +66,17 @@ pub struct Metrics {
     pub mean_jump_max_rel: Option<f64>,
     /// Smallest `min |Su × Sv| / mean |Su × Sv|` over the patches (0 = a singular point).
     pub min_regularity_rel: Option<f64>,
+    /// Largest undulation of one boundary curve, turning against its overall bending (rad;
+    /// see [`network`]).
+    pub network_undulation_max_rad: f64,
+    /// Sum of the boundary-curve undulations (rad).
+    pub network_undulation_total_rad: f64,
+    /// Largest number of inflections of one boundary curve in its chord plane.
+    pub network_inflections_max: usize,
+    /// Boundary curves with at least one inflection.
+    pub network_curves_with_inflections: usize,
+    /// Largest distance of a boundary curve from its chord, relative to the chord length.
+    pub network_chord_deviation_max_rel: f64,
     /// The lowest measured geometric continuity order over all joints (not measured yet).
     pub continuity_order: Option<u32>,
     /// Number of joints (pairs of patch edges) measured.
@@ -80,11 +92,20 @@ pub struct Metrics {
 impl Metrics {
     /// Measures `surface`, built from `mesh` in `construct_ms` milliseconds.
     pub fn measure(surface: &Surface, mesh: &Mesh, construct_ms: f64) -> Metrics {
-        Self::measure_faces(surface, mesh.faces(), mesh.positions(), construct_ms)
+        let network = network::network_undulation(surface, mesh);
+        Metrics {
+            network_undulation_max_rad: network.undulation_max_rad,
+            network_undulation_total_rad: network.undulation_total_rad,
+            network_inflections_max: network.inflections_max,
+            network_curves_with_inflections: network.curves_with_inflections,
+            network_chord_deviation_max_rel: network.chord_deviation_max_rel,
+            ..Self::measure_faces(surface, mesh.faces(), mesh.positions(), construct_ms)
+        }
     }
 
     /// Measures `surface` against the mesh given as `faces` over `positions` (the form used
-    /// by [`Metrics::measure`]; hand-made surfaces in tests use it directly).
+    /// by [`Metrics::measure`]; hand-made surfaces in tests use it directly). The curve-network
+    /// figures need the mesh topology and are left at zero here.
     pub fn measure_faces(
         surface: &Surface,
         faces: &[[u32; 3]],
@@ -118,6 +139,11 @@ impl Metrics {
             gaussian_jump_max_rel: sums.gaussian_jump,
             mean_jump_max_rel: sums.mean_jump,
             min_regularity_rel: regularity,
+            network_undulation_max_rad: 0.0,
+            network_undulation_total_rad: 0.0,
+            network_inflections_max: 0,
+            network_curves_with_inflections: 0,
+            network_chord_deviation_max_rel: 0.0,
             continuity_order: None,
             joints: per_joint.len(),
             joints_between_faces: per_joint.iter().filter(|j| j.between_faces).count(),
