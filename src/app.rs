@@ -124,6 +124,14 @@ pub fn measure_schemes(
     Ok((results, warnings))
 }
 
+/// `min/typical` measured continuity order, `-` without joints.
+fn order_cell(min: Option<i32>, typical: Option<i32>) -> String {
+    match (min, typical) {
+        (Some(a), Some(b)) => format!("{a}/{b}"),
+        _ => "-".to_string(),
+    }
+}
+
 fn cell(x: Option<f64>) -> String {
     x.map_or_else(|| "-".to_string(), |x| format!("{x:.2e}"))
 }
@@ -146,6 +154,7 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
         "regularity",
         "undulation",
         "inflect",
+        "G^k",
     ];
     let rows: Vec<Vec<String>> = metrics
         .iter()
@@ -165,6 +174,7 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
                 cell(m.min_regularity_rel),
                 format!("{:.2e}", m.network_undulation_max_rad),
                 m.network_inflections_max.to_string(),
+                order_cell(m.continuity_order, m.continuity_order_typical),
             ]
         })
         .collect();
@@ -367,7 +377,10 @@ mod tests {
             network_inflections_max: 0,
             network_curves_with_inflections: 0,
             network_chord_deviation_max_rel: 0.1,
-            continuity_order: None,
+            continuity_order: Some(0),
+            continuity_order_between_faces: Some(0),
+            continuity_order_inside_faces: None,
+            continuity_order_typical: Some(0),
             joints: 30,
             joints_between_faces: 30,
             samples_per_joint: 17,
