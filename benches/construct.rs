@@ -1,11 +1,22 @@
-//! Construction throughput of every registered scheme (faces per second) on an icosphere of
-//! 81,920 faces (valences 5 and 6).
+//! Mesh loading (validation and topology of a 100,000-face torus) and the construction
+//! throughput of every registered scheme (faces per second) on an icosphere of 81,920 faces.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use smoothlab::mesh::{Mesh, generate};
 use smoothlab::schemes;
 
 fn construct(c: &mut Criterion) {
+    let torus = generate::analytic::torus(250, 200, 1.0, 0.3);
+    let mut load = c.benchmark_group("mesh");
+    load.sample_size(10);
+    load.throughput(Throughput::Elements(torus.faces.len() as u64));
+    load.bench_function("validate-and-topology/torus-100000", |b| {
+        b.iter(|| {
+            Mesh::from_triangles(torus.positions.clone(), torus.faces.clone()).expect("valid")
+        })
+    });
+    load.finish();
+
     let sphere = generate::analytic::sphere(6);
     let (mesh, _) = Mesh::from_triangles(sphere.positions, sphere.faces).expect("valid icosphere");
     let mut group = c.benchmark_group("construct");

@@ -9,9 +9,11 @@ pub mod bezier;
 pub mod error;
 pub mod export;
 pub mod geom;
+pub mod linalg;
 pub mod mesh;
 pub mod metrics;
 pub mod render;
+pub mod report;
 pub mod schemes;
 pub mod surface;
 

@@ -55,6 +55,25 @@ enum Command {
     },
     /// List the schemes and their parameters.
     Schemes,
+    /// Measure every scheme on the benchmark meshes; write metrics.{json,csv,md}.
+    Report {
+        /// Output folder.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
+    /// Compare two reports (metrics.json); exit code 1 if a figure got worse.
+    Compare {
+        /// The earlier report.
+        old: PathBuf,
+        /// The later report.
+        new: PathBuf,
+        /// Relative tolerance of quality figures.
+        #[arg(long, default_value_t = 0.05)]
+        quality_rel: f64,
+        /// Largest accepted new/old timing ratio.
+        #[arg(long, default_value_t = 1.5)]
+        time_ratio: f64,
+    },
     /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
     Render(Box<smoothlab::render::cli::RenderArgs>),
 }
@@ -91,6 +110,7 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                 &smoothlab::render::cli::render_command(&args)?,
             ),
             warnings: Vec::new(),
+            failed: false,
         }),
         Some(Command::Metrics {
             mesh,
@@ -107,6 +127,20 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             params,
         }) => app::run_export(&mesh, &scheme, format.into(), &output, tess, &params),
         Some(Command::Schemes) => Ok(app::run_schemes()),
+        Some(Command::Report { out }) => app::run_report(&out),
+        Some(Command::Compare {
+            old,
+            new,
+            quality_rel,
+            time_ratio,
+        }) => app::run_compare(
+            &old,
+            &new,
+            smoothlab::report::compare::Thresholds {
+                quality_rel,
+                time_ratio,
+            },
+        ),
     }
 }
 
@@ -140,7 +174,11 @@ fn main() -> ExitCode {
                 eprintln!("warning: {w}");
             }
             print!("{}", output.stdout);
-            ExitCode::SUCCESS
+            if output.failed {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::SUCCESS
+            }
         }
         Err(e) => {
             eprintln!("error: {e}");

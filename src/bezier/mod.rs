@@ -10,6 +10,7 @@
 //! higher degree, boundary curves) and its bounds; [`curve`] the Bézier curves.
 
 pub mod curve;
+pub mod gram;
 pub mod triangle;
 pub mod triangle_forms;
 

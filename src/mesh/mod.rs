@@ -19,6 +19,7 @@ mod normals;
 mod obj;
 mod topology;
 mod validate;
+mod weld;
 
 use std::path::Path;
 
@@ -26,6 +27,9 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
+
+pub use normals::OBJ_NORMAL_ANGLE_TOLERANCE;
+pub use validate::DEGENERATE_AREA_RATIO;
 
 use normals::ObjNormals;
 use topology::{NO_TWIN, Topology};
@@ -108,7 +112,10 @@ impl Mesh {
     ///
     /// Only positions, normals and faces are read; objects, groups and materials are ignored, so
     /// all objects of a file form one mesh. Per-corner normal and texture indices never split a
-    /// vertex. Polygons with more than three corners are rejected ([`Error::NotATriangle`])
+    /// vertex. The mesh keeps the file's vertex order, less unused and welded vertices, and
+    /// errors name vertices by their 0-based position among the file's `v` records. The file's
+    /// normals are kept for [`NormalSource::Obj`] when every face corner names one and each
+    /// vertex gets one direction (within [`OBJ_NORMAL_ANGLE_TOLERANCE`]). Polygons with more than three corners are rejected ([`Error::NotATriangle`])
     /// rather than triangulated: how a polygon is split changes every surface built on it, so
     /// that choice stays with the modeller that made the file.
     pub fn parse_obj(text: &str) -> Result<(Mesh, LoadReport)> {
@@ -178,10 +185,11 @@ impl Mesh {
     }
     /// The face across edge `e` of face `f` (edge e runs from `faces[f][e]` to
     /// `faces[f][(e+1)%3]`) and that edge's index in the neighbour; None on a boundary.
+    /// Panics if `f` is not a face or `e` > 2.
     pub fn neighbor(&self, f: u32, e: usize) -> Option<(u32, usize)> {
         assert!(e < 3, "a triangle has edges 0, 1, 2; asked for edge {e}");
         let twin = self.topology.twin[3 * f as usize + e];
-        (twin != NO_TWIN).then(|| (twin / 3, (twin % 3) as usize))
+        (twin != NO_TWIN).then_some((twin / 3, (twin % 3) as usize))
     }
     /// All undirected edges, each once, in order of their first half-edge (face by face).
     pub fn edges(&self) -> Vec<MeshEdge> {

@@ -1,16 +1,16 @@
 //! Wavefront OBJ input (through tobj) and output.
 //!
 //! smoothlab reads only geometry: `v`, `vn` and `f` records. Object, group and material
-//! statements are dropped before tobj sees the text, so the file is one model and tobj's vertex
-//! numbering follows the file; polyline (`l`) records are dropped with a warning. tobj is run
-//! with `single_index = false` so that per-corner normal and texture indices never split a
-//! vertex, and with `triangulate = false` so that polygons are reported instead of silently
-//! split.
+//! statements are dropped before tobj sees the text, so all objects of a file form one model
+//! (one mesh); polyline (`l`) records are dropped with a warning. tobj is run with
+//! `single_index = false` so that per-corner normal and texture indices never split a vertex,
+//! and with `triangulate = false` so that polygons are reported instead of silently split.
 //!
-//! A light scan of the face records, before tobj, gives what tobj does not expose: the file
-//! number of every corner's vertex (so errors can name vertices as the file numbers them,
-//! 0-based), range errors naming the face, and which corners have no normal index (tobj fills
-//! those with a neighbour's normal, which must not pass as the vertex's normal).
+//! A light scan of the records before tobj gives what tobj does not expose: the file number
+//! of every corner's vertex, range errors naming the face, and which corners have no normal
+//! index (tobj fills those with a neighbour's normal, which must not pass as the vertex's
+//! normal). With the file numbers the loaded mesh keeps the file's vertex order (tobj's is the
+//! order of first use), and errors name vertices by their 0-based file number.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -59,6 +59,10 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
     // Resolved (face, 0-based vertex) per corner; checked once all `v` records are counted
     // because tobj, like many writers, accepts forward references.
     let mut corners: Vec<(usize, i64)> = Vec::new();
+    // Resolved (face, 0-based normal) of corners that name a normal: tobj checks these only
+    // when the file has normals at all.
+    let mut corner_normals: Vec<(usize, i64)> = Vec::new();
+    let mut normal_count = 0;
     let mut face = 0;
     for line in text.lines() {
         let mut words = line.split_whitespace();
@@ -72,7 +76,7 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
                 continue;
             }
             "v" => scan.vertex_count += 1,
-            "vn" => scan.has_normals = true,
+            "vn" => normal_count += 1,
             "f" => {
                 for (corner, word) in words.enumerate() {
                     let mut fields = word.split('/');
@@ -80,21 +84,28 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
                     let index: i64 = position.parse().map_err(|_| {
                         malformed(origin, format!("face {face}: cannot read vertex '{word}'"))
                     })?;
-                    let resolved = match index {
-                        0 => {
-                            return Err(malformed(
-                                origin,
-                                format!("face {face}: vertex index 0 (OBJ counts from 1)"),
-                            ));
-                        }
-                        // Negative indices count back from the last vertex read so far.
-                        i if i < 0 => scan.vertex_count as i64 + i,
-                        i => i - 1,
-                    };
+                    let resolved = resolve_index(index, scan.vertex_count).ok_or_else(|| {
+                        malformed(origin, format!("face {face}: index 0 in '{word}'"))
+                    })?;
                     corners.push((face, resolved));
-                    let has_normal = fields.nth(1).is_some_and(|n| !n.is_empty());
-                    if !has_normal && scan.first_corner_without_normal.is_none() {
-                        scan.first_corner_without_normal = Some((face, corner));
+                    match fields.nth(1).filter(|n| !n.is_empty()) {
+                        Some(normal) => {
+                            let index: i64 = normal.parse().map_err(|_| {
+                                malformed(
+                                    origin,
+                                    format!("face {face}: cannot read normal in '{word}'"),
+                                )
+                            })?;
+                            let resolved = resolve_index(index, normal_count).ok_or_else(|| {
+                                malformed(origin, format!("face {face}: index 0 in '{word}'"))
+                            })?;
+                            corner_normals.push((face, resolved));
+                        }
+                        None => {
+                            if scan.first_corner_without_normal.is_none() {
+                                scan.first_corner_without_normal = Some((face, corner));
+                            }
+                        }
                     }
                 }
                 face += 1;
@@ -119,8 +130,29 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
             });
         }
     }
+    for &(face, normal) in &corner_normals {
+        if !(0..normal_count as i64).contains(&normal) {
+            return Err(malformed(
+                origin,
+                format!(
+                    "face {face} refers to normal {normal} (0-based), but the file has {normal_count}"
+                ),
+            ));
+        }
+    }
+    scan.has_normals = normal_count > 0;
     scan.corner_vertex = corners.iter().map(|&(_, v)| v as u32).collect();
     Ok(scan)
+}
+
+/// The 0-based index of an OBJ index (1-based, or negative counting back from the last of
+/// the `count` records read so far); None for the invalid index 0. May be out of range.
+fn resolve_index(index: i64, count: usize) -> Option<i64> {
+    match index {
+        0 => None,
+        i if i < 0 => Some(count as i64 + i),
+        i => Some(i - 1),
+    }
 }
 
 /// Parses OBJ text; `origin` names the file in errors.
@@ -131,7 +163,6 @@ pub(super) fn parse(text: &str, origin: &Path) -> Result<(Mesh, LoadReport)> {
         triangulate: false,
         ignore_points: false,
         ignore_lines: false,
-        ..Default::default()
     };
     // Materials were dropped with their statements, so the loader is never asked for one.
     let (models, _materials) = tobj::load_obj_buf(&mut scan.geometry.as_bytes(), &options, |_| {
@@ -173,10 +204,25 @@ pub(super) fn parse(text: &str, origin: &Path) -> Result<(Mesh, LoadReport)> {
             ),
         ));
     }
-    // tobj numbers vertices in order of first use; map them back to the file's numbers.
-    let mut labels = vec![u32::MAX; positions.len()];
+    // tobj numbers vertices in order of first use; put them back in file order, so that the
+    // mesh numbers its vertices as the file does (less unused and welded ones).
+    let mut file_number = vec![u32::MAX; positions.len()];
     for (&local, &file) in corners.iter().zip(&scan.corner_vertex) {
-        labels[local as usize] = file;
+        file_number[local as usize] = file;
+    }
+    let mut file_order: Vec<u32> = (0..positions.len() as u32).collect();
+    file_order.sort_unstable_by_key(|&local| file_number[local as usize]);
+    let mut rank = vec![0u32; positions.len()];
+    for (r, &local) in file_order.iter().enumerate() {
+        rank[local as usize] = r as u32;
+    }
+    let positions: Vec<DVec3> = file_order.iter().map(|&l| positions[l as usize]).collect();
+    let labels: Vec<u32> = file_order
+        .iter()
+        .map(|&l| file_number[l as usize])
+        .collect();
+    for corner in &mut corners {
+        *corner = rank[*corner as usize];
     }
     let corner_normals = if !scan.has_normals {
         Err("the OBJ file has no normals".to_string())
@@ -227,4 +273,306 @@ pub(super) fn write(header: &str, positions: &[DVec3], faces: &[[u32; 3]]) -> St
         let _ = writeln!(text, "f {} {} {}", a + 1, b + 1, c + 1);
     }
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use glam::DVec3;
+
+    use crate::error::Error;
+    use crate::mesh::generate;
+    use crate::mesh::{Mesh, NormalSource};
+
+    /// The octahedron (vertices ±x, ±y, ±z in `v` order 1..6) with normals and texture
+    /// coordinates: every corner has its own `vt` and the normal of its vertex.
+    const OCTAHEDRON_WITH_NORMALS_AND_UVS: &str = "\
+# octahedron with per-corner texture coordinates
+v 1 0 0
+v -1 0 0
+v 0 1 0
+v 0 -1 0
+v 0 0 1
+v 0 0 -1
+vn 1 0 0
+vn -1 0 0
+vn 0 2 0
+vn 0 -1 0
+vn 0 0 1
+vn 0 0 -1
+vt 0 0
+vt 1 0
+vt 0 1
+vt 1 1
+g upper
+f 1/1/1 3/2/3 5/3/5
+f 3/4/3 2/1/2 5/2/5
+f 2/3/2 4/4/4 5/1/5
+f 4/2/4 1/3/1 5/4/5
+o lower
+usemtl steel
+f 3/1/3 1/2/1 6/3/6
+f 2/4/2 3/1/3 6/2/6
+f 4/3/4 2/4/2 6/1/6
+f 1/2/1 4/3/4 6/4/6
+";
+
+    fn parse_err(text: &str) -> Error {
+        Mesh::parse_obj(text).unwrap_err()
+    }
+
+    #[test]
+    fn normals_and_uvs_do_not_split_vertices_and_groups_are_concatenated() {
+        let (mesh, report) = Mesh::parse_obj(OCTAHEDRON_WITH_NORMALS_AND_UVS).unwrap();
+        assert_eq!(mesh.vertex_count(), 6);
+        assert_eq!(mesh.face_count(), 8);
+        assert!(mesh.is_closed());
+        assert_eq!(report.welded, 0);
+        assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+        // Normals come back unit length, one per vertex (the file's (0, 2, 0) included).
+        let normals = mesh.vertex_normals(NormalSource::Obj).unwrap();
+        for (n, p) in normals.iter().zip(mesh.positions()) {
+            assert_eq!(n, p);
+        }
+    }
+
+    #[test]
+    fn file_round_trips_through_to_obj_exactly() {
+        let (positions, faces) = generate::deformed_icosahedron();
+        let (mesh, _) = Mesh::from_triangles(positions, faces).unwrap();
+        let text = mesh.to_obj("deformed icosahedron\nsecond header line");
+        assert!(text.starts_with("# deformed icosahedron\n# second header line\nv "));
+        let (parsed, report) = Mesh::parse_obj(&text).unwrap();
+        assert_eq!(parsed.positions(), mesh.positions());
+        assert_eq!(parsed.faces(), mesh.faces());
+        assert_eq!(report, Default::default());
+    }
+
+    #[test]
+    fn missing_file_is_an_io_error_naming_the_path() {
+        let path = Path::new("/nonexistent/smoothlab/missing.obj");
+        let error = Mesh::load_obj(path).unwrap_err();
+        assert!(
+            matches!(&error, Error::Io { path: p, .. } if p == path),
+            "{error}"
+        );
+        assert!(error.to_string().contains("missing.obj"), "{error}");
+    }
+
+    #[test]
+    fn load_obj_reads_a_file() {
+        let path = std::env::temp_dir().join(format!("smoothlab-obj-{}.obj", std::process::id()));
+        std::fs::write(&path, OCTAHEDRON_WITH_NORMALS_AND_UVS).unwrap();
+        let loaded = Mesh::load_obj(&path);
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(loaded.unwrap().0.face_count(), 8);
+    }
+
+    #[test]
+    fn unparsable_records_are_malformed_obj() {
+        for text in [
+            "v 0 0 0\nv 1 x 0\nv 0 1 0\nf 1 2 3\n",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0\nf 1 2 3\n",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 three\n",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 1 2\n",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//4 2//4 3//4\n",
+        ] {
+            let error = parse_err(text);
+            assert!(
+                matches!(error, Error::MalformedObj { .. }),
+                "{text}: {error}"
+            );
+        }
+    }
+
+    #[test]
+    fn polygons_are_not_triangles() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 5\nf 1 2 3 4\n";
+        let error = parse_err(text);
+        assert!(
+            matches!(
+                error,
+                Error::NotATriangle {
+                    face: 1,
+                    corners: 4
+                }
+            ),
+            "{error}"
+        );
+        let error = parse_err("v 0 0 0\nv 1 0 0\nf 1 2\n");
+        assert!(
+            matches!(
+                error,
+                Error::NotATriangle {
+                    face: 0,
+                    corners: 2
+                }
+            ),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn out_of_range_vertex_names_the_face() {
+        let error = parse_err("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 9\n");
+        assert!(
+            matches!(
+                error,
+                Error::VertexIndexOutOfRange {
+                    face: 1,
+                    vertex: 8,
+                    count: 4
+                }
+            ),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn negative_indices_count_back_from_the_last_vertex() {
+        let text = "v 1 0 0\nv 0 1 0\nv 0 0 1\nf -3 -2 -1\nv 0 0 0\nf -1 -2 -3\n";
+        let (mesh, _) = Mesh::parse_obj(text).unwrap();
+        assert_eq!(mesh.faces(), &[[0, 1, 2], [3, 2, 1]]);
+    }
+
+    #[test]
+    fn empty_file_is_an_empty_mesh() {
+        for text in ["", "# nothing\nv 0 0 0\n"] {
+            let error = parse_err(text);
+            assert!(matches!(error, Error::EmptyMesh), "{error}");
+        }
+    }
+
+    #[test]
+    fn errors_name_vertices_in_file_order() {
+        // The NaN vertex is the file's vertex 3 (0-based), but the fourth used by faces.
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 1\nv 1 1 1\nf 5 2 3\nf 1 2 4\n";
+        let error = parse_err(text);
+        assert!(
+            matches!(error, Error::NonFiniteVertex { vertex: 3 }),
+            "{error}"
+        );
+        // A bow-tie whose centre is the file's last vertex.
+        let text = "v 1 1 0\nv 1 -1 0\nv -1 -1 0\nv -1 1 0\nv 0 0 0\nf 5 1 4\nf 5 3 2\n";
+        let error = parse_err(text);
+        assert!(
+            matches!(error, Error::NonManifoldVertex { vertex: 4, fans: 2 }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn identical_positions_are_welded_and_unused_vertices_reported() {
+        // Two objects, each with its own copy of the shared edge's vertices; one stray vertex.
+        let text = "\
+o left
+v 0 0 0
+v 1 0 0
+v 0 1 0
+f 1 2 3
+o right
+v 1 0 0
+v 0 1 0
+v 1 1 0
+v 5 5 5
+f 4 6 5
+";
+        let (mesh, report) = Mesh::parse_obj(text).unwrap();
+        assert_eq!(mesh.vertex_count(), 4);
+        assert_eq!(report.welded, 2);
+        assert_eq!(report.warnings, vec!["dropped 1 vertices used by no face"]);
+        assert_eq!(mesh.edge_count(), 5);
+        assert_eq!(mesh.neighbor(0, 1), Some((1, 2)));
+    }
+
+    #[test]
+    fn flipped_face_in_a_file_is_reoriented() {
+        let text =
+            OCTAHEDRON_WITH_NORMALS_AND_UVS.replace("f 3/4/3 2/1/2 5/2/5", "f 2/1/2 3/4/3 5/2/5");
+        let (mesh, report) = Mesh::parse_obj(&text).unwrap();
+        assert_eq!(report.reoriented_faces, 1);
+        assert!(
+            report.warnings[0].contains("face 1"),
+            "{:?}",
+            report.warnings
+        );
+        assert_eq!(mesh.faces()[1], [1, 4, 2]);
+        // The file's normals still belong to their vertices.
+        assert!(mesh.vertex_normals(NormalSource::Obj).is_ok());
+    }
+
+    #[test]
+    fn polylines_are_ignored_with_a_warning() {
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2 3\nf 1 2 3\n";
+        let (mesh, report) = Mesh::parse_obj(text).unwrap();
+        assert_eq!(mesh.face_count(), 1);
+        assert_eq!(report.warnings, vec!["ignored 1 polyline (l) records"]);
+    }
+
+    fn obj_normals_error(text: &str) -> String {
+        let (mesh, _) = Mesh::parse_obj(text).unwrap();
+        match mesh.vertex_normals(NormalSource::Obj) {
+            Err(Error::MissingNormals { reason }) => reason,
+            other => panic!("expected MissingNormals, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn contradictory_normals_name_the_vertex() {
+        // Face 5 gives vertex 2 (file vertex 3, 0-based 2) a normal 1e-5 rad off.
+        let text = OCTAHEDRON_WITH_NORMALS_AND_UVS
+            .replace("vn 0 0 -1\n", "vn 0 0 -1\nvn 0 1 0.00001\n")
+            .replace("f 3/1/3 1/2/1 6/3/6", "f 3/1/7 1/2/1 6/3/6");
+        let reason = obj_normals_error(&text);
+        assert!(
+            reason.contains("vertex 2 has contradictory normals"),
+            "{reason}"
+        );
+        assert!(reason.contains("faces 0 and 4"), "{reason}");
+    }
+
+    #[test]
+    fn normals_within_the_tolerance_are_accepted() {
+        // 1e-7 rad apart: the same direction written with rounding.
+        let text = OCTAHEDRON_WITH_NORMALS_AND_UVS
+            .replace("vn 0 0 -1\n", "vn 0 0 -1\nvn 0 1 0.0000001\n")
+            .replace("f 3/1/3 1/2/1 6/3/6", "f 3/1/7 1/2/1 6/3/6");
+        let (mesh, _) = Mesh::parse_obj(&text).unwrap();
+        let normals = mesh.vertex_normals(NormalSource::Obj).unwrap();
+        assert_eq!(normals[2], DVec3::Y);
+    }
+
+    #[test]
+    fn a_corner_without_normal_makes_obj_normals_unusable() {
+        let text =
+            OCTAHEDRON_WITH_NORMALS_AND_UVS.replace("f 4/3/4 2/4/2 6/1/6", "f 4/3/4 2/4 6/1/6");
+        let reason = obj_normals_error(&text);
+        assert!(
+            reason.contains("corner 1 of face 6 (vertex 1) has no normal"),
+            "{reason}"
+        );
+        // Estimated normals still work.
+        let (mesh, _) = Mesh::parse_obj(&text).unwrap();
+        assert!(mesh.vertex_normals(NormalSource::Estimate).is_ok());
+    }
+
+    #[test]
+    fn zero_normal_makes_obj_normals_unusable() {
+        let text = OCTAHEDRON_WITH_NORMALS_AND_UVS.replace("vn 0 0 1\n", "vn 0 0 0\n");
+        let reason = obj_normals_error(&text);
+        assert!(
+            reason.contains("vertex 4 has a zero or non-finite normal"),
+            "{reason}"
+        );
+    }
+
+    #[test]
+    fn file_without_normals_says_so() {
+        let (positions, faces) = generate::tetrahedron();
+        let (mesh, _) = Mesh::from_triangles(positions, faces).unwrap();
+        let reason = obj_normals_error(&mesh.to_obj(""));
+        assert_eq!(reason, "the OBJ file has no normals");
+    }
 }

@@ -159,3 +159,215 @@ fn walk_fan(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::collections::{BTreeSet, HashSet};
+
+    use crate::mesh::Mesh;
+    use crate::mesh::generate::{self, SCENES, analytic};
+
+    /// Every generated valid mesh, by name.
+    fn all_generated() -> Vec<(String, Mesh)> {
+        let mut meshes: Vec<(String, Mesh)> = SCENES
+            .iter()
+            .map(|scene| (scene.name.to_string(), scene.mesh().unwrap()))
+            .collect();
+        for n in 3..=16 {
+            let (positions, faces) = generate::valence_fan(n).unwrap();
+            let mesh = Mesh::from_triangles(positions, faces).unwrap().0;
+            meshes.push((format!("valence-fan-{n}"), mesh));
+        }
+        for rings in 1..=3 {
+            let (positions, faces) = generate::disk(rings);
+            let mesh = Mesh::from_triangles(positions, faces).unwrap().0;
+            meshes.push((format!("disk-{rings}"), mesh));
+        }
+        let sphere = analytic::sphere(2);
+        let mesh = Mesh::from_triangles(sphere.positions, sphere.faces)
+            .unwrap()
+            .0;
+        meshes.push(("sphere-2".to_string(), mesh));
+        meshes
+    }
+
+    /// True if `face` is (v, a, b) up to rotation of its corners.
+    fn is_face(face: [u32; 3], v: u32, a: u32, b: u32) -> bool {
+        (0..3).any(|r| face[r] == v && face[(r + 1) % 3] == a && face[(r + 2) % 3] == b)
+    }
+
+    #[test]
+    fn one_ring_order_matches_the_faces_on_every_generated_mesh() {
+        for (name, mesh) in all_generated() {
+            for v in 0..mesh.vertex_count() as u32 {
+                let ring = mesh.one_ring(v);
+                let ring_faces = mesh.ring_faces(v);
+                let n = ring.len();
+                let boundary = mesh.is_boundary_vertex(v);
+                assert_eq!(
+                    ring_faces.len(),
+                    if boundary { n - 1 } else { n },
+                    "{name} v{v}"
+                );
+                for (j, &f) in ring_faces.iter().enumerate() {
+                    let face = mesh.faces()[f as usize];
+                    assert!(
+                        is_face(face, v, ring[j], ring[(j + 1) % n]),
+                        "{name}: vertex {v}, ring {ring:?}, face {f} = {face:?}"
+                    );
+                }
+                let distinct: HashSet<u32> = ring.iter().copied().collect();
+                assert_eq!(distinct.len(), n, "{name}: ring of {v} repeats a vertex");
+                // Every face at v appears exactly once in its ring.
+                let at_v = mesh.faces().iter().filter(|f| f.contains(&v)).count();
+                assert_eq!(ring_faces.len(), at_v, "{name} v{v}");
+            }
+        }
+    }
+
+    #[test]
+    fn boundary_fans_start_and_end_on_boundary_edges() {
+        let (positions, faces) = generate::disk(3);
+        let (mesh, _) = Mesh::from_triangles(positions, faces).unwrap();
+        assert!(!mesh.is_closed());
+        let mut rim = 0;
+        for v in 0..mesh.vertex_count() as u32 {
+            if !mesh.is_boundary_vertex(v) {
+                assert_eq!(mesh.valence(v), 6);
+                continue;
+            }
+            rim += 1;
+            let ring = mesh.one_ring(v);
+            let ring_faces = mesh.ring_faces(v);
+            // (v, ring[0]) runs along the first face, and nothing lies beyond it.
+            let first = ring_faces[0];
+            let e = mesh.faces()[first as usize]
+                .iter()
+                .position(|&c| c == v)
+                .unwrap();
+            assert_eq!(mesh.faces()[first as usize][(e + 1) % 3], ring[0]);
+            assert_eq!(mesh.neighbor(first, e), None, "vertex {v}");
+            // (ring[n-1], v) closes the last face, also on the boundary.
+            let last = *ring_faces.last().unwrap();
+            let e = mesh.faces()[last as usize]
+                .iter()
+                .position(|&c| c == *ring.last().unwrap())
+                .unwrap();
+            assert_eq!(mesh.faces()[last as usize][(e + 1) % 3], v);
+            assert_eq!(mesh.neighbor(last, e), None, "vertex {v}");
+        }
+        assert_eq!(rim, 18, "a 3-ring hexagonal disk has 6·3 rim vertices");
+        assert!(mesh.first_boundary_edge().is_some());
+    }
+
+    #[test]
+    fn neighbors_are_symmetric_and_share_the_reversed_edge() {
+        for (name, mesh) in all_generated() {
+            for f in 0..mesh.face_count() as u32 {
+                for e in 0..3 {
+                    let Some((g, e2)) = mesh.neighbor(f, e) else {
+                        assert!(!mesh.is_closed(), "{name}: closed mesh with a boundary");
+                        continue;
+                    };
+                    assert_eq!(mesh.neighbor(g, e2), Some((f, e)), "{name}");
+                    let (face, other) = (mesh.faces()[f as usize], mesh.faces()[g as usize]);
+                    assert_eq!(face[e], other[(e2 + 1) % 3], "{name}");
+                    assert_eq!(face[(e + 1) % 3], other[e2], "{name}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn edges_are_listed_once_with_their_faces() {
+        for (name, mesh) in all_generated() {
+            let edges = mesh.edges();
+            assert_eq!(edges.len(), mesh.edge_count(), "{name}");
+            let distinct: HashSet<(u32, u32)> = edges.iter().map(|e| (e.a, e.b)).collect();
+            assert_eq!(distinct.len(), edges.len(), "{name}");
+            let boundary = edges.iter().filter(|e| e.faces.1.is_none()).count();
+            assert_eq!(boundary == 0, mesh.is_closed(), "{name}");
+            assert_eq!(
+                mesh.first_boundary_edge().is_none(),
+                mesh.is_closed(),
+                "{name}"
+            );
+            for edge in &edges {
+                assert!(edge.a < edge.b);
+                for f in [Some(edge.faces.0), edge.faces.1].into_iter().flatten() {
+                    let face = mesh.faces()[f as usize];
+                    assert!(face.contains(&edge.a) && face.contains(&edge.b), "{name}");
+                }
+            }
+            // The valence counts every edge at a vertex.
+            let mut degree = vec![0; mesh.vertex_count()];
+            for edge in &edges {
+                degree[edge.a as usize] += 1;
+                degree[edge.b as usize] += 1;
+            }
+            for (v, &edges_at_v) in degree.iter().enumerate() {
+                assert_eq!(mesh.valence(v as u32), edges_at_v, "{name} v{v}");
+            }
+        }
+    }
+
+    #[test]
+    fn euler_characteristic_gives_the_genus_of_each_scene() {
+        for scene in &SCENES {
+            let mesh = scene.mesh().unwrap();
+            assert!(mesh.is_closed(), "{}", scene.name);
+            assert_eq!(
+                3 * mesh.face_count(),
+                2 * mesh.edge_count(),
+                "{}",
+                scene.name
+            );
+            assert_eq!(
+                mesh.euler_characteristic(),
+                2 - 2 * i64::from(scene.genus),
+                "{}",
+                scene.name
+            );
+        }
+        for n in 3..=16 {
+            let (positions, faces) = generate::valence_fan(n).unwrap();
+            let mesh = Mesh::from_triangles(positions, faces).unwrap().0;
+            assert_eq!(mesh.euler_characteristic(), 2, "valence fan {n}");
+        }
+        let (positions, faces) = generate::disk(2);
+        let disk = Mesh::from_triangles(positions, faces).unwrap().0;
+        assert_eq!(disk.euler_characteristic(), 1, "a disk");
+    }
+
+    #[test]
+    fn valences_of_the_generated_meshes() {
+        let valences = |mesh: &Mesh| -> Vec<usize> {
+            (0..mesh.vertex_count() as u32)
+                .map(|v| mesh.valence(v))
+                .collect()
+        };
+        let scene = |name: &str| {
+            SCENES
+                .iter()
+                .find(|s| s.name == name)
+                .unwrap()
+                .mesh()
+                .unwrap()
+        };
+        let mixed: BTreeSet<usize> = valences(&scene("mixed-valence")).into_iter().collect();
+        assert_eq!(mixed, BTreeSet::from([3, 4, 5, 6, 8, 15, 16]));
+        assert!(valences(&scene("torus")).iter().all(|&n| n == 6));
+        assert!(valences(&scene("icosahedron")).iter().all(|&n| n == 5));
+        assert!(valences(&scene("octahedron")).iter().all(|&n| n == 4));
+        assert!(valences(&scene("tetrahedron")).iter().all(|&n| n == 3));
+        let mut cube = valences(&scene("cube"));
+        cube.sort_unstable();
+        assert_eq!(cube, [3, 4, 4, 4, 5, 5, 5, 6]);
+        for n in 3..=16 {
+            let (positions, faces) = generate::valence_fan(n).unwrap();
+            let mesh = Mesh::from_triangles(positions, faces).unwrap().0;
+            assert_eq!(mesh.valence(0), n);
+            assert_eq!(mesh.valence(1), n);
+        }
+    }
+}

@@ -2,13 +2,11 @@
 //! degenerate / duplicate / non-manifold checks and consistent orientation. It ends by handing
 //! the oriented faces to [`Topology::build`].
 
-use std::collections::HashMap;
-use std::collections::hash_map::Entry;
-
 use glam::DVec3;
 
 use super::normals::{self, CornerNormals};
 use super::topology::{NO_TWIN, Topology};
+use super::weld::weld;
 use super::{LoadReport, Mesh};
 use crate::error::{Error, Result};
 
@@ -127,58 +125,6 @@ fn check_indices(positions: &[DVec3], faces: &[[u32; 3]]) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// The result of dropping unused vertices and welding identical ones.
-struct Welding {
-    positions: Vec<DVec3>,
-    faces: Vec<[u32; 3]>,
-    representative: Vec<u32>,
-    welded: usize,
-    unused: usize,
-}
-
-/// Drops vertices used by no face and merges used vertices with bit-identical coordinates
-/// into the first of them. Survivors keep their relative input order.
-fn weld(positions: &[DVec3], mut faces: Vec<[u32; 3]>) -> Welding {
-    let mut used = vec![false; positions.len()];
-    for &v in faces.iter().flatten() {
-        used[v as usize] = true;
-    }
-    let mut remap = vec![u32::MAX; positions.len()];
-    let mut first_at: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
-    let mut welded_positions = Vec::with_capacity(positions.len());
-    let mut representative = Vec::with_capacity(positions.len());
-    let (mut welded, mut unused) = (0, 0);
-    for (i, p) in positions.iter().enumerate() {
-        if !used[i] {
-            unused += 1;
-            continue;
-        }
-        match first_at.entry(p.to_array().map(f64::to_bits)) {
-            Entry::Occupied(entry) => {
-                remap[i] = *entry.get();
-                welded += 1;
-            }
-            Entry::Vacant(entry) => {
-                let id = welded_positions.len() as u32;
-                entry.insert(id);
-                remap[i] = id;
-                welded_positions.push(*p);
-                representative.push(i as u32);
-            }
-        }
-    }
-    for face in &mut faces {
-        *face = face.map(|v| remap[v as usize]);
-    }
-    Welding {
-        positions: welded_positions,
-        faces,
-        representative,
-        welded,
-        unused,
-    }
 }
 
 /// Rejects faces with a repeated corner or (numerically) zero area, see
@@ -339,12 +285,11 @@ fn apply_flips(faces: &mut [[u32; 3]], twin: Vec<u32>, flipped: &[bool]) -> Vec<
 
 #[cfg(test)]
 mod tests {
-    use std::time::Instant;
 
     use glam::DVec3;
 
     use crate::error::Error;
-    use crate::mesh::generate::{self, analytic, bad};
+    use crate::mesh::generate::{self, bad};
     use crate::mesh::{LoadReport, Mesh};
 
     fn load((positions, faces): (Vec<DVec3>, Vec<[u32; 3]>)) -> crate::Result<(Mesh, LoadReport)> {
@@ -505,7 +450,7 @@ mod tests {
     fn errors_name_vertices_by_input_index_after_dropping_and_welding() {
         // The bow-tie behind an unused vertex and a welded copy of its centre: the centre is
         // input vertex 1 (its copy, input 7, is welded into it).
-        let (positions, faces) = bad::bow_tie();
+        let (positions, _) = bad::bow_tie();
         let mut shifted = vec![DVec3::splat(9.0)];
         shifted.extend(&positions);
         shifted.extend([DVec3::splat(8.0), positions[0]]);
@@ -560,56 +505,5 @@ mod tests {
             let [a, b, c] = face.map(|v| mesh.positions()[v as usize]);
             assert!((b - a).cross(c - a).dot(a + b + c) < 0.0);
         }
-    }
-
-    #[test]
-    fn welding_merges_identical_positions_and_drops_unused_vertices() {
-        let (mesh, report) = load(bad::octahedron_with_duplicate_vertices()).unwrap();
-        assert_eq!(report.welded, 2);
-        assert_eq!(
-            report.warnings,
-            vec!["dropped 1 vertices used by no face".to_string()]
-        );
-        let (positions, faces) = generate::octahedron();
-        assert_eq!(mesh.positions(), &positions[..]);
-        assert_eq!(mesh.faces(), &faces[..]);
-    }
-
-    #[test]
-    fn welding_is_by_bit_pattern_so_negative_zero_stays_apart() {
-        // A square as two triangles, the second written with copies of the diagonal's ends.
-        // With an exact copy of the origin both copies weld and the square loads; with -0.0
-        // the triangles share only the corner (1, 1, 0), which makes it a bow-tie.
-        let square = |origin_copy: DVec3| {
-            let positions = vec![
-                DVec3::ZERO,
-                DVec3::X,
-                DVec3::new(1.0, 1.0, 0.0),
-                origin_copy,
-                DVec3::new(1.0, 1.0, 0.0),
-                DVec3::Y,
-            ];
-            load((positions, vec![[0, 1, 2], [3, 4, 5]]))
-        };
-        let (mesh, report) = square(DVec3::ZERO).unwrap();
-        assert_eq!(report.welded, 2);
-        assert_eq!(mesh.vertex_count(), 4);
-        let error = square(DVec3::new(-0.0, 0.0, 0.0)).unwrap_err();
-        assert!(
-            matches!(error, Error::NonManifoldVertex { vertex: 2, fans: 2 }),
-            "{error}"
-        );
-    }
-
-    #[test]
-    fn hundred_thousand_faces_load_well_under_a_second() {
-        let sampled = analytic::torus(250, 200, 1.0, 0.3);
-        assert_eq!(sampled.faces.len(), 100_000);
-        let start = Instant::now();
-        let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).unwrap();
-        let seconds = start.elapsed().as_secs_f64();
-        assert_eq!(mesh.euler_characteristic(), 0);
-        println!("100 000 faces loaded in {seconds:.3} s");
-        assert!(seconds < 0.5, "construction took {seconds:.3} s");
     }
 }

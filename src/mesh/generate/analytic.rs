@@ -104,3 +104,50 @@ pub fn torus(major: u32, minor: u32, major_radius: f64, minor_radius: f64) -> Sa
         normals,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::normals::angle_between;
+
+    #[test]
+    fn sphere_samples_lie_on_the_sphere_with_radial_normals() {
+        for level in 0..=4 {
+            let s = sphere(level);
+            assert_eq!(s.faces.len(), 20 * 4usize.pow(level));
+            // Euler: V = F/2 + 2 for a closed genus-0 triangle mesh.
+            assert_eq!(s.positions.len(), s.faces.len() / 2 + 2);
+            for (p, n) in s.positions.iter().zip(&s.normals) {
+                assert!((p.length() - 1.0).abs() < 1e-15);
+                assert_eq!(p, n);
+            }
+        }
+    }
+
+    #[test]
+    fn ellipsoid_samples_satisfy_the_implicit_equation_with_gradient_normals() {
+        let radii = DVec3::new(1.0, 0.8, 1.3);
+        let e = ellipsoid(radii, 3);
+        for (p, n) in e.positions.iter().zip(&e.normals) {
+            let q = *p / radii;
+            assert!((q.length_squared() - 1.0).abs() < 1e-14, "{p}");
+            let gradient = (*p / (radii * radii)).normalize();
+            assert!(angle_between(gradient, *n) < 1e-9, "{p}: {n} vs {gradient}");
+            assert!((n.length() - 1.0).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn torus_samples_satisfy_the_implicit_equation_with_gradient_normals() {
+        let (big, small) = (1.0, 0.4);
+        let t = torus(20, 12, big, small);
+        assert_eq!((t.positions.len(), t.faces.len()), (240, 480));
+        for (p, n) in t.positions.iter().zip(&t.normals) {
+            // (√(x²+y²) − R)² + z² = r², gradient ∝ p − R · (x, y, 0)/√(x²+y²).
+            let rho = p.truncate().length();
+            assert!(((rho - big).powi(2) + p.z * p.z - small * small).abs() < 1e-14);
+            let core = DVec3::new(p.x, p.y, 0.0) / rho * big;
+            assert!(angle_between(*p - core, *n) < 1e-9, "{p}");
+        }
+    }
+}

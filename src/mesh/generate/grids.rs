@@ -118,3 +118,46 @@ pub fn disk(rings: u32) -> Triangles {
     }
     (positions, faces)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Mesh;
+
+    #[test]
+    fn genus2_counts_and_rims() {
+        let (positions, faces) = genus2();
+        assert_eq!((positions.len(), faces.len()), (74, 152));
+        let (mesh, _) = Mesh::from_triangles(positions.clone(), faces).unwrap();
+        assert_eq!(mesh.euler_characteristic(), -2);
+        // Top and bottom are mirror images: every lifted vertex has a partner below.
+        let above = positions.iter().filter(|p| p.z > 0.0).count();
+        let below = positions.iter().filter(|p| p.z < 0.0).count();
+        assert_eq!((above, below), (20, 20));
+    }
+
+    #[test]
+    fn disk_counts_and_boundary() {
+        for rings in 1..=4u32 {
+            let (positions, faces) = disk(rings);
+            let k = rings as usize;
+            assert_eq!(positions.len(), 3 * k * k + 3 * k + 1);
+            assert_eq!(faces.len(), 6 * k * k);
+            let (mesh, _) = Mesh::from_triangles(positions, faces).unwrap();
+            let rim = (0..mesh.vertex_count() as u32)
+                .filter(|&v| mesh.is_boundary_vertex(v))
+                .count();
+            assert_eq!(rim, 6 * k);
+            // Counter-clockwise seen from above: face normals point up.
+            for f in 0..mesh.face_count() as u32 {
+                assert!(mesh.face_normal(f).z > 0.0);
+            }
+        }
+    }
+
+    #[test]
+    fn torus_scene_is_the_12_by_8_grid() {
+        let (positions, faces) = torus();
+        assert_eq!((positions.len(), faces.len()), (96, 192));
+    }
+}

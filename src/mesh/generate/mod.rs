@@ -227,3 +227,128 @@ pub fn mixed_valence() -> Triangles {
         ],
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::mesh::Mesh;
+
+    /// Six times the signed volume enclosed by the faces (positive for outward normals).
+    fn signed_volume_6((positions, faces): &Triangles) -> f64 {
+        faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = f.map(|v| positions[v as usize]);
+                a.dot(b.cross(c))
+            })
+            .sum()
+    }
+
+    /// True if every face's normal points away from the origin (star-shaped meshes).
+    fn faces_point_outward((positions, faces): &Triangles) -> bool {
+        faces.iter().all(|f| {
+            let [a, b, c] = f.map(|v| positions[v as usize]);
+            (b - a).cross(c - a).dot(a + b + c) > 0.0
+        })
+    }
+
+    #[test]
+    fn platonic_solids_have_the_right_counts_and_face_outward() {
+        for (solid, vertices, faces) in [
+            (tetrahedron(), 4, 4),
+            (octahedron(), 6, 8),
+            (icosahedron(), 12, 20),
+        ] {
+            assert_eq!((solid.0.len(), solid.1.len()), (vertices, faces));
+            assert!(faces_point_outward(&solid));
+            for p in &solid.0 {
+                assert!(
+                    (p.length() - 1.0).abs() < 1e-15,
+                    "{p} is not on the unit sphere"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn deformed_icosahedron_follows_its_documented_deformation() {
+        let (regular, faces) = icosahedron();
+        let (deformed, deformed_faces) = deformed_icosahedron();
+        assert_eq!(faces, deformed_faces);
+        let pulls = [(0, 1.25), (5, 1.15), (10, 0.85)];
+        for (v, (p, q)) in regular.iter().zip(&deformed).enumerate() {
+            let pull = pulls.iter().find(|(w, _)| *w == v).map_or(1.0, |&(_, s)| s);
+            assert_eq!(*q, *p * DVec3::new(1.0, 0.8, 1.3) * pull, "vertex {v}");
+        }
+        assert!(signed_volume_6(&(deformed, faces)) > 0.0);
+    }
+
+    #[test]
+    fn deformed_icosahedron_has_no_mirror_symmetry_left() {
+        // The moved vertices are at distances from the centre that no other vertex has, so no
+        // symmetry of the mesh can map one of them to another vertex.
+        let (positions, _) = deformed_icosahedron();
+        let pulled: Vec<f64> = [0, 5, 10].iter().map(|&v| positions[v].length()).collect();
+        for (i, &r) in pulled.iter().enumerate() {
+            let same = positions
+                .iter()
+                .enumerate()
+                .filter(|(w, p)| *w != [0, 5, 10][i] && (p.length() - r).abs() < 1e-12)
+                .count();
+            assert_eq!(same, 0, "pulled vertex {i} has a symmetric partner");
+        }
+    }
+
+    #[test]
+    fn cube_is_a_closed_outward_cube() {
+        let cube = cube();
+        assert_eq!((cube.0.len(), cube.1.len()), (8, 12));
+        assert!(faces_point_outward(&cube));
+        // Volume of [-1, 1]³ is 8.
+        assert!((signed_volume_6(&cube) / 6.0 - 8.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn valence_fans_face_outward_and_reject_too_small_valences() {
+        for n in 3..=16 {
+            assert!(faces_point_outward(&valence_fan(n).unwrap()), "n = {n}");
+        }
+        for n in [0, 1, 2] {
+            assert!(
+                matches!(valence_fan(n), Err(Error::BadParam { .. })),
+                "n = {n}"
+            );
+        }
+    }
+
+    #[test]
+    fn mixed_valence_faces_outward() {
+        let mesh = mixed_valence();
+        assert_eq!((mesh.0.len(), mesh.1.len()), (21, 38));
+        assert!(faces_point_outward(&mesh));
+    }
+
+    #[test]
+    fn generated_meshes_load_without_repairs() {
+        let mut all: Vec<(String, Triangles)> = SCENES
+            .iter()
+            .map(|s| (s.name.to_string(), (s.build)()))
+            .collect();
+        all.push(("disk".to_string(), disk(4)));
+        for (name, (positions, faces)) in all {
+            let (mesh, report) = Mesh::from_triangles(positions.clone(), faces.clone()).unwrap();
+            assert_eq!(report, Default::default(), "{name}");
+            assert_eq!(mesh.positions(), &positions[..], "{name}");
+            assert_eq!(mesh.faces(), &faces[..], "{name}");
+        }
+    }
+
+    #[test]
+    fn closed_scenes_enclose_positive_volume() {
+        for scene in &SCENES {
+            assert!(signed_volume_6(&(scene.build)()) > 0.0, "{}", scene.name);
+        }
+    }
+}

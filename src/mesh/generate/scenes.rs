@@ -1,7 +1,10 @@
 //! The closed meshes committed as `scenes/<name>.obj`, and the test that keeps those files equal
 //! to their generators.
 
-use super::*;
+use super::{
+    Triangles, cube, deformed_icosahedron, genus2, icosahedron, mixed_valence, octahedron,
+    tetrahedron, torus,
+};
 use crate::error::Result;
 use crate::mesh::Mesh;
 
@@ -77,6 +80,13 @@ impl SceneMesh {
         Ok(Mesh::from_triangles(positions, faces)?.0)
     }
 
+    /// Where the file is committed: `scenes/<name>.obj` under the crate root.
+    pub fn path(&self) -> std::path::PathBuf {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes")
+            .join(format!("{}.obj", self.name))
+    }
+
     /// The text of `scenes/<name>.obj`: a header saying what the mesh is, then the mesh.
     pub fn obj_text(&self) -> Result<String> {
         let mesh = self.mesh()?;
@@ -91,5 +101,62 @@ impl SceneMesh {
             self.genus
         );
         Ok(mesh.to_obj(&header))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SCENES;
+    use crate::mesh::Mesh;
+
+    #[test]
+    fn committed_scene_files_match_their_generators() {
+        for scene in &SCENES {
+            let path = scene.path();
+            let (from_file, report) = Mesh::load_obj(&path).unwrap();
+            let generated = scene.mesh().unwrap();
+            assert_eq!(
+                from_file.positions(),
+                generated.positions(),
+                "{}",
+                scene.name
+            );
+            assert_eq!(from_file.faces(), generated.faces(), "{}", scene.name);
+            assert_eq!(report, Default::default(), "{}", scene.name);
+            let text = std::fs::read_to_string(&path).unwrap();
+            assert_eq!(
+                text,
+                scene.obj_text().unwrap(),
+                "{}: header drifted",
+                scene.name
+            );
+        }
+    }
+
+    #[test]
+    fn scene_names_are_kebab_case_and_unique() {
+        let mut names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
+        for name in &names {
+            assert!(
+                name.chars()
+                    .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-'),
+                "{name}"
+            );
+        }
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), SCENES.len());
+    }
+
+    /// Rewrites scenes/*.obj from the generators:
+    /// `cargo test --lib mesh::generate -- --ignored write_scenes`.
+    #[test]
+    #[ignore = "writes scenes/*.obj; run after changing a generator"]
+    fn write_scenes() {
+        for scene in &SCENES {
+            let path = scene.path();
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(&path, scene.obj_text().unwrap()).unwrap();
+        }
     }
 }

@@ -14,17 +14,26 @@
 //! `ṽ¹` computed at either end, C¹ continuity of `V` at `u = ½` gives `v² = (v¹ − ṽ¹)/2 = −ṽ²`.
 //! (HB00 §9 writes `v² = ½v¹ + ½v¹_k` in a per-end sign convention.)
 //!
-//! Default shape parameters: α = 1 interpolates the vertices; β = 1/3 and (γ0, γ1, γ2) =
-//! (1/3, 0, 2/3) give linear precision on regular meshes — for a planar ring of valence 6 the
+//! Default shape parameters: α = 1 interpolates the vertices; β = 1/3 with (γ0, γ1, γ2) =
+//! (−1, 2, 0) gives linear precision on regular meshes — for a planar ring of valence 6 the
 //! boundary curves are the straight edges parametrised uniformly, the twists vanish and `V` is
-//! constant (tested in [`vertex`]). The six free points default to the thin-plate minimiser
-//! (`free=energy`, as in the paper's colour plate); `free=zero-twist` is the cheap alternative.
+//! constant (tested in [`vertex`]) — and keeps the curve network free of undulations, the
+//! paper's concern in §9: γ0 < 0 < γ1, as in Fig. 14's (−3.7, 4.6, 0.1). `b2 = 2b1 − b0` makes the
+//! boundary curves' second derivative vanish at the vertices (at the price of a flatter surface
+//! right at the vertices). Measured network undulation (metrics `undulation`, rad, max over
+//! edges) with β = 1/3: (−1, 2, 0) gives 0 on the icosahedron, deformed icosahedron and cube,
+//! 0.05 on the torus, 0.66 on mixed-valence (valence 15 and 16); (γ0, γ1, γ2) = (1/3, 0, 2/3), which
+//! also has linear precision but leans on Loop's point d, gives 0.6–1.8 on the same meshes. The six free points default to the
+//! thin-plate minimiser (`free=energy`, as in the paper's colour plate); `free=zero-twist` is the
+//! cheap alternative.
 
 pub mod energy;
 pub mod macro_patch;
 pub mod vertex;
 
 use rayon::prelude::*;
+
+use crate::schemes::vertex_rings::HalfEdgeTable;
 
 use crate::bezier::TriangleBezier;
 use crate::error::{Error, Result};
@@ -51,12 +60,12 @@ pub const SPEC: SchemeSpec = SchemeSpec {
         },
         ParamSpec {
             name: "gamma0",
-            default: "0.333333333333333333",
+            default: "-1",
             help: "γ0 of eq. 15 (weight of b0 in b2)",
         },
         ParamSpec {
             name: "gamma1",
-            default: "0",
+            default: "2",
             help: "γ1 of eq. 15 (weight of b1 in b2)",
         },
         ParamSpec {
@@ -114,117 +123,55 @@ fn shape_params(params: &Params) -> Result<(ShapeParams, FreeRule)> {
     ))
 }
 
-/// The per-vertex data of pass 1 for the whole mesh, with the index arithmetic to find the
-/// two directions of every edge without searching.
-struct HalfEdges {
-    /// `offsets[v] + i` is the edge `v → one_ring(v)[i]`.
-    offsets: Vec<usize>,
-    /// Pass-1 data of every directed edge.
-    data: Vec<HalfEdgeData>,
-    /// `corner_ring[3f + k]`: position of `faces[f][k+1]` in the one-ring of `faces[f][k]`.
-    corner_ring: Vec<u32>,
+/// Pass 1 for the whole mesh, parallel over vertices.
+fn half_edge_table(mesh: &Mesh, shape: &ShapeParams) -> HalfEdgeTable<HalfEdgeData> {
+    HalfEdgeTable::build(mesh, |v, ring, valences, out| {
+        half_edges(v, ring, valences, shape, out)
+    })
 }
 
-impl HalfEdges {
-    /// Pass 1, parallel over vertices.
-    fn new(mesh: &Mesh, shape: &ShapeParams) -> HalfEdges {
-        let nv = mesh.vertex_count();
-        let mut offsets = Vec::with_capacity(nv + 1);
-        let mut total = 0;
-        for v in 0..nv {
-            offsets.push(total);
-            total += mesh.valence(v as u32);
-        }
-        offsets.push(total);
-        let positions = mesh.positions();
-        let mut data = vec![HalfEdgeData::default(); total];
-        let mut slices: Vec<&mut [HalfEdgeData]> = Vec::with_capacity(nv);
-        let mut rest = data.as_mut_slice();
-        for v in 0..nv {
-            let (head, tail) = rest.split_at_mut(offsets[v + 1] - offsets[v]);
-            slices.push(head);
-            rest = tail;
-        }
-        slices.into_par_iter().enumerate().for_each_init(
-            || (Vec::new(), Vec::new()),
-            |(ring_points, ring_valence), (v, out)| {
-                let ring = mesh.one_ring(v as u32);
-                ring_points.clear();
-                ring_points.extend(ring.iter().map(|&p| positions[p as usize]));
-                ring_valence.clear();
-                ring_valence.extend(ring.iter().map(|&p| mesh.valence(p)));
-                half_edges(positions[v], ring_points, ring_valence, shape, out);
-            },
-        );
-        // (v, ring[j], ring[j+1]) is ring_faces(v)[j].
-        let faces = mesh.faces();
-        let mut corner_ring = vec![0u32; 3 * faces.len()];
-        for v in 0..nv as u32 {
-            for (j, &f) in mesh.ring_faces(v).iter().enumerate() {
-                let k = faces[f as usize].iter().position(|&x| x == v).unwrap_or(0);
-                corner_ring[3 * f as usize + k] = j as u32;
-            }
-        }
-        HalfEdges {
-            offsets,
-            data,
-            corner_ring,
-        }
+/// Pass 2 for the edge `X → Y` with its reverse `Y → X`: the midpoint (eq. 16), `v²` (C¹ `V`,
+/// see the module doc) and `Ψ(½)` (eq. 29) complete the pass-1 data of `X`.
+fn curve(here: &HalfEdgeData, there: &HalfEdgeData) -> HalfEdgeCurve {
+    HalfEdgeCurve {
+        b: [
+            here.b[0],
+            here.b[1],
+            here.b[2],
+            0.5 * (here.b[2] + there.b[2]),
+        ],
+        v: [here.v0, here.v1, 0.5 * (here.v1 - there.v1)],
+        phi0: here.phi0,
+        psi: [here.psi0, 0.5 * (here.psi0 + there.psi0)],
     }
+}
 
-    /// Index of the directed edge from `faces[f][k]` to the corner `step` (1 or 2) after it.
-    fn directed(&self, face: [u32; 3], f: usize, k: usize, step: usize) -> usize {
-        let x = face[k] as usize;
-        let n = self.offsets[x + 1] - self.offsets[x];
-        // Face (X, Y, Z) is (v, ring[j], ring[j+1]) around X with j = corner_ring.
-        let j = self.corner_ring[3 * f + k] as usize;
-        self.offsets[x] + (j + step - 1) % n
-    }
-
-    /// Pass 2 for the edge `X → Y` with its reverse `Y → X`: the midpoint (eq. 16), `v²` (C¹ `V`,
-    /// see the module doc) and `Ψ(½)` (eq. 29) complete the pass-1 data of `X`.
-    fn curve(&self, here: usize, there: usize) -> HalfEdgeCurve {
-        let (here, there) = (&self.data[here], &self.data[there]);
-        HalfEdgeCurve {
-            b: [
-                here.b[0],
-                here.b[1],
-                here.b[2],
-                0.5 * (here.b[2] + there.b[2]),
-            ],
-            v: [here.v0, here.v1, 0.5 * (here.v1 - there.v1)],
-            phi0: here.phi0,
-            psi: [here.psi0, 0.5 * (here.psi0 + there.psi0)],
-        }
-    }
-
-    /// The two half-edge curves leaving each corner of face `f`: `(X→Y, X→Z)` for `X = a_k`.
-    fn face_corner_curves(&self, face: [u32; 3], f: usize) -> [(HalfEdgeCurve, HalfEdgeCurve); 3] {
-        // Directed edges a_k → a_{k+1} (step 1 from k) and a_k → a_{k+2} (step 2 from k).
-        let forward: [usize; 3] = std::array::from_fn(|k| self.directed(face, f, k, 1));
-        let backward: [usize; 3] = std::array::from_fn(|k| self.directed(face, f, k, 2));
-        std::array::from_fn(|k| {
-            // X→Y reversed is a_{k+1} → a_k = backward[k+1]; X→Z reversed is forward[k+2].
-            (
-                self.curve(forward[k], backward[(k + 1) % 3]),
-                self.curve(backward[k], forward[(k + 2) % 3]),
-            )
-        })
-    }
+/// The two half-edge curves leaving each corner of face `f`: `(X→Y, X→Z)` for `X = a_k`.
+fn face_corner_curves(
+    table: &HalfEdgeTable<HalfEdgeData>,
+    face: [u32; 3],
+    f: usize,
+) -> [(HalfEdgeCurve, HalfEdgeCurve); 3] {
+    table.corner_edges(face, f).map(|[xy, yx, xz, zx]| {
+        (
+            curve(table.get(xy), table.get(yx)),
+            curve(table.get(xz), table.get(zx)),
+        )
+    })
 }
 
 /// Builds the HB00 surface: 4 quintic patches per face, pieces 0–2 at the face corners, 3 in the
 /// middle.
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let (shape, free) = shape_params(params)?;
-    let half_edges = HalfEdges::new(mesh, &shape);
+    let table = half_edge_table(mesh, &shape);
     let domains = piece_domains();
     let per_face: Vec<[Patch; 4]> = mesh
         .faces()
         .par_iter()
         .enumerate()
         .map(|(f, face)| {
-            let nets = macro_patch(&half_edges.face_corner_curves(*face, f), free);
+            let nets = macro_patch(&face_corner_curves(&table, *face, f), free);
             std::array::from_fn(|piece| Patch {
                 face: f as u32,
                 piece: piece as u8,
@@ -245,12 +192,12 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
 /// corner piece (twist compatibility, eq. 19), over all face corners; for tests and diagnostics.
 pub fn max_corner_mismatch(mesh: &Mesh, params: &Params) -> Result<f64> {
     let (shape, _) = shape_params(params)?;
-    let half_edges = HalfEdges::new(mesh, &shape);
+    let table = half_edge_table(mesh, &shape);
     Ok(mesh
         .faces()
         .iter()
         .enumerate()
-        .flat_map(|(f, face)| half_edges.face_corner_curves(*face, f))
+        .flat_map(|(f, face)| face_corner_curves(&table, *face, f))
         .map(|(to_y, to_z)| macro_patch::corner_mismatch(&to_y, &to_z))
         .fold(0.0, f64::max))
 }

@@ -20,6 +20,8 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
+use crate::schemes::vertex_rings::RingFourier;
+
 /// The shape parameters of HB00: α (eq. 9), β (eq. 12), γ0, γ1, γ2 (eq. 15, γ0+γ1+γ2 = 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShapeParams {
@@ -69,32 +71,13 @@ pub fn half_edges(
     let nf = n as f64;
     let theta = 2.0 * PI / nf;
     let (c, s) = (theta.cos(), theta.sin());
-    let tan_half = (theta / 2.0).tan();
     let ShapeParams { alpha, beta, gamma } = *shape;
 
-    // Discrete Fourier sums C = Σ cos(θj) p_j, S = Σ sin(θj) p_j, so that
-    // Σ cos(θ(j−i)) p_j = cos(θi) C + sin(θi) S and Σ sin(θ(j−i)) p_j = cos(θi) S − sin(θi) C.
-    let (mut fc, mut fs, mut mean) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
-    for (j, p) in ring.iter().enumerate() {
-        let (sj, cj) = (theta * j as f64).sin_cos();
-        fc += cj * *p;
-        fs += sj * *p;
-        mean += *p;
-    }
-    mean /= nf;
-    let cos_sum = |i: usize| {
-        let (si, ci) = (theta * i as f64).sin_cos();
-        ci * fc + si * fs
-    };
-    let sin_sum = |i: usize| {
-        let (si, ci) = (theta * i as f64).sin_cos();
-        ci * fs - si * fc
-    };
-
+    let fourier = RingFourier::new(ring);
     // eq. 9/10: b0, the same for every edge at v.
-    let b0 = alpha * v + (1.0 - alpha) * mean;
+    let b0 = alpha * v + (1.0 - alpha) * fourier.mean();
     // eq. 12: r¹_i = M_{u_i}(0,0) = (6β/n) Σ cos(θ(j−i)) p_j; eq. 11: b1 = b0 + r¹/6.
-    let r1 = |i: usize| (6.0 * beta / nf) * cos_sum(i % n);
+    let r1 = |i: usize| (6.0 * beta / nf) * fourier.cos_sum(i % n);
     // Φ on [0, ½] is cos θ (1 − 2u) + u (eq. 8): Φ⁰ = cos θ, Φ¹ = Φ'(0) = 1 − 2cos θ.
     let (phi_0, phi_1) = (c, 1.0 - 2.0 * c);
     let [g0, g1, g2] = gamma;
@@ -113,7 +96,7 @@ pub fn half_edges(
         // The right side is T applied to the same combination of the preimages
         // b̃1_i = b0 + (β/n) Σ [cos(θ(j−i)) + tan(θ/2) sin(θ(j−i))] p_j and
         // b̃2_i = γ0 b0 + γ1 b̃1_i + γ2 (v + p_i + p_{i+1}) / 3 (HB00 §6), hence eq. 17:
-        let b1_pre = b0 + (beta / nf) * (cos_sum(i) + tan_half * sin_sum(i));
+        let b1_pre = b0 + (beta / nf) * fourier.twist_preimage_sum(i);
         let b2_pre = g0 * b0 + g1 * b1_pre + g2 * (v + ring[i] + next) / 3.0;
         let twist = (24.0 * phi_0 - 6.0 * phi_1) * b0
             + (6.0 * phi_1 - 48.0 * phi_0) * b1_pre
@@ -155,7 +138,13 @@ mod tests {
             .collect()
     }
 
-    const SHAPES: [ShapeParams; 3] = [
+    /// The default shape first, then others.
+    const SHAPES: [ShapeParams; 4] = [
+        ShapeParams {
+            alpha: 1.0,
+            beta: 1.0 / 3.0,
+            gamma: [-1.0, 2.0, 0.0],
+        },
         ShapeParams {
             alpha: 1.0,
             beta: 1.0 / 3.0,
@@ -195,10 +184,10 @@ mod tests {
                         + psi_1 * he[i].v0
                         + psi0(n) * 4.0 * (he[i].v1 - he[i].v0)
                 };
-                for i in 0..n {
+                for (i, h) in he.iter().enumerate() {
                     // (19)
                     let lhs = r1(i + 1);
-                    let rhs = phi_0 * r1(i) + psi0(n) * he[i].v0;
+                    let rhs = phi_0 * r1(i) + psi0(n) * h.v0;
                     assert!((lhs - rhs).length() < 1e-13, "eq. 19, n={n} i={i}");
                     // (II_T): ½ t_i + ½ t_{i−1} = Φ¹ r¹_i + Φ⁰ r²_i.
                     let lhs = 0.5 * (twist(i) + twist((i + n - 1) % n));
@@ -228,7 +217,7 @@ mod tests {
         }
     }
 
-    /// With the default shape, a regular planar hexagonal one-ring gives straight boundary
+    /// With the default shape (and with (1/3, 0, 2/3)), a regular planar hexagonal one-ring gives straight boundary
     /// pieces parametrised by arc length (linear precision): b_k = v + k e_i / 6, and zero twist.
     #[test]
     fn default_shape_has_linear_precision_on_a_regular_planar_ring() {
@@ -238,17 +227,19 @@ mod tests {
                 DVec3::new(a.cos(), a.sin(), 0.0)
             })
             .collect();
-        let mut he = vec![HalfEdgeData::default(); 6];
-        half_edges(DVec3::ZERO, &p, &[6; 6], &SHAPES[0], &mut he);
-        for i in 0..6 {
-            for k in 0..3 {
-                let expected = p[i] * k as f64 / 6.0;
-                assert!((he[i].b[k] - expected).length() < 1e-15, "b{k} of edge {i}");
+        for shape in &SHAPES[..2] {
+            let mut he = vec![HalfEdgeData::default(); 6];
+            half_edges(DVec3::ZERO, &p, &[6; 6], shape, &mut he);
+            for i in 0..6 {
+                for k in 0..3 {
+                    let expected = p[i] * k as f64 / 6.0;
+                    assert!((he[i].b[k] - expected).length() < 1e-15, "b{k} of edge {i}");
+                }
+                // V constant: the cross derivative is e_{i+1} − ½ e_i everywhere.
+                assert!((he[i].v1 - he[i].v0).length() < 1e-14, "V' ≠ 0 at edge {i}");
+                let cross = 0.5 * p[i] + psi0(6) * he[i].v0;
+                assert!((cross - p[(i + 1) % 6]).length() < 1e-15);
             }
-            // V constant: the cross derivative is e_{i+1} − ½ e_i everywhere.
-            assert!((he[i].v1 - he[i].v0).length() < 1e-14, "V' ≠ 0 at edge {i}");
-            let cross = 0.5 * p[i] + psi0(6) * he[i].v0;
-            assert!((cross - p[(i + 1) % 6]).length() < 1e-15);
         }
     }
 }
