@@ -1,7 +1,7 @@
 //! The smoothlab command line: argument parsing and printing only; the work is done by
 //! [`smoothlab::app`].
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
@@ -74,6 +74,8 @@ enum Command {
         #[arg(long, default_value_t = 1.5)]
         time_ratio: f64,
     },
+    /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
+    Render(Box<smoothlab::render::cli::RenderArgs>),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -98,7 +100,18 @@ impl From<FormatArg> for Format {
 
 fn run(cli: Cli) -> smoothlab::Result<Output> {
     match cli.command {
-        None => app::run_default(),
+        None => {
+            let mut output = app::run_default()?;
+            output.stdout += &smoothlab::render::cli::run_gallery(Path::new("out/gallery"))?;
+            Ok(output)
+        }
+        Some(Command::Render(args)) => Ok(Output {
+            stdout: smoothlab::render::cli::render_summary(
+                &smoothlab::render::cli::render_command(&args)?,
+            ),
+            warnings: Vec::new(),
+            failed: false,
+        }),
         Some(Command::Metrics {
             mesh,
             scheme,
