@@ -6,6 +6,7 @@
 
 pub mod analytic;
 pub mod compare;
+pub mod plots;
 
 use std::path::Path;
 use std::time::{SystemTime, UNIX_EPOCH};
@@ -234,9 +235,11 @@ pub fn to_markdown(report: &Report) -> String {
     out
 }
 
-/// Runs the report and writes `metrics.{json,csv,md}` into `out_dir`.
+/// Runs the report and writes `metrics.{json,csv,md}` into `out_dir` and the SVG plots of
+/// [`plots`] into `out_dir/figures/`.
 pub fn write(out_dir: &Path) -> Result<Report> {
     let report = run()?;
+    plots::write_plots(&report, &out_dir.join("figures"))?;
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let json = serde_json::to_string_pretty(&report)
         .map_err(|e| Error::Invalid(format!("report JSON: {e}")))?;
