@@ -151,7 +151,10 @@ mod tests {
     /// the tangents (the second branch) and some at less.
     fn sample_data() -> (Vec<DVec2>, Vec<DVec2>) {
         let angles = [0.0_f64, 0.4, 1.1, 3.6, 3.9];
-        let points = angles.iter().map(|a| DVec2::new(a.cos(), a.sin())).collect();
+        let points = angles
+            .iter()
+            .map(|a| DVec2::new(a.cos(), a.sin()))
+            .collect();
         let tangents = angles
             .iter()
             .map(|a| DVec2::new(-a.sin(), a.cos()))
@@ -167,13 +170,25 @@ mod tests {
         let curve = hermite_curve(&points, &tangents).expect("valid data");
         assert_eq!(curve.len(), points.len() - 1);
         for (i, segment) in curve.iter().enumerate() {
-            assert!(close(segment.eval(0.0), points[i], 1.0), "segment {i} start");
-            assert!(close(segment.eval(1.0), points[i + 1], 1.0), "segment {i} end");
+            assert!(
+                close(segment.eval(0.0), points[i], 1.0),
+                "segment {i} start"
+            );
+            assert!(
+                close(segment.eval(1.0), points[i + 1], 1.0),
+                "segment {i} end"
+            );
             let (d0, d1) = (segment.derivative(0.0), segment.derivative(1.0));
             let angle0 = d0.perp_dot(tangents[i]).atan2(d0.dot(tangents[i]));
             let angle1 = d1.perp_dot(tangents[i + 1]).atan2(d1.dot(tangents[i + 1]));
-            assert!(angle0.abs() <= 1e-12, "segment {i} start tangent off by {angle0}");
-            assert!(angle1.abs() <= 1e-12, "segment {i} end tangent off by {angle1}");
+            assert!(
+                angle0.abs() <= 1e-12,
+                "segment {i} start tangent off by {angle0}"
+            );
+            assert!(
+                angle1.abs() <= 1e-12,
+                "segment {i} end tangent off by {angle1}"
+            );
         }
     }
 
@@ -220,7 +235,10 @@ mod tests {
             let (left, right) = segment.split(0.5);
             for step in 0..=16 {
                 let u = step as f64 / 16.0;
-                assert!(close(left.eval(u), segment.eval(0.5 * u), 1.0), "left at {u}");
+                assert!(
+                    close(left.eval(u), segment.eval(0.5 * u), 1.0),
+                    "left at {u}"
+                );
                 assert!(
                     close(right.eval(u), segment.eval(0.5 + 0.5 * u), 1.0),
                     "right at {u}"
@@ -232,11 +250,7 @@ mod tests {
                 ));
             }
             assert_eq!(left.points[3], right.points[0], "halves meet");
-            assert!(close(
-                left.derivative(1.0),
-                right.derivative(0.0),
-                1.0
-            ));
+            assert!(close(left.derivative(1.0), right.derivative(0.0), 1.0));
         }
     }
 
@@ -262,7 +276,10 @@ mod tests {
         let long = hermite_curve(&p, &[DVec2::new(2.0, 2.0), DVec2::new(5.0, -5.0)]).unwrap();
         let unit = hermite_curve(
             &p,
-            &[DVec2::new(1.0, 1.0).normalize(), DVec2::new(1.0, -1.0).normalize()],
+            &[
+                DVec2::new(1.0, 1.0).normalize(),
+                DVec2::new(1.0, -1.0).normalize(),
+            ],
         )
         .unwrap();
         assert!(close(long[0].points[1], unit[0].points[1], 1.0));

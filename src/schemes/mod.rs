@@ -4,6 +4,7 @@
 
 pub mod flat;
 pub mod hb;
+pub mod piper;
 pub mod pn;
 pub mod vertex_rings;
 
@@ -38,7 +39,7 @@ pub struct SchemeSpec {
 }
 
 /// Every scheme, in the order the gallery and tables show them.
-pub const SCHEMES: &[SchemeSpec] = &[flat::SPEC, pn::SPEC, hb::SPEC];
+pub const SCHEMES: &[SchemeSpec] = &[flat::SPEC, pn::SPEC, hb::SPEC, piper::SPEC];
 
 /// Looks a scheme up by name.
 pub fn find(name: &str) -> Result<&'static SchemeSpec> {
