@@ -86,6 +86,17 @@ fn edge_scaling(params: &Params) -> Result<EdgeScaling> {
     )
 }
 
+/// The rows of two quartic pieces at their shared outer edge, in P's direction. Piece rows:
+/// `S_i = p(4−i, i, 0)`, `R_i = p(3−i, i, 1)`; Q runs the other way, so
+/// `T_i = Q's R_{3−i} = q(i, 3−i, 1)`.
+fn edge_net(quartic_p: &Quartic, quartic_q: &Quartic) -> EdgeNet {
+    EdgeNet {
+        s: std::array::from_fn(|i| quartic_p[index(4, 4 - i, i)]),
+        r: std::array::from_fn(|i| quartic_p[index(4, 3 - i, i)]),
+        t: std::array::from_fn(|i| quartic_q[index(4, i, 3 - i)]),
+    }
+}
+
 /// A piece of a face: `(face, k)`, the piece over the face's edge `k`.
 type PieceId = (usize, usize);
 
@@ -125,13 +136,7 @@ impl Construction<'_> {
     /// the same result bit for bit): the two quartic pieces after the G¹ solve.
     fn solve_edge(&self, p: PieceId, q: PieceId) -> Result<(Quartic, Quartic)> {
         let (mut quartic_p, mut quartic_q) = self.edge_quartics(p, q);
-        // Piece rows: S_i = p(4−i, i, 0), R_i = p(3−i, i, 1); Q runs the other way, so
-        // T_i = Q's R_{3−i} = q(i, 3−i, 1).
-        let net = EdgeNet {
-            s: std::array::from_fn(|i| quartic_p[index(4, 4 - i, i)]),
-            r: std::array::from_fn(|i| quartic_p[index(4, 3 - i, i)]),
-            t: std::array::from_fn(|i| quartic_q[index(4, i, 3 - i)]),
-        };
+        let net = edge_net(&quartic_p, &quartic_q);
         let face = self.mesh.faces()[p.0];
         let (start, end) = (face[p.1] as usize, face[(p.1 + 1) % 3] as usize);
         let fold = |a: usize, b: usize| Error::DegenerateEdge {
@@ -180,6 +185,33 @@ impl Construction<'_> {
 /// Builds Piper's surface: 3 quartic patches per face, piece `k` over the sub-triangle
 /// (corner k, corner k+1, centroid) of the face.
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
+    let construction = candidates(mesh, params)?;
+    // Steps 3–5, per face (each shared edge is solved by both of its faces, identically).
+    let nets = (0..mesh.face_count())
+        .into_par_iter()
+        .map(|f| construction.face_nets(f))
+        .collect::<Result<Vec<_>>>()?;
+    let patches = nets
+        .into_iter()
+        .enumerate()
+        .flat_map(|(f, pieces)| {
+            pieces.into_iter().enumerate().map(move |(k, net)| Patch {
+                face: f as u32,
+                piece: k as u8,
+                domain: cubic_net::piece_domain(k),
+                geometry: PatchGeometry::Bezier(TriangleBezier::new(4, net.to_vec())),
+            })
+        })
+        .collect();
+    Ok(Surface {
+        scheme: SPEC.name.to_string(),
+        params: params.values().to_vec(),
+        patches,
+    })
+}
+
+/// Steps 1–2 for every face, in parallel.
+fn candidates<'a>(mesh: &'a Mesh, params: &Params) -> Result<Construction<'a>> {
     let scaling = edge_scaling(params)?;
     let normals = mesh.vertex_normals(params.normal_source()?)?;
     let positions = mesh.positions();
@@ -204,29 +236,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
                 })
         })
         .collect::<Result<Vec<_>>>()?;
-    let construction = Construction { mesh, cubic_pieces };
-    // Steps 3–5, per face (each shared edge is solved by both of its faces, identically).
-    let nets = (0..mesh.face_count())
-        .into_par_iter()
-        .map(|f| construction.face_nets(f))
-        .collect::<Result<Vec<_>>>()?;
-    let patches = nets
-        .into_iter()
-        .enumerate()
-        .flat_map(|(f, pieces)| {
-            pieces.into_iter().enumerate().map(move |(k, net)| Patch {
-                face: f as u32,
-                piece: k as u8,
-                domain: cubic_net::piece_domain(k),
-                geometry: PatchGeometry::Bezier(TriangleBezier::new(4, net.to_vec())),
-            })
-        })
-        .collect();
-    Ok(Surface {
-        scheme: SPEC.name.to_string(),
-        params: params.values().to_vec(),
-        patches,
-    })
+    Ok(Construction { mesh, cubic_pieces })
 }
 
 #[cfg(test)]

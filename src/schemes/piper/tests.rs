@@ -274,3 +274,156 @@ fn deterministic() {
     let b = build(&mesh, &params(&[])).unwrap();
     assert_eq!(a.patches, b.patches);
 }
+
+/// The mesh with the given per-vertex normals, as read from an OBJ's `vn` records.
+fn with_obj_normals(mesh: &Mesh, normals: &[DVec3]) -> Mesh {
+    let mut obj = String::new();
+    for (p, n) in mesh.positions().iter().zip(normals) {
+        obj += &format!("v {} {} {}\nvn {} {} {}\n", p.x, p.y, p.z, n.x, n.y, n.z);
+    }
+    for f in mesh.faces() {
+        let [a, b, c] = f.map(|v| v + 1);
+        obj += &format!("f {a}//{a} {b}//{b} {c}//{c}\n");
+    }
+    Mesh::parse_obj(&obj).expect("valid OBJ").0
+}
+
+/// Normals far from the estimate (each tilted by up to about 40° in a pseudo-random
+/// direction, halved until it is at most about 75° from every incident face's normal):
+/// the construction still joins G¹ everywhere and reproduces the given normals.
+///
+/// A normal at more than 90° from an incident face's normal turns that face's corner inside
+/// out (the projected edges swap order), and the surface folds there; the measure then sees
+/// a normal jump of π (same tangent plane, opposite orientation). That is bad input, not a
+/// G¹ defect, so the tilt keeps `n · face normal ≥ 0.25`.
+#[test]
+fn g1_with_tilted_normals() {
+    let mut state = 0x9e37_79b9_u64;
+    let mut random = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    for (name, mesh) in test_meshes() {
+        let estimate = mesh
+            .vertex_normals(NormalSource::Estimate)
+            .expect("normals");
+        let mut worst_tilt: f64 = 0.0;
+        let tilted: Vec<DVec3> = estimate
+            .iter()
+            .enumerate()
+            .map(|(v, n)| {
+                let mut push = 0.9 * DVec3::new(random(), random(), random());
+                for _ in 0..20 {
+                    let candidate = (*n + push).normalize();
+                    let consistent = mesh
+                        .ring_faces(v as u32)
+                        .iter()
+                        .all(|&f| candidate.dot(mesh.face_normal(f)) >= 0.25);
+                    if consistent {
+                        worst_tilt = worst_tilt.max(normal_angle(candidate, *n));
+                        return candidate;
+                    }
+                    push *= 0.5;
+                }
+                // Even the estimate is that close to a face's plane here: keep it.
+                *n
+            })
+            .collect();
+        let tilted_mesh = with_obj_normals(&mesh, &tilted);
+        check(
+            &format!(
+                "{name}, normals tilted up to {:.0}°",
+                worst_tilt.to_degrees()
+            ),
+            &tilted_mesh,
+            &params(&[("normals", "obj")]),
+        );
+    }
+}
+
+/// How many shared edges take the thesis's dependent-rows branch of the G¹ solve.
+fn dependent_row_edges(mesh: &Mesh) -> (usize, usize) {
+    let construction = candidates(mesh, &params(&[])).expect("valid");
+    let (mut dependent, mut shared) = (0, 0);
+    for f in 0..mesh.face_count() {
+        for k in 0..3 {
+            let Some((g, kg)) = mesh.neighbor(f as u32, k) else {
+                continue;
+            };
+            if (g as usize) < f {
+                continue;
+            }
+            let (qp, qq) = construction.edge_quartics((f, k), (g as usize, kg));
+            let net = edge_net(&qp, &qq);
+            let (w1, w2) = g1_solve::end_weights(&net);
+            let x = g1_solve::solve_edge(&net, w1.unwrap(), w2.unwrap());
+            shared += 1;
+            dependent += x.dependent_rows as usize;
+        }
+    }
+    (dependent, shared)
+}
+
+/// The dependent-rows branch: taken where the weights at the two ends of an edge agree,
+/// e.g. on a flat equilateral lattice (a mirror swaps the ends, and the point next to each
+/// vertex projects onto the middle of the edge's first leg). The surface there is G¹ and
+/// planar like everywhere else (checked in `planes_are_reproduced`); the counts on the scenes
+/// are printed.
+#[test]
+fn dependent_rows_occur_on_a_flat_lattice() {
+    let (positions, faces) = generate::disk(3);
+    let flat: Vec<DVec3> = positions
+        .iter()
+        .map(|p| DVec3::new(p.x, p.y, 0.0))
+        .collect();
+    let (mesh, _) = Mesh::from_triangles(flat, faces).expect("valid");
+    let (dependent, shared) = dependent_row_edges(&mesh);
+    eprintln!("flat disk-3: {dependent} of {shared} edges with dependent rows");
+    assert_eq!(dependent, shared);
+    check("flat disk-3", &mesh, &params(&[]));
+    for scene in &generate::SCENES {
+        let (dependent, shared) = dependent_row_edges(&scene.mesh().expect("valid"));
+        eprintln!(
+            "{}: {dependent} of {shared} edges with dependent rows",
+            scene.name
+        );
+    }
+}
+
+/// Moving one vertex (keeping every normal) changes only the faces around it and the faces
+/// across their edges [Piper87 §3.8, Fig. 22].
+#[test]
+fn locality() {
+    let sampled = generate::analytic::sphere(1);
+    let (base, _) =
+        Mesh::from_triangles(sampled.positions.clone(), sampled.faces.clone()).expect("valid");
+    let mesh = with_obj_normals(&base, &sampled.normals);
+    let p = params(&[("normals", "obj")]);
+    let surface = build(&mesh, &p).expect("builds");
+    for moved in [0u32, 17, 30] {
+        let mut positions = mesh.positions().to_vec();
+        positions[moved as usize] += DVec3::new(0.03, -0.02, 0.01);
+        let (moved_base, _) = Mesh::from_triangles(positions, mesh.faces().to_vec()).unwrap();
+        let moved_mesh = with_obj_normals(&moved_base, &sampled.normals);
+        let changed = build(&moved_mesh, &p).expect("builds");
+        let touches = |f: usize| mesh.faces()[f].contains(&moved);
+        let affected = |f: usize| {
+            touches(f)
+                || (0..3).any(|k| {
+                    mesh.neighbor(f as u32, k)
+                        .is_some_and(|(g, _)| touches(g as usize))
+                })
+        };
+        let mut changed_faces = std::collections::BTreeSet::new();
+        for (a, b) in surface.patches.iter().zip(&changed.patches) {
+            if a != b {
+                changed_faces.insert(a.face as usize);
+                assert!(affected(a.face as usize), "face {} changed", a.face);
+            }
+        }
+        let expected = (0..mesh.face_count()).filter(|&f| affected(f)).count();
+        assert_eq!(changed_faces.len(), expected, "vertex {moved}");
+    }
+}
