@@ -9,6 +9,7 @@ pub mod bezier;
 pub mod error;
 pub mod export;
 pub mod geom;
+pub mod linalg;
 pub mod mesh;
 pub mod metrics;
 pub mod schemes;

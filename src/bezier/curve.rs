@@ -164,11 +164,37 @@ impl CurveBezier {
     pub fn control_bounds(&self) -> Aabb {
         Aabb::from_points(&self.points)
     }
+
+    /// The product `f(t) C(t)` with the scalar Bernstein polynomial `f` of coefficients `scalar`
+    /// (degree m = len − 1), a curve of degree d + m:
+    /// `c_k = Σ_{i+j=k} C(m,i) C(d,j) / C(m+d,k) f_i p_j`.
+    pub fn times_scalar_polynomial(&self, scalar: &[f64]) -> CurveBezier {
+        let (m, d) = (scalar.len().saturating_sub(1), self.degree());
+        let binomial = |n: usize, k: usize| -> f64 {
+            (1..=k).map(|i| (n + 1 - i) as f64 / i as f64).product()
+        };
+        let points = (0..=m + d)
+            .map(|k| {
+                let lo = k.saturating_sub(d);
+                (lo..=k.min(m))
+                    .map(|i| {
+                        let j = k - i;
+                        binomial(m, i) * binomial(d, j) / binomial(m + d, k)
+                            * scalar[i]
+                            * self.points[j]
+                    })
+                    .sum()
+            })
+            .collect();
+        CurveBezier::new(points)
+    }
 }
 
 #[cfg(test)]
 mod tests {
+    use crate::bezier::CurveBezier;
     use crate::bezier::test_support::{Rng, curve_bernstein_sum, rel_err, scale_of};
+    use glam::DVec3;
 
     /// 1..=7 as specified, plus 0 and degrees on the heap path.
     const DEGREES: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 16, 20];
@@ -314,6 +340,28 @@ mod tests {
                 let p = curve.eval(n as f64 / 100.0);
                 assert!(bounds.contains(p, 0.0), "d={d}: {p} outside {bounds:?}");
             }
+        }
+    }
+
+    /// The product curve evaluates to f(t)·C(t).
+    #[test]
+    fn product_with_a_scalar_polynomial() {
+        let curve = CurveBezier::new(vec![
+            DVec3::new(0.0, 1.0, 2.0),
+            DVec3::new(1.0, -1.0, 0.5),
+            DVec3::new(2.0, 0.0, -1.0),
+            DVec3::new(0.5, 3.0, 1.0),
+        ]);
+        let scalar = [0.3, -1.2, 2.0];
+        let f = |t: f64| {
+            scalar[0] * (1.0 - t).powi(2) + scalar[1] * 2.0 * t * (1.0 - t) + scalar[2] * t * t
+        };
+        let product = curve.times_scalar_polynomial(&scalar);
+        assert_eq!(product.degree(), 5);
+        for step in 0..=10 {
+            let t = step as f64 / 10.0;
+            let expected = f(t) * curve.eval(t);
+            assert!((product.eval(t) - expected).length() < 1e-14, "t = {t}");
         }
     }
 }

@@ -11,42 +11,12 @@
 use glam::{DVec2, DVec3};
 
 use super::macro_patch::{QUINTIC, free_point_columns, piece_domains};
-use crate::bezier::triangle::{index, point_count};
+use crate::bezier::gram::{bernstein_gram, multi_indices};
+use crate::bezier::triangle::index;
+use crate::linalg::invert;
 
 const DEGREE: usize = 5;
 const NETS: usize = 4 * QUINTIC;
-
-/// Multi-indices (i, j, k) of degree `d` in storage order.
-fn multi_indices(d: usize) -> Vec<[usize; 3]> {
-    let mut out = Vec::with_capacity(point_count(d));
-    for i in (0..=d).rev() {
-        for j in (0..=d - i).rev() {
-            out.push([i, j, d - i - j]);
-        }
-    }
-    out
-}
-
-fn factorial(n: usize) -> f64 {
-    (1..=n).map(|k| k as f64).product()
-}
-
-/// Gram matrix `∫ B_α B_β` of the degree-`m` Bernstein basis over a triangle of area `area`.
-fn bernstein_gram(m: usize, area: f64) -> Vec<Vec<f64>> {
-    let idx = multi_indices(m);
-    let fact3 = |a: [usize; 3]| a.iter().map(|&x| factorial(x)).product::<f64>();
-    idx.iter()
-        .map(|a| {
-            idx.iter()
-                .map(|b| {
-                    let sum = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
-                    2.0 * area * factorial(m).powi(2) * fact3(sum)
-                        / (fact3(*a) * fact3(*b) * factorial(2 * m + 2))
-                })
-                .collect()
-        })
-        .collect()
-}
 
 /// Thin-plate energy matrix (21 × 21) of a quintic over the 2-D triangle `corners`.
 fn thin_plate_matrix(corners: [DVec2; 3]) -> Vec<Vec<f64>> {
@@ -124,60 +94,17 @@ pub(super) fn free_point_map() -> [[f64; NETS]; 6] {
             h[r][c] = (0..NETS).map(|i| g[r][i] * qg[c][i]).sum();
         }
     }
-    let h_inv = invert6(h);
+    let h_inv = invert(&h.iter().map(|r| r.to_vec()).collect())
+        .expect("the thin-plate energy is positive definite on the free points");
     std::array::from_fn(|r| {
         std::array::from_fn(|i| -(0..6).map(|c| h_inv[r][c] * qg[c][i]).sum::<f64>())
     })
 }
 
-/// Inverse of a symmetric positive definite 6 × 6 matrix (Gauss–Jordan with partial pivoting).
-fn invert6(mut a: [[f64; 6]; 6]) -> [[f64; 6]; 6] {
-    let mut inv = [[0.0; 6]; 6];
-    for (i, row) in inv.iter_mut().enumerate() {
-        row[i] = 1.0;
-    }
-    for col in 0..6 {
-        let pivot = (col..6)
-            .max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))
-            .unwrap_or(col);
-        a.swap(col, pivot);
-        inv.swap(col, pivot);
-        let p = a[col][col];
-        assert!(
-            p.abs() > 1e-12,
-            "thin-plate system of the free points is singular"
-        );
-        for j in 0..6 {
-            a[col][j] /= p;
-            inv[col][j] /= p;
-        }
-        for r in 0..6 {
-            if r != col {
-                let f = a[r][col];
-                for j in 0..6 {
-                    a[r][j] -= f * a[col][j];
-                    inv[r][j] -= f * inv[col][j];
-                }
-            }
-        }
-    }
-    inv
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The Gram matrix integrates products exactly: its total is the triangle's area
-    /// (partition of unity squared), and ∫ B_{(3,0,0)}² = ∫ λ0⁶ = 2A·6!/8!.
-    #[test]
-    fn bernstein_gram_sums_to_area() {
-        let g = bernstein_gram(3, 0.7);
-        let total: f64 = g.iter().flatten().sum();
-        assert!((total - 0.7).abs() < 1e-14, "{total}");
-        // ∫ λ0^6 = 2A 6!/8! = 2A/56.
-        assert!((g[0][0] - 2.0 * 0.7 / 56.0).abs() < 1e-15);
-    }
+    use crate::bezier::gram::factorial;
 
     /// A quadratic function has constant second derivatives: the thin-plate energy of its
     /// quintic form over a triangle equals (f_xx² + 2 f_xy² + f_yy²) × area.

@@ -6,120 +6,41 @@ use glam::{DMat3, DVec3};
 
 use super::*;
 use crate::mesh::generate;
-use crate::surface::{Joint, edge_uv};
-
-/// Worst G0 gap (relative to the bbox diagonal) and normal jumps (rad) between faces and inside
-/// faces, sampled at 33 points along every joint.
-struct Continuity {
-    gap: f64,
-    between_faces: f64,
-    inside_faces: f64,
-}
-
-fn continuity(mesh: &Mesh, surface: &Surface) -> Continuity {
-    let diag = mesh.bounds().diagonal();
-    let mut c = Continuity {
-        gap: 0.0,
-        between_faces: 0.0,
-        inside_faces: 0.0,
-    };
-    let joints: Vec<Joint> = surface.joints(mesh.faces());
-    // Every mesh edge is covered by two half-edge joints, every face has three inner edges.
-    let between = joints.iter().filter(|j| j.between_faces).count();
-    assert_eq!(between, 2 * mesh.edges().len(), "joints between faces");
-    assert_eq!(
-        joints.len() - between,
-        3 * mesh.face_count(),
-        "joints inside faces"
-    );
-    for j in &joints {
-        let (pa, pb) = (
-            &surface.patches[j.a.patch as usize],
-            &surface.patches[j.b.patch as usize],
-        );
-        for step in 0..=32 {
-            let s = step as f64 / 32.0;
-            let sb = if j.reversed { 1.0 - s } else { s };
-            let (ua, ub) = (
-                edge_uv(j.a.edge as usize, s),
-                edge_uv(j.b.edge as usize, sb),
-            );
-            let (ja, jb) = (pa.jet(ua.x, ua.y), pb.jet(ub.x, ub.y));
-            c.gap = c.gap.max((ja.p - jb.p).length() / diag);
-            let (na, nb) = (ja.normal(), jb.normal());
-            let angle = na.cross(nb).length().atan2(na.dot(nb));
-            if j.between_faces {
-                c.between_faces = c.between_faces.max(angle);
-            } else {
-                c.inside_faces = c.inside_faces.max(angle);
-            }
-        }
-    }
-    c
-}
-
-fn interpolation_error(mesh: &Mesh, surface: &Surface) -> f64 {
-    let diag = mesh.bounds().diagonal();
-    surface
-        .vertex_corners(mesh.faces())
-        .iter()
-        .map(|vc| {
-            let uv = crate::surface::UV_CORNERS[vc.corner as usize];
-            let p = surface.patches[vc.patch as usize].eval(uv.x, uv.y);
-            (p - mesh.positions()[vc.vertex as usize]).length() / diag
-        })
-        .fold(0.0, f64::max)
-}
-
-fn params(pairs: &[(&str, &str)]) -> Params {
-    let user: Vec<(String, String)> = pairs
-        .iter()
-        .map(|(n, v)| (n.to_string(), v.to_string()))
-        .collect();
-    Params::resolve(&SPEC, &user).expect("valid parameters")
-}
-
-fn mesh((positions, faces): generate::Triangles) -> Mesh {
-    Mesh::from_triangles(positions, faces)
-        .expect("generated mesh is valid")
-        .0
-}
-
-/// The closed scenes and a closed mesh with a vertex of each valence 3..=16.
-fn test_meshes() -> Vec<(String, Mesh)> {
-    let mut out: Vec<(String, Mesh)> = generate::SCENES
-        .iter()
-        .map(|s| (s.name.to_string(), s.mesh().expect("scene mesh is valid")))
-        .collect();
-    for n in 3..=16 {
-        let fan = generate::valence_fan(n).expect("valence in range");
-        out.push((format!("valence-fan-{n}"), mesh(fan)));
-    }
-    out
-}
+use crate::metrics::Metrics;
+use crate::schemes::testing::{Lcg, closed_test_meshes, mesh, params};
 
 fn check(mesh_name: &str, mesh: &Mesh, p: &Params, interpolates: bool) {
     let surface = build(mesh, p).expect("hb builds on a closed mesh");
     assert_eq!(surface.patches.len(), 4 * mesh.face_count(), "{mesh_name}");
-    let c = continuity(mesh, &surface);
+    let m = Metrics::measure(&surface, mesh, 0.0);
     let label = format!("{mesh_name} {:?}", p.values());
-    assert!(c.gap <= 1e-12, "G0 gap {} on {label}", c.gap);
-    assert!(
-        c.between_faces <= 1e-9,
-        "normal jump between faces {} rad on {label}",
-        c.between_faces
+    // Every mesh edge is covered by two half-edge joints, every face has three inner edges.
+    assert_eq!(m.joints_between_faces, 2 * mesh.edges().len(), "{label}");
+    assert_eq!(
+        m.joints - m.joints_between_faces,
+        3 * mesh.face_count(),
+        "{label}"
     );
-    assert!(
-        c.inside_faces <= 1e-9,
-        "normal jump inside faces {} rad on {label}",
-        c.inside_faces
+    assert_eq!(m.singular_samples, 0, "{label}");
+    let gap = m.g0_max_rel.unwrap();
+    let (between, inside) = (
+        m.g1_between_faces_max_rad.unwrap(),
+        m.g1_inside_faces_max_rad.unwrap(),
     );
     eprintln!(
-        "{label}: gap {:.1e}, normal jump between faces {:.1e} rad, inside {:.1e} rad",
-        c.gap, c.between_faces, c.inside_faces
+        "{label}: gap {gap:.1e}, normal jump between faces {between:.1e} rad, inside {inside:.1e} rad"
+    );
+    assert!(gap <= 1e-12, "G0 gap {gap} on {label}");
+    assert!(
+        between <= 1e-9,
+        "normal jump between faces {between} rad on {label}"
+    );
+    assert!(
+        inside <= 1e-9,
+        "normal jump inside faces {inside} rad on {label}"
     );
     if interpolates {
-        let e = interpolation_error(mesh, &surface);
+        let e = m.interp_max_rel.unwrap();
         assert!(e <= 1e-12, "interpolation error {e} on {label}");
     }
     let mismatch = max_corner_mismatch(mesh, p).expect("params ok") / mesh.bounds().diagonal();
@@ -128,33 +49,36 @@ fn check(mesh_name: &str, mesh: &Mesh, p: &Params, interpolates: bool) {
 
 #[test]
 fn g1_between_faces_c1_inside_and_interpolation_with_default_parameters() {
-    for (name, mesh) in test_meshes() {
-        check(&name, &mesh, &params(&[]), true);
-        check(&name, &mesh, &params(&[("free", "zero-twist")]), true);
+    for (name, mesh) in closed_test_meshes() {
+        check(&name, &mesh, &params(&SPEC, &[]), true);
+        check(
+            &name,
+            &mesh,
+            &params(&SPEC, &[("free", "zero-twist")]),
+            true,
+        );
     }
 }
 
 #[test]
 fn g1_with_random_shape_parameters() {
-    let mut state = 0x5eed_u64;
-    let mut rnd = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    for (name, mesh) in test_meshes() {
+    let mut rng = Lcg(0x5eed);
+    let mut rnd = move || rng.next_f64();
+    for (name, mesh) in closed_test_meshes() {
         for _ in 0..3 {
             let beta = format!("{}", 0.05 + 0.6 * rnd());
             let g0 = format!("{}", -4.0 + 6.0 * rnd());
             let g1 = format!("{}", -1.0 + 5.0 * rnd());
             let alpha = format!("{}", 0.5 + 0.5 * rnd());
-            let p = params(&[
-                ("beta", &beta),
-                ("gamma0", &g0),
-                ("gamma1", &g1),
-                ("alpha", &alpha),
-            ]);
+            let p = params(
+                &SPEC,
+                &[
+                    ("beta", &beta),
+                    ("gamma0", &g0),
+                    ("gamma1", &g1),
+                    ("alpha", &alpha),
+                ],
+            );
             check(&name, &mesh, &p, false);
         }
     }
@@ -164,12 +88,15 @@ fn g1_with_random_shape_parameters() {
 #[test]
 fn g1_with_the_figure_14_parameters() {
     let mesh = mesh(generate::icosahedron());
-    let p = params(&[
-        ("beta", "0.1"),
-        ("gamma0", "-3.7"),
-        ("gamma1", "4.6"),
-        ("gamma2", "0.1"),
-    ]);
+    let p = params(
+        &SPEC,
+        &[
+            ("beta", "0.1"),
+            ("gamma0", "-3.7"),
+            ("gamma1", "4.6"),
+            ("gamma2", "0.1"),
+        ],
+    );
     check("icosahedron", &mesh, &p, true);
 }
 
@@ -183,13 +110,13 @@ fn affine_invariance() {
     );
     let t = DVec3::new(0.5, -2.0, 3.0);
     let map = |p: DVec3| a * p + t;
-    for (name, mesh) in test_meshes() {
+    for (name, mesh) in closed_test_meshes() {
         let (mapped, _) = Mesh::from_triangles(
             mesh.positions().iter().map(|&p| map(p)).collect(),
             mesh.faces().to_vec(),
         )
         .expect("mapped mesh is valid");
-        for p in [params(&[]), params(&[("free", "zero-twist")])] {
+        for p in [params(&SPEC, &[]), params(&SPEC, &[("free", "zero-twist")])] {
             let s0 = build(&mesh, &p).expect("builds");
             let s1 = build(&mapped, &p).expect("builds");
             let scale = mapped.bounds().diagonal();
@@ -208,12 +135,12 @@ fn affine_invariance() {
 #[test]
 fn locality() {
     let mesh = mesh(generate::valence_fan(9).expect("valence in range"));
-    let surface = build(&mesh, &params(&[])).expect("builds");
+    let surface = build(&mesh, &params(&SPEC, &[])).expect("builds");
     for moved in [0u32, 3, 7] {
         let mut positions = mesh.positions().to_vec();
         positions[moved as usize] += DVec3::new(0.05, -0.02, 0.03);
         let (moved_mesh, _) = Mesh::from_triangles(positions, mesh.faces().to_vec()).unwrap();
-        let changed = build(&moved_mesh, &params(&[])).expect("builds");
+        let changed = build(&moved_mesh, &params(&SPEC, &[])).expect("builds");
         // Vertices within distance 2 of the moved one; faces touching them form the 2-ring.
         let ring1 = mesh.one_ring(moved);
         let in_two_ring = |f: &[u32; 3]| f.iter().any(|v| *v == moved || ring1.contains(v));

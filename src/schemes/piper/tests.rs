@@ -8,20 +8,11 @@ use glam::DVec3;
 use super::*;
 use crate::mesh::{NormalSource, generate};
 use crate::metrics::{Metrics, normal_angle};
+use crate::schemes::testing::{self, Lcg, closed_test_meshes, mesh};
 use crate::surface::UV_CORNERS;
 
 fn params(pairs: &[(&str, &str)]) -> Params {
-    let user: Vec<(String, String)> = pairs
-        .iter()
-        .map(|(n, v)| (n.to_string(), v.to_string()))
-        .collect();
-    Params::resolve(&SPEC, &user).expect("valid parameters")
-}
-
-fn mesh((positions, faces): generate::Triangles) -> Mesh {
-    Mesh::from_triangles(positions, faces)
-        .expect("generated mesh is valid")
-        .0
+    testing::params(&SPEC, pairs)
 }
 
 /// The mesh with some faces removed, each removed face sharing no vertex with another, so
@@ -44,14 +35,7 @@ fn with_holes(mesh: &Mesh, every: usize) -> Mesh {
 /// Closed scenes, closed meshes with a vertex of each valence 3..=16, and open meshes: lifted
 /// hexagonal disks and scenes with triangular holes.
 fn test_meshes() -> Vec<(String, Mesh)> {
-    let mut out: Vec<(String, Mesh)> = generate::SCENES
-        .iter()
-        .map(|s| (s.name.to_string(), s.mesh().expect("scene mesh is valid")))
-        .collect();
-    for n in 3..=16 {
-        let fan = generate::valence_fan(n).expect("valence in range");
-        out.push((format!("valence-fan-{n}"), mesh(fan)));
-    }
+    let mut out = closed_test_meshes();
     for rings in [1, 2, 4] {
         out.push((format!("disk-{rings} (open)"), mesh(generate::disk(rings))));
     }
@@ -298,13 +282,8 @@ fn with_obj_normals(mesh: &Mesh, normals: &[DVec3]) -> Mesh {
 /// G¹ defect, so the tilt keeps `n · face normal ≥ 0.25`.
 #[test]
 fn g1_with_tilted_normals() {
-    let mut state = 0x9e37_79b9_u64;
-    let mut random = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut lcg = Lcg(0x9e37_79b9);
+    let mut random = move || lcg.next_f64() - 0.5;
     for (name, mesh) in test_meshes() {
         let estimate = mesh
             .vertex_normals(NormalSource::Estimate)

@@ -1,0 +1,145 @@
+//! What Loop's 1994 scheme computes around one mesh vertex `p` from its one-ring alone
+//! [HB00 §3, eqs. 1–4]: the first two control points `f⁰, f¹` of every quartic boundary curve
+//! leaving `p` and Loop's symmetric middle point `f²` (eq. 2), the twists of the patches at `p`,
+//! and the first two control points `v⁰, v¹` of the cubic cross-boundary function `V_i` (eq. 4).
+//!
+//! Notation as in [`crate::schemes::hb::vertex`]: `p` of order n, neighbours `p_i` with
+//! `(p, p_i, p_{i+1})` a face, `θ = 2π/n`. With a quartic boundary curve over `[0, 1]`,
+//! `r¹_i = 4(f¹ − f⁰) = (4β/n) Σ cos(θ(j−i)) p_j` and `r²_i = 12(f² − 2f¹ + f⁰)`; `Φ` is quadratic
+//! with `Φ(0) = cos θ` and `Φ'(0) = 2(½ − cos θ)` (eq. 1), so (II_T) reads
+//! `½(t_i + t_{i−1}) = Φ'(0) r¹_i + Φ(0) r²_i`, solved as in HB00 §6 through the preimages
+//! `f̃¹_i = f⁰ + (β/n) Σ [cos + tan(θ/2) sin](θ(j−i)) p_j` and `f̃²_i = (p + p_i + p_{i+1})/3`.
+//!
+//! The OCR of eq. 4 is damaged (the κ_i factor and the `v¹` row); `v¹` is re-derived here from the
+//! twist condition (21): `t_i = Φ'(0) r¹_i + Φ(0) r²_i + Ψ'(0) V(0) + Ψ(0) V'(0)` with
+//! `V'(0) = 3(v¹ − v⁰)`; the tests check (19), (21) and (II_T) numerically.
+
+use glam::DVec3;
+
+use crate::schemes::hb::vertex::{phi0, psi0};
+use crate::schemes::vertex_rings::RingFourier;
+
+/// Loop's shape parameters α and β (eq. 2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoopShape {
+    /// α: 1 interpolates the vertices, smaller values approximate (pull `f⁰` to the centroid).
+    pub alpha: f64,
+    /// β: tangent magnitude.
+    pub beta: f64,
+}
+
+/// Data of the directed edge `p → p_i` that `p` determines alone.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LoopHalfEdge {
+    /// `f⁰, f¹, f²` of the quartic boundary curve (eq. 2); `f²` is symmetric in both ends.
+    pub f: [DVec3; 3],
+    /// `v⁰ = V_i(0)`, `v¹` of the cubic `V_i` (eq. 4).
+    pub v: [DVec3; 2],
+    /// `Φ_i(0) = cos(2π/n)` (eq. 1).
+    pub phi0: f64,
+    /// `Ψ_i(0) = sin(2π/n)` (eq. 4).
+    pub psi0: f64,
+}
+
+/// Fills `out[i]` with the data of edge `p → ring[i]` (eqs. 1–4).
+pub fn half_edges(
+    p: DVec3,
+    ring: &[DVec3],
+    ring_valence: &[usize],
+    shape: &LoopShape,
+    out: &mut [LoopHalfEdge],
+) {
+    let n = ring.len();
+    let nf = n as f64;
+    let fourier = RingFourier::new(ring);
+    let (c, s) = (phi0(n), psi0(n));
+    let (phi_0, phi_1) = (c, 1.0 - 2.0 * c);
+    let LoopShape { alpha, beta } = *shape;
+    let f0 = alpha * p + (1.0 - alpha) * fourier.mean();
+    let r1 = |i: usize| (4.0 * beta / nf) * fourier.cos_sum(i % n);
+    for i in 0..n {
+        let (prev, next) = (ring[(i + n - 1) % n], ring[(i + 1) % n]);
+        let r1_i = r1(i);
+        let f1 = f0 + r1_i / 4.0;
+        let f2 = (2.0 * p + prev + 2.0 * ring[i] + next) / 6.0;
+        let r2_i = 12.0 * (f2 - 2.0 * f1 + f0);
+        let f1_pre = f0 + (beta / nf) * fourier.twist_preimage_sum(i);
+        let f2_pre = (p + ring[i] + next) / 3.0;
+        let twist = (12.0 * phi_0 - 4.0 * phi_1) * f0
+            + (4.0 * phi_1 - 24.0 * phi_0) * f1_pre
+            + 12.0 * phi_0 * f2_pre;
+        // (19): r¹_{i+1} = Φ(0) r¹_i + Ψ(0) V(0).
+        let v0 = (r1(i + 1) - c * r1_i) / s;
+        // Ψ linear over [0, 1] (eq. 4): Ψ'(0) = sin(2π/n_i) − sin(2π/n).
+        let psi_1 = psi0(ring_valence[i]) - s;
+        let v_prime = (twist - phi_1 * r1_i - phi_0 * r2_i - psi_1 * v0) / s;
+        out[i] = LoopHalfEdge {
+            f: [f0, f1, f2],
+            v: [v0, v0 + v_prime / 3.0],
+            phi0: c,
+            psi0: s,
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::PI;
+
+    use super::*;
+
+    fn ring(n: usize) -> Vec<DVec3> {
+        (0..n)
+            .map(|j| {
+                let a = 2.0 * PI * j as f64 / n as f64 + 0.2 * (j as f64 * 1.7).sin();
+                DVec3::new(
+                    a.cos() * (1.0 + 0.1 * j as f64 % 0.3),
+                    a.sin(),
+                    0.3 * (j as f64).cos(),
+                )
+            })
+            .collect()
+    }
+
+    /// (19), (21) and (II_T) hold for orders 3..16.
+    #[test]
+    fn twists_and_cross_boundary_data_satisfy_the_g1_conditions_at_the_vertex() {
+        for n in 3..=16 {
+            for shape in [
+                LoopShape {
+                    alpha: 1.0,
+                    beta: 0.1,
+                },
+                LoopShape {
+                    alpha: 0.4,
+                    beta: 0.7,
+                },
+            ] {
+                let p = ring(n);
+                let valences: Vec<usize> = (0..n).map(|i| 3 + (i * 7 + n) % 11).collect();
+                let mut he = vec![LoopHalfEdge::default(); n];
+                half_edges(DVec3::new(0.0, 0.1, 0.2), &p, &valences, &shape, &mut he);
+                let (phi_0, phi_1) = (phi0(n), 1.0 - 2.0 * phi0(n));
+                let r1 = |i: usize| 4.0 * (he[i % n].f[1] - he[i % n].f[0]);
+                let r2 = |i: usize| 12.0 * (he[i].f[2] - 2.0 * he[i].f[1] + he[i].f[0]);
+                let twist = |i: usize| {
+                    let psi_1 = psi0(valences[i]) - psi0(n);
+                    phi_1 * r1(i)
+                        + phi_0 * r2(i)
+                        + psi_1 * he[i].v[0]
+                        + psi0(n) * 3.0 * (he[i].v[1] - he[i].v[0])
+                };
+                for (i, h) in he.iter().enumerate() {
+                    let eq19 = r1(i + 1) - (phi_0 * r1(i) + psi0(n) * h.v[0]);
+                    assert!(eq19.length() < 1e-13, "eq. 19, n={n} i={i}");
+                    let lhs = 0.5 * (twist(i) + twist((i + n - 1) % n));
+                    let rhs = phi_1 * r1(i) + phi_0 * r2(i);
+                    assert!(
+                        (lhs - rhs).length() < 1e-11 * (1.0 + rhs.length()),
+                        "(II_T) n={n} i={i}: {lhs} vs {rhs}"
+                    );
+                }
+            }
+        }
+    }
+}
