@@ -406,3 +406,25 @@ fn locality() {
         assert_eq!(changed_faces.len(), expected, "vertex {moved}");
     }
 }
+
+/// The smallest open meshes: one triangle (no shared edge, only the C¹ restoration inside)
+/// and two triangles (one shared edge).
+#[test]
+fn one_and_two_triangles() {
+    let p = vec![
+        DVec3::ZERO,
+        DVec3::X,
+        DVec3::new(0.3, 0.9, 0.2),
+        DVec3::new(1.1, 0.8, -0.3),
+    ];
+    let one = Mesh::from_triangles(p[..3].to_vec(), vec![[0, 1, 2]])
+        .expect("valid")
+        .0;
+    let two = Mesh::from_triangles(p, vec![[0, 1, 2], [1, 3, 2]])
+        .expect("valid")
+        .0;
+    let m = check("one triangle", &one, &params(&[]));
+    assert_eq!(m.joints_between_faces, 0);
+    let m = check("two triangles", &two, &params(&[]));
+    assert_eq!(m.joints_between_faces, 1);
+}
