@@ -428,3 +428,34 @@ fn one_and_two_triangles() {
     let m = check("two triangles", &two, &params(&[]));
     assert_eq!(m.joints_between_faces, 1);
 }
+
+/// Shape, not only smoothness: on icospheres with the sphere's own normals the surface stays
+/// close to the unit sphere, and closer with finer meshes: measured 1.3e-3, 8.9e-5, 5.8e-6 for
+/// levels 1–3, a factor of about 15 per halving of the edge length (fourth order).
+#[test]
+fn approximates_the_sphere() {
+    let mut previous = f64::INFINITY;
+    for level in 1..=3 {
+        let sampled = generate::analytic::sphere(level);
+        let (base, _) =
+            Mesh::from_triangles(sampled.positions.clone(), sampled.faces.clone()).expect("valid");
+        let mesh = with_obj_normals(&base, &sampled.normals);
+        let surface = build(&mesh, &params(&[("normals", "obj")])).expect("builds");
+        let mut worst: f64 = 0.0;
+        for patch in &surface.patches {
+            for i in 0..=6 {
+                for j in 0..=6 - i {
+                    let p = patch.eval(i as f64 / 6.0, j as f64 / 6.0);
+                    worst = worst.max((p.length() - 1.0).abs());
+                }
+            }
+        }
+        eprintln!("icosphere level {level}: largest |‖S‖ − 1| = {worst:.2e}");
+        assert!(
+            worst < previous / 4.0,
+            "level {level}: {worst} vs {previous}"
+        );
+        previous = worst;
+    }
+    assert!(previous <= 1e-5, "level 3: {previous}");
+}
