@@ -406,7 +406,7 @@ fn schemes_lists_names_and_params() {
         "hb:",
         "piper:",
         "normals=estimate",
-        "scaling=farin",
+        "scaling=circle",
     ] {
         assert!(text.contains(name), "{name} missing: {text}");
     }

@@ -25,8 +25,15 @@ pub enum EdgeScaling {
     /// the point projects onto the chord at its first third when the angle between chord and
     /// tangent plane is at most 60°, else the leg is ⅔ of the chord. Invariant under
     /// similarities (rotation, translation, uniform scale), reproduces planes with a
-    /// uniform parametrisation, and never crosses. The default.
+    /// uniform parametrisation, and never crosses.
     Farin,
+    /// The leg length of the cubic that best matches a circular arc with these end tangents:
+    /// `‖leg‖ = 2‖chord‖ / (3(1 + cos Θ))`, the classical `(4/3) R tan(φ/4)` written in the chord
+    /// and the angle Θ between chord and tangent plane. A third of the chord on flat data
+    /// (planes reproduced with a uniform parametrisation), growing smoothly to ⅔ of it at 90°
+    /// (where Farin's rule has already switched branches at 60°). Invariant under
+    /// similarities; never crosses. The default.
+    Circle,
     /// The thesis's factor with the distance measured in chord lengths:
     /// `s = 1/3 + ‖q − b300‖ / (9 ‖b030 − b300‖)`. Scale invariant; never crosses.
     Relative,
@@ -63,6 +70,7 @@ pub fn edge_point(
     let cos_theta = leg_length / chord_length;
     let factor = match scaling {
         EdgeScaling::Farin => tangent_length(chord_length, cos_theta) / leg_length,
+        EdgeScaling::Circle => 2.0 * chord_length / (3.0 * (1.0 + cos_theta)) / leg_length,
         EdgeScaling::Relative => 1.0 / 3.0 + cos_theta / 9.0,
         EdgeScaling::Thesis => 1.0 / 3.0 + leg_length / 9.0,
     };

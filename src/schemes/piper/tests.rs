@@ -113,7 +113,7 @@ fn check(name: &str, mesh: &Mesh, p: &Params) -> Metrics {
 #[test]
 fn g1_between_and_inside_faces_with_every_scaling() {
     for (name, mesh) in test_meshes() {
-        for scaling in ["farin", "relative", "thesis"] {
+        for scaling in ["farin", "circle", "relative", "thesis"] {
             check(&name, &mesh, &params(&[("scaling", scaling)]));
         }
     }
@@ -154,7 +154,7 @@ fn planes_are_reproduced() {
         .map(|p| DVec3::new(p.x, p.y, 0.0))
         .collect();
     let (mesh, _) = Mesh::from_triangles(flat, faces).expect("valid");
-    for scaling in ["farin", "relative", "thesis"] {
+    for scaling in ["farin", "circle", "relative", "thesis"] {
         let surface = build(&mesh, &params(&[("scaling", scaling)])).expect("builds");
         let mut worst_off_plane: f64 = 0.0;
         let mut worst_linear: f64 = 0.0;
@@ -173,7 +173,7 @@ fn planes_are_reproduced() {
             "plane, scaling={scaling}: off plane {worst_off_plane:.1e}, off the linear map {worst_linear:.1e}"
         );
         assert!(worst_off_plane <= 1e-15, "{scaling}: {worst_off_plane}");
-        if scaling == "farin" {
+        if scaling == "farin" || scaling == "circle" {
             assert!(worst_linear <= 1e-14, "linear precision: {worst_linear}");
         }
     }
@@ -192,7 +192,12 @@ fn thesis_scaling_depends_on_the_mesh_size_the_default_does_not() {
     )
     .expect("valid");
     let diag = scaled.bounds().diagonal();
-    for (scaling, invariant) in [("farin", true), ("relative", true), ("thesis", false)] {
+    for (scaling, invariant) in [
+        ("farin", true),
+        ("circle", true),
+        ("relative", true),
+        ("thesis", false),
+    ] {
         let p = params(&[("scaling", scaling)]);
         let (small, big) = (build(&original, &p).unwrap(), build(&scaled, &p).unwrap());
         let defect = small
@@ -430,32 +435,35 @@ fn one_and_two_triangles() {
 }
 
 /// Shape, not only smoothness: on icospheres with the sphere's own normals the surface stays
-/// close to the unit sphere, and closer with finer meshes: measured 1.3e-3, 8.9e-5, 5.8e-6 for
-/// levels 1–3, a factor of about 15 per halving of the edge length (fourth order).
+/// close to the unit sphere, and closer with finer meshes. Printed for every edge rule;
+/// asserted for the rules with a third of the chord on flat data (fourth order).
 #[test]
 fn approximates_the_sphere() {
-    let mut previous = f64::INFINITY;
-    for level in 1..=3 {
-        let sampled = generate::analytic::sphere(level);
-        let (base, _) =
-            Mesh::from_triangles(sampled.positions.clone(), sampled.faces.clone()).expect("valid");
-        let mesh = with_obj_normals(&base, &sampled.normals);
-        let surface = build(&mesh, &params(&[("normals", "obj")])).expect("builds");
-        let mut worst: f64 = 0.0;
-        for patch in &surface.patches {
-            for i in 0..=6 {
-                for j in 0..=6 - i {
-                    let p = patch.eval(i as f64 / 6.0, j as f64 / 6.0);
-                    worst = worst.max((p.length() - 1.0).abs());
+    for scaling in ["farin", "circle", "relative", "thesis"] {
+        let mut errors = Vec::new();
+        for level in 1..=3 {
+            let sampled = generate::analytic::sphere(level);
+            let (base, _) = Mesh::from_triangles(sampled.positions.clone(), sampled.faces.clone())
+                .expect("valid");
+            let mesh = with_obj_normals(&base, &sampled.normals);
+            let p = params(&[("normals", "obj"), ("scaling", scaling)]);
+            let surface = build(&mesh, &p).expect("builds");
+            let mut worst: f64 = 0.0;
+            for patch in &surface.patches {
+                for i in 0..=6 {
+                    for j in 0..=6 - i {
+                        let p = patch.eval(i as f64 / 6.0, j as f64 / 6.0);
+                        worst = worst.max((p.length() - 1.0).abs());
+                    }
                 }
             }
+            errors.push(worst);
         }
-        eprintln!("icosphere level {level}: largest |‖S‖ − 1| = {worst:.2e}");
-        assert!(
-            worst < previous / 4.0,
-            "level {level}: {worst} vs {previous}"
-        );
-        previous = worst;
+        let shown: Vec<String> = errors.iter().map(|e| format!("{e:.2e}")).collect();
+        eprintln!("scaling={scaling}: largest |‖S‖ − 1| on icospheres 1..3: {shown:?}");
+        if scaling == "farin" || scaling == "circle" {
+            assert!(errors[1] < errors[0] / 8.0 && errors[2] < errors[1] / 8.0);
+            assert!(errors[2] <= 1e-5, "{scaling}: {errors:?}");
+        }
     }
-    assert!(previous <= 1e-5, "level 3: {previous}");
 }
