@@ -36,5 +36,6 @@ fn baselines_are_g0_and_g1_schemes_are_g1() {
         assert_eq!(order_between_faces(&mesh, "pn"), 0, "{mesh_name}");
         assert_eq!(order_between_faces(&mesh, "hb"), 1, "{mesh_name}");
         assert_eq!(order_between_faces(&mesh, "loop94"), 1, "{mesh_name}");
+        assert_eq!(order_between_faces(&mesh, "piper"), 1, "{mesh_name}");
     }
 }
