@@ -328,7 +328,14 @@ fn all_on_an_open_mesh_skips_hb_with_a_warning() {
         .iter()
         .filter_map(|m| m["scheme"].as_str())
         .collect();
-    assert_eq!(names, ["flat", "pn"]);
+    // Every scheme that takes open meshes (flat, pn and the blends), in registry order.
+    let open_capable: Vec<&str> = smoothlab::schemes::SCHEMES
+        .iter()
+        .filter(|s| !s.needs_closed_mesh)
+        .map(|s| s.name)
+        .collect();
+    assert_eq!(names, open_capable);
+    assert_eq!(&names[..2], ["flat", "pn"]);
 }
 
 fn export(dir: &Path, format: &str, extra: &[&str]) -> (Output, PathBuf) {
@@ -434,7 +441,8 @@ fn all_on_a_closed_mesh_measures_every_scheme() {
         serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("JSON");
     let list = value.as_array().expect("list");
     let names: Vec<&str> = list.iter().filter_map(|m| m["scheme"].as_str()).collect();
-    assert_eq!(names, ["flat", "pn", "hb"]);
+    assert_eq!(names, smoothlab::schemes::names());
+    assert_eq!(&names[..3], ["flat", "pn", "hb"]);
     // hb is G1 (4 patches per face); pn is not.
     assert_eq!(list[2]["patches"], 16);
     assert!(
