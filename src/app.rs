@@ -124,6 +124,14 @@ pub fn measure_schemes(
     Ok((results, warnings))
 }
 
+/// `min/typical` measured continuity order, `-` without joints.
+fn order_cell(min: Option<i32>, typical: Option<i32>) -> String {
+    match (min, typical) {
+        (Some(a), Some(b)) => format!("{a}/{b}"),
+        _ => "-".to_string(),
+    }
+}
+
 fn cell(x: Option<f64>) -> String {
     x.map_or_else(|| "-".to_string(), |x| format!("{x:.2e}"))
 }
@@ -144,6 +152,9 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
         "G1_inside",
         "curv_jump",
         "regularity",
+        "undulation",
+        "inflect",
+        "G^k",
     ];
     let rows: Vec<Vec<String>> = metrics
         .iter()
@@ -161,6 +172,9 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
                 cell(m.g1_inside_faces_max_rad),
                 cell(m.curvature_jump_max_rel),
                 cell(m.min_regularity_rel),
+                format!("{:.2e}", m.network_undulation_max_rad),
+                m.network_inflections_max.to_string(),
+                order_cell(m.continuity_order, m.continuity_order_typical),
             ]
         })
         .collect();
@@ -383,7 +397,15 @@ mod tests {
             gaussian_jump_max_rel: Some(1.0),
             mean_jump_max_rel: Some(0.5),
             min_regularity_rel: Some(0.9),
-            continuity_order: None,
+            network_undulation_max_rad: 0.0,
+            network_undulation_total_rad: 0.0,
+            network_inflections_max: 0,
+            network_curves_with_inflections: 0,
+            network_chord_deviation_max_rel: 0.1,
+            continuity_order: Some(0),
+            continuity_order_between_faces: Some(0),
+            continuity_order_inside_faces: None,
+            continuity_order_typical: Some(0),
             joints: 30,
             joints_between_faces: 30,
             samples_per_joint: 17,
@@ -400,7 +422,7 @@ mod tests {
         assert_eq!(lines.len(), 3);
         assert!(lines.iter().all(|l| l.len() == lines[0].len()), "{table}");
         assert!(
-            lines[1].contains("2.50e-1") && lines[1].ends_with("9.00e-1"),
+            lines[1].contains("2.50e-1") && lines[1].contains(" 9.00e-1 "),
             "{table}"
         );
         assert!(lines[1].contains(" - "), "empty set shown as '-': {table}");

@@ -13,7 +13,7 @@
 
 use std::collections::HashMap;
 
-use glam::{DVec2, DVec3};
+use glam::{DMat3, DVec2, DVec3};
 
 use crate::bezier::TriangleBezier;
 use crate::blend::BlendPatch;
@@ -59,6 +59,16 @@ impl Patch {
         }
     }
 
+    /// All partial derivatives up to `max_order` at `(u, v)`, in the order of
+    /// [`TriangleBezier::partials`]; `None` for patch kinds that provide only the second-order
+    /// [`Patch::jet`].
+    pub fn partials(&self, u: f64, v: f64, max_order: usize) -> Option<Vec<DVec3>> {
+        match &self.geometry {
+            PatchGeometry::Bezier(b) => Some(b.partials(u, v, max_order)),
+            PatchGeometry::Blend(_) => None,
+        }
+    }
+
     /// A box that contains the image of the sub-triangle of the `(u, v)` domain with corners
     /// `tri` (conservative: it may be larger than the image, never smaller).
     pub fn bounds(&self, tri: [DVec2; 3]) -> Aabb {
@@ -75,6 +85,24 @@ impl Patch {
             PatchGeometry::Bezier(b) => b.control_bounds(),
             PatchGeometry::Blend(b) => b.control_bounds(),
         }
+    }
+
+    /// Patch parameters `(u, v)` of the face-barycentric point `bary` (affine in `bary`; a
+    /// point outside the patch gets a negative weight). `None` for a degenerate domain.
+    pub fn uv_of(&self, bary: DVec3) -> Option<DVec2> {
+        let l = self.domain_inverse()? * bary;
+        Some(DVec2::new(l.y, l.z))
+    }
+
+    /// The `(u, v)` direction of a face-barycentric direction `dir` (components summing to 0).
+    pub fn uv_direction(&self, dir: DVec3) -> Option<DVec2> {
+        self.uv_of(dir)
+    }
+
+    /// Inverse of the map from patch barycentric weights to face-barycentric coordinates.
+    fn domain_inverse(&self) -> Option<DMat3> {
+        let m = DMat3::from_cols(self.domain[0], self.domain[1], self.domain[2]);
+        (m.determinant().abs() > 1e-300).then(|| m.inverse())
     }
 
     /// Polynomial degree, if the patch is polynomial.
@@ -233,6 +261,35 @@ impl Surface {
             between_faces: self.patches[a.patch as usize].face
                 != self.patches[b.patch as usize].face,
         }
+    }
+
+    /// The patch of face `face` whose domain contains the face-barycentric point `bary`, with
+    /// the patch parameters `(u, v)` of that point (the first such patch in patch order; points
+    /// on a shared patch edge belong to both). `face_patches` lists the patch indices of each
+    /// face ([`Surface::patches_by_face`]).
+    pub fn locate(
+        &self,
+        face_patches: &[Vec<u32>],
+        face: u32,
+        bary: DVec3,
+    ) -> Option<(u32, DVec2)> {
+        const INSIDE: f64 = -1e-12;
+        face_patches.get(face as usize)?.iter().find_map(|&pi| {
+            let patch = &self.patches[pi as usize];
+            let uv = patch.uv_of(bary)?;
+            (uv.x >= INSIDE && uv.y >= INSIDE && 1.0 - uv.x - uv.y >= INSIDE).then_some((pi, uv))
+        })
+    }
+
+    /// The patch indices of each mesh face (`face_count` lists).
+    pub fn patches_by_face(&self, face_count: usize) -> Vec<Vec<u32>> {
+        let mut out = vec![Vec::new(); face_count];
+        for (i, p) in self.patches.iter().enumerate() {
+            if let Some(list) = out.get_mut(p.face as usize) {
+                list.push(i as u32);
+            }
+        }
+        out
     }
 
     /// Every patch corner that lies on a mesh vertex.

@@ -495,7 +495,10 @@ fn sample_jumps(value: &serde_json::Value) -> (usize, f64, f64) {
     let edges = value["edges"].as_array().expect("edges");
     let (mut angle, mut gap) = (0.0_f64, 0.0_f64);
     for edge in edges {
-        let (s0, s1) = (edge["side0"].as_array().expect("side0"), edge["side1"].as_array().expect("side1"));
+        let (s0, s1) = (
+            edge["side0"].as_array().expect("side0"),
+            edge["side1"].as_array().expect("side1"),
+        );
         assert_eq!(s0.len(), s1.len(), "same points on both sides");
         assert_eq!(edge["faces"].as_array().map(Vec::len), Some(2));
         for (p, q) in s0.iter().zip(s1) {
@@ -528,7 +531,9 @@ fn sample_writes_both_sides_of_every_edge() {
     ] {
         let json = dir.join(format!("{scheme}.json"));
         let json_arg = json.to_str().expect("utf-8");
-        let out = smoothlab(&["sample", cube, "--scheme", scheme, "--param", param, "--json", json_arg]);
+        let out = smoothlab(&[
+            "sample", cube, "--scheme", scheme, "--param", param, "--json", json_arg,
+        ]);
         assert!(out.status.success(), "{scheme}: {}", stderr(&out));
         let stdout = String::from_utf8_lossy(&out.stdout);
         assert!(stdout.contains("18 edges"), "{stdout}");
@@ -541,12 +546,24 @@ fn sample_writes_both_sides_of_every_edge() {
         if smooth {
             assert!(angle <= 1e-9, "{scheme}: normal jump {angle} rad");
         } else {
-            assert!(angle > 0.05, "{scheme}: pn must show its normal jump, got {angle}");
+            assert!(
+                angle > 0.05,
+                "{scheme}: pn must show its normal jump, got {angle}"
+            );
         }
     }
     let out = smoothlab(&["sample", cube, "--scheme", "coons", "--json", "x.json"]);
     assert_fails_naming(&out, &["'coons'"]);
-    let out = smoothlab(&["sample", cube, "--scheme", "fang-mann", "--param", "t=9", "--json", "x.json"]);
+    let out = smoothlab(&[
+        "sample",
+        cube,
+        "--scheme",
+        "fang-mann",
+        "--param",
+        "t=9",
+        "--json",
+        "x.json",
+    ]);
     assert_fails_naming(&out, &["'t'"]);
     let out = smoothlab(&["sample", cube, "--scheme", "pn"]);
     assert_fails_naming(&out, &["--json"]);

@@ -171,10 +171,9 @@ impl BlendPatch {
     /// of the sub-surfaces' boxes there (convex combination), grown by a bound on the rounding
     /// of the blend's own sums.
     pub fn sub_triangle_bounds(&self, corners: [DVec3; 3]) -> Aabb {
-        let union = self
-            .sub_surfaces
-            .iter()
-            .fold(Aabb::EMPTY, |acc, s| acc.union(s.sub_triangle_bounds(corners)));
+        let union = self.sub_surfaces.iter().fold(Aabb::EMPTY, |acc, s| {
+            acc.union(s.sub_triangle_bounds(corners))
+        });
         self.grown(union)
     }
 

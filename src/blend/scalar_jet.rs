@@ -199,7 +199,11 @@ mod tests {
         let one = ScalarJet::constant(1.0);
         let f = u.powi(2) * v.powi(3) / (one + u + v * v);
         // f = N/D with N = u²v³, D = 1 + u + v².
-        let (n, nu, nv) = (u0 * u0 * v0.powi(3), 2.0 * u0 * v0.powi(3), 3.0 * u0 * u0 * v0 * v0);
+        let (n, nu, nv) = (
+            u0 * u0 * v0.powi(3),
+            2.0 * u0 * v0.powi(3),
+            3.0 * u0 * u0 * v0 * v0,
+        );
         let (nuu, nuv, nvv) = (2.0 * v0.powi(3), 6.0 * u0 * v0 * v0, 6.0 * u0 * u0 * v0);
         let (d, du, dv) = (1.0 + u0 + v0 * v0, 1.0, 2.0 * v0);
         let (duu, duv, dvv) = (0.0, 0.0, 2.0);
@@ -219,7 +223,10 @@ mod tests {
         ];
         let got = [f.v, f.du, f.dv, f.duu, f.duv, f.dvv];
         for (g, e) in got.iter().zip(expected) {
-            assert!((g - e).abs() <= 1e-14 * e.abs().max(1.0), "{got:?} vs {expected:?}");
+            assert!(
+                (g - e).abs() <= 1e-14 * e.abs().max(1.0),
+                "{got:?} vs {expected:?}"
+            );
         }
     }
 

@@ -1,8 +1,8 @@
 //! Tests of [`BlendPatch`]: exact derivatives, corners, edges and bounds.
 
 use super::*;
-use glam::DVec2;
 use crate::schemes::testing::Lcg;
+use glam::DVec2;
 
 const FAMILIES: [WeightFamily; 5] = [
     WeightFamily::Nielson { power: 1 },
@@ -27,9 +27,10 @@ fn random_blend(family: WeightFamily, seed: u64) -> BlendPatch {
             let jitter = 0.2 * random_point(&mut rng);
             match corner {
                 Some(c) if c != owner => vertices[c],
-                _ => (i as f64 * vertices[0] + j as f64 * vertices[1] + k as f64 * vertices[2])
-                    / 3.0
-                    + jitter,
+                _ => {
+                    (i as f64 * vertices[0] + j as f64 * vertices[1] + k as f64 * vertices[2]) / 3.0
+                        + jitter
+                }
             }
         })
     });
@@ -38,7 +39,11 @@ fn random_blend(family: WeightFamily, seed: u64) -> BlendPatch {
 
 fn random_uv(rng: &mut Lcg) -> (f64, f64) {
     let (u, v) = (rng.next_f64(), rng.next_f64());
-    if u + v > 1.0 { (1.0 - u, 1.0 - v) } else { (u, v) }
+    if u + v > 1.0 {
+        (1.0 - u, 1.0 - v)
+    } else {
+        (u, v)
+    }
 }
 
 /// Fourth-order central difference of `f` at 0 with step `h`.
@@ -88,10 +93,19 @@ fn blend_of_one_surface_is_that_surface() {
     let one = random_blend(WeightFamily::FangMann { t: 1 }, 5).sub_surfaces()[0].clone();
     for family in FAMILIES {
         let patch = BlendPatch::new(family, [one.clone(), one.clone(), one.clone()]);
-        for (u, v) in [(0.2, 0.3), (0.0, 0.5), (1.0, 0.0), (1e-12, 1e-13), (0.4, 0.6)] {
+        for (u, v) in [
+            (0.2, 0.3),
+            (0.0, 0.5),
+            (1.0, 0.0),
+            (1e-12, 1e-13),
+            (0.4, 0.6),
+        ] {
             let (a, b) = (patch.jet(u, v), one.jet(u, v));
             for (x, y) in [(a.p, b.p), (a.du, b.du), (a.dv, b.dv), (a.duu, b.duu)] {
-                assert!((x - y).length() <= 1e-14, "{family:?} ({u},{v}): {x} vs {y}");
+                assert!(
+                    (x - y).length() <= 1e-14,
+                    "{family:?} ({u},{v}): {x} vs {y}"
+                );
             }
         }
     }
@@ -108,7 +122,10 @@ fn edges_belong_to_their_owner() {
         for s in [1.0 / 1024.0, 0.125, 0.5, 0.875, 1023.0 / 1024.0] {
             for owner in 0..3 {
                 let uv = crate::surface::edge_uv((owner + 1) % 3, s);
-                let (blend, sub) = (patch.jet(uv.x, uv.y), patch.sub_surfaces()[owner].jet(uv.x, uv.y));
+                let (blend, sub) = (
+                    patch.jet(uv.x, uv.y),
+                    patch.sub_surfaces()[owner].jet(uv.x, uv.y),
+                );
                 let label = format!("{family:?} edge of {owner} at {s}");
                 assert!((blend.p - sub.p).length() <= 1e-15, "{label}");
                 if let WeightFamily::FangMann { t } = family {
@@ -135,8 +152,16 @@ fn corners_are_the_vertices_and_finite() {
     for (n, family) in FAMILIES.into_iter().enumerate() {
         let patch = random_blend(family, 70 + n as u64);
         for c in 0..3 {
-            assert_eq!(patch.eval(uv[c].x, uv[c].y), vertices[c], "{family:?} corner {c}");
-            assert_eq!(patch.jet(uv[c].x, uv[c].y).p, vertices[c], "{family:?} corner {c}");
+            assert_eq!(
+                patch.eval(uv[c].x, uv[c].y),
+                vertices[c],
+                "{family:?} corner {c}"
+            );
+            assert_eq!(
+                patch.jet(uv[c].x, uv[c].y).p,
+                vertices[c],
+                "{family:?} corner {c}"
+            );
             let centre = DVec2::splat(1.0 / 3.0);
             for e in 1..=300 {
                 let r = 10f64.powf(-(e as f64));
@@ -173,7 +198,10 @@ fn bounds_contain_the_blend() {
                 let (a, b) = random_uv(&mut rng);
                 let at = corners[0] + a * (corners[1] - corners[0]) + b * (corners[2] - corners[0]);
                 let p = patch.eval(at.x, at.y);
-                assert!(bounds.contains(p, 0.0), "{family:?}: {p} outside {bounds:?}");
+                assert!(
+                    bounds.contains(p, 0.0),
+                    "{family:?}: {p} outside {bounds:?}"
+                );
                 assert!(full.contains(p, 0.0));
             }
         }

@@ -130,7 +130,11 @@ mod tests {
         for family in FAMILIES {
             for _ in 0..200 {
                 let (u, v) = (rng.next_f64(), rng.next_f64());
-                let (u, v) = if u + v > 1.0 { (1.0 - u, 1.0 - v) } else { (u, v) };
+                let (u, v) = if u + v > 1.0 {
+                    (1.0 - u, 1.0 - v)
+                } else {
+                    (u, v)
+                };
                 let b = [1.0 - u - v, u, v];
                 let w = weights(family, b);
                 let expected = literal(family, b);
@@ -139,7 +143,10 @@ mod tests {
                     assert!((w[i] - expected[i]).abs() <= 1e-13, "{family:?} {b:?}");
                 }
                 let sum: f64 = w.iter().sum();
-                assert!((sum - 1.0).abs() <= 4.0 * f64::EPSILON, "{family:?}: sum {sum}");
+                assert!(
+                    (sum - 1.0).abs() <= 4.0 * f64::EPSILON,
+                    "{family:?}: sum {sum}"
+                );
             }
         }
     }
@@ -155,7 +162,10 @@ mod tests {
                     b[(i + 2) % 3] = 1.0 - s;
                     let w = weights(family, b);
                     // One up to the rounding of a sum of two shares; the others exactly 0.
-                    assert!((w[i] - 1.0).abs() <= 2.0 * f64::EPSILON, "{family:?}: {w:?}");
+                    assert!(
+                        (w[i] - 1.0).abs() <= 2.0 * f64::EPSILON,
+                        "{family:?}: {w:?}"
+                    );
                     assert_eq!(w[(i + 1) % 3], 0.0, "{family:?} edge {i} at {s}: {w:?}");
                     assert_eq!(w[(i + 2) % 3], 0.0, "{family:?} edge {i} at {s}: {w:?}");
                 }
@@ -188,7 +198,10 @@ mod tests {
                     assert!((here[i].v - value(u, v)[i]).abs() <= 1e-15);
                     for (n, (got, want)) in checks.into_iter().enumerate() {
                         let err = (got - want).abs() / want.abs().max(1.0);
-                        assert!(err <= 1e-8, "{family:?} ({u},{v}) w{i} #{n}: {got} vs {want}");
+                        assert!(
+                            err <= 1e-8,
+                            "{family:?} ({u},{v}) w{i} #{n}: {got} vs {want}"
+                        );
                     }
                 }
             }
@@ -210,7 +223,10 @@ mod tests {
             let (be, g) = (0.4_f64.powi(t as i32 + 1), 0.6_f64.powi(t as i32 + 1));
             let limit = g * (1.0 / (be + g) + 1.0 / be) / (be + g);
             let last = ratios[2];
-            assert!((last - limit).abs() <= 1e-3 * limit, "t={t}: {ratios:?} vs {limit}");
+            assert!(
+                (last - limit).abs() <= 1e-3 * limit,
+                "t={t}: {ratios:?} vs {limit}"
+            );
         }
     }
 }

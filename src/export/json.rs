@@ -228,7 +228,11 @@ mod tests {
             domain: [DVec3::X, DVec3::Y, DVec3::Z],
             geometry: PatchGeometry::Blend(BlendPatch::new(
                 family,
-                [cubic.clone(), cubic.map_points(|p| p * 0.3), cubic.map_points(|p| -p)],
+                [
+                    cubic.clone(),
+                    cubic.map_points(|p| p * 0.3),
+                    cubic.map_points(|p| -p),
+                ],
             )),
         };
         Surface {
@@ -273,7 +277,10 @@ mod tests {
         );
         // b(2,0,0) first: x = sqrt(2.1).
         assert_eq!(value["patches"][0]["points"][0][0], 2.1_f64.sqrt());
-        assert!(value["patches"][0].get("kind").is_none(), "Bézier records have no kind");
+        assert!(
+            value["patches"][0].get("kind").is_none(),
+            "Bézier records have no kind"
+        );
         let blend = &value["patches"][2];
         assert_eq!(blend["kind"], "blend");
         assert_eq!(blend["weights"], "fang-mann");

@@ -101,7 +101,8 @@ pub fn edge_samples(surface: &Surface, mesh: &Mesh) -> Result<SampleFile> {
         };
         let side = |f: u32| -> Result<Vec<SamplePoint>> {
             let corners = faces[f as usize];
-            let at = |v: u32| DVec3::from_array(std::array::from_fn(|c| f64::from(corners[c] == v)));
+            let at =
+                |v: u32| DVec3::from_array(std::array::from_fn(|c| f64::from(corners[c] == v)));
             let (a, b) = (at(edge.a), at(edge.b));
             joint_fractions()
                 .iter()
@@ -151,7 +152,10 @@ mod tests {
             let m = Metrics::measure(&surface, &mesh, 0.0);
             let g1 = m.g1_between_faces_max_rad.expect("joints between faces");
             eprintln!("{scheme}: samples {angle:.3e} rad, gap {gap:.1e}; metrics {g1:.3e}");
-            assert!(gap <= 1e-12 * mesh.bounds().diagonal(), "{scheme}: gap {gap}");
+            assert!(
+                gap <= 1e-12 * mesh.bounds().diagonal(),
+                "{scheme}: gap {gap}"
+            );
             if surface.patches.len() == mesh.face_count() {
                 assert!((angle - g1).abs() <= 1e-15, "{scheme}: {angle} vs {g1}");
             } else {

@@ -83,9 +83,13 @@ pub const SPEC: SchemeSpec = SchemeSpec {
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let t = order_param(params, 0..=MAX_T)?;
     let faces = mesh.faces();
-    build_blend(mesh, params, SPEC.name, WeightFamily::FangMann { t }, |frames, f, c| {
-        Ok(sub_surface(frames, faces, f, c))
-    })
+    build_blend(
+        mesh,
+        params,
+        SPEC.name,
+        WeightFamily::FangMann { t },
+        |frames, f, c| Ok(sub_surface(frames, faces, f, c)),
+    )
 }
 
 /// The cross-edge curvature term `Q` of the edge surface: least squares over the apexes.
@@ -97,7 +101,11 @@ pub fn cross_curvature(frame: &EdgeFrame) -> DVec3 {
         weighted += h2 * residual;
         norm += h2 * h2;
     }
-    if norm > 0.0 { weighted / norm } else { DVec3::ZERO }
+    if norm > 0.0 {
+        weighted / norm
+    } else {
+        DVec3::ZERO
+    }
 }
 
 /// `E(s, h)` with cross term `q`.
@@ -112,19 +120,15 @@ pub fn edge_surface_blossom(frame: &EdgeFrame, q: DVec3, x: [DVec2; 3]) -> DVec3
     let c = frame.curve.blossom(&[x[0].x, x[1].x, x[2].x]);
     let [d_a, d_b] = frame.transversal;
     let h_sum = x[0].y + x[1].y + x[2].y;
-    let mixed = x[0].y * (x[1].x + x[2].x) + x[1].y * (x[0].x + x[2].x) + x[2].y * (x[0].x + x[1].x);
+    let mixed =
+        x[0].y * (x[1].x + x[2].x) + x[1].y * (x[0].x + x[2].x) + x[2].y * (x[0].x + x[1].x);
     let h_pairs = x[0].y * x[1].y + x[0].y * x[2].y + x[1].y * x[2].y;
     c + d_a * (h_sum / 3.0) + (d_b - d_a) * (mixed / 6.0) + q * (h_pairs / 3.0)
 }
 
 /// The sub-surface of face `f` owning the edge opposite corner `c`: the edge surface over the
 /// face's triangle in the edge plane, as a cubic net in the face's corner order.
-pub fn sub_surface(
-    frames: &EdgeFrames,
-    faces: &[[u32; 3]],
-    f: usize,
-    c: usize,
-) -> TriangleBezier {
+pub fn sub_surface(frames: &EdgeFrames, faces: &[[u32; 3]], f: usize, c: usize) -> TriangleBezier {
     let (frame, forward) = frames.opposite(faces, f, c);
     let q = cross_curvature(frame);
     let mut corners = [DVec2::ZERO; 3];

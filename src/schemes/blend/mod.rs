@@ -32,8 +32,8 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use crate::bezier::CurveBezier;
-use crate::blend::{BlendPatch, WeightFamily};
 use crate::bezier::TriangleBezier;
+use crate::blend::{BlendPatch, WeightFamily};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::schemes::Params;
@@ -101,7 +101,11 @@ fn edge_frame(
     let mean_perp = perps.iter().sum::<DVec3>() / perps.len() as f64;
     let transversal = [project(na, mean_perp), project(nb, mean_perp)];
     let tangents = [project(na, e), project(nb, e)];
-    for (end, (n, (t, d))) in [na, nb].iter().zip(tangents.iter().zip(&transversal)).enumerate() {
+    for (end, (n, (t, d))) in [na, nb]
+        .iter()
+        .zip(tangents.iter().zip(&transversal))
+        .enumerate()
+    {
         let area = t.cross(*d).dot(*n);
         if !(area > MIN_FRAME_AREA * ee) {
             let vertex = if end == 0 { a } else { b };

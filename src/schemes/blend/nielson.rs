@@ -68,9 +68,13 @@ pub const SPEC: SchemeSpec = SchemeSpec {
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let power = order_param(params, 1..=MAX_T)?;
     let faces = mesh.faces();
-    build_blend(mesh, params, SPEC.name, WeightFamily::Nielson { power }, |frames, f, c| {
-        sub_surface(frames, faces, f, c)
-    })
+    build_blend(
+        mesh,
+        params,
+        SPEC.name,
+        WeightFamily::Nielson { power },
+        |frames, f, c| sub_surface(frames, faces, f, c),
+    )
 }
 
 /// `(α, β)` with `target = α w + β t`, for `target` in the plane of `w` and `t` (normal

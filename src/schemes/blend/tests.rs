@@ -52,7 +52,10 @@ fn check_g1(spec: &SchemeSpec, pairs: &[(&str, &str)], curvature_continuous: boo
         assert!(interp <= 1e-12, "{label}: interpolation error {interp}");
         assert!(normal <= 1e-9, "{label}: vertex normal off by {normal} rad");
         assert_eq!(m.singular_samples, 0, "{label}");
-        assert!(m.min_regularity_rel.unwrap() > 0.0, "{label}: singular patch");
+        assert!(
+            m.min_regularity_rel.unwrap() > 0.0,
+            "{label}: singular patch"
+        );
         if curvature_continuous {
             assert!(jump <= 1e-6, "{label}: curvature jump {jump}");
         }
@@ -75,7 +78,13 @@ fn fang_mann_t1_is_g1_and_interpolates() {
 /// Scene meshes without a mirror symmetry through every edge. On the others (regular
 /// tetrahedron, octahedron, icosahedron, the valence fans) the two sides of each edge are
 /// mirror images, so even t = 1 shows equal curvature on both sides (measured: ≤ 2e-11).
-const ASYMMETRIC: [&str; 5] = ["deformed-icosahedron", "cube", "mixed-valence", "torus", "genus2"];
+const ASYMMETRIC: [&str; 5] = [
+    "deformed-icosahedron",
+    "cube",
+    "mixed-valence",
+    "torus",
+    "genus2",
+];
 
 /// t = 2: curvature continuous on every mesh; t = 1 on the same meshes jumps measurably
 /// wherever symmetry does not force equality.
@@ -84,7 +93,9 @@ fn fang_mann_t2_is_curvature_continuous_and_t1_is_not() {
     let t2 = check_g1(&fang_mann::SPEC, &[("t", "2")], true);
     for ((name, mesh), j2) in closed_test_meshes().iter().zip(&t2) {
         let s = build(&fang_mann::SPEC, mesh, &[("t", "1")]);
-        let j1 = Metrics::measure(&s, mesh, 0.0).curvature_jump_max_rel.unwrap();
+        let j1 = Metrics::measure(&s, mesh, 0.0)
+            .curvature_jump_max_rel
+            .unwrap();
         eprintln!("{name}: curvature jump t=1 {j1:.2e}, t=2 {j2:.2e}");
         if ASYMMETRIC.contains(&name.as_str()) {
             assert!(j1 >= 0.1, "{name}: t = 1 should jump, measured {j1}");
@@ -108,7 +119,11 @@ fn flat_input_gives_the_flat_triangles() {
         p.z = 0.0;
     }
     let mesh = mesh((positions, faces));
-    for (spec, t) in [(&nielson::SPEC, "1"), (&fang_mann::SPEC, "1"), (&fang_mann::SPEC, "2")] {
+    for (spec, t) in [
+        (&nielson::SPEC, "1"),
+        (&fang_mann::SPEC, "1"),
+        (&fang_mann::SPEC, "2"),
+    ] {
         let surface = build(spec, &mesh, &[("t", t)]);
         for patch in &surface.patches {
             let corners = mesh.faces()[patch.face as usize].map(|v| mesh.positions()[v as usize]);
@@ -136,7 +151,11 @@ fn open_mesh_is_accepted() {
     for (spec, t) in [(&nielson::SPEC, "1"), (&fang_mann::SPEC, "2")] {
         let surface = build(spec, &mesh, &[("t", t)]);
         let m = Metrics::measure(&surface, &mesh, 0.0);
-        assert!(m.g1_between_faces_max_rad.unwrap() <= 1e-9, "{}: {m:?}", spec.name);
+        assert!(
+            m.g1_between_faces_max_rad.unwrap() <= 1e-9,
+            "{}: {m:?}",
+            spec.name
+        );
         assert!(m.interp_max_rel.unwrap() <= 1e-12);
     }
 }
@@ -144,7 +163,12 @@ fn open_mesh_is_accepted() {
 #[test]
 fn bad_order_is_rejected_by_name() {
     let mesh = mesh(crate::mesh::generate::octahedron());
-    for (scheme, t) in [("fang-mann", "7"), ("fang-mann", "-1"), ("fang-mann", "1.5"), ("nielson", "0")] {
+    for (scheme, t) in [
+        ("fang-mann", "7"),
+        ("fang-mann", "-1"),
+        ("fang-mann", "1.5"),
+        ("nielson", "0"),
+    ] {
         let err = build_scheme(scheme, &mesh, &[("t".into(), t.into())]).unwrap_err();
         assert!(err.to_string().contains("'t'"), "{scheme} t={t}: {err}");
     }
@@ -174,9 +198,14 @@ fn boundary_rows_are_shared_bit_for_bit() {
     let surface = build(&fang_mann::SPEC, &mesh, &[]);
     for joint in surface.joints(mesh.faces()) {
         let side = |pe: crate::surface::PatchEdge| {
-            let blend = surface.patches[pe.patch as usize].as_blend().expect("blend patch");
+            let blend = surface.patches[pe.patch as usize]
+                .as_blend()
+                .expect("blend patch");
             let owner = (pe.edge as usize + 2) % 3;
-            blend.sub_surfaces()[owner].edge_curve(pe.edge as usize).points().to_vec()
+            blend.sub_surfaces()[owner]
+                .edge_curve(pe.edge as usize)
+                .points()
+                .to_vec()
         };
         let (a, mut b) = (side(joint.a), side(joint.b));
         if joint.reversed {

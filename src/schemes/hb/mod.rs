@@ -14,11 +14,18 @@
 //! `ṽ¹` computed at either end, C¹ continuity of `V` at `u = ½` gives `v² = (v¹ − ṽ¹)/2 = −ṽ²`.
 //! (HB00 §9 writes `v² = ½v¹ + ½v¹_k` in a per-end sign convention.)
 //!
-//! Default shape parameters: α = 1 interpolates the vertices; β = 1/3 and (γ0, γ1, γ2) =
-//! (1/3, 0, 2/3) give linear precision on regular meshes — for a planar ring of valence 6 the
+//! Default shape parameters: α = 1 interpolates the vertices; β = 1/3 with (γ0, γ1, γ2) =
+//! (−1, 2, 0) gives linear precision on regular meshes — for a planar ring of valence 6 the
 //! boundary curves are the straight edges parametrised uniformly, the twists vanish and `V` is
-//! constant (tested in [`vertex`]). The six free points default to the thin-plate minimiser
-//! (`free=energy`, as in the paper's colour plate); `free=zero-twist` is the cheap alternative.
+//! constant (tested in [`vertex`]) — and keeps the curve network free of undulations, the
+//! paper's concern in §9: γ0 < 0 < γ1, as in Fig. 14's (−3.7, 4.6, 0.1). `b2 = 2b1 − b0` makes the
+//! boundary curves' second derivative vanish at the vertices (at the price of a flatter surface
+//! right at the vertices). Measured network undulation (metrics `undulation`, rad, max over
+//! edges) with β = 1/3: (−1, 2, 0) gives 0 on the icosahedron, deformed icosahedron and cube,
+//! 0.05 on the torus, 0.66 on mixed-valence (valence 15 and 16); (γ0, γ1, γ2) = (1/3, 0, 2/3), which
+//! also has linear precision but leans on Loop's point d, gives 0.6–1.8 on the same meshes. The six free points default to the
+//! thin-plate minimiser (`free=energy`, as in the paper's colour plate); `free=zero-twist` is the
+//! cheap alternative.
 
 pub mod energy;
 pub mod macro_patch;
@@ -53,12 +60,12 @@ pub const SPEC: SchemeSpec = SchemeSpec {
         },
         ParamSpec {
             name: "gamma0",
-            default: "0.333333333333333333",
+            default: "-1",
             help: "γ0 of eq. 15 (weight of b0 in b2)",
         },
         ParamSpec {
             name: "gamma1",
-            default: "0",
+            default: "2",
             help: "γ1 of eq. 15 (weight of b1 in b2)",
         },
         ParamSpec {

@@ -138,7 +138,13 @@ mod tests {
             .collect()
     }
 
-    const SHAPES: [ShapeParams; 3] = [
+    /// The default shape first, then others.
+    const SHAPES: [ShapeParams; 4] = [
+        ShapeParams {
+            alpha: 1.0,
+            beta: 1.0 / 3.0,
+            gamma: [-1.0, 2.0, 0.0],
+        },
         ShapeParams {
             alpha: 1.0,
             beta: 1.0 / 3.0,
@@ -211,7 +217,7 @@ mod tests {
         }
     }
 
-    /// With the default shape, a regular planar hexagonal one-ring gives straight boundary
+    /// With the default shape (and with (1/3, 0, 2/3)), a regular planar hexagonal one-ring gives straight boundary
     /// pieces parametrised by arc length (linear precision): b_k = v + k e_i / 6, and zero twist.
     #[test]
     fn default_shape_has_linear_precision_on_a_regular_planar_ring() {
@@ -221,17 +227,19 @@ mod tests {
                 DVec3::new(a.cos(), a.sin(), 0.0)
             })
             .collect();
-        let mut he = vec![HalfEdgeData::default(); 6];
-        half_edges(DVec3::ZERO, &p, &[6; 6], &SHAPES[0], &mut he);
-        for i in 0..6 {
-            for k in 0..3 {
-                let expected = p[i] * k as f64 / 6.0;
-                assert!((he[i].b[k] - expected).length() < 1e-15, "b{k} of edge {i}");
+        for shape in &SHAPES[..2] {
+            let mut he = vec![HalfEdgeData::default(); 6];
+            half_edges(DVec3::ZERO, &p, &[6; 6], shape, &mut he);
+            for i in 0..6 {
+                for k in 0..3 {
+                    let expected = p[i] * k as f64 / 6.0;
+                    assert!((he[i].b[k] - expected).length() < 1e-15, "b{k} of edge {i}");
+                }
+                // V constant: the cross derivative is e_{i+1} − ½ e_i everywhere.
+                assert!((he[i].v1 - he[i].v0).length() < 1e-14, "V' ≠ 0 at edge {i}");
+                let cross = 0.5 * p[i] + psi0(6) * he[i].v0;
+                assert!((cross - p[(i + 1) % 6]).length() < 1e-15);
             }
-            // V constant: the cross derivative is e_{i+1} − ½ e_i everywhere.
-            assert!((he[i].v1 - he[i].v0).length() < 1e-14, "V' ≠ 0 at edge {i}");
-            let cross = 0.5 * p[i] + psi0(6) * he[i].v0;
-            assert!((cross - p[(i + 1) % 6]).length() < 1e-15);
         }
     }
 }
