@@ -187,15 +187,15 @@ mod tests {
                 let value = |u: f64, v: f64| weights(family, [1.0 - u - v, u, v]);
                 let jet = |u: f64, v: f64| weights(family, bary(u, v));
                 let here = jet(u, v);
-                for i in 0..3 {
+                for (i, w) in here.iter().enumerate() {
                     let checks = [
-                        (here[i].du, stencil(&|d| value(u + d, v)[i])),
-                        (here[i].dv, stencil(&|d| value(u, v + d)[i])),
-                        (here[i].duu, stencil(&|d| jet(u + d, v)[i].du)),
-                        (here[i].duv, stencil(&|d| jet(u, v + d)[i].du)),
-                        (here[i].dvv, stencil(&|d| jet(u, v + d)[i].dv)),
+                        (w.du, stencil(&|d| value(u + d, v)[i])),
+                        (w.dv, stencil(&|d| value(u, v + d)[i])),
+                        (w.duu, stencil(&|d| jet(u + d, v)[i].du)),
+                        (w.duv, stencil(&|d| jet(u, v + d)[i].du)),
+                        (w.dvv, stencil(&|d| jet(u, v + d)[i].dv)),
                     ];
-                    assert!((here[i].v - value(u, v)[i]).abs() <= 1e-15);
+                    assert!((w.v - value(u, v)[i]).abs() <= 1e-15);
                     for (n, (got, want)) in checks.into_iter().enumerate() {
                         let err = (got - want).abs() / want.abs().max(1.0);
                         assert!(

@@ -107,7 +107,7 @@ fn edge_frame(
         .enumerate()
     {
         let area = t.cross(*d).dot(*n);
-        if !(area > MIN_FRAME_AREA * ee) {
+        if area.is_nan() || area <= MIN_FRAME_AREA * ee {
             let vertex = if end == 0 { a } else { b };
             return Err(Error::EdgeFrame {
                 a: a as usize,
