@@ -33,7 +33,7 @@ use glam::DVec3;
 
 use crate::bezier::TriangleBezier;
 use crate::geom::{Aabb, Jet};
-use scalar_jet::{Scalar, ScalarJet};
+use scalar_jet::{Scalar, ScalarJet, ScalarJet1};
 pub use weights::WeightFamily;
 
 /// Points whose two smaller barycentric coordinates sum to less than this are evaluated as
@@ -165,6 +165,51 @@ impl BlendPatch {
         add_product(&mut jet, w[far], &towards_far);
         add_product(&mut jet, w[c].scale(-1.0), &from_next_back);
         jet
+    }
+
+    /// Position and first derivatives at `(u, v)` — what Newton needs, with first-order
+    /// weight jets only. Equal to the corresponding parts of [`BlendPatch::jet`].
+    pub fn point_and_tangents(&self, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
+        let raw = [1.0 - u - v, u, v];
+        let c = nearest_corner(raw);
+        let (next, far) = ((c + 1) % 3, (c + 2) % 3);
+        let clamped = raw.map(|x| x.max(0.0));
+        if clamped[next] + clamped[far] < CORNER_RADIUS {
+            let jet = self.jet(u, v);
+            return (jet.p, jet.du, jet.dv);
+        }
+        let base = self.sub_surfaces[next].jet(u, v);
+        let towards_far = self.differences[c].jet(u, v);
+        let from_next_back = self.differences[far].jet(u, v);
+        let b = [
+            ScalarJet1 {
+                v: raw[0],
+                du: -1.0,
+                dv: -1.0,
+            },
+            ScalarJet1 {
+                v: raw[1],
+                du: 1.0,
+                dv: 0.0,
+            },
+            ScalarJet1 {
+                v: raw[2],
+                du: 0.0,
+                dv: 1.0,
+            },
+        ]
+        .map(Scalar::nonnegative);
+        let w = weights::weights(self.family, b);
+        let (wf, wc) = (w[far], w[c]);
+        (
+            base.p + wf.v * towards_far.p - wc.v * from_next_back.p,
+            base.du + wf.du * towards_far.p + wf.v * towards_far.du
+                - wc.du * from_next_back.p
+                - wc.v * from_next_back.du,
+            base.dv + wf.dv * towards_far.p + wf.v * towards_far.dv
+                - wc.dv * from_next_back.p
+                - wc.v * from_next_back.dv,
+        )
     }
 
     /// A box containing the blend over the sub-triangle with barycentric `corners`: the union

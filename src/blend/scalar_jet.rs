@@ -180,6 +180,96 @@ impl Scalar for ScalarJet {
     }
 }
 
+/// A scalar `f(u, v)` with its value and first partial derivatives only: the cheaper
+/// arithmetic for evaluations that need no curvature (Newton's point and tangents).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ScalarJet1 {
+    /// `f`
+    pub v: f64,
+    /// `∂f/∂u`
+    pub du: f64,
+    /// `∂f/∂v`
+    pub dv: f64,
+}
+
+impl Add for ScalarJet1 {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        ScalarJet1 {
+            v: self.v + o.v,
+            du: self.du + o.du,
+            dv: self.dv + o.dv,
+        }
+    }
+}
+
+impl Sub for ScalarJet1 {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        ScalarJet1 {
+            v: self.v - o.v,
+            du: self.du - o.du,
+            dv: self.dv - o.dv,
+        }
+    }
+}
+
+impl Mul for ScalarJet1 {
+    type Output = Self;
+    fn mul(self, o: Self) -> Self {
+        ScalarJet1 {
+            v: self.v * o.v,
+            du: self.du * o.v + self.v * o.du,
+            dv: self.dv * o.v + self.v * o.dv,
+        }
+    }
+}
+
+impl Div for ScalarJet1 {
+    type Output = Self;
+    /// `(f/g)' = (f' − (f/g) g') / g`.
+    fn div(self, o: Self) -> Self {
+        let r = 1.0 / o.v;
+        let q = self.v * r;
+        ScalarJet1 {
+            v: q,
+            du: (self.du - q * o.du) * r,
+            dv: (self.dv - q * o.dv) * r,
+        }
+    }
+}
+
+impl Scalar for ScalarJet1 {
+    fn constant(c: f64) -> Self {
+        ScalarJet1 {
+            v: c,
+            du: 0.0,
+            dv: 0.0,
+        }
+    }
+    fn value(&self) -> f64 {
+        self.v
+    }
+    fn powi(self, n: u32) -> Self {
+        if n == 0 {
+            return ScalarJet1::constant(1.0);
+        }
+        let first = n as f64 * self.v.powi(n as i32 - 1);
+        ScalarJet1 {
+            v: self.v.powi(n as i32),
+            du: first * self.du,
+            dv: first * self.dv,
+        }
+    }
+    fn scale(self, c: f64) -> Self {
+        ScalarJet1 {
+            v: self.v * c,
+            du: self.du * c,
+            dv: self.dv * c,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -227,6 +317,32 @@ mod tests {
                 (g - e).abs() <= 1e-14 * e.abs().max(1.0),
                 "{got:?} vs {expected:?}"
             );
+        }
+    }
+
+    /// The first-order jet agrees with the first-order part of the full jet.
+    #[test]
+    fn first_order_jet_agrees_with_the_full_jet() {
+        let (u0, v0) = (0.3, 0.7);
+        let full = {
+            let (u, v) = (u_jet(u0), v_jet(v0));
+            (u.powi(3) * v - v.powi(2)) / (ScalarJet::constant(2.0) + u * v)
+        };
+        let first = {
+            let u = ScalarJet1 {
+                v: u0,
+                du: 1.0,
+                dv: 0.0,
+            };
+            let v = ScalarJet1 {
+                v: v0,
+                du: 0.0,
+                dv: 1.0,
+            };
+            (u.powi(3) * v - v.powi(2)) / (ScalarJet1::constant(2.0) + u * v)
+        };
+        for (a, b) in [(full.v, first.v), (full.du, first.du), (full.dv, first.dv)] {
+            assert!((a - b).abs() <= 1e-15 * a.abs().max(1.0), "{a} vs {b}");
         }
     }
 

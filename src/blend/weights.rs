@@ -6,14 +6,10 @@
 //!   `b_i = 0` the weight of sub-surface `i` is one.
 //! * Fang–Mann's weights [FM, "The new blending functions"]:
 //!   `f_{t,0} = βγ (1/(α+β) + 1/(α+γ)) / (α+β+γ)` and cyclic, with `α = b0^{t+1}`,
-//!   `β = b1^{t+1}`, `γ = b2^{t+1}`. Writing `βγ/((α+β)(α+β+γ))` as
-//!   `γ/(α+β+γ) · β/(α+β)` shows the weights sum to one and each is a sum of products of
-//!   ratios in `[0, 1]`, which is how they are computed here:
-//!   `f_i = ρ₃(k) ρ(j, i) + ρ₃(j) ρ(k, i)` with `ρ(j, i) = b_j^p / (b_j^p + b_i^p)` and
-//!   `ρ₃(k) = b_k^p / (b_0^p + b_1^p + b_2^p)`, `p = t + 1`.
+//!   `β = b1^{t+1}`, `γ = b2^{t+1}`. Since `βγ/(α+β) + γα/(β+α) = γ`, the weights sum to one.
 //!
-//! Every ratio is computed from coordinates divided by the largest one involved, a factor
-//! that cancels in the quotient: no power underflows to 0/0 near a corner. Near a corner both
+//! The powers are taken of the coordinates divided by the largest one, a factor that cancels
+//! in every quotient, so nothing underflows to 0/0 short of the corners. Near a corner both
 //! families are undefined in the limit; callers evaluate weights only at points at least
 //! [`crate::blend::CORNER_RADIUS`] away from every corner and handle the corners themselves.
 
@@ -35,17 +31,6 @@ pub enum WeightFamily {
     },
 }
 
-/// `(x^p / (x^p + y^p), y^p / (x^p + y^p))` for `x, y ≥ 0` not both zero, from `x/m` and
-/// `y/m` with `m = max(x, y)`, so the denominator is at least one. Both shares are computed
-/// as quotients (not one as `1 −` the other), so a share that is tiny keeps its relative
-/// accuracy — it is the weight that must vanish to order `t+1` at an edge.
-fn ratios<S: Scalar>(x: S, y: S, p: u32) -> (S, S) {
-    let m = x.value().max(y.value());
-    let (xs, ys) = (x.scale(1.0 / m).powi(p), y.scale(1.0 / m).powi(p));
-    let total = xs + ys;
-    (xs / total, ys / total)
-}
-
 /// `(b_0, b_1, b_2)^p / max(b)^p`: each in `[0, 1]`, the largest exactly one.
 fn scaled_powers<S: Scalar>(b: [S; 3], p: u32) -> [S; 3] {
     let m = b[0].value().max(b[1].value()).max(b[2].value());
@@ -64,18 +49,21 @@ pub fn weights<S: Scalar>(family: WeightFamily, b: [S; 3]) -> [S; 3] {
             pairs.map(|pair| pair / total)
         }
         WeightFamily::FangMann { t } => {
-            let p = t + 1;
-            let q = scaled_powers(b, p);
-            let total = q[0] + q[1] + q[2];
-            let share = q.map(|x| x / total);
-            // ρ(j, i) for every ordered pair.
-            let (r10, r01) = ratios(b[1], b[0], p);
-            let (r20, r02) = ratios(b[2], b[0], p);
-            let (r21, r12) = ratios(b[2], b[1], p);
+            // f_0 = q1 q2 (1/(q0+q1) + 1/(q0+q2)) / (q0+q1+q2) and cyclic, q = (b/max b)^{t+1}:
+            // four reciprocals in all. Away from the corners (where callers do not come) every
+            // pair sum is at least (CORNER_RADIUS/2)^{t+1}, far from underflow, and the tiny
+            // weights near an edge are products of accurately computed factors, not
+            // differences.
+            let q = scaled_powers(b, t + 1);
+            let one = S::constant(1.0);
+            let total = one / (q[0] + q[1] + q[2]);
+            let r01 = one / (q[0] + q[1]);
+            let r02 = one / (q[0] + q[2]);
+            let r12 = one / (q[1] + q[2]);
             [
-                share[2] * r10 + share[1] * r20,
-                share[2] * r01 + share[0] * r21,
-                share[1] * r02 + share[0] * r12,
+                q[1] * q[2] * (r01 + r02) * total,
+                q[2] * q[0] * (r12 + r01) * total,
+                q[0] * q[1] * (r02 + r12) * total,
             ]
         }
     }
