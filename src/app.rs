@@ -24,6 +24,9 @@ pub struct Output {
     pub stdout: String,
     /// Warnings, one line each, without the `warning:` prefix.
     pub warnings: Vec<String>,
+    /// True if the command ran but its verdict is a failure (exit code 1), e.g. `compare`
+    /// found a regression.
+    pub failed: bool,
 }
 
 /// Loads an OBJ mesh; the loader's report (welded vertices, re-oriented faces, …) becomes
@@ -255,6 +258,8 @@ pub fn run_metrics(
     Ok(Output {
         stdout: metrics_table(&metrics),
         warnings,
+
+        ..Default::default()
     })
 }
 
@@ -279,6 +284,8 @@ pub fn run_export(
             out_path.display()
         ),
         warnings,
+
+        ..Default::default()
     })
 }
 
@@ -304,6 +311,7 @@ pub fn run_sample(
             json.display()
         ),
         warnings,
+        ..Output::default()
     })
 }
 
@@ -312,6 +320,8 @@ pub fn run_schemes() -> Output {
     Output {
         stdout: schemes_listing(),
         warnings: Vec::new(),
+
+        ..Default::default()
     }
 }
 
@@ -333,6 +343,33 @@ pub fn run_default() -> Result<Output> {
             metrics_table(&metrics)
         ),
         warnings,
+
+        ..Default::default()
+    })
+}
+
+/// `smoothlab report`: measures every scheme on the benchmark meshes and writes
+/// `metrics.{json,csv,md}` into `out_dir`.
+pub fn run_report(out_dir: &Path) -> Result<Output> {
+    let report = crate::report::write(out_dir)?;
+    Ok(Output {
+        stdout: crate::report::to_markdown(&report),
+        ..Default::default()
+    })
+}
+
+/// `smoothlab compare OLD NEW`: the changes between two reports; fails on a regression.
+pub fn run_compare(
+    old: &Path,
+    new: &Path,
+    thresholds: crate::report::compare::Thresholds,
+) -> Result<Output> {
+    let (old, new) = (crate::report::read(old)?, crate::report::read(new)?);
+    let changes = crate::report::compare::compare(&old, &new, thresholds);
+    Ok(Output {
+        stdout: crate::report::compare::to_text(&changes),
+        failed: changes.iter().any(|c| c.regression),
+        ..Default::default()
     })
 }
 
