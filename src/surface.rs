@@ -65,7 +65,7 @@ impl Patch {
     pub fn partials(&self, u: f64, v: f64, max_order: usize) -> Option<Vec<DVec3>> {
         match &self.geometry {
             PatchGeometry::Bezier(b) => Some(b.partials(u, v, max_order)),
-            PatchGeometry::Blend(_) => None,
+            PatchGeometry::Blend(b) => b.partials(u, v, max_order),
         }
     }
 

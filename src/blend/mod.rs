@@ -27,6 +27,7 @@
 //!   sub-triangle control-net boxes.
 
 pub mod scalar_jet;
+pub mod taylor;
 pub mod weights;
 
 use glam::DVec3;
@@ -210,6 +211,37 @@ impl BlendPatch {
                 - wc.dv * from_next_back.p
                 - wc.v * from_next_back.dv,
         )
+    }
+
+    /// All partial derivatives `∂^{i+j} S / ∂u^i ∂v^j`, `i + j ≤ max_order` (at most
+    /// [`taylor::ORDER`]), in the order of [`TriangleBezier::partials`], from the weights in
+    /// truncated Taylor arithmetic and the sub-surfaces' exact partials. `None` within
+    /// [`CORNER_RADIUS`] of a corner, where the weights have no expansion.
+    pub fn partials(&self, u: f64, v: f64, max_order: usize) -> Option<Vec<DVec3>> {
+        let raw = [1.0 - u - v, u, v];
+        let c = nearest_corner(raw);
+        let (next, far) = ((c + 1) % 3, (c + 2) % 3);
+        let clamped = raw.map(|x| x.max(0.0));
+        if clamped[next] + clamped[far] < CORNER_RADIUS {
+            return None;
+        }
+        let order = taylor::ORDER;
+        let series = |s: &TriangleBezier| taylor::from_partials(&s.partials(u, v, order));
+        let mut total = series(&self.sub_surfaces[next]);
+        let b = [
+            taylor::Taylor::affine(raw[0], -1.0, -1.0),
+            taylor::Taylor::affine(raw[1], 1.0, 0.0),
+            taylor::Taylor::affine(raw[2], 0.0, 1.0),
+        ]
+        .map(Scalar::nonnegative);
+        let w = weights::weights(self.family, b);
+        taylor::add_product(&mut total, &w[far], &series(&self.differences[c]));
+        taylor::add_product(
+            &mut total,
+            &w[c].scale(-1.0),
+            &series(&self.differences[far]),
+        );
+        Some(taylor::to_partials(&total, max_order))
     }
 
     /// A box containing the blend over the sub-triangle with barycentric `corners`: the union

@@ -232,3 +232,37 @@ fn point_and_tangents_match_the_jet() {
         }
     }
 }
+
+/// The blend's partials agree with its jet up to order two, and its third-order partials
+/// with differences of the jet's second derivatives.
+#[test]
+fn partials_match_the_jet() {
+    let mut rng = Lcg(21);
+    for (n, family) in FAMILIES.into_iter().enumerate() {
+        let patch = random_blend(family, 150 + n as u64);
+        for _ in 0..30 {
+            let (u, v) = random_uv(&mut rng);
+            if u < 0.05 || v < 0.05 || u + v > 0.95 {
+                continue;
+            }
+            let all = patch.partials(u, v, 5).expect("away from the corners");
+            assert_eq!(all.len(), 21);
+            let jet = patch.jet(u, v);
+            let label = format!("{family:?} at ({u}, {v})");
+            for (k, want) in [jet.p, jet.du, jet.dv, jet.duu, jet.duv, jet.dvv]
+                .iter()
+                .enumerate()
+            {
+                let err = (all[k] - *want).length() / want.length().max(1.0);
+                assert!(err <= 1e-12, "{label}: partial {k} {} vs {want}", all[k]);
+            }
+            let h = 1e-3 * u.min(v).min(1.0 - u - v);
+            let duuu = derivative(|d| patch.jet(u + d, v).duu, h);
+            let dvvv = derivative(|d| patch.jet(u, v + d).dvv, h);
+            for (got, want) in [(all[6], duuu), (all[9], dvvv)] {
+                let err = (got - want).length() / want.length().max(1.0);
+                assert!(err <= 1e-6, "{label}: third order {got} vs {want}");
+            }
+        }
+    }
+}

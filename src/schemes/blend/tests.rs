@@ -214,3 +214,25 @@ fn boundary_rows_are_shared_bit_for_bit() {
         assert_eq!(a, b, "{joint:?}");
     }
 }
+
+/// The measured continuity order between faces is the designed one where no symmetry raises
+/// it: Fang–Mann t = 1, 2, 3 give G¹, G², G³, Nielson G¹.
+#[test]
+fn continuity_order_is_the_designed_one() {
+    for (name, mesh) in closed_test_meshes() {
+        if !ASYMMETRIC.contains(&name.as_str()) {
+            continue;
+        }
+        for (spec, t, expected) in [
+            (&nielson::SPEC, "1", 1),
+            (&fang_mann::SPEC, "1", 1),
+            (&fang_mann::SPEC, "2", 2),
+            (&fang_mann::SPEC, "3", 3),
+        ] {
+            let m = Metrics::measure(&build(spec, &mesh, &[("t", t)]), &mesh, 0.0);
+            let order = m.continuity_order_between_faces;
+            eprintln!("{} t={t} on {name}: order {order:?}", spec.name);
+            assert_eq!(order, Some(expected), "{} t={t} on {name}", spec.name);
+        }
+    }
+}
