@@ -289,6 +289,32 @@ pub fn run_export(
     })
 }
 
+/// `smoothlab sample MESH --scheme S [--param k=v]… --json F`.
+pub fn run_sample(
+    mesh_path: &Path,
+    scheme: &str,
+    raw_params: &[String],
+    json: &Path,
+) -> Result<Output> {
+    let params = parse_params(raw_params)?;
+    schemes::find(scheme)?;
+    let (mesh, warnings) = load_mesh(mesh_path)?;
+    let (surface, _) = build_timed(scheme, &mesh, &params)?;
+    let samples = export::samples::edge_samples(&surface, &mesh)?;
+    let text = serde_json::to_string(&samples)
+        .map_err(|e| Error::Invalid(format!("edge samples JSON: {e}")))?;
+    write_file(json, &text)?;
+    Ok(Output {
+        stdout: format!(
+            "wrote samples of {} edges of '{scheme}' to {}\n",
+            samples.edges.len(),
+            json.display()
+        ),
+        warnings,
+        ..Output::default()
+    })
+}
+
 /// `smoothlab schemes`.
 pub fn run_schemes() -> Output {
     Output {

@@ -6,6 +6,7 @@
 
 pub mod app;
 pub mod bezier;
+pub mod blend;
 pub mod error;
 pub mod export;
 pub mod geom;

@@ -53,6 +53,21 @@ enum Command {
         #[arg(long = "param", value_name = "NAME=VALUE")]
         params: Vec<String>,
     },
+    /// Build a scheme on a mesh and write, for every shared edge, points and normals sampled
+    /// from both of its faces (edge-samples JSON).
+    Sample {
+        /// The mesh (OBJ).
+        mesh: PathBuf,
+        /// Scheme name.
+        #[arg(long)]
+        scheme: String,
+        /// Scheme parameter `name=value` (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// Output file.
+        #[arg(long, value_name = "FILE")]
+        json: PathBuf,
+    },
     /// List the schemes and their parameters.
     Schemes,
     /// Measure every scheme on the benchmark meshes; write metrics.{json,csv,md}.
@@ -126,6 +141,12 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             tess,
             params,
         }) => app::run_export(&mesh, &scheme, format.into(), &output, tess, &params),
+        Some(Command::Sample {
+            mesh,
+            scheme,
+            params,
+            json,
+        }) => app::run_sample(&mesh, &scheme, &params, &json),
         Some(Command::Schemes) => Ok(app::run_schemes()),
         Some(Command::Report { out }) => app::run_report(&out),
         Some(Command::Compare {

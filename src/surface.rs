@@ -16,6 +16,7 @@ use std::collections::HashMap;
 use glam::{DMat3, DVec2, DVec3};
 
 use crate::bezier::TriangleBezier;
+use crate::blend::BlendPatch;
 use crate::geom::{Aabb, Jet};
 
 /// The geometry of one patch. Polynomial patches are Bézier triangles; non-polynomial
@@ -24,6 +25,8 @@ use crate::geom::{Aabb, Jet};
 pub enum PatchGeometry {
     /// A triangular Bézier patch of any degree.
     Bezier(TriangleBezier),
+    /// Three Bézier sub-surfaces blended with rational weights (Nielson, Fang–Mann).
+    Blend(BlendPatch),
 }
 
 /// One piece of a surface.
@@ -44,6 +47,7 @@ impl Patch {
     pub fn eval(&self, u: f64, v: f64) -> DVec3 {
         match &self.geometry {
             PatchGeometry::Bezier(b) => b.eval(DVec3::new(1.0 - u - v, u, v)),
+            PatchGeometry::Blend(b) => b.eval(u, v),
         }
     }
 
@@ -51,6 +55,7 @@ impl Patch {
     pub fn jet(&self, u: f64, v: f64) -> Jet {
         match &self.geometry {
             PatchGeometry::Bezier(b) => b.jet(u, v),
+            PatchGeometry::Blend(b) => b.jet(u, v),
         }
     }
 
@@ -60,17 +65,17 @@ impl Patch {
     pub fn partials(&self, u: f64, v: f64, max_order: usize) -> Option<Vec<DVec3>> {
         match &self.geometry {
             PatchGeometry::Bezier(b) => Some(b.partials(u, v, max_order)),
+            PatchGeometry::Blend(b) => b.partials(u, v, max_order),
         }
     }
 
     /// A box that contains the image of the sub-triangle of the `(u, v)` domain with corners
     /// `tri` (conservative: it may be larger than the image, never smaller).
     pub fn bounds(&self, tri: [DVec2; 3]) -> Aabb {
+        let bary = tri.map(|c| DVec3::new(1.0 - c.x - c.y, c.x, c.y));
         match &self.geometry {
-            PatchGeometry::Bezier(b) => {
-                let bary = tri.map(|c| DVec3::new(1.0 - c.x - c.y, c.x, c.y));
-                b.sub_triangle_bounds(bary)
-            }
+            PatchGeometry::Bezier(b) => b.sub_triangle_bounds(bary),
+            PatchGeometry::Blend(b) => b.sub_triangle_bounds(bary),
         }
     }
 
@@ -78,6 +83,7 @@ impl Patch {
     pub fn full_bounds(&self) -> Aabb {
         match &self.geometry {
             PatchGeometry::Bezier(b) => b.control_bounds(),
+            PatchGeometry::Blend(b) => b.control_bounds(),
         }
     }
 
@@ -103,6 +109,7 @@ impl Patch {
     pub fn degree(&self) -> Option<usize> {
         match &self.geometry {
             PatchGeometry::Bezier(b) => Some(b.degree()),
+            PatchGeometry::Blend(_) => None,
         }
     }
 
@@ -110,6 +117,15 @@ impl Patch {
     pub fn as_bezier(&self) -> Option<&TriangleBezier> {
         match &self.geometry {
             PatchGeometry::Bezier(b) => Some(b),
+            PatchGeometry::Blend(_) => None,
+        }
+    }
+
+    /// The blend, if the patch is a blended (non-polynomial) patch.
+    pub fn as_blend(&self) -> Option<&BlendPatch> {
+        match &self.geometry {
+            PatchGeometry::Blend(b) => Some(b),
+            PatchGeometry::Bezier(_) => None,
         }
     }
 }

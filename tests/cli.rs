@@ -328,7 +328,14 @@ fn all_on_an_open_mesh_skips_hb_with_a_warning() {
         .iter()
         .filter_map(|m| m["scheme"].as_str())
         .collect();
-    assert_eq!(names, ["flat", "pn", "piper"]);
+    // Every scheme that takes open meshes (flat, pn and the blends), in registry order.
+    let open_capable: Vec<&str> = smoothlab::schemes::SCHEMES
+        .iter()
+        .filter(|s| !s.needs_closed_mesh)
+        .map(|s| s.name)
+        .collect();
+    assert_eq!(names, open_capable);
+    assert_eq!(&names[..2], ["flat", "pn"]);
 }
 
 fn export(dir: &Path, format: &str, extra: &[&str]) -> (Output, PathBuf) {
@@ -442,6 +449,7 @@ fn all_on_a_closed_mesh_measures_every_scheme() {
     let list = value.as_array().expect("list");
     let names: Vec<&str> = list.iter().filter_map(|m| m["scheme"].as_str()).collect();
     assert_eq!(names, smoothlab::schemes::names());
+    assert_eq!(&names[..3], ["flat", "pn", "hb"]);
     // piper is G1 with 3 patches per face.
     let piper = &list[names
         .iter()
@@ -537,4 +545,88 @@ fn piper_works_on_an_open_mesh_with_file_normals_and_thesis_scaling() {
         &["--scheme", "piper", "--param", "scaling=cubic"],
     );
     assert_fails_naming(&out, &["scaling", "cubic"]);
+}
+
+/// Largest normal angle and point gap between the two sides over an edge-samples file, read
+/// with nothing but serde_json and arithmetic.
+fn sample_jumps(value: &serde_json::Value) -> (usize, f64, f64) {
+    let xyz = |v: &serde_json::Value| -> [f64; 3] {
+        let a = v.as_array().expect("xyz");
+        [0, 1, 2].map(|i| a[i].as_f64().expect("number"))
+    };
+    let edges = value["edges"].as_array().expect("edges");
+    let (mut angle, mut gap) = (0.0_f64, 0.0_f64);
+    for edge in edges {
+        let (s0, s1) = (
+            edge["side0"].as_array().expect("side0"),
+            edge["side1"].as_array().expect("side1"),
+        );
+        assert_eq!(s0.len(), s1.len(), "same points on both sides");
+        assert_eq!(edge["faces"].as_array().map(Vec::len), Some(2));
+        for (p, q) in s0.iter().zip(s1) {
+            let (n0, n1) = (xyz(&p["normal"]), xyz(&q["normal"]));
+            let cross = [
+                n0[1] * n1[2] - n0[2] * n1[1],
+                n0[2] * n1[0] - n0[0] * n1[2],
+                n0[0] * n1[1] - n0[1] * n1[0],
+            ];
+            let sin = cross.iter().map(|c| c * c).sum::<f64>().sqrt();
+            let cos: f64 = (0..3).map(|i| n0[i] * n1[i]).sum();
+            angle = angle.max(sin.atan2(cos));
+            let (a, b) = (xyz(&p["point"]), xyz(&q["point"]));
+            gap = gap.max((0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt());
+        }
+    }
+    (edges.len(), angle, gap)
+}
+
+#[test]
+fn sample_writes_both_sides_of_every_edge() {
+    let dir = scratch("sample");
+    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cube.obj");
+    let cube = cube.to_str().expect("utf-8");
+    for (scheme, param, smooth) in [
+        ("fang-mann", "t=2", true),
+        ("nielson", "t=1", true),
+        ("hb", "alpha=0.5", true),
+        ("pn", "normals=estimate", false),
+    ] {
+        let json = dir.join(format!("{scheme}.json"));
+        let json_arg = json.to_str().expect("utf-8");
+        let out = smoothlab(&[
+            "sample", cube, "--scheme", scheme, "--param", param, "--json", json_arg,
+        ]);
+        assert!(out.status.success(), "{scheme}: {}", stderr(&out));
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(stdout.contains("18 edges"), "{stdout}");
+        let text = std::fs::read_to_string(&json).expect("samples written");
+        let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+        let (edges, angle, gap) = sample_jumps(&value);
+        println!("{scheme} {param}: {edges} edges, normal jump {angle:.2e} rad, gap {gap:.1e}");
+        assert_eq!(edges, 18, "the cube's 12 triangles have 18 edges");
+        assert!(gap <= 1e-12, "{scheme}: sides apart by {gap}");
+        if smooth {
+            assert!(angle <= 1e-9, "{scheme}: normal jump {angle} rad");
+        } else {
+            assert!(
+                angle > 0.05,
+                "{scheme}: pn must show its normal jump, got {angle}"
+            );
+        }
+    }
+    let out = smoothlab(&["sample", cube, "--scheme", "coons", "--json", "x.json"]);
+    assert_fails_naming(&out, &["'coons'"]);
+    let out = smoothlab(&[
+        "sample",
+        cube,
+        "--scheme",
+        "fang-mann",
+        "--param",
+        "t=9",
+        "--json",
+        "x.json",
+    ]);
+    assert_fails_naming(&out, &["'t'"]);
+    let out = smoothlab(&["sample", cube, "--scheme", "pn"]);
+    assert_fails_naming(&out, &["--json"]);
 }

@@ -6,7 +6,11 @@
 //! ```
 //!
 //! `points` are in smoothlab's order of multi-indices (i from d down to 0, then j from d−i
-//! down to 0; `b(d,0,0)` first, at barycentric (1,0,0)). Numbers are written in the shortest
+//! down to 0; `b(d,0,0)` first, at barycentric (1,0,0)). A blended patch
+//! ([`crate::blend::BlendPatch`]) is written as `"kind":"blend"` with its weight family
+//! (`"weights":"nielson"` or `"fang-mann"`, and `"t"`) and the three sub-surfaces' points one
+//! after the other in `points` (`3 (d+1)(d+2)/2` of them; sub-surface `i` owns the edge
+//! opposite corner `i`). Numbers are written in the shortest
 //! form that reads back to the same f64, and read back exactly, so a round trip reproduces
 //! the surface bit for bit.
 
@@ -16,8 +20,12 @@ use serde::{Deserialize, Serialize};
 
 use crate::bezier::TriangleBezier;
 use crate::bezier::triangle::point_count;
+use crate::blend::{BlendPatch, WeightFamily};
 use crate::error::{Error, Result};
-use crate::surface::Surface;
+use crate::surface::{PatchGeometry, Surface};
+
+/// Value of the `kind` field of a blended patch.
+pub const BLEND_KIND: &str = "blend";
 
 /// Value of the `format` field.
 pub const FORMAT_NAME: &str = "smoothlab-patches";
@@ -31,10 +39,76 @@ pub struct PatchRecord {
     pub face: u32,
     /// Which piece of the face it is.
     pub piece: u8,
-    /// Polynomial degree.
+    /// Polynomial degree (of the sub-surfaces, for a blend).
     pub degree: usize,
-    /// Control points in smoothlab's order.
+    /// Absent for a Bézier patch; [`BLEND_KIND`] for a blend.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
+    /// A blend's weight family: `nielson` or `fang-mann`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weights: Option<String>,
+    /// A blend's order `t` (Fang–Mann) or power (Nielson).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t: Option<u32>,
+    /// Control points in smoothlab's order (a blend: its three sub-surfaces in turn).
     pub points: Vec<[f64; 3]>,
+}
+
+impl PatchRecord {
+    /// How many nets the record holds: one, or three for a blend.
+    fn nets(&self) -> usize {
+        if self.kind.is_some() { 3 } else { 1 }
+    }
+
+    /// The patch geometry the record describes (checked by [`PatchFile::parse`]).
+    pub fn geometry(&self) -> PatchGeometry {
+        let n = point_count(self.degree);
+        let net = |k: usize| {
+            let points = self.points[k * n..(k + 1) * n].iter().map(|&p| p.into());
+            TriangleBezier::new(self.degree, points.collect())
+        };
+        match (self.weights.as_deref(), self.t) {
+            (Some(family), Some(t)) if self.kind.is_some() => {
+                let family = if family == "nielson" {
+                    WeightFamily::Nielson { power: t }
+                } else {
+                    WeightFamily::FangMann { t }
+                };
+                PatchGeometry::Blend(BlendPatch::new(family, [net(0), net(1), net(2)]))
+            }
+            _ => PatchGeometry::Bezier(net(0)),
+        }
+    }
+}
+
+fn record(face: u32, piece: u8, geometry: &PatchGeometry) -> PatchRecord {
+    let xyz = |b: &TriangleBezier| b.points().iter().map(|p| p.to_array()).collect::<Vec<_>>();
+    match geometry {
+        PatchGeometry::Bezier(b) => PatchRecord {
+            face,
+            piece,
+            degree: b.degree(),
+            kind: None,
+            weights: None,
+            t: None,
+            points: xyz(b),
+        },
+        PatchGeometry::Blend(blend) => {
+            let (name, t) = match blend.family() {
+                WeightFamily::Nielson { power } => ("nielson", power),
+                WeightFamily::FangMann { t } => ("fang-mann", t),
+            };
+            PatchRecord {
+                face,
+                piece,
+                degree: blend.degree(),
+                kind: Some(BLEND_KIND.to_string()),
+                weights: Some(name.to_string()),
+                t: Some(t),
+                points: blend.sub_surfaces().iter().flat_map(xyz).collect(),
+            }
+        }
+    }
 }
 
 /// A whole patch file.
@@ -53,28 +127,13 @@ pub struct PatchFile {
 }
 
 impl PatchFile {
-    /// The records of `surface`. Fails on a patch with no Bézier form, naming it.
+    /// The records of `surface`.
     pub fn from_surface(surface: &Surface) -> Result<PatchFile> {
         let patches = surface
             .patches
             .iter()
-            .enumerate()
-            .map(|(index, patch)| {
-                let bezier = patch.as_bezier().ok_or_else(|| {
-                    Error::Invalid(format!(
-                        "patch {index} (face {}, piece {}) is not polynomial and has no \
-                         Bézier control points to export",
-                        patch.face, patch.piece
-                    ))
-                })?;
-                Ok(PatchRecord {
-                    face: patch.face,
-                    piece: patch.piece,
-                    degree: bezier.degree(),
-                    points: bezier.points().iter().map(|p| p.to_array()).collect(),
-                })
-            })
-            .collect::<Result<Vec<_>>>()?;
+            .map(|patch| record(patch.face, patch.piece, &patch.geometry))
+            .collect();
         Ok(PatchFile {
             format: FORMAT_NAME.to_string(),
             version: FORMAT_VERSION,
@@ -97,12 +156,21 @@ impl PatchFile {
             )));
         }
         for (index, record) in file.patches.iter().enumerate() {
-            if record.points.len() != point_count(record.degree) {
+            if let Some(kind) = record.kind.as_deref() {
+                let known = matches!(record.weights.as_deref(), Some("nielson" | "fang-mann"));
+                if kind != BLEND_KIND || !known || record.t.is_none() {
+                    return Err(Error::Invalid(format!(
+                        "patch JSON: patch {index} has kind '{kind}' without known weights \
+                         and t (expected kind '{BLEND_KIND}', weights nielson or fang-mann)"
+                    )));
+                }
+            }
+            let expected = record.nets() * point_count(record.degree);
+            if record.points.len() != expected {
                 return Err(Error::Invalid(format!(
-                    "patch JSON: patch {index} has degree {} but {} points (expected {})",
+                    "patch JSON: patch {index} has degree {} but {} points (expected {expected})",
                     record.degree,
                     record.points.len(),
-                    point_count(record.degree)
                 )));
             }
             if record.points.iter().flatten().any(|x| !x.is_finite()) {
@@ -114,12 +182,9 @@ impl PatchFile {
         Ok(file)
     }
 
-    /// The Bézier triangles of the records (checked by [`PatchFile::parse`]).
-    pub fn triangles(&self) -> Vec<TriangleBezier> {
-        self.patches
-            .iter()
-            .map(|r| TriangleBezier::new(r.degree, r.points.iter().map(|&p| p.into()).collect()))
-            .collect()
+    /// The geometry of every record (checked by [`PatchFile::parse`]).
+    pub fn geometries(&self) -> Vec<PatchGeometry> {
+        self.patches.iter().map(PatchRecord::geometry).collect()
     }
 }
 
@@ -157,10 +222,28 @@ mod tests {
             domain: [DVec3::X, DVec3::Y, DVec3::Z],
             geometry: PatchGeometry::Bezier(b),
         };
+        let blend = |family| Patch {
+            face: 9,
+            piece: 0,
+            domain: [DVec3::X, DVec3::Y, DVec3::Z],
+            geometry: PatchGeometry::Blend(BlendPatch::new(
+                family,
+                [
+                    cubic.clone(),
+                    cubic.map_points(|p| p * 0.3),
+                    cubic.map_points(|p| -p),
+                ],
+            )),
+        };
         Surface {
             scheme: "test".into(),
             params: vec![("alpha".into(), "0.5".into())],
-            patches: vec![patch(4, 1, quadratic), patch(7, 0, cubic)],
+            patches: vec![
+                patch(4, 1, quadratic),
+                patch(7, 0, cubic.clone()),
+                blend(WeightFamily::FangMann { t: 2 }),
+                blend(WeightFamily::Nielson { power: 1 }),
+            ],
         }
     }
 
@@ -171,15 +254,11 @@ mod tests {
         let file = PatchFile::parse(&text).expect("reads back");
         assert_eq!(file.scheme, "test");
         assert_eq!(file.params.get("alpha").map(String::as_str), Some("0.5"));
-        let triangles = file.triangles();
-        assert_eq!(triangles.len(), surface.patches.len());
-        for ((record, read), patch) in file.patches.iter().zip(&triangles).zip(&surface.patches) {
+        let geometries = file.geometries();
+        assert_eq!(geometries.len(), surface.patches.len());
+        for ((record, read), patch) in file.patches.iter().zip(&geometries).zip(&surface.patches) {
             assert_eq!((record.face, record.piece), (patch.face, patch.piece));
-            assert_eq!(Some(read), patch.as_bezier(), "control points bit for bit");
-            for (u, v) in [(0.1, 0.2), (0.5, 0.25), (0.0, 1.0), (1.0 / 3.0, 1.0 / 3.0)] {
-                let bary = DVec3::new(1.0 - u - v, u, v);
-                assert_eq!(read.eval(bary), patch.eval(u, v), "at ({u}, {v})");
-            }
+            assert_eq!(read, &patch.geometry, "control points bit for bit");
         }
     }
 
@@ -198,6 +277,17 @@ mod tests {
         );
         // b(2,0,0) first: x = sqrt(2.1).
         assert_eq!(value["patches"][0]["points"][0][0], 2.1_f64.sqrt());
+        assert!(
+            value["patches"][0].get("kind").is_none(),
+            "Bézier records have no kind"
+        );
+        let blend = &value["patches"][2];
+        assert_eq!(blend["kind"], "blend");
+        assert_eq!(blend["weights"], "fang-mann");
+        assert_eq!(blend["t"], 2);
+        assert_eq!(blend["degree"], 3);
+        assert_eq!(blend["points"].as_array().map(Vec::len), Some(30));
+        assert_eq!(value["patches"][3]["weights"], "nielson");
     }
 
     #[test]
@@ -207,5 +297,13 @@ mod tests {
                        {"face":1,"piece":0,"degree":2,"points":[[0,0,0]]}]}"#;
         let err = PatchFile::parse(text).expect_err("bad count");
         assert!(err.to_string().contains("patch 1"), "{err}");
+        let blend = r#"{"format":"smoothlab-patches","version":1,"scheme":"x","params":{},
+            "patches":[{"face":0,"piece":0,"degree":1,"kind":"blend","weights":"nielson","t":1,
+                        "points":[[0,0,0],[1,0,0],[0,1,0]]}]}"#;
+        let err = PatchFile::parse(blend).expect_err("a blend needs three nets");
+        assert!(err.to_string().contains("expected 9"), "{err}");
+        let unknown = blend.replace("\"nielson\"", "\"coons\"");
+        let err = PatchFile::parse(&unknown).expect_err("unknown weights");
+        assert!(err.to_string().contains("patch 0"), "{err}");
     }
 }

@@ -1,11 +1,13 @@
 //! Writing surfaces for other tools: the patch JSON of DESIGN.md ([`json`]), BezierView's
-//! `.bv` files ([`bezierview`]) and a tessellated OBJ with exact normals ([`obj`]).
+//! `.bv` files ([`bezierview`]), a tessellated OBJ with exact normals ([`obj`]) and the edge
+//! samples of `smoothlab sample` ([`samples`]).
 //!
 //! Every writer returns the file's text; the caller decides where it goes.
 
 pub mod bezierview;
 pub mod json;
 pub mod obj;
+pub mod samples;
 
 use crate::error::{Error, Result};
 use crate::surface::Surface;

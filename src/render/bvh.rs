@@ -16,9 +16,10 @@ use obvhs::cwbvh::builder::build_cwbvh;
 use rayon::prelude::*;
 
 use crate::bezier::TriangleBezier;
+use crate::blend::BlendPatch;
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
-use crate::surface::{Surface, UV_CORNERS};
+use crate::surface::{Patch, PatchGeometry, Surface, UV_CORNERS};
 
 /// When a piece of a patch is small enough to be a BVH leaf.
 ///
@@ -271,29 +272,9 @@ impl PatchBvh {
             .patches
             .par_iter()
             .enumerate()
-            .map(|(pi, patch)| match patch.as_bezier() {
-                Some(net) => subdivide_patch(pi as u32, net, criterion),
-                None => vec![(
-                    {
-                        let b = patch.full_bounds();
-                        let box_corners: Vec<DVec3> = (0..8)
-                            .map(|k| {
-                                DVec3::new(
-                                    if k & 1 == 0 { b.min.x } else { b.max.x },
-                                    if k & 2 == 0 { b.min.y } else { b.max.y },
-                                    if k & 4 == 0 { b.min.z } else { b.max.z },
-                                )
-                            })
-                            .collect();
-                        Leaf::new(
-                            pi as u32,
-                            UV_CORNERS,
-                            UV_CORNERS.map(|c| patch.eval(c.x, c.y)),
-                            &box_corners,
-                        )
-                    },
-                    patch.full_bounds(),
-                )],
+            .map(|(pi, patch)| match &patch.geometry {
+                PatchGeometry::Bezier(net) => subdivide_patch(pi as u32, net, criterion),
+                PatchGeometry::Blend(blend) => subdivide_blend(pi as u32, patch, blend, criterion),
             })
             .collect();
         let (leaves, boxes): (Vec<Leaf>, Vec<obvhs::aabb::Aabb>) = per_patch
@@ -355,6 +336,43 @@ fn subdivide_patch(
         // Pushed in reverse so that leaves come out in child order (deterministic layout).
         for c in (0..4).rev() {
             stack.push((child_tris[c], piece.subdivide(CHILD_CORNERS[c]), depth + 1));
+        }
+    }
+    out
+}
+
+/// The leaves of a blended patch: its three sub-surfaces are split along the same
+/// sub-triangles until each of their nets passes [`is_leaf`]. The blend over a piece is a
+/// convex combination of the three sub-patches at the same parameter, so the box (and the
+/// oriented box) around all three nets contains it; the start plane is spanned by the blend's
+/// own points at the piece's corners.
+fn subdivide_blend(
+    patch_index: u32,
+    patch: &Patch,
+    blend: &BlendPatch,
+    criterion: &SubdivisionCriterion,
+) -> Vec<(Leaf, Aabb)> {
+    let mut out = Vec::new();
+    let mut stack = vec![(UV_CORNERS, blend.sub_surfaces().clone(), 0u32)];
+    while let Some((tri, nets, depth)) = stack.pop() {
+        let done = depth >= criterion.max_depth
+            || (depth >= criterion.min_depth && nets.iter().all(|n| is_leaf(n, criterion)));
+        if done {
+            let corners = tri.map(|c| patch.eval(c.x, c.y));
+            let points: Vec<DVec3> = nets
+                .iter()
+                .flat_map(|n| n.points().iter().copied())
+                .collect();
+            let bounds = nets
+                .iter()
+                .fold(Aabb::EMPTY, |b, n| b.union(n.control_bounds()));
+            out.push((Leaf::new(patch_index, tri, corners, &points), bounds));
+            continue;
+        }
+        let child_tris = split4(tri);
+        for c in (0..4).rev() {
+            let children = nets.each_ref().map(|n| n.subdivide(CHILD_CORNERS[c]));
+            stack.push((child_tris[c], children, depth + 1));
         }
     }
     out

@@ -15,6 +15,9 @@ pub const MAX_STACK_DEGREE: usize = 6;
 
 /// `S(u, v)`, `∂S/∂u`, `∂S/∂v` at barycentric `(1−u−v, u, v)`.
 pub fn point_and_tangents(patch: &Patch, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
+    if let Some(blend) = patch.as_blend() {
+        return blend.point_and_tangents(u, v);
+    }
     let Some(net) = patch.as_bezier() else {
         let jet = patch.jet(u, v);
         return (jet.p, jet.du, jet.dv);

@@ -2,6 +2,7 @@
 //! [`SCHEMES`]. `build` checks the parameter names, fills in defaults and refuses meshes a
 //! scheme cannot take (by name), so scheme code only sees valid input.
 
+pub mod blend;
 pub mod flat;
 pub mod hb;
 pub mod loop94;
@@ -42,7 +43,15 @@ pub struct SchemeSpec {
 }
 
 /// Every scheme, in the order the gallery and tables show them.
-pub const SCHEMES: &[SchemeSpec] = &[flat::SPEC, pn::SPEC, hb::SPEC, loop94::SPEC, piper::SPEC];
+pub const SCHEMES: &[SchemeSpec] = &[
+    flat::SPEC,
+    pn::SPEC,
+    hb::SPEC,
+    loop94::SPEC,
+    piper::SPEC,
+    blend::nielson::SPEC,
+    blend::fang_mann::SPEC,
+];
 
 /// Looks a scheme up by name.
 pub fn find(name: &str) -> Result<&'static SchemeSpec> {

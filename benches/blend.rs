@@ -1,0 +1,158 @@
+//! Blend evaluation and rendering against `hb`:
+//! - throughput of the patch jet (a blend: three cubic or quartic sub-surface jets and the
+//!   rational weights with their derivatives), every patch of the deformed icosahedron at the
+//!   same parameter points;
+//! - primary-ray throughput of the exact renderer (closest hit, one thread) on the same torus
+//!   mesh built with `hb`, `fang-mann t=2` and `nielson`, with the same camera rays.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use glam::DVec3;
+use smoothlab::mesh::generate::analytic::torus;
+use smoothlab::mesh::{Mesh, generate};
+use smoothlab::render::bvh::SubdivisionCriterion;
+use smoothlab::render::camera::Camera;
+use smoothlab::render::intersect::IntersectCounters;
+use smoothlab::render::job::surface_samples;
+use smoothlab::render::{NewtonSettings, Ray64, SurfaceTracer, Tracer};
+use smoothlab::surface::Surface;
+
+/// Parameter points per patch, spread over the domain.
+const SAMPLES: usize = 64;
+
+fn surface(scheme: &str, params: &[(&str, &str)]) -> Surface {
+    let (positions, faces) = generate::deformed_icosahedron();
+    build(scheme, params, positions, faces)
+}
+
+fn build(
+    scheme: &str,
+    params: &[(&str, &str)],
+    positions: Vec<DVec3>,
+    faces: Vec<[u32; 3]>,
+) -> Surface {
+    let mesh = Mesh::from_triangles(positions, faces)
+        .expect("valid mesh")
+        .0;
+    let params: Vec<(String, String)> = params
+        .iter()
+        .map(|(n, v)| (n.to_string(), v.to_string()))
+        .collect();
+    smoothlab::schemes::build(scheme, &mesh, &params).expect("scheme builds")
+}
+
+fn jet_throughput(c: &mut Criterion) {
+    let params: Vec<(f64, f64)> = (0..SAMPLES)
+        .map(|n| {
+            let u = (n as f64 * 0.618_033_988_75).fract();
+            let v = (n as f64 * 0.754_877_666_25).fract() * (1.0 - u);
+            (u, v)
+        })
+        .collect();
+    let mut group = c.benchmark_group("patch_jet");
+    for (label, scheme, p) in [
+        ("hb", "hb", vec![]),
+        ("fang-mann-t2", "fang-mann", vec![("t", "2")]),
+        ("nielson", "nielson", vec![]),
+    ] {
+        let surface = surface(scheme, &p);
+        group.throughput(Throughput::Elements(
+            (SAMPLES * surface.patches.len()) as u64,
+        ));
+        group.bench_function(label, |b| {
+            b.iter(|| {
+                let mut acc = DVec3::ZERO;
+                for patch in &surface.patches {
+                    for &(u, v) in &params {
+                        let jet = patch.jet(black_box(u), black_box(v));
+                        acc += jet.p + jet.duu;
+                    }
+                }
+                acc
+            })
+        });
+    }
+    group.finish();
+}
+
+/// Camera rays of a `side × side` image framing `surface`.
+fn camera_rays(surface: &Surface, side: u32) -> Vec<Ray64> {
+    let camera = Camera::frame_points(&surface_samples(surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
+        .expect("camera");
+    let mut rays = Vec::with_capacity((side * side) as usize);
+    for y in 0..side {
+        for x in 0..side {
+            let nx = 2.0 * (f64::from(x) + 0.5) / f64::from(side) - 1.0;
+            let ny = 1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(side);
+            rays.push(camera.ray(nx, ny, 1.0));
+        }
+    }
+    rays
+}
+
+fn trace_all(tracer: &Tracer, rays: &[Ray64]) -> (u64, IntersectCounters) {
+    let mut counters = IntersectCounters::default();
+    let mut hits = 0;
+    for ray in rays {
+        if tracer
+            .closest_hit(ray, 0.0, f64::INFINITY, &mut counters)
+            .is_some()
+        {
+            hits += 1;
+        }
+    }
+    (hits, counters)
+}
+
+fn primary_rays(c: &mut Criterion) {
+    // 40 × 20 quads → 1600 faces: 6400 hb patches, 1600 blend patches.
+    let sampled = torus(40, 20, 1.0, 0.35);
+    let surfaces: Vec<(&str, Surface)> = [
+        ("hb", "hb", vec![]),
+        ("fang-mann-t2", "fang-mann", vec![("t", "2")]),
+        ("nielson", "nielson", vec![]),
+    ]
+    .into_iter()
+    .map(|(label, scheme, p)| {
+        let s = build(scheme, &p, sampled.positions.clone(), sampled.faces.clone());
+        (label, s)
+    })
+    .collect();
+    let rays = camera_rays(&surfaces[0].1, 128);
+    let mut group = c.benchmark_group("primary_rays_torus_1600_faces");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(4));
+    group.throughput(Throughput::Elements(rays.len() as u64));
+    for (label, surface) in &surfaces {
+        let tracer = Tracer::new(
+            surface,
+            &SubdivisionCriterion::default(),
+            NewtonSettings::default(),
+        )
+        .expect("tracer");
+        let (hits, counters) = trace_all(&tracer, &rays);
+        println!(
+            "{label}: {} patches, {} leaves, build {:.0} ms; {hits}/{} rays hit; Newton runs \
+             per ray {:.2}, mean iterations {:.2}, failures {}",
+            surface.patches.len(),
+            tracer.leaf_count(),
+            tracer.build_ms(),
+            rays.len(),
+            counters.newton_runs as f64 / rays.len() as f64,
+            counters.accepted_iterations as f64 / counters.roots_accepted.max(1) as f64,
+            counters.newton_failures,
+        );
+        group.bench_function(*label, |b| b.iter(|| trace_all(&tracer, black_box(&rays))));
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).measurement_time(Duration::from_secs(2));
+    targets = jet_throughput, primary_rays
+}
+criterion_main!(benches);

@@ -1,0 +1,269 @@
+//! The boundary-blending schemes [FM]: per face, three sub-surfaces `S_0, S_1, S_2`, `S_i`
+//! owning the edge opposite corner `i`, blended by [`crate::blend::BlendPatch`] —
+//! [`nielson`] (Nielson's side-vertex weights, quartic sub-surfaces that share the face's
+//! boundary curves, G¹) and [`fang_mann`] (Fang–Mann's weights, cubic sub-surfaces cut
+//! from one shared "edge surface" per mesh edge, `C^t`).
+//!
+//! Both start from the same per-edge data, [`EdgeFrame`], computed once per mesh edge from
+//! the positions of its two vertices, their normals and the apexes of its (one or two)
+//! faces, so that the two faces of an edge see bit-identical data:
+//! * the **boundary curve** `C(s)`, the cubic through the two vertices whose inner control
+//!   points are the edge's thirds projected into the end tangent planes (as in PN triangles):
+//!   `C'(0) = π_a(P_b − P_a)`, `C'(1) = π_b(P_b − P_a)` with `π_x` the projection onto the
+//!   plane orthogonal to `N_x`;
+//! * a **transversal field** `D(s) = (1−s) D_a + s D_b`, `D_x = π_x(f̄)`, where `f̄` is the
+//!   mean of the faces' in-plane perpendiculars to the edge (each of length `|P_b − P_a|`,
+//!   pointing to the left of `a → b`). For a flat pair of faces this is their common
+//!   perpendicular; for a pair folded symmetrically about the vertex tangent plane the
+//!   projections of both faces' perpendiculars agree, so the transversal derivative at a
+//!   vertex is what the neighbouring edges' boundary curves predict there;
+//! * each face's **apex** in the edge's own plane `(s, h)`: the vertex opposite the edge,
+//!   written as `P_a + σ (P_b − P_a) + h f` with `h > 0` for the face that runs `a → b`
+//!   (on the left) and `h < 0` for the face that runs `b → a`.
+
+pub mod fang_mann;
+pub mod nielson;
+#[cfg(test)]
+mod tests;
+
+use std::collections::HashMap;
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use crate::bezier::CurveBezier;
+use crate::bezier::TriangleBezier;
+use crate::blend::{BlendPatch, WeightFamily};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::schemes::Params;
+use crate::surface::{Patch, PatchGeometry, Surface};
+
+/// Smallest `|π(e) × D| / |e|²` accepted at an edge end: below it the vertex normal is
+/// (nearly) in the plane of the boundary tangent and the transversal, and the sub-surfaces
+/// would be singular there.
+pub const MIN_FRAME_AREA: f64 = 1e-8;
+
+/// The data of one mesh edge `a → b` (`a < b`) shared by the faces on both sides.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EdgeFrame {
+    /// First vertex (the smaller index).
+    pub a: u32,
+    /// Second vertex.
+    pub b: u32,
+    /// The boundary curve from `P_a` to `P_b` (cubic).
+    pub curve: CurveBezier,
+    /// The same curve elevated to degree four (computed once, so faces share it bit for bit).
+    pub curve_quartic: CurveBezier,
+    /// Transversal derivative at `a` and at `b` (in the tangent planes there), pointing to
+    /// the left of `a → b`.
+    pub transversal: [DVec3; 2],
+    /// The apex of the face on the left (runs `a → b`; `h > 0`) and on the right (runs
+    /// `b → a`; `h < 0`) in edge coordinates `(σ, h)`, with its vertex.
+    pub apex: [Option<(DVec2, DVec3)>; 2],
+}
+
+impl EdgeFrame {
+    /// The domain point of the apex of the face that runs `a → b` (`left = true`) or
+    /// `b → a`. Panics if that side has no face (callers ask only for their own face).
+    pub fn apex_point(&self, left: bool) -> DVec2 {
+        self.apex[usize::from(!left)]
+            .expect("the face asking for its apex lies on that side")
+            .0
+    }
+}
+
+/// Builds the frame of edge `(a, b)`, `a < b`, from the apexes of its faces (`left`: the
+/// face that runs `a → b`; `right`: the face that runs `b → a`).
+fn edge_frame(
+    a: u32,
+    b: u32,
+    positions: &[DVec3],
+    normals: &[DVec3],
+    left: Option<u32>,
+    right: Option<u32>,
+) -> Result<EdgeFrame> {
+    let (pa, pb) = (positions[a as usize], positions[b as usize]);
+    let (na, nb) = (normals[a as usize], normals[b as usize]);
+    let e = pb - pa;
+    let ee = e.length_squared();
+    let project = |n: DVec3, x: DVec3| x - x.dot(n) * n;
+    // The apex as (σ, h) and the face's perpendicular f (|f| = |e|, left of a → b).
+    let place = |apex: u32, sign: f64| {
+        let p = positions[apex as usize];
+        let sigma = (p - pa).dot(e) / ee;
+        let perp = p - pa - sigma * e;
+        let h = perp.length() / ee.sqrt();
+        (DVec2::new(sigma, sign * h), sign * perp / h, p)
+    };
+    let sides = [left.map(|v| place(v, 1.0)), right.map(|v| place(v, -1.0))];
+    let perps: Vec<DVec3> = sides.iter().flatten().map(|s| s.1).collect();
+    let mean_perp = perps.iter().sum::<DVec3>() / perps.len() as f64;
+    let transversal = [project(na, mean_perp), project(nb, mean_perp)];
+    let tangents = [project(na, e), project(nb, e)];
+    for (end, (n, (t, d))) in [na, nb]
+        .iter()
+        .zip(tangents.iter().zip(&transversal))
+        .enumerate()
+    {
+        let area = t.cross(*d).dot(*n);
+        if area.is_nan() || area <= MIN_FRAME_AREA * ee {
+            let vertex = if end == 0 { a } else { b };
+            return Err(Error::EdgeFrame {
+                a: a as usize,
+                b: b as usize,
+                reason: format!(
+                    "the normal of vertex {vertex} is (nearly) tangent to the edge or its faces \
+                     (frame area {:.1e} of |e|²)",
+                    area / ee
+                ),
+            });
+        }
+    }
+    let curve = CurveBezier::new(vec![pa, pa + tangents[0] / 3.0, pb - tangents[1] / 3.0, pb]);
+    Ok(EdgeFrame {
+        a,
+        b,
+        curve_quartic: curve.elevate(),
+        curve,
+        transversal,
+        apex: sides.map(|s| s.map(|(x, _, p)| (x, p))),
+    })
+}
+
+/// Every edge's frame, and for every face and each of its edges `e` (from corner `e` to
+/// corner `e+1`) the index of that edge's frame.
+pub struct EdgeFrames {
+    /// One frame per undirected mesh edge.
+    pub frames: Vec<EdgeFrame>,
+    /// `face_edges[f][e]`: frame of edge `e` of face `f`.
+    pub face_edges: Vec<[usize; 3]>,
+}
+
+impl EdgeFrames {
+    /// The frames of every edge of `mesh` with unit vertex `normals`.
+    pub fn build(mesh: &Mesh, normals: &[DVec3]) -> Result<EdgeFrames> {
+        let faces = mesh.faces();
+        let edges = mesh.edges();
+        let third = |f: u32, a: u32, b: u32| {
+            let fv = faces[f as usize];
+            fv.into_iter().find(|&v| v != a && v != b).unwrap_or(fv[0])
+        };
+        let runs_forward = |f: u32, a: u32, b: u32| {
+            let fv = faces[f as usize];
+            (0..3).any(|e| fv[e] == a && fv[(e + 1) % 3] == b)
+        };
+        let frames = edges
+            .par_iter()
+            .map(|edge| {
+                let (mut left, mut right) = (None, None);
+                for f in [Some(edge.faces.0), edge.faces.1].into_iter().flatten() {
+                    let apex = third(f, edge.a, edge.b);
+                    if runs_forward(f, edge.a, edge.b) {
+                        left = Some(apex);
+                    } else {
+                        right = Some(apex);
+                    }
+                }
+                edge_frame(edge.a, edge.b, mesh.positions(), normals, left, right)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let index: HashMap<(u32, u32), usize> = edges
+            .iter()
+            .enumerate()
+            .map(|(i, e)| ((e.a, e.b), i))
+            .collect();
+        let face_edges = faces
+            .iter()
+            .map(|fv| {
+                std::array::from_fn(|e| {
+                    let (x, y) = (fv[e], fv[(e + 1) % 3]);
+                    index[&(x.min(y), x.max(y))]
+                })
+            })
+            .collect();
+        Ok(EdgeFrames { frames, face_edges })
+    }
+
+    /// The frame of the edge opposite corner `c` of face `f`, and whether the face runs along
+    /// it from `a` to `b` (corner `c+1` is `a`).
+    pub fn opposite(&self, faces: &[[u32; 3]], f: usize, c: usize) -> (&EdgeFrame, bool) {
+        let frame = &self.frames[self.face_edges[f][(c + 1) % 3]];
+        (frame, faces[f][(c + 1) % 3] == frame.a)
+    }
+
+    /// The boundary curve of the edge of face `f` from its vertex `from` to its vertex `to`,
+    /// cubic or quartic, in that direction (bit-identical from both faces).
+    pub fn curve_between(
+        &self,
+        faces: &[[u32; 3]],
+        f: usize,
+        from: usize,
+        to: usize,
+        quartic: bool,
+    ) -> Vec<DVec3> {
+        let fv = faces[f];
+        let edge = if (from + 1) % 3 == to { from } else { to };
+        let frame = &self.frames[self.face_edges[f][edge]];
+        let curve = if quartic {
+            &frame.curve_quartic
+        } else {
+            &frame.curve
+        };
+        let mut points = curve.points().to_vec();
+        if fv[from] != frame.a {
+            points.reverse();
+        }
+        points
+    }
+}
+
+/// Builds one blend patch per face from `sub_surface(frames, face, corner)`, the sub-surface
+/// owning the edge opposite `corner`.
+pub fn build_blend(
+    mesh: &Mesh,
+    params: &Params,
+    scheme: &str,
+    family: WeightFamily,
+    sub_surface: impl Fn(&EdgeFrames, usize, usize) -> Result<TriangleBezier> + Sync,
+) -> Result<Surface> {
+    let normals = mesh.vertex_normals(params.normal_source()?)?;
+    let frames = EdgeFrames::build(mesh, &normals)?;
+    let patches = (0..mesh.face_count())
+        .into_par_iter()
+        .map(|f| {
+            let subs = [
+                sub_surface(&frames, f, 0)?,
+                sub_surface(&frames, f, 1)?,
+                sub_surface(&frames, f, 2)?,
+            ];
+            Ok(Patch {
+                face: f as u32,
+                piece: 0,
+                domain: crate::schemes::flat::FULL_FACE,
+                geometry: PatchGeometry::Blend(BlendPatch::new(family, subs)),
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Surface {
+        scheme: scheme.to_string(),
+        params: params.values().to_vec(),
+        patches,
+    })
+}
+
+/// The integer parameter `t` in `range`.
+pub fn order_param(params: &Params, range: std::ops::RangeInclusive<u32>) -> Result<u32> {
+    let text = params.text("t");
+    match text.trim().parse::<u32>() {
+        Ok(t) if range.contains(&t) => Ok(t),
+        _ => Err(Error::BadParam {
+            name: "t".to_string(),
+            reason: format!(
+                "'{text}' is not an integer in {}..={}",
+                range.start(),
+                range.end()
+            ),
+        }),
+    }
+}
