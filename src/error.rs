@@ -137,15 +137,26 @@ pub enum Error {
         /// Why the value is rejected.
         reason: String,
     },
-    /// A blend scheme cannot set up the sub-surfaces along an edge: the vertex normals at its
-    /// ends are (nearly) parallel to it, or disagree with the orientation of its faces.
-    #[error("edge ({a}, {b}): {reason}")]
-    EdgeFrame {
-        /// First vertex of the edge.
+    /// Data for a Hermite curve violates its constraints (coincident consecutive points, zero
+    /// tangent, mismatched counts).
+    #[error("Hermite curve data, point {point}: {reason}")]
+    HermiteData {
+        /// Index of the point (or tangent) at fault.
+        point: usize,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A scheme's construction has no valid result at a mesh edge (e.g. a vertex normal along
+    /// the edge leaves no tangent direction for it).
+    #[error("scheme '{scheme}' fails at edge ({a}, {b}): {reason}")]
+    DegenerateEdge {
+        /// The scheme.
+        scheme: String,
+        /// The vertex of the edge at fault (or the edge's first vertex).
         a: usize,
-        /// Second vertex of the edge.
+        /// The other vertex of the edge.
         b: usize,
-        /// What is wrong there.
+        /// Why.
         reason: String,
     },
     /// A scene file or command-line option is invalid.

@@ -7,6 +7,7 @@ use glam::DVec3;
 
 use crate::bezier::triangle::{index, point_count};
 
+use crate::bezier::TriangleBezier;
 use crate::surface::Patch;
 
 /// Largest degree evaluated on the stack (28 control points).
@@ -64,10 +65,36 @@ pub fn point_and_tangents(patch: &Patch, u: f64, v: f64) -> (DVec3, DVec3, DVec3
     )
 }
 
+/// A bound on the second derivative of a Bézier triangle in any unit `(u, v)` direction over
+/// its domain. With δ = δu (e1 − e0) + δv (e2 − e0), `D²S(δ, δ) = d(d−1) Σ B^{d−2}_{ijk}
+/// (δu² Q11 + 2 δu δv Q12 + δv² Q22)` where Q are second differences of the control net, so
+/// `d(d−1) (max|Q11| + max|Q12| + max|Q22|)` bounds it (2|δu δv| ≤ 1).
+pub fn second_derivative_bound(net: &TriangleBezier) -> f64 {
+    let d = net.degree();
+    if d < 2 {
+        return 0.0;
+    }
+    let (mut q11, mut q12, mut q22) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for i in 0..=d - 2 {
+        for j in 0..=d - 2 - i {
+            // b(i+a, j+b, k+c) with (a, b, c) one of the six second-order offsets.
+            let b00 = net.point(i + 2, j);
+            let b01 = net.point(i + 1, j + 1);
+            let b02 = net.point(i + 1, j);
+            let b11 = net.point(i, j + 2);
+            let b12 = net.point(i, j + 1);
+            let b22 = net.point(i, j);
+            q11 = q11.max((b11 - 2.0 * b01 + b00).length());
+            q12 = q12.max((b12 - b01 - b02 + b00).length());
+            q22 = q22.max((b22 - 2.0 * b02 + b00).length());
+        }
+    }
+    (d * (d - 1)) as f64 * (q11 + q12 + q22)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bezier::TriangleBezier;
     use crate::surface::PatchGeometry;
 
     #[test]
@@ -95,6 +122,29 @@ mod tests {
                     .max((su - jet.du).length())
                     .max((sv - jet.dv).length());
                 assert!(err <= 1e-13, "degree {d} at ({u}, {v}): {err:e}");
+            }
+        }
+    }
+
+    /// The second-derivative bound holds at sampled points in sampled directions.
+    #[test]
+    fn second_derivative_bound_holds() {
+        let surface = crate::render::fixtures::octahedron_sphere(5, 1.7, 0);
+        for patch in &surface.patches {
+            let net = patch.as_bezier().expect("Bézier patch");
+            let bound = second_derivative_bound(net);
+            for k in 0..50u64 {
+                let u = crate::render::sampler::uniform(4, k, 0, 0);
+                let v = crate::render::sampler::uniform(4, k, 0, 1) * (1.0 - u);
+                let jet = patch.jet(u, v);
+                let angle = std::f64::consts::TAU * crate::render::sampler::uniform(4, k, 0, 2);
+                let (du, dv) = (angle.cos(), angle.sin());
+                let d2 = jet.duu * du * du + 2.0 * jet.duv * du * dv + jet.dvv * dv * dv;
+                assert!(
+                    d2.length() <= bound * (1.0 + 1e-12),
+                    "{} > {bound}",
+                    d2.length()
+                );
             }
         }
     }

@@ -2,9 +2,9 @@
 //! the deformed icosahedron, in zebra, isophote and curvature mode, from one shared camera, plus
 //! one side-by-side sheet (rows = schemes, columns = modes).
 //!
-//! The curvature colour range is chosen once — the largest over the schemes of the automatic
-//! range (95th percentile of |H| in view) — and then fixed for all schemes, so their colours
-//! compare.
+//! The curvature colour range is chosen once — the median over the curved schemes of the
+//! automatic range (95th percentile of |H| in view) — and then fixed for all schemes, so their
+//! colours compare; a scheme with sharp creases saturates instead of washing out the others.
 
 use std::path::{Path, PathBuf};
 
@@ -97,10 +97,14 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
         height: options.size,
         ..RenderSettings::default()
     };
-    let half_range = tracers
+    // Schemes with nothing curved in view (flat) report the fallback range 1 and do not vote.
+    let mut ranges: Vec<f64> = tracers
         .iter()
+        .filter(|t| t.surface.patches.iter().any(|p| p.degree() != Some(1)))
         .map(|t| auto_curvature_range(t, &camera, &probe_settings, curvature.quantity, percentile))
-        .fold(0.0_f64, f64::max);
+        .collect();
+    ranges.sort_by(f64::total_cmp);
+    let half_range = ranges.get(ranges.len() / 2).copied().unwrap_or(1.0);
     let mut images = Vec::new();
     let mut frames: Vec<Frame> = Vec::new();
     for (surface, tracer) in surfaces.iter().zip(&tracers) {

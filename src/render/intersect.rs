@@ -17,33 +17,10 @@ use obvhs::ray::{Ray, RayHit};
 
 use crate::geom::Aabb;
 use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion, barycentric_in, split4};
-use crate::render::evaluate::point_and_tangents;
+use crate::render::evaluate::{point_and_tangents, second_derivative_bound};
 use crate::render::modes::overlay::face_edge_mask;
+pub use crate::render::ray::{Ray64, RayPlanes, ray_enters_box};
 use crate::surface::{Patch, Surface};
-
-/// A ray in f64. `dir` has unit length, so `t` is a distance.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ray64 {
-    /// Start point.
-    pub origin: DVec3,
-    /// Unit direction.
-    pub dir: DVec3,
-}
-
-impl Ray64 {
-    /// A ray from `origin` along `dir` (normalised here).
-    pub fn new(origin: DVec3, dir: DVec3) -> Ray64 {
-        Ray64 {
-            origin,
-            dir: dir.normalize(),
-        }
-    }
-
-    /// The point at distance `t`.
-    pub fn at(&self, t: f64) -> DVec3 {
-        self.origin + self.dir * t
-    }
-}
 
 /// The cheap result of the hit test: which patch, where in its domain, how far.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -435,33 +412,6 @@ impl<'s> Tracer<'s> {
     }
 }
 
-/// A bound on the second derivative of a Bézier triangle in any unit `(u, v)` direction over
-/// its domain. With δ = δu (e1 − e0) + δv (e2 − e0), `D²S(δ, δ) = d(d−1) Σ B^{d−2}_{ijk}
-/// (δu² Q11 + 2 δu δv Q12 + δv² Q22)` where Q are second differences of the control net, so
-/// `d(d−1) (max|Q11| + max|Q12| + max|Q22|)` bounds it (2|δu δv| ≤ 1).
-pub fn second_derivative_bound(net: &crate::bezier::TriangleBezier) -> f64 {
-    let d = net.degree();
-    if d < 2 {
-        return 0.0;
-    }
-    let (mut q11, mut q12, mut q22) = (0.0_f64, 0.0_f64, 0.0_f64);
-    for i in 0..=d - 2 {
-        for j in 0..=d - 2 - i {
-            // b(i+a, j+b, k+c) with (a, b, c) one of the six second-order offsets.
-            let b00 = net.point(i + 2, j);
-            let b01 = net.point(i + 1, j + 1);
-            let b02 = net.point(i + 1, j);
-            let b11 = net.point(i, j + 2);
-            let b12 = net.point(i, j + 1);
-            let b22 = net.point(i, j);
-            q11 = q11.max((b11 - 2.0 * b01 + b00).length());
-            q12 = q12.max((b12 - b01 - b02 + b00).length());
-            q22 = q22.max((b22 - 2.0 * b02 + b00).length());
-        }
-    }
-    (d * (d - 1)) as f64 * (q11 + q12 + q22)
-}
-
 /// Where Newton starts in a leaf.
 enum Start {
     /// At this `(u, v)`: where the ray meets the plane of the leaf's corner points, mapped
@@ -512,60 +462,6 @@ const GRAZING_COS: f64 = 0.2;
 /// 0.25 leaf sizes of the plane point for the default criterion, so 0.5 leaves a factor two.
 const START_REJECTION: f64 = 0.5;
 
-/// The ray as two planes through it, for the 2×2 Newton system.
-#[derive(Clone, Copy, Debug)]
-pub struct RayPlanes {
-    n1: DVec3,
-    n2: DVec3,
-    d1: f64,
-    d2: f64,
-}
-
-impl RayPlanes {
-    /// The planes of `ray` (normals orthonormal and perpendicular to the direction).
-    pub fn new(ray: &Ray64) -> RayPlanes {
-        let (n1, n2) = ray.dir.any_orthonormal_pair();
-        RayPlanes {
-            n1,
-            n2,
-            d1: n1.dot(ray.origin),
-            d2: n2.dot(ray.origin),
-        }
-    }
-
-    /// Signed distances of `p` from the two planes (zero on the ray's line).
-    pub fn residual(&self, p: DVec3) -> DVec2 {
-        DVec2::new(self.n1.dot(p) - self.d1, self.n2.dot(p) - self.d2)
-    }
-
-    /// A tangent vector in plane coordinates.
-    pub fn project(&self, v: DVec3) -> DVec2 {
-        DVec2::new(self.n1.dot(v), self.n2.dot(v))
-    }
-}
-
-/// Slab test of an f64 ray against a box grown by `pad`, restricted to `(t_min, t_max)`.
-pub fn ray_enters_box(ray: &Ray64, b: &Aabb, pad: f64, t_min: f64, t_max: f64) -> bool {
-    let lo = b.min - DVec3::splat(pad);
-    let hi = b.max + DVec3::splat(pad);
-    let mut near = t_min - pad;
-    let mut far = t_max + pad;
-    for axis in 0..3 {
-        let o = ray.origin[axis];
-        let d = ray.dir[axis];
-        if d == 0.0 {
-            if o < lo[axis] || o > hi[axis] {
-                return false;
-            }
-            continue;
-        }
-        let (a, b) = ((lo[axis] - o) / d, (hi[axis] - o) / d);
-        near = near.max(a.min(b));
-        far = far.min(a.max(b));
-    }
-    near <= far
-}
-
 /// Where a leaf's root must lie: its sub-triangle grown by `tolerance` (leaf-local units).
 pub fn in_grown_triangle(tri: [DVec2; 3], uv: DVec2, tolerance: f64) -> bool {
     barycentric_in(tri, uv).min_element() >= -tolerance
@@ -583,29 +479,6 @@ mod tests {
         let phi = std::f64::consts::TAU * uniform(seed, i, 0, 1);
         let r = (1.0 - z * z).max(0.0).sqrt();
         DVec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
-
-    /// The second-derivative bound holds at sampled points in sampled directions.
-    #[test]
-    fn second_derivative_bound_holds() {
-        let surface = octahedron_sphere(5, 1.7, 0);
-        for patch in &surface.patches {
-            let net = patch.as_bezier().expect("Bézier patch");
-            let bound = second_derivative_bound(net);
-            for k in 0..50u64 {
-                let u = uniform(4, k, 0, 0);
-                let v = uniform(4, k, 0, 1) * (1.0 - u);
-                let jet = patch.jet(u, v);
-                let angle = std::f64::consts::TAU * uniform(4, k, 0, 2);
-                let (du, dv) = (angle.cos(), angle.sin());
-                let d2 = jet.duu * du * du + 2.0 * jet.duv * du * dv + jet.dvv * dv * dv;
-                assert!(
-                    d2.length() <= bound * (1.0 + 1e-12),
-                    "{} > {bound}",
-                    d2.length()
-                );
-            }
-        }
     }
 
     /// Every sampled point of a leaf's sub-patch lies in its oriented box.

@@ -17,6 +17,7 @@ pub mod intersect;
 pub mod job;
 pub mod modes;
 pub mod output;
+pub mod ray;
 pub mod sampler;
 pub mod scene;
 pub mod shaded;

@@ -6,6 +6,7 @@ pub mod blend;
 pub mod flat;
 pub mod hb;
 pub mod loop94;
+pub mod piper;
 pub mod pn;
 #[cfg(test)]
 pub(crate) mod testing;
@@ -47,6 +48,7 @@ pub const SCHEMES: &[SchemeSpec] = &[
     pn::SPEC,
     hb::SPEC,
     loop94::SPEC,
+    piper::SPEC,
     blend::nielson::SPEC,
     blend::fang_mann::SPEC,
 ];

@@ -62,7 +62,7 @@ pub struct HighlightParams {
     pub plane_normal: DVec3,
     /// Direction of the line lights (projected into the plane).
     pub direction: DVec3,
-    /// Distance between neighbouring lights; None: a twelfth of the scene diagonal.
+    /// Distance between neighbouring lights; None: a quarter of the scene diagonal.
     pub spacing: Option<f64>,
     /// Fraction of each period that is bright.
     pub duty: f64,
@@ -88,7 +88,7 @@ impl HighlightParams {
             origin: Some(self.origin.unwrap_or(center + normal * diagonal)),
             plane_normal: normal,
             direction: self.direction,
-            spacing: Some(self.spacing.unwrap_or(diagonal / 12.0)),
+            spacing: Some(self.spacing.unwrap_or(diagonal / 4.0)),
             duty: self.duty,
         }
     }
@@ -98,14 +98,16 @@ impl HighlightParams {
         let m = self.plane_normal;
         let origin = self.origin.unwrap_or(DVec3::ZERO);
         let spacing = self.spacing.unwrap_or(1.0);
-        let n = sp.normal;
+        // The outward normal half-line (turned towards the viewer, so both sides of an open
+        // surface behave alike) must reach the light plane; points facing away see no light.
+        let n = sp.facing_normal;
+        let p = sp.jet.p;
         let along = n.dot(m);
-        // A normal parallel to the light plane never meets it: no highlight there.
-        if along.abs() < 1e-9 {
+        let reach = (origin - p).dot(m);
+        if along.abs() < 1e-9 || reach / along <= 0.0 {
             return DVec3::splat(DARK);
         }
-        let p = sp.jet.p;
-        let meet = p + n * ((origin - p).dot(m) / along);
+        let meet = p + n * (reach / along);
         let across = m
             .cross(self.direction)
             .normalize_or(m.any_orthonormal_vector());
