@@ -159,17 +159,6 @@ pub enum Error {
         /// Why.
         reason: String,
     },
-    /// A blend scheme cannot set up the sub-surfaces along an edge: the vertex normals at its
-    /// ends are (nearly) parallel to it, or disagree with the orientation of its faces.
-    #[error("edge ({a}, {b}): {reason}")]
-    EdgeFrame {
-        /// First vertex of the edge.
-        a: usize,
-        /// Second vertex of the edge.
-        b: usize,
-        /// What is wrong there.
-        reason: String,
-    },
     /// A scene file or command-line option is invalid.
     #[error("{0}")]
     Invalid(String),

@@ -502,51 +502,6 @@ fn pn_takes_the_file_normals_when_asked() {
     assert_fails_naming(&out, &["normals=obj"]);
 }
 
-#[test]
-fn piper_works_on_an_open_mesh_with_file_normals_and_thesis_scaling() {
-    let dir = scratch("piper-open");
-    // The tetrahedron less its last face, with the sphere's normals.
-    let open = TETRAHEDRON
-        .replace(
-            "f 1 2 3",
-            "vn 1 1 1\nvn 1 -1 -1\nvn -1 1 -1\nvn -1 -1 1\nf 1//1 2//2 3//3",
-        )
-        .replace("f 1 4 2", "f 1//1 4//4 2//2")
-        .replace("f 1 3 4", "f 1//1 3//3 4//4")
-        .replace("f 2 4 3", "");
-    let json = dir.join("m.json");
-    let out = metrics_of(
-        &dir,
-        "open-vn.obj",
-        &open,
-        &[
-            "--scheme",
-            "piper",
-            "--param",
-            "normals=obj",
-            "--param",
-            "scaling=thesis",
-            "--json",
-            json.to_str().expect("utf-8"),
-        ],
-    );
-    assert!(out.status.success(), "{}", stderr(&out));
-    let value: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("JSON");
-    let m = &value[0];
-    assert_eq!(m["patches"], 9, "{m}");
-    assert_eq!(m["joints_between_faces"], 3, "three interior edges: {m}");
-    assert_eq!(m["params"]["scaling"], "thesis");
-    assert!(m["g1_max_rad"].as_f64().expect("number") <= 1e-9, "{m}");
-    let out = metrics_of(
-        &dir,
-        "open-vn.obj",
-        &open,
-        &["--scheme", "piper", "--param", "scaling=cubic"],
-    );
-    assert_fails_naming(&out, &["scaling", "cubic"]);
-}
-
 /// Largest normal angle and point gap between the two sides over an edge-samples file, read
 /// with nothing but serde_json and arithmetic.
 fn sample_jumps(value: &serde_json::Value) -> (usize, f64, f64) {
@@ -629,4 +584,49 @@ fn sample_writes_both_sides_of_every_edge() {
     assert_fails_naming(&out, &["'t'"]);
     let out = smoothlab(&["sample", cube, "--scheme", "pn"]);
     assert_fails_naming(&out, &["--json"]);
+}
+
+#[test]
+fn piper_works_on_an_open_mesh_with_file_normals_and_thesis_scaling() {
+    let dir = scratch("piper-open");
+    // The tetrahedron less its last face, with the sphere's normals.
+    let open = TETRAHEDRON
+        .replace(
+            "f 1 2 3",
+            "vn 1 1 1\nvn 1 -1 -1\nvn -1 1 -1\nvn -1 -1 1\nf 1//1 2//2 3//3",
+        )
+        .replace("f 1 4 2", "f 1//1 4//4 2//2")
+        .replace("f 1 3 4", "f 1//1 3//3 4//4")
+        .replace("f 2 4 3", "");
+    let json = dir.join("m.json");
+    let out = metrics_of(
+        &dir,
+        "open-vn.obj",
+        &open,
+        &[
+            "--scheme",
+            "piper",
+            "--param",
+            "normals=obj",
+            "--param",
+            "scaling=thesis",
+            "--json",
+            json.to_str().expect("utf-8"),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("JSON");
+    let m = &value[0];
+    assert_eq!(m["patches"], 9, "{m}");
+    assert_eq!(m["joints_between_faces"], 3, "three interior edges: {m}");
+    assert_eq!(m["params"]["scaling"], "thesis");
+    assert!(m["g1_max_rad"].as_f64().expect("number") <= 1e-9, "{m}");
+    let out = metrics_of(
+        &dir,
+        "open-vn.obj",
+        &open,
+        &["--scheme", "piper", "--param", "scaling=cubic"],
+    );
+    assert_fails_naming(&out, &["scaling", "cubic"]);
 }

@@ -76,6 +76,7 @@ impl EdgeFrame {
 /// Builds the frame of edge `(a, b)`, `a < b`, from the apexes of its faces (`left`: the
 /// face that runs `a → b`; `right`: the face that runs `b → a`).
 fn edge_frame(
+    scheme: &str,
     a: u32,
     b: u32,
     positions: &[DVec3],
@@ -109,9 +110,10 @@ fn edge_frame(
         let area = t.cross(*d).dot(*n);
         if area.is_nan() || area <= MIN_FRAME_AREA * ee {
             let vertex = if end == 0 { a } else { b };
-            return Err(Error::EdgeFrame {
-                a: a as usize,
-                b: b as usize,
+            return Err(Error::DegenerateEdge {
+                scheme: scheme.to_string(),
+                a: vertex as usize,
+                b: if end == 0 { b } else { a } as usize,
                 reason: format!(
                     "the normal of vertex {vertex} is (nearly) tangent to the edge or its faces \
                      (frame area {:.1e} of |e|²)",
@@ -142,7 +144,7 @@ pub struct EdgeFrames {
 
 impl EdgeFrames {
     /// The frames of every edge of `mesh` with unit vertex `normals`.
-    pub fn build(mesh: &Mesh, normals: &[DVec3]) -> Result<EdgeFrames> {
+    pub fn build(mesh: &Mesh, normals: &[DVec3], scheme: &str) -> Result<EdgeFrames> {
         let faces = mesh.faces();
         let edges = mesh.edges();
         let third = |f: u32, a: u32, b: u32| {
@@ -165,7 +167,15 @@ impl EdgeFrames {
                         right = Some(apex);
                     }
                 }
-                edge_frame(edge.a, edge.b, mesh.positions(), normals, left, right)
+                edge_frame(
+                    scheme,
+                    edge.a,
+                    edge.b,
+                    mesh.positions(),
+                    normals,
+                    left,
+                    right,
+                )
             })
             .collect::<Result<Vec<_>>>()?;
         let index: HashMap<(u32, u32), usize> = edges
@@ -228,7 +238,7 @@ pub fn build_blend(
     sub_surface: impl Fn(&EdgeFrames, usize, usize) -> Result<TriangleBezier> + Sync,
 ) -> Result<Surface> {
     let normals = mesh.vertex_normals(params.normal_source()?)?;
-    let frames = EdgeFrames::build(mesh, &normals)?;
+    let frames = EdgeFrames::build(mesh, &normals, scheme)?;
     let patches = (0..mesh.face_count())
         .into_par_iter()
         .map(|f| {

@@ -112,7 +112,8 @@ pub fn sub_surface(
     let (alpha1, beta1) = decompose(3.0 * (to_c_from_far[1] - to_c_from_far[0]), w1, t1);
     if !(alpha0 > 0.0 && alpha1 > 0.0) {
         let fv = faces[f];
-        return Err(Error::EdgeFrame {
+        return Err(Error::DegenerateEdge {
+            scheme: SPEC.name.to_string(),
             a: fv[next] as usize,
             b: fv[far] as usize,
             reason: format!(

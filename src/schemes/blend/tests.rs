@@ -185,7 +185,8 @@ fn normal_in_the_face_plane_is_an_edge_error() {
     for scheme in ["nielson", "fang-mann"] {
         let err = build_scheme(scheme, &mesh, &[("normals".into(), "obj".into())]).unwrap_err();
         let text = err.to_string();
-        assert!(text.starts_with("edge (0, "), "{scheme}: {text}");
+        assert!(text.contains(&format!("'{scheme}'")), "{scheme}: {text}");
+        assert!(text.contains("edge (0, "), "{scheme}: {text}");
         assert!(text.contains("vertex 0"), "{scheme}: {text}");
     }
 }
