@@ -3,6 +3,7 @@
 //! scheme cannot take (by name), so scheme code only sees valid input.
 
 pub mod flat;
+pub mod gk;
 pub mod hb;
 pub mod loop94;
 pub mod pn;

@@ -1,0 +1,4 @@
+//! Umlauf–Prautzsch triangular G^k splines [UP].
+
+pub mod box_spline;
+pub mod jets;
