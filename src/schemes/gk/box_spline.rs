@@ -551,7 +551,8 @@ mod tests {
                 let jumps: Vec<f64> = (0..=k + 1)
                     .map(|order| lattice_jump(a, ea, b, eb, order))
                     .collect();
-                eprintln!("k = {k}, edge {ea}: relative jumps by order {jumps:.1e?}");
+                let shown: Vec<String> = jumps.iter().map(|j| format!("{j:.1e}")).collect();
+                eprintln!("k = {k}, edge {ea}: relative jumps by order {shown:?}");
                 for order in 0..=k {
                     let jump = jumps[order];
                     assert!(jump < 1e-12, "k = {k}, edge {ea}, order {order}: {jump:e}");
