@@ -42,7 +42,7 @@ pub struct SchemeSpec {
 }
 
 /// Every scheme, in the order the gallery and tables show them.
-pub const SCHEMES: &[SchemeSpec] = &[flat::SPEC, pn::SPEC, hb::SPEC, loop94::SPEC];
+pub const SCHEMES: &[SchemeSpec] = &[flat::SPEC, pn::SPEC, hb::SPEC, loop94::SPEC, gk::SPEC];
 
 /// Looks a scheme up by name.
 pub fn find(name: &str) -> Result<&'static SchemeSpec> {
