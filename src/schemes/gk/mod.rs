@@ -19,8 +19,10 @@
 pub mod box_spline;
 pub mod chart;
 pub mod jets;
+pub mod plane;
 pub mod refine;
 pub mod regular;
+pub mod sector;
 
 use rayon::prelude::*;
 
