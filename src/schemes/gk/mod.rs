@@ -16,8 +16,11 @@
 //! irregular vertex, i.e. the n-sided holes of the generalized spline surface — have no patch
 //! yet: the surface has one hole per irregular vertex (none on an all-valence-6 net).
 
+pub mod adapt;
 pub mod box_spline;
 pub mod chart;
+pub mod compose;
+pub mod hole;
 pub mod jets;
 pub mod plane;
 pub mod refine;
@@ -26,6 +29,7 @@ pub mod sector;
 
 use rayon::prelude::*;
 
+use crate::bezier::TriangleBezier;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::schemes::{ParamSpec, Params, SchemeSpec};
@@ -56,18 +60,60 @@ pub fn order(params: &Params) -> Result<usize> {
     Ok(k as usize)
 }
 
+/// The surface of the prepared net: regular patches, and with `fill_holes` the p-patches.
+pub fn surface_patches(
+    net: &refine::RefinedNet,
+    k: usize,
+    fill_holes: bool,
+) -> Result<Vec<Option<(TriangleBezier, u8)>>> {
+    let mesh = &net.mesh;
+    let control = regular::ControlNet::new(mesh, k);
+    let mut faces: Vec<Option<(TriangleBezier, u8)>> = regular::regular_patches(&control, k)
+        .into_iter()
+        .map(|p| p.map(|p| (p, 0)))
+        .collect();
+    if !fill_holes {
+        return Ok(faces);
+    }
+    let irregular: Vec<u32> = (0..mesh.vertex_count() as u32)
+        .filter(|&v| mesh.valence(v) != 6)
+        .collect();
+    let fillings: Vec<(u32, hole::Filling)> = irregular
+        .par_iter()
+        .map(|&v| hole::fill(mesh, &control, k, v).map(|f| (v, f)))
+        .collect::<Result<_>>()?;
+    let mut filled_by = vec![u32::MAX; mesh.face_count()];
+    for (v, filling) in fillings {
+        for hp in filling.patches {
+            let f = hp.face as usize;
+            if filled_by[f] != u32::MAX {
+                return Err(Error::Invalid(format!(
+                    "gk: the holes of irregular vertices {} and {v} overlap at face {f} of the \
+                     refined net",
+                    filled_by[f]
+                )));
+            }
+            filled_by[f] = v;
+            let patch = hole::in_face_order(mesh.faces()[f], hp.corners, &hp.patch);
+            faces[f] = Some((patch, hp.piece));
+        }
+    }
+    Ok(faces)
+}
+
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let k = order(params)?;
     let net = refine::prepare(mesh, k)?;
-    let patches = regular::regular_patches(&net.mesh, k)
+    let patches = surface_patches(&net, k, true)?
         .into_par_iter()
         .enumerate()
         .filter_map(|(f, patch)| {
+            let (patch, piece) = patch?;
             Some(Patch {
                 face: net.origin[f],
-                piece: 0,
+                piece,
                 domain: net.domain[f],
-                geometry: PatchGeometry::Bezier(patch?),
+                geometry: PatchGeometry::Bezier(patch),
             })
         })
         .collect();
@@ -91,62 +137,94 @@ mod tests {
         if k <= 2 { n } else { 4 * n }
     }
 
-    /// On every closed test mesh and k = 1..4: the holes are exactly those of the irregular
-    /// vertices, and every joint of two patches is C^k in the lattice parametrisation
-    /// (derivatives of order ≤ k agree to 1e-12 of the bound the nets put on them, see
-    /// [`lattice_jump`]; joints that are not C^{k+1} as well exist on every mesh).
+    /// Without hole filling, the faces left without a patch are exactly those around the
+    /// irregular vertices: ring 1 (n faces) for k ≤ 2, rings 1 and 2 (4n) for k ≥ 3.
     #[test]
-    fn regular_surface_is_c_k_with_one_hole_per_irregular_vertex() {
+    fn regular_surface_has_one_hole_per_irregular_vertex() {
         for (name, mesh) in closed_test_meshes() {
             for k in 1..=4 {
-                let p = params(&SPEC, &[("k", &k.to_string())]);
-                let surface = build(&mesh, &p).expect("closed meshes build");
                 let net = refine::prepare(&mesh, k).unwrap();
                 let holes: usize = (0..net.mesh.vertex_count() as u32)
                     .map(|v| net.mesh.valence(v))
                     .filter(|&n| n != 6)
                     .map(|n| hole_faces(k, n))
                     .sum();
+                let regular = surface_patches(&net, k, false).unwrap();
+                let missing = regular.iter().filter(|p| p.is_none()).count();
+                assert_eq!(missing, holes, "{name} k = {k}");
+            }
+        }
+    }
+
+    /// On every closed test mesh and k = 1..4, with the holes filled: every face has a patch
+    /// (degree d, or 2d for the 4n patches of each hole); every joint except those between two
+    /// inner p-patches is C^k in the lattice parametrisation (derivatives of order ≤ k agree
+    /// to 1e-12 of the bound the nets put on them, see [`lattice_jump`]) — regular–regular,
+    /// regular–ring, ring–ring and ring–inner; the inner p-patches meet each other with
+    /// positions and normals equal to rounding (they are one quadratic over a planar map).
+    #[test]
+    fn filled_surface_is_c_k_at_every_lattice_joint() {
+        for (name, mesh) in closed_test_meshes() {
+            for k in 1..=4 {
+                let p = params(&SPEC, &[("k", &k.to_string())]);
+                let surface = build(&mesh, &p).expect("closed meshes build");
+                let net = refine::prepare(&mesh, k).unwrap();
                 let label = format!("{name} k = {k}");
-                assert_eq!(
-                    surface.patches.len() + holes,
-                    net.mesh.face_count(),
-                    "{label}"
-                );
-                let degree = box_spline::Family::for_order(k).degree();
-                assert!(surface.patches.iter().all(|p| p.degree() == Some(degree)));
+                assert_eq!(surface.patches.len(), net.mesh.face_count(), "{label}");
+                let d = box_spline::Family::for_order(k).degree();
+                for patch in &surface.patches {
+                    let expected = if patch.piece == 0 { d } else { 2 * d };
+                    assert_eq!(patch.degree(), Some(expected), "{label}");
+                }
                 let joints = surface.joints(mesh.faces());
-                let (mut worst, mut next_min, mut smoother) = (0.0f64, f64::MAX, 0usize);
+                let mut worst = [0.0f64; 3]; // regular–regular, with a ring patch, inner–ring
+                let mut smoother = 0usize;
                 for j in &joints {
                     assert!(j.reversed, "{label}: consistently oriented");
-                    let a = surface.patches[j.a.patch as usize].as_bezier().unwrap();
-                    let b = surface.patches[j.b.patch as usize].as_bezier().unwrap();
+                    let (pa, pb) = (
+                        &surface.patches[j.a.patch as usize],
+                        &surface.patches[j.b.patch as usize],
+                    );
+                    let kind = match (pa.piece, pb.piece) {
+                        (1, 1) => continue,
+                        (0, 0) => 0,
+                        (1, _) | (_, 1) => 2,
+                        _ => 1,
+                    };
+                    let (a, b) = (pa.as_bezier().unwrap(), pb.as_bezier().unwrap());
                     let (ea, eb) = (j.a.edge as usize, j.b.edge as usize);
                     for order in 0..=k {
-                        worst = worst.max(lattice_jump(a, ea, b, eb, order));
+                        worst[kind] = worst[kind].max(lattice_jump(a, ea, b, eb, order));
                     }
-                    let next = lattice_jump(a, ea, b, eb, k + 1);
-                    if next < 1e-12 {
+                    if lattice_jump(a, ea, b, eb, k + 1) < 1e-12 {
                         smoother += 1;
-                    } else {
-                        next_min = next_min.min(next);
                     }
                 }
+                let m = Metrics::measure(&surface, &mesh, 0.0);
                 eprintln!(
-                    "{label}: {} patches, {} joints, worst order-≤k jump {worst:.1e}, \
-                     {smoother} joints also C^{}, smallest order-{} jump elsewhere {next_min:.1e}",
+                    "{label}: {} patches, {} joints; worst order-≤k jump regular {:.1e}, \
+                     ring {:.1e}, inner–ring {:.1e}; {smoother} joints also C^{}; \
+                     G0 {:.1e}, G1 {:.1e} rad, inside faces {:.1e} rad",
                     surface.patches.len(),
                     joints.len(),
+                    worst[0],
+                    worst[1],
+                    worst[2],
                     k + 1,
-                    k + 1
+                    m.g0_max_rel.unwrap(),
+                    m.g1_max_rad.unwrap(),
+                    m.g1_inside_faces_max_rad.unwrap_or(0.0),
                 );
-                assert!(worst < 1e-12, "{label}: jump {worst:e}");
+                for (what, w) in ["regular", "ring", "inner–ring"].iter().zip(worst) {
+                    assert!(w < 1e-12, "{label}: {what} jump {w:e}");
+                }
                 assert!(
                     smoother < joints.len(),
                     "{label}: no joint shows order k + 1 fails"
                 );
-                let m = Metrics::measure(&surface, &mesh, 0.0);
                 assert!(m.g0_max_rel.unwrap() < 1e-12, "{label}");
+                assert!(m.g1_max_rad.unwrap() < 1e-9, "{label}");
+                assert_eq!(m.singular_samples, 0, "{label}");
             }
         }
     }
