@@ -24,6 +24,9 @@ pub struct Output {
     pub stdout: String,
     /// Warnings, one line each, without the `warning:` prefix.
     pub warnings: Vec<String>,
+    /// True if the command ran but its verdict is a failure (exit code 1), e.g. `compare`
+    /// found a regression.
+    pub failed: bool,
 }
 
 /// Loads an OBJ mesh; the loader's report (welded vertices, re-oriented faces, …) becomes
@@ -124,6 +127,14 @@ pub fn measure_schemes(
     Ok((results, warnings))
 }
 
+/// `min/typical` measured continuity order, `-` without joints.
+fn order_cell(min: Option<i32>, typical: Option<i32>) -> String {
+    match (min, typical) {
+        (Some(a), Some(b)) => format!("{a}/{b}"),
+        _ => "-".to_string(),
+    }
+}
+
 fn cell(x: Option<f64>) -> String {
     x.map_or_else(|| "-".to_string(), |x| format!("{x:.2e}"))
 }
@@ -146,6 +157,7 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
         "regularity",
         "undulation",
         "inflect",
+        "G^k",
     ];
     let rows: Vec<Vec<String>> = metrics
         .iter()
@@ -165,6 +177,7 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
                 cell(m.min_regularity_rel),
                 format!("{:.2e}", m.network_undulation_max_rad),
                 m.network_inflections_max.to_string(),
+                order_cell(m.continuity_order, m.continuity_order_typical),
             ]
         })
         .collect();
@@ -245,6 +258,8 @@ pub fn run_metrics(
     Ok(Output {
         stdout: metrics_table(&metrics),
         warnings,
+
+        ..Default::default()
     })
 }
 
@@ -269,6 +284,8 @@ pub fn run_export(
             out_path.display()
         ),
         warnings,
+
+        ..Default::default()
     })
 }
 
@@ -277,6 +294,8 @@ pub fn run_schemes() -> Output {
     Output {
         stdout: schemes_listing(),
         warnings: Vec::new(),
+
+        ..Default::default()
     }
 }
 
@@ -298,6 +317,33 @@ pub fn run_default() -> Result<Output> {
             metrics_table(&metrics)
         ),
         warnings,
+
+        ..Default::default()
+    })
+}
+
+/// `smoothlab report`: measures every scheme on the benchmark meshes and writes
+/// `metrics.{json,csv,md}` into `out_dir`.
+pub fn run_report(out_dir: &Path) -> Result<Output> {
+    let report = crate::report::write(out_dir)?;
+    Ok(Output {
+        stdout: crate::report::to_markdown(&report),
+        ..Default::default()
+    })
+}
+
+/// `smoothlab compare OLD NEW`: the changes between two reports; fails on a regression.
+pub fn run_compare(
+    old: &Path,
+    new: &Path,
+    thresholds: crate::report::compare::Thresholds,
+) -> Result<Output> {
+    let (old, new) = (crate::report::read(old)?, crate::report::read(new)?);
+    let changes = crate::report::compare::compare(&old, &new, thresholds);
+    Ok(Output {
+        stdout: crate::report::compare::to_text(&changes),
+        failed: changes.iter().any(|c| c.regression),
+        ..Default::default()
     })
 }
 
@@ -367,7 +413,10 @@ mod tests {
             network_inflections_max: 0,
             network_curves_with_inflections: 0,
             network_chord_deviation_max_rel: 0.1,
-            continuity_order: None,
+            continuity_order: Some(0),
+            continuity_order_between_faces: Some(0),
+            continuity_order_inside_faces: None,
+            continuity_order_typical: Some(0),
             joints: 30,
             joints_between_faces: 30,
             samples_per_joint: 17,

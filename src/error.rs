@@ -137,6 +137,28 @@ pub enum Error {
         /// Why the value is rejected.
         reason: String,
     },
+    /// Data for a Hermite curve violates its constraints (coincident consecutive points, zero
+    /// tangent, mismatched counts).
+    #[error("Hermite curve data, point {point}: {reason}")]
+    HermiteData {
+        /// Index of the point (or tangent) at fault.
+        point: usize,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A scheme's construction has no valid result at a mesh edge (e.g. a vertex normal along
+    /// the edge leaves no tangent direction for it).
+    #[error("scheme '{scheme}' fails at edge ({a}, {b}): {reason}")]
+    DegenerateEdge {
+        /// The scheme.
+        scheme: String,
+        /// The vertex of the edge at fault (or the edge's first vertex).
+        a: usize,
+        /// The other vertex of the edge.
+        b: usize,
+        /// Why.
+        reason: String,
+    },
     /// A scene file or command-line option is invalid.
     #[error("{0}")]
     Invalid(String),

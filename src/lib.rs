@@ -12,6 +12,8 @@ pub mod geom;
 pub mod linalg;
 pub mod mesh;
 pub mod metrics;
+pub mod render;
+pub mod report;
 pub mod schemes;
 pub mod surface;
 

@@ -1,7 +1,7 @@
 //! The smoothlab command line: argument parsing and printing only; the work is done by
 //! [`smoothlab::app`].
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
@@ -55,6 +55,27 @@ enum Command {
     },
     /// List the schemes and their parameters.
     Schemes,
+    /// Measure every scheme on the benchmark meshes; write metrics.{json,csv,md}.
+    Report {
+        /// Output folder.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
+    /// Compare two reports (metrics.json); exit code 1 if a figure got worse.
+    Compare {
+        /// The earlier report.
+        old: PathBuf,
+        /// The later report.
+        new: PathBuf,
+        /// Relative tolerance of quality figures.
+        #[arg(long, default_value_t = 0.05)]
+        quality_rel: f64,
+        /// Largest accepted new/old timing ratio.
+        #[arg(long, default_value_t = 1.5)]
+        time_ratio: f64,
+    },
+    /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
+    Render(Box<smoothlab::render::cli::RenderArgs>),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -79,7 +100,18 @@ impl From<FormatArg> for Format {
 
 fn run(cli: Cli) -> smoothlab::Result<Output> {
     match cli.command {
-        None => app::run_default(),
+        None => {
+            let mut output = app::run_default()?;
+            output.stdout += &smoothlab::render::cli::run_gallery(Path::new("out/gallery"))?;
+            Ok(output)
+        }
+        Some(Command::Render(args)) => Ok(Output {
+            stdout: smoothlab::render::cli::render_summary(
+                &smoothlab::render::cli::render_command(&args)?,
+            ),
+            warnings: Vec::new(),
+            failed: false,
+        }),
         Some(Command::Metrics {
             mesh,
             scheme,
@@ -95,6 +127,20 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             params,
         }) => app::run_export(&mesh, &scheme, format.into(), &output, tess, &params),
         Some(Command::Schemes) => Ok(app::run_schemes()),
+        Some(Command::Report { out }) => app::run_report(&out),
+        Some(Command::Compare {
+            old,
+            new,
+            quality_rel,
+            time_ratio,
+        }) => app::run_compare(
+            &old,
+            &new,
+            smoothlab::report::compare::Thresholds {
+                quality_rel,
+                time_ratio,
+            },
+        ),
     }
 }
 
@@ -128,7 +174,11 @@ fn main() -> ExitCode {
                 eprintln!("warning: {w}");
             }
             print!("{}", output.stdout);
-            ExitCode::SUCCESS
+            if output.failed {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::SUCCESS
+            }
         }
         Err(e) => {
             eprintln!("error: {e}");

@@ -54,6 +54,15 @@ impl Patch {
         }
     }
 
+    /// All partial derivatives up to `max_order` at `(u, v)`, in the order of
+    /// [`TriangleBezier::partials`]; `None` for patch kinds that provide only the second-order
+    /// [`Patch::jet`].
+    pub fn partials(&self, u: f64, v: f64, max_order: usize) -> Option<Vec<DVec3>> {
+        match &self.geometry {
+            PatchGeometry::Bezier(b) => Some(b.partials(u, v, max_order)),
+        }
+    }
+
     /// A box that contains the image of the sub-triangle of the `(u, v)` domain with corners
     /// `tri` (conservative: it may be larger than the image, never smaller).
     pub fn bounds(&self, tri: [DVec2; 3]) -> Aabb {

@@ -328,7 +328,7 @@ fn all_on_an_open_mesh_skips_hb_with_a_warning() {
         .iter()
         .filter_map(|m| m["scheme"].as_str())
         .collect();
-    assert_eq!(names, ["flat", "pn"]);
+    assert_eq!(names, ["flat", "pn", "piper"]);
 }
 
 fn export(dir: &Path, format: &str, extra: &[&str]) -> (Output, PathBuf) {
@@ -400,7 +400,14 @@ fn schemes_lists_names_and_params() {
     let out = smoothlab(&["schemes"]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    for name in ["flat:", "pn:", "hb:", "normals=estimate"] {
+    for name in [
+        "flat:",
+        "pn:",
+        "hb:",
+        "piper:",
+        "normals=estimate",
+        "scaling=circle",
+    ] {
         assert!(text.contains(name), "{name} missing: {text}");
     }
 }
@@ -411,7 +418,7 @@ fn default_job_prints_every_scheme() {
     assert!(out.status.success(), "{}", stderr(&out));
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("deformed icosahedron (20 faces)"), "{text}");
-    for name in ["flat", "pn", "hb"] {
+    for name in ["flat", "pn", "hb", "piper"] {
         assert!(
             text.lines().any(|l| l.starts_with(name)),
             "{name} row missing: {text}"
@@ -435,6 +442,16 @@ fn all_on_a_closed_mesh_measures_every_scheme() {
     let list = value.as_array().expect("list");
     let names: Vec<&str> = list.iter().filter_map(|m| m["scheme"].as_str()).collect();
     assert_eq!(names, smoothlab::schemes::names());
+    // piper is G1 with 3 patches per face.
+    let piper = &list[names
+        .iter()
+        .position(|n| *n == "piper")
+        .expect("piper measured")];
+    assert_eq!(piper["patches"], 12);
+    assert!(
+        piper["g1_max_rad"].as_f64().expect("number") <= 1e-9,
+        "{piper}"
+    );
     // hb is G1 (4 patches per face); pn is not.
     assert_eq!(list[2]["patches"], 16);
     assert!(
@@ -475,4 +492,49 @@ fn pn_takes_the_file_normals_when_asked() {
         &["--scheme", "pn", "--param", "normals=obj"],
     );
     assert_fails_naming(&out, &["normals=obj"]);
+}
+
+#[test]
+fn piper_works_on_an_open_mesh_with_file_normals_and_thesis_scaling() {
+    let dir = scratch("piper-open");
+    // The tetrahedron less its last face, with the sphere's normals.
+    let open = TETRAHEDRON
+        .replace(
+            "f 1 2 3",
+            "vn 1 1 1\nvn 1 -1 -1\nvn -1 1 -1\nvn -1 -1 1\nf 1//1 2//2 3//3",
+        )
+        .replace("f 1 4 2", "f 1//1 4//4 2//2")
+        .replace("f 1 3 4", "f 1//1 3//3 4//4")
+        .replace("f 2 4 3", "");
+    let json = dir.join("m.json");
+    let out = metrics_of(
+        &dir,
+        "open-vn.obj",
+        &open,
+        &[
+            "--scheme",
+            "piper",
+            "--param",
+            "normals=obj",
+            "--param",
+            "scaling=thesis",
+            "--json",
+            json.to_str().expect("utf-8"),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("JSON");
+    let m = &value[0];
+    assert_eq!(m["patches"], 9, "{m}");
+    assert_eq!(m["joints_between_faces"], 3, "three interior edges: {m}");
+    assert_eq!(m["params"]["scaling"], "thesis");
+    assert!(m["g1_max_rad"].as_f64().expect("number") <= 1e-9, "{m}");
+    let out = metrics_of(
+        &dir,
+        "open-vn.obj",
+        &open,
+        &["--scheme", "piper", "--param", "scaling=cubic"],
+    );
+    assert_fails_naming(&out, &["scaling", "cubic"]);
 }

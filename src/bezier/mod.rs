@@ -7,10 +7,12 @@
 //!
 //! [`triangle`] holds the patch type, its storage order and its evaluation (point, jet,
 //! blossom); [`triangle_forms`] the other Bézier forms of the same patch (sub-triangle,
-//! higher degree, boundary curves) and its bounds; [`curve`] the Bézier curves.
+//! higher degree, boundary curves) and its bounds; [`curve`] the Bézier curves; [`hermite2d`]
+//! Farin's 2-D cubic Hermite curves through points with tangents.
 
 pub mod curve;
 pub mod gram;
+pub mod hermite2d;
 pub mod triangle;
 pub mod triangle_forms;
 

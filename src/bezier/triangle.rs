@@ -246,6 +246,33 @@ impl TriangleBezier {
         })
     }
 
+    /// All partial derivatives `∂^{i+j} S / ∂u^i ∂v^j` at `(u, v)` for `i + j ≤ max_order`, by
+    /// total order m, then i from m down to 0: `(0,0), (1,0), (0,1), (2,0), (1,1), (0,2), …`.
+    /// Each is `d!/(d−m)!` times the blossom at `m` direction vectors and `d − m` copies of the
+    /// point (Farin, CAGD §17.4); orders above the degree are zero.
+    pub fn partials(&self, u: f64, v: f64, max_order: usize) -> Vec<DVec3> {
+        let d = self.degree;
+        let x = DVec3::new(1.0 - u - v, u, v);
+        let (du, dv) = (DVec3::new(-1.0, 1.0, 0.0), DVec3::new(-1.0, 0.0, 1.0));
+        let mut out = Vec::with_capacity((max_order + 1) * (max_order + 2) / 2);
+        let mut args = Vec::with_capacity(d);
+        for m in 0..=max_order {
+            for i in (0..=m).rev() {
+                if m > d {
+                    out.push(DVec3::ZERO);
+                    continue;
+                }
+                args.clear();
+                args.extend(std::iter::repeat_n(du, i));
+                args.extend(std::iter::repeat_n(dv, m - i));
+                args.extend(std::iter::repeat_n(x, d - m));
+                let falling: f64 = (d + 1 - m..=d).map(|k| k as f64).product();
+                out.push(falling * self.blossom(&args));
+            }
+        }
+        out
+    }
+
     /// The patch with every control point mapped by `f` (exact for affine maps).
     pub fn map_points(&self, f: impl Fn(DVec3) -> DVec3) -> TriangleBezier {
         TriangleBezier {
@@ -522,5 +549,50 @@ mod tests {
                 assert!(err <= 1e-12, "d={d} slot {slot} α={alpha}: rel err {err:e}");
             }
         }
+    }
+
+    /// `partials` agrees with `jet` to order 2, and a cubic's third derivatives are exact
+    /// constants: S = (u³, u²v, v³) has S_uuu = (6,0,0), S_uuv = (0,2,0), S_vvv = (0,0,6).
+    #[test]
+    fn partials_match_the_jet_and_exact_third_derivatives() {
+        let mut rng = Rng::new(77);
+        for d in 1..=7 {
+            let patch = rng.triangle(d, 0.0);
+            let (u, v) = (0.23, 0.41);
+            let p = patch.partials(u, v, 3);
+            let j = patch.jet(u, v);
+            for (got, want) in p.iter().zip([j.p, j.du, j.dv, j.duu, j.duv, j.dvv]) {
+                assert!(
+                    (*got - want).length() <= 1e-11 * (1.0 + want.length()),
+                    "d={d}"
+                );
+            }
+        }
+        // With barycentric (w0, w1, w2) = (1−u−v, u, v): u³ = B_{030}, u²v = B_{021}/3,
+        // v³ = B_{003}.
+        let cubic = TriangleBezier::from_fn(3, |_, j, k| {
+            DVec3::new(
+                f64::from(u8::from(j == 3)),
+                f64::from(u8::from(j == 2 && k == 1)) / 3.0,
+                f64::from(u8::from(k == 3)),
+            )
+        });
+        let p = cubic.partials(0.3, 0.2, 4);
+        assert!(
+            (p[6] - DVec3::new(6.0, 0.0, 0.0)).length() < 1e-13,
+            "{}",
+            p[6]
+        );
+        assert!(
+            (p[7] - DVec3::new(0.0, 2.0, 0.0)).length() < 1e-13,
+            "{}",
+            p[7]
+        );
+        assert!(
+            (p[9] - DVec3::new(0.0, 0.0, 6.0)).length() < 1e-13,
+            "{}",
+            p[9]
+        );
+        assert!(p[10..].iter().all(|x| *x == DVec3::ZERO));
     }
 }

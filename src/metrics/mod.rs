@@ -14,6 +14,8 @@
 //! the per-item results are collected in order and reduced sequentially, so every figure
 //! (including the mean) is bit-for-bit the same for any thread count.
 
+pub mod continuity;
+pub mod energy;
 pub mod joints;
 pub mod network;
 pub mod patchwise;
@@ -77,8 +79,15 @@ pub struct Metrics {
     pub network_curves_with_inflections: usize,
     /// Largest distance of a boundary curve from its chord, relative to the chord length.
     pub network_chord_deviation_max_rel: f64,
-    /// The lowest measured geometric continuity order over all joints (not measured yet).
-    pub continuity_order: Option<u32>,
+    /// The lowest measured geometric continuity order over all joints ([`continuity`]; −1 = a
+    /// gap, up to [`continuity::MAX_ORDER`]).
+    pub continuity_order: Option<i32>,
+    /// The lowest order over joints between mesh faces.
+    pub continuity_order_between_faces: Option<i32>,
+    /// The lowest order over joints inside a mesh face.
+    pub continuity_order_inside_faces: Option<i32>,
+    /// The most common joint order (ties: the lower).
+    pub continuity_order_typical: Option<i32>,
     /// Number of joints (pairs of patch edges) measured.
     pub joints: usize,
     /// Of which between different mesh faces.
@@ -120,6 +129,17 @@ impl Metrics {
             .map(|j| joints::measure_joint(surface, j, floor))
             .collect();
         let sums = JointSums::reduce(&per_joint);
+        let orders: Vec<(bool, i32)> = joint_list
+            .par_iter()
+            .map(|j| (j.between_faces, continuity::joint_order(surface, j, diag)))
+            .collect();
+        let min_order = |keep: &dyn Fn(bool) -> bool| {
+            orders
+                .iter()
+                .filter(|(b, _)| keep(*b))
+                .map(|(_, o)| *o)
+                .min()
+        };
         let regularity = patchwise::min_regularity(surface);
         let interp = patchwise::interpolation_error(surface, faces, positions);
         Metrics {
@@ -144,7 +164,10 @@ impl Metrics {
             network_inflections_max: 0,
             network_curves_with_inflections: 0,
             network_chord_deviation_max_rel: 0.0,
-            continuity_order: None,
+            continuity_order: min_order(&|_| true),
+            continuity_order_between_faces: min_order(&|b| b),
+            continuity_order_inside_faces: min_order(&|b| !b),
+            continuity_order_typical: typical_order(&orders),
             joints: per_joint.len(),
             joints_between_faces: per_joint.iter().filter(|j| j.between_faces).count(),
             samples_per_joint: JOINT_SAMPLES,
@@ -158,6 +181,16 @@ impl Metrics {
 fn diagonal(positions: &[DVec3]) -> f64 {
     let d = crate::geom::Aabb::from_points(positions).diagonal();
     if d > 0.0 && d.is_finite() { d } else { 1.0 }
+}
+
+/// The most common order (the lower one on ties).
+fn typical_order(orders: &[(bool, i32)]) -> Option<i32> {
+    let mut counts: BTreeMap<i32, usize> = BTreeMap::new();
+    for (_, o) in orders {
+        *counts.entry(*o).or_default() += 1;
+    }
+    let most = counts.values().copied().max()?;
+    counts.into_iter().find(|(_, c)| *c == most).map(|(o, _)| o)
 }
 
 fn max_of(a: Option<f64>, b: Option<f64>) -> Option<f64> {
@@ -403,7 +436,12 @@ mod tests {
         ] {
             assert!(value.get(key).is_some(), "missing key {key}");
         }
-        assert!(value["continuity_order"].is_null());
+        // Pieces of one polynomial agree to every measured order.
+        assert_eq!(
+            value["continuity_order"],
+            continuity::MAX_ORDER as i64,
+            "{value}"
+        );
         assert_eq!(value["params"]["p"], "1");
     }
 }

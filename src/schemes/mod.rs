@@ -6,6 +6,7 @@ pub mod flat;
 pub mod gk;
 pub mod hb;
 pub mod loop94;
+pub mod piper;
 pub mod pn;
 #[cfg(test)]
 pub(crate) mod testing;
@@ -42,7 +43,14 @@ pub struct SchemeSpec {
 }
 
 /// Every scheme, in the order the gallery and tables show them.
-pub const SCHEMES: &[SchemeSpec] = &[flat::SPEC, pn::SPEC, hb::SPEC, loop94::SPEC, gk::SPEC];
+pub const SCHEMES: &[SchemeSpec] = &[
+    flat::SPEC,
+    pn::SPEC,
+    hb::SPEC,
+    loop94::SPEC,
+    piper::SPEC,
+    gk::SPEC,
+];
 
 /// Looks a scheme up by name.
 pub fn find(name: &str) -> Result<&'static SchemeSpec> {

@@ -9,7 +9,9 @@
 //! for order 6) are not used, so that all patches share one form.
 //!
 //! Defaults: α = 1 interpolates the vertices (the case of HB00 Fig. 2 top, which undulates);
-//! β = 0.1 as in HB00 §9 (Fig. 14).
+//! β = 1/2 gives linear precision on regular meshes (`r¹_i = 2β e_i` for a planar hexagonal ring)
+//! and a regular parametrisation (measured min |Su×Sv| / mean: 0.76 on the icosahedron, against
+//! 0.04 with Fig. 14's β = 0.1, whose short tangents crease the surface along the edges).
 
 pub mod patch;
 pub mod vertex;
@@ -36,7 +38,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
         },
         ParamSpec {
             name: "beta",
-            default: "0.1",
+            default: "0.5",
             help: "β of eq. 2 (> 0): tangent magnitude",
         },
     ],

@@ -1,0 +1,165 @@
+//! Renderer throughput (short configurations, well under a minute in total):
+//! - BVH build over subdivided patch bounds, in patches per second, for an `hb` torus of
+//!   15 360 quintic patches;
+//! - primary-ray throughput (closest hit, one thread) on that surface;
+//! - exact patches against the tessellated path at the level whose largest normal error is
+//!   ≤ 0.01°, on a 1600-patch hb torus (the 15k-patch one would need ~16M triangles).
+//!
+//! Setup prints the figures criterion does not: leaves, memory, the tessellation level chosen
+//! and its normal error, Newton statistics.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use smoothlab::mesh::Mesh;
+use smoothlab::mesh::generate::analytic::torus;
+use smoothlab::render::bvh::{PatchBvh, SubdivisionCriterion};
+use smoothlab::render::camera::Camera;
+use smoothlab::render::intersect::IntersectCounters;
+use smoothlab::render::job::surface_samples;
+use smoothlab::render::tessellate::TessellatedTracer;
+use smoothlab::render::{NewtonSettings, Ray64, SurfaceTracer, Tracer};
+use smoothlab::surface::Surface;
+
+/// 60 × 32 quads → 3840 faces → 15 360 hb patches.
+fn hb_torus() -> Surface {
+    hb_torus_of(60, 32)
+}
+
+/// An hb torus of `major × minor` quads (4 patches per triangle).
+fn hb_torus_of(major: u32, minor: u32) -> Surface {
+    let sampled = torus(major, minor, 1.0, 0.35);
+    let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).expect("torus mesh");
+    smoothlab::schemes::build("hb", &mesh, &[]).expect("hb on the torus")
+}
+
+/// Camera rays of a `side × side` image framing the surface.
+fn camera_rays(surface: &Surface, side: u32) -> Vec<Ray64> {
+    let camera = Camera::frame_points(&surface_samples(surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
+        .expect("camera");
+    let mut rays = Vec::with_capacity((side * side) as usize);
+    for y in 0..side {
+        for x in 0..side {
+            let nx = 2.0 * (f64::from(x) + 0.5) / f64::from(side) - 1.0;
+            let ny = 1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(side);
+            rays.push(camera.ray(nx, ny, 1.0));
+        }
+    }
+    rays
+}
+
+fn trace_all<T: SurfaceTracer>(tracer: &T, rays: &[Ray64]) -> (u64, IntersectCounters) {
+    let mut counters = IntersectCounters::default();
+    let mut hits = 0;
+    for ray in rays {
+        if tracer
+            .closest_hit(ray, 0.0, f64::INFINITY, &mut counters)
+            .is_some()
+        {
+            hits += 1;
+        }
+    }
+    (hits, counters)
+}
+
+fn bvh_build(c: &mut Criterion) {
+    let surface = hb_torus();
+    let mut group = c.benchmark_group("bvh_build");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(6));
+    group.throughput(Throughput::Elements(surface.patches.len() as u64));
+    group.bench_function("hb_torus_15k_patches", |b| {
+        b.iter(|| PatchBvh::build(black_box(&surface), &SubdivisionCriterion::default()))
+    });
+    group.finish();
+}
+
+fn primary_rays(c: &mut Criterion) {
+    let surface = hb_torus();
+    let rays = camera_rays(&surface, 256);
+    let exact = Tracer::new(
+        &surface,
+        &SubdivisionCriterion::default(),
+        NewtonSettings::default(),
+    )
+    .expect("tracer");
+    report_exact("hb torus 15k", &surface, &exact, &rays);
+    let mut group = c.benchmark_group("primary_rays");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(5));
+    group.throughput(Throughput::Elements(rays.len() as u64));
+    group.bench_function("exact_hb_torus_15k", |b| {
+        b.iter(|| trace_all(&exact, black_box(&rays)))
+    });
+    group.finish();
+}
+
+fn report_exact(name: &str, surface: &Surface, exact: &Tracer, rays: &[Ray64]) {
+    let (hits, counters) = trace_all(exact, rays);
+    println!(
+        "{name}: {} patches, {} leaves, {:.2} MB, build {:.0} ms; {hits}/{} rays hit; Newton runs per ray {:.2}, mean {:.3}, max {}, failures {}, unconverged {}",
+        surface.patches.len(),
+        exact.leaf_count(),
+        exact.memory_bytes() as f64 / 1e6,
+        exact.build_ms(),
+        rays.len(),
+        counters.newton_runs as f64 / rays.len() as f64,
+        counters.accepted_iterations as f64 / counters.roots_accepted.max(1) as f64,
+        counters.accepted_iterations_max,
+        counters.newton_failures,
+        counters.newton_unconverged
+    );
+}
+
+/// Exact patches against the coarsest tessellation whose normals are within 0.01° of the
+/// exact ones, on a torus small enough (1600 patches) that the tessellation fits a laptop.
+fn exact_vs_tessellated(c: &mut Criterion) {
+    let surface = hb_torus_of(20, 10);
+    let rays = camera_rays(&surface, 256);
+    let exact = Tracer::new(
+        &surface,
+        &SubdivisionCriterion::default(),
+        NewtonSettings::default(),
+    )
+    .expect("tracer");
+    report_exact("hb torus 1600", &surface, &exact, &rays);
+    let target = 0.01_f64.to_radians();
+    let mut level = 8;
+    let tessellated = loop {
+        let t = TessellatedTracer::new(&surface, level).expect("tessellation");
+        let error = t.max_normal_error(16);
+        println!(
+            "tessellation N = {level}: {} triangles, {:.1} MB, max normal error {:.4}°",
+            t.leaf_count(),
+            t.memory_bytes() as f64 / 1e6,
+            error.to_degrees()
+        );
+        if error <= target || level >= 64 {
+            break t;
+        }
+        // Interpolated normals converge quadratically in the edge length: aim just below.
+        level = ((f64::from(level) * (error / target).sqrt() * 1.05).ceil() as u32).max(level + 1);
+    };
+    println!(
+        "memory exact / tessellated = {:.4}",
+        exact.memory_bytes() as f64 / tessellated.memory_bytes() as f64
+    );
+    let mut group = c.benchmark_group("exact_vs_tessellated");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(5));
+    group.throughput(Throughput::Elements(rays.len() as u64));
+    group.bench_function("exact_hb_torus_1600", |b| {
+        b.iter(|| trace_all(&exact, black_box(&rays)))
+    });
+    group.bench_function(format!("tessellated_N{level}_hb_torus_1600"), |b| {
+        b.iter(|| trace_all(&tessellated, black_box(&rays)))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bvh_build, primary_rays, exact_vs_tessellated);
+criterion_main!(benches);

@@ -1,0 +1,447 @@
+//! The acceleration structure of the exact renderer: every patch's `(u, v)` domain is split into
+//! sub-triangles until each piece is nearly flat with a narrow normal cone, and an obvhs
+//! compressed wide BVH (PLOC build + reinsertion) is built over the pieces' conservative boxes.
+//!
+//! A leaf is `(patch, sub-triangle of the patch's (u, v) domain)`. Its box is the box of the
+//! sub-patch's Bézier control net (convex-hull property: it contains the sub-patch), rounded
+//! outward to f32 and padded by a small fraction of the scene size so that the f32 traversal ray,
+//! which differs from the f64 ray by rounding, still enters every box the f64 ray enters.
+
+use std::time::{Duration, Instant};
+
+use glam::{DVec2, DVec3, Vec3, Vec3A};
+use obvhs::BvhBuildParams;
+use obvhs::cwbvh::CwBvh;
+use obvhs::cwbvh::builder::build_cwbvh;
+use rayon::prelude::*;
+
+use crate::bezier::TriangleBezier;
+use crate::error::{Error, Result};
+use crate::geom::Aabb;
+use crate::surface::{Surface, UV_CORNERS};
+
+/// When a piece of a patch is small enough to be a BVH leaf.
+///
+/// A piece is split into four (at its edge midpoints) until its control net lies within
+/// `flatness × size` of the plane through its three corners (`size` = diagonal of the net's
+/// box) **and** the normals of all control-net triangles lie within `max_cone_deg` of that
+/// plane's normal. Flatness keeps the box tight; the narrow cone keeps Newton, started at the
+/// piece's centroid, inside its basin of quadratic convergence and makes a ray meet the piece
+/// at most once unless it is nearly tangent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SubdivisionCriterion {
+    /// Largest allowed distance of a control point from the corner plane, relative to size.
+    pub flatness: f64,
+    /// Largest allowed angle (degrees) between a control-net triangle normal and the corner
+    /// plane normal.
+    pub max_cone_deg: f64,
+    /// Splits always stop at this depth (a piece then covers 4^-depth of the patch domain).
+    pub max_depth: u32,
+    /// Splits never stop before this depth.
+    pub min_depth: u32,
+}
+
+impl Default for SubdivisionCriterion {
+    fn default() -> Self {
+        SubdivisionCriterion {
+            flatness: 0.05,
+            max_cone_deg: 25.0,
+            max_depth: 7,
+            min_depth: 0,
+        }
+    }
+}
+
+/// One BVH primitive: a sub-triangle of one patch's `(u, v)` domain, with the surface points
+/// at its corners (they span the plane from which Newton starts) and an oriented box around
+/// the sub-patch's control net in the frame of that plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Leaf {
+    /// Patch index in [`Surface::patches`].
+    pub patch: u32,
+    /// Corners of the sub-triangle in the patch's `(u, v)` coordinates (counter-clockwise).
+    /// Stored in f32: corners are dyadic fractions from repeated halving, exact in f32 up to
+    /// depth 23.
+    pub uv: [[f32; 2]; 3],
+    /// Surface points at the three corners (f32 is plenty for a start point).
+    pub corners: [Vec3; 3],
+    /// Oriented box: rows of the frame (first edge, in-plane normal to it, plane normal).
+    pub axes: [Vec3; 3],
+    /// Oriented box: smallest coordinates of the control points in the frame at `corners[0]`.
+    pub lo: Vec3,
+    /// Oriented box: largest coordinates.
+    pub hi: Vec3,
+}
+
+impl Leaf {
+    /// A leaf of `patch` over the sub-triangle `tri` whose sub-patch has control points
+    /// `points` and corner points `corners`.
+    ///
+    /// The oriented box is computed with the frame exactly as stored (f32 origin and axes,
+    /// used in f64), so it contains every control point — hence, by the convex-hull property,
+    /// the sub-patch — whatever the rounding of the frame; a relative 1e-9 pad covers the f64
+    /// arithmetic.
+    pub fn new(patch: u32, tri: [DVec2; 3], corners: [DVec3; 3], points: &[DVec3]) -> Leaf {
+        let origin = corners[0].as_vec3().as_dvec3();
+        let x = (corners[1] - corners[0]).normalize_or_zero();
+        let plane = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+        let z = plane.normalize_or_zero();
+        let axes = if x == DVec3::ZERO || z == DVec3::ZERO {
+            [DVec3::X, DVec3::Y, DVec3::Z]
+        } else {
+            [x, z.cross(x), z]
+        };
+        let axes = axes.map(|a| a.as_vec3());
+        let frame = axes.map(|a| a.as_dvec3());
+        let mut lo = DVec3::INFINITY;
+        let mut hi = DVec3::NEG_INFINITY;
+        for &p in points.iter().chain(corners.iter()) {
+            let q = p - origin;
+            let c = DVec3::new(frame[0].dot(q), frame[1].dot(q), frame[2].dot(q));
+            lo = lo.min(c);
+            hi = hi.max(c);
+        }
+        let pad = 1e-9 * (hi - lo).max_element().max(origin.abs().max_element());
+        let (lo, hi) = (lo - DVec3::splat(pad), hi + DVec3::splat(pad));
+        let down = |v: DVec3| Vec3::new(f32_down(v.x), f32_down(v.y), f32_down(v.z));
+        let up = |v: DVec3| Vec3::new(f32_up(v.x), f32_up(v.y), f32_up(v.z));
+        Leaf {
+            patch,
+            uv: tri.map(|c| [c.x as f32, c.y as f32]),
+            corners: corners.map(|p| p.as_vec3()),
+            axes,
+            lo: down(lo),
+            hi: up(hi),
+        }
+    }
+
+    /// Corners of the sub-triangle in `(u, v)`.
+    pub fn tri(&self) -> [DVec2; 3] {
+        self.uv
+            .map(|c| DVec2::new(f64::from(c[0]), f64::from(c[1])))
+    }
+
+    /// Centroid of the sub-triangle.
+    pub fn centroid(&self) -> DVec2 {
+        let t = self.tri();
+        (t[0] + t[1] + t[2]) / 3.0
+    }
+
+    /// True if the ray `origin + t dir`, `t ∈ [t_min, t_max]`, meets the oriented box (a
+    /// conservative test: false means the ray cannot meet the sub-patch).
+    pub fn ray_meets_box(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64) -> bool {
+        let q = origin - self.corners[0].as_dvec3();
+        let (mut near, mut far) = (t_min, t_max);
+        for axis in 0..3 {
+            let a = self.axes[axis].as_dvec3();
+            let (o, d) = (a.dot(q), a.dot(dir));
+            let (lo, hi) = (f64::from(self.lo[axis]), f64::from(self.hi[axis]));
+            if d == 0.0 {
+                if o < lo || o > hi {
+                    return false;
+                }
+                continue;
+            }
+            let inv = 1.0 / d;
+            let (t0, t1) = ((lo - o) * inv, (hi - o) * inv);
+            near = near.max(t0.min(t1));
+            far = far.min(t0.max(t1));
+            if near > far {
+                return false;
+            }
+        }
+        true
+    }
+}
+
+/// The largest f32 not above `x`.
+fn f32_down(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) > x { f.next_down() } else { f }
+}
+
+/// The smallest f32 not below `x`.
+fn f32_up(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) < x { f.next_up() } else { f }
+}
+
+/// Barycentric coordinates of `p` in the triangle `tri` (non-degenerate).
+pub fn barycentric_in(tri: [DVec2; 3], p: DVec2) -> DVec3 {
+    let e1 = tri[1] - tri[0];
+    let e2 = tri[2] - tri[0];
+    let q = p - tri[0];
+    let det = e1.perp_dot(e2);
+    let b1 = q.perp_dot(e2) / det;
+    let b2 = e1.perp_dot(q) / det;
+    DVec3::new(1.0 - b1 - b2, b1, b2)
+}
+
+/// The four sub-triangles of `tri` split at its edge midpoints, all counter-clockwise like
+/// `tri`; the middle one last.
+pub fn split4(tri: [DVec2; 3]) -> [[DVec2; 3]; 4] {
+    let m01 = 0.5 * (tri[0] + tri[1]);
+    let m12 = 0.5 * (tri[1] + tri[2]);
+    let m20 = 0.5 * (tri[2] + tri[0]);
+    [
+        [tri[0], m01, m20],
+        [m01, tri[1], m12],
+        [m20, m12, tri[2]],
+        [m01, m12, m20],
+    ]
+}
+
+/// The barycentric corners (in a parent's domain) of the four children of [`split4`].
+const CHILD_CORNERS: [[DVec3; 3]; 4] = {
+    let c0 = DVec3::new(1.0, 0.0, 0.0);
+    let c1 = DVec3::new(0.0, 1.0, 0.0);
+    let c2 = DVec3::new(0.0, 0.0, 1.0);
+    let m01 = DVec3::new(0.5, 0.5, 0.0);
+    let m12 = DVec3::new(0.0, 0.5, 0.5);
+    let m20 = DVec3::new(0.5, 0.0, 0.5);
+    [
+        [c0, m01, m20],
+        [m01, c1, m12],
+        [m20, m12, c2],
+        [m01, m12, m20],
+    ]
+};
+
+/// An f64 box as an f32 box that contains it, grown by `pad` on every side.
+pub fn outward_f32(b: &Aabb, pad: f64) -> obvhs::aabb::Aabb {
+    let lo = b.min - DVec3::splat(pad);
+    let hi = b.max + DVec3::splat(pad);
+    obvhs::aabb::Aabb::new(
+        Vec3A::new(f32_down(lo.x), f32_down(lo.y), f32_down(lo.z)),
+        Vec3A::new(f32_up(hi.x), f32_up(hi.y), f32_up(hi.z)),
+    )
+}
+
+/// The box padding for a scene with bounds `scene`: covers the f32 rounding of traversal rays
+/// whose origin and hit distance are within about ten scene sizes of the scene.
+pub fn box_padding(scene: &Aabb) -> f64 {
+    let extent = scene
+        .diagonal()
+        .max(scene.min.abs().max_element())
+        .max(scene.max.abs().max_element());
+    1e-5 * extent.max(f64::MIN_POSITIVE)
+}
+
+/// The patch BVH: leaves in traversal order plus the obvhs wide BVH over their boxes.
+pub struct PatchBvh {
+    /// The obvhs BVH; its primitive ids index [`PatchBvh::leaves`] directly.
+    pub bvh: CwBvh,
+    /// Leaves, reordered so that BVH primitive id `i` is `leaves[i]`.
+    pub leaves: Vec<Leaf>,
+    /// Wall time of subdivision plus BVH build.
+    pub build_time: Duration,
+    /// Padding added to every leaf box (world units).
+    pub padding: f64,
+}
+
+impl PatchBvh {
+    /// Subdivides every patch of `surface` by `criterion` and builds the BVH.
+    pub fn build(surface: &Surface, criterion: &SubdivisionCriterion) -> Result<PatchBvh> {
+        let start = Instant::now();
+        if surface.patches.is_empty() {
+            return Err(Error::Invalid(format!(
+                "surface of scheme '{}' has no patches to render",
+                surface.scheme
+            )));
+        }
+        let scene = surface.bounds();
+        if !scene.min.is_finite() || !scene.max.is_finite() {
+            let bad = surface
+                .patches
+                .iter()
+                .position(|p| {
+                    let b = p.full_bounds();
+                    !b.min.is_finite() || !b.max.is_finite()
+                })
+                .unwrap_or(0);
+            return Err(Error::Invalid(format!(
+                "patch {bad} of scheme '{}' has a non-finite control point",
+                surface.scheme
+            )));
+        }
+        let padding = box_padding(&scene);
+        // Per-patch subdivision is independent; collecting in patch order keeps the leaf list
+        // (and so the BVH) identical for any thread count.
+        let per_patch: Vec<Vec<(Leaf, Aabb)>> = surface
+            .patches
+            .par_iter()
+            .enumerate()
+            .map(|(pi, patch)| match patch.as_bezier() {
+                Some(net) => subdivide_patch(pi as u32, net, criterion),
+                None => vec![(
+                    {
+                        let b = patch.full_bounds();
+                        let box_corners: Vec<DVec3> = (0..8)
+                            .map(|k| {
+                                DVec3::new(
+                                    if k & 1 == 0 { b.min.x } else { b.max.x },
+                                    if k & 2 == 0 { b.min.y } else { b.max.y },
+                                    if k & 4 == 0 { b.min.z } else { b.max.z },
+                                )
+                            })
+                            .collect();
+                        Leaf::new(
+                            pi as u32,
+                            UV_CORNERS,
+                            UV_CORNERS.map(|c| patch.eval(c.x, c.y)),
+                            &box_corners,
+                        )
+                    },
+                    patch.full_bounds(),
+                )],
+            })
+            .collect();
+        let (leaves, boxes): (Vec<Leaf>, Vec<obvhs::aabb::Aabb>) = per_patch
+            .into_iter()
+            .flatten()
+            .map(|(leaf, b)| (leaf, outward_f32(&b, padding)))
+            .unzip();
+        let bvh = build_cwbvh(&boxes, build_params(), &mut Duration::default());
+        let leaves = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| leaves[i as usize])
+            .collect();
+        Ok(PatchBvh {
+            bvh,
+            leaves,
+            build_time: start.elapsed(),
+            padding,
+        })
+    }
+
+    /// Bytes held by the BVH nodes, its index list and the leaves.
+    pub fn memory_bytes(&self) -> usize {
+        std::mem::size_of_val(self.bvh.nodes.as_slice())
+            + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
+            + std::mem::size_of_val(self.leaves.as_slice())
+    }
+}
+
+/// PLOC with a medium search radius and a little reinsertion: reinsertion pays for itself
+/// once a frame has more rays than the scene has leaves, which is every frame here.
+pub fn build_params() -> BvhBuildParams {
+    let mut params = BvhBuildParams::medium_build();
+    params.max_prims_per_leaf = 3;
+    params
+}
+
+/// Leaves of one patch: recursive 4-split of the control net until [`is_leaf`].
+fn subdivide_patch(
+    patch: u32,
+    net: &TriangleBezier,
+    criterion: &SubdivisionCriterion,
+) -> Vec<(Leaf, Aabb)> {
+    let mut out = Vec::new();
+    let mut stack = vec![(UV_CORNERS, net.clone(), 0u32)];
+    while let Some((tri, piece, depth)) = stack.pop() {
+        let done = depth >= criterion.max_depth
+            || (depth >= criterion.min_depth && is_leaf(&piece, criterion));
+        if done {
+            let d = piece.degree();
+            let corners = [piece.point(d, 0), piece.point(0, d), piece.point(0, 0)];
+            out.push((
+                Leaf::new(patch, tri, corners, piece.points()),
+                piece.control_bounds(),
+            ));
+            continue;
+        }
+        let child_tris = split4(tri);
+        // Pushed in reverse so that leaves come out in child order (deterministic layout).
+        for c in (0..4).rev() {
+            stack.push((child_tris[c], piece.subdivide(CHILD_CORNERS[c]), depth + 1));
+        }
+    }
+    out
+}
+
+/// The flatness and normal-cone test of [`SubdivisionCriterion`] on one control net.
+pub fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) -> bool {
+    let d = net.degree();
+    let p0 = net.point(d, 0);
+    let p1 = net.point(0, d);
+    let p2 = net.point(0, 0);
+    let plane = (p1 - p0).cross(p2 - p0);
+    let size = net.control_bounds().diagonal();
+    let plane_len = plane.length();
+    if plane_len.is_nan() || plane_len <= 1e-300 || size.is_nan() || size <= 0.0 {
+        // A degenerate corner triangle has no plane to be flat against.
+        return d <= 1 && size == 0.0;
+    }
+    let normal = plane / plane_len;
+    let flat_limit = criterion.flatness * size;
+    if net
+        .points()
+        .iter()
+        .any(|&b| (b - p0).dot(normal).abs() > flat_limit)
+    {
+        return false;
+    }
+    let cos_limit = criterion.max_cone_deg.to_radians().cos();
+    for i in (0..d).rev() {
+        for j in (0..d - i).rev() {
+            // The "upward" micro-triangle b(i+1,j,k), b(i,j+1,k), b(i,j,k+1), k = d−1−i−j.
+            let a = net.point(i + 1, j);
+            let b = net.point(i, j + 1);
+            let c = net.point(i, j);
+            let n = (b - a).cross(c - a);
+            let len = n.length();
+            // Collapsed control points (e.g. at a singular corner) carry no direction.
+            if len > 1e-12 * size * size && n.dot(normal) < cos_limit * len {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn split4_children_tile_the_parent() {
+        let tri = UV_CORNERS;
+        let children = split4(tri);
+        let area = |t: [DVec2; 3]| 0.5 * (t[1] - t[0]).perp_dot(t[2] - t[0]);
+        let total: f64 = children.iter().map(|c| area(*c)).sum();
+        assert_eq!(total, area(tri), "children cover the parent's area");
+        for c in children {
+            assert!(area(c) > 0.0, "child {c:?} keeps the orientation");
+        }
+    }
+
+    #[test]
+    fn barycentric_of_corners_and_centroid() {
+        let tri = [
+            DVec2::new(0.25, 0.0),
+            DVec2::new(0.5, 0.0),
+            DVec2::new(0.25, 0.25),
+        ];
+        assert_eq!(barycentric_in(tri, tri[1]), DVec3::new(0.0, 1.0, 0.0));
+        let c = (tri[0] + tri[1] + tri[2]) / 3.0;
+        let b = barycentric_in(tri, c);
+        assert!(
+            (b - DVec3::splat(1.0 / 3.0)).abs().max_element() < 1e-15,
+            "{b}"
+        );
+    }
+
+    #[test]
+    fn outward_rounding_contains_the_f64_box() {
+        let b = Aabb {
+            min: DVec3::new(0.1, -0.3, 1.0 / 3.0),
+            max: DVec3::new(0.7, 1e-9, 2.0 / 3.0),
+        };
+        let f = outward_f32(&b, 0.0);
+        for axis in 0..3 {
+            assert!(f64::from(f.min[axis]) <= b.min[axis], "min axis {axis}");
+            assert!(f64::from(f.max[axis]) >= b.max[axis], "max axis {axis}");
+        }
+    }
+}

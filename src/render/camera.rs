@@ -1,0 +1,287 @@
+//! Pinhole (perspective) and orthographic cameras set up by look-at, and automatic framing of a
+//! bounding box.
+
+use glam::DVec3;
+
+use crate::error::{Error, Result};
+use crate::geom::Aabb;
+use crate::render::intersect::Ray64;
+
+/// How the image plane maps to rays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Rays from the eye; `fov_deg` is the vertical field of view.
+    Perspective {
+        /// Vertical field of view in degrees.
+        fov_deg: f64,
+    },
+    /// Parallel rays along the view direction; `height` is the world height of the image.
+    Orthographic {
+        /// World-space height of the view.
+        height: f64,
+    },
+}
+
+/// A look-at camera with an orthonormal frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub eye: DVec3,
+    /// Point looked at.
+    pub target: DVec3,
+    /// Projection.
+    pub projection: Projection,
+    forward: DVec3,
+    right: DVec3,
+    up: DVec3,
+}
+
+impl Camera {
+    /// A camera at `eye` looking at `target` with `up` pointing up in the image.
+    pub fn look_at(eye: DVec3, target: DVec3, up: DVec3, projection: Projection) -> Result<Camera> {
+        if !eye.is_finite() || !target.is_finite() || !up.is_finite() {
+            return Err(Error::Invalid(
+                "camera eye, target and up must be finite".into(),
+            ));
+        }
+        let forward = (target - eye).normalize_or_zero();
+        if forward == DVec3::ZERO {
+            return Err(Error::Invalid(format!(
+                "camera eye {eye} and target {target} coincide"
+            )));
+        }
+        let right = forward.cross(up).normalize_or_zero();
+        if right == DVec3::ZERO {
+            return Err(Error::Invalid(format!(
+                "camera up {up} is parallel to the view direction {forward}"
+            )));
+        }
+        match projection {
+            Projection::Perspective { fov_deg } if !(fov_deg > 0.0 && fov_deg < 180.0) => {
+                return Err(Error::Invalid(format!(
+                    "field of view {fov_deg}° must be in (0°, 180°)"
+                )));
+            }
+            Projection::Orthographic { height } if !(height > 0.0 && height.is_finite()) => {
+                return Err(Error::Invalid(format!(
+                    "orthographic view height {height} must be positive"
+                )));
+            }
+            _ => {}
+        }
+        Ok(Camera {
+            eye,
+            target,
+            projection,
+            forward,
+            right,
+            up: right.cross(forward),
+        })
+    }
+
+    /// A perspective camera looking at the centre of `bounds` from direction `from`
+    /// (eye = centre + distance · from), with vertical field of view `fov_deg` and image aspect
+    /// `aspect` (width / height), as close as possible while all eight box corners stay in view
+    /// with a 5 % margin.
+    pub fn frame(bounds: &Aabb, from: DVec3, fov_deg: f64, aspect: f64) -> Result<Camera> {
+        let corners: Vec<DVec3> = (0..8)
+            .map(|k| {
+                DVec3::new(
+                    if k & 1 == 0 {
+                        bounds.min.x
+                    } else {
+                        bounds.max.x
+                    },
+                    if k & 2 == 0 {
+                        bounds.min.y
+                    } else {
+                        bounds.max.y
+                    },
+                    if k & 4 == 0 {
+                        bounds.min.z
+                    } else {
+                        bounds.max.z
+                    },
+                )
+            })
+            .collect();
+        Camera::frame_points(&corners, from, fov_deg, aspect)
+    }
+
+    /// Like [`Camera::frame`] but keeps the given points in view (e.g. points sampled on a
+    /// surface, which frame it tighter than its box), looking at the centre of their box.
+    pub fn frame_points(
+        points: &[DVec3],
+        from: DVec3,
+        fov_deg: f64,
+        aspect: f64,
+    ) -> Result<Camera> {
+        let bounds = Aabb::from_points(points);
+        if bounds.is_empty() || !bounds.min.is_finite() || !bounds.max.is_finite() {
+            return Err(Error::Invalid(
+                "cannot frame an empty or non-finite set of points".into(),
+            ));
+        }
+        if !(fov_deg > 0.0 && fov_deg < 180.0 && aspect > 0.0 && aspect.is_finite()) {
+            return Err(Error::Invalid(format!(
+                "cannot frame with field of view {fov_deg}° and aspect {aspect}"
+            )));
+        }
+        let center = bounds.center();
+        let back = from.normalize_or_zero();
+        if back == DVec3::ZERO {
+            return Err(Error::Invalid("framing direction must be non-zero".into()));
+        }
+        let up = if back.cross(DVec3::Y).length() > 1e-6 {
+            DVec3::Y
+        } else {
+            DVec3::Z
+        };
+        let right = up.cross(back).normalize();
+        let true_up = back.cross(right);
+        let tan_v = (0.5 * fov_deg.to_radians()).tan() / 1.05;
+        let tan_h = tan_v * aspect;
+        // A point c (relative to the centre) is in view from distance D when
+        // |c·right| ≤ tan_h (D − c·back) and |c·up| ≤ tan_v (D − c·back).
+        let mut distance = 1e-6 * bounds.diagonal().max(1e-300);
+        for p in points {
+            let c = *p - center;
+            let depth = c.dot(back);
+            distance = distance
+                .max(depth + c.dot(right).abs() / tan_h)
+                .max(depth + c.dot(true_up).abs() / tan_v);
+        }
+        Camera::look_at(
+            center + back * distance,
+            center,
+            up,
+            Projection::Perspective { fov_deg },
+        )
+    }
+
+    /// The default viewing direction of automatic framing: from the front-right, slightly above.
+    pub const DEFAULT_VIEW: DVec3 = DVec3::new(0.55, 0.45, 1.0);
+
+    /// Unit view direction.
+    pub fn forward(&self) -> DVec3 {
+        self.forward
+    }
+
+    /// The ray through image-plane point `(x, y)`, both in `[-1, 1]` (x right, y up), for an
+    /// image of aspect `aspect` (width / height).
+    pub fn ray(&self, x: f64, y: f64, aspect: f64) -> Ray64 {
+        match self.projection {
+            Projection::Perspective { fov_deg } => {
+                let tan = (0.5 * fov_deg.to_radians()).tan();
+                let dir = self.forward + self.right * (x * tan * aspect) + self.up * (y * tan);
+                Ray64::new(self.eye, dir)
+            }
+            Projection::Orthographic { height } => {
+                let origin = self.eye
+                    + self.right * (0.5 * x * height * aspect)
+                    + self.up * (0.5 * y * height);
+                Ray64 {
+                    origin,
+                    dir: self.forward,
+                }
+            }
+        }
+    }
+
+    /// World size of one pixel at distance `t` along a ray, for an image `height` pixels high.
+    pub fn pixel_footprint(&self, t: f64, height: u32) -> f64 {
+        match self.projection {
+            Projection::Perspective { fov_deg } => {
+                2.0 * t * (0.5 * fov_deg.to_radians()).tan() / f64::from(height)
+            }
+            Projection::Orthographic { height: h } => h / f64::from(height),
+        }
+    }
+
+    /// The same camera with an orthographic projection that shows, at the target, what the
+    /// perspective view with `fov_deg` shows there.
+    pub fn orthographic_of(&self, fov_deg: f64) -> Result<Camera> {
+        let height = 2.0 * (self.target - self.eye).length() * (0.5 * fov_deg.to_radians()).tan();
+        Camera::look_at(
+            self.eye,
+            self.target,
+            self.up,
+            Projection::Orthographic { height },
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centre_ray_looks_at_target() {
+        let cam = Camera::look_at(
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            Projection::Perspective { fov_deg: 40.0 },
+        )
+        .expect("valid camera");
+        let ray = cam.ray(0.0, 0.0, 1.5);
+        let to_target = (-cam.eye).normalize();
+        assert!((ray.dir - to_target).length() < 1e-15, "{}", ray.dir);
+    }
+
+    #[test]
+    fn corner_ray_has_the_field_of_view() {
+        let fov = 50.0_f64;
+        let cam = Camera::look_at(
+            DVec3::Z * 4.0,
+            DVec3::ZERO,
+            DVec3::Y,
+            Projection::Perspective { fov_deg: fov },
+        )
+        .expect("valid camera");
+        let top = cam.ray(0.0, 1.0, 1.0);
+        let angle = top.dir.angle_between(cam.forward());
+        assert!((angle - 0.5 * fov.to_radians()).abs() < 1e-12, "{angle}");
+        assert!(top.dir.y > 0.0, "y = +1 is up");
+        let right = cam.ray(1.0, 0.0, 1.0);
+        assert!(right.dir.x > 0.0, "x = +1 is right when looking down −z");
+    }
+
+    #[test]
+    fn framing_keeps_every_box_corner_in_view() {
+        let b = Aabb {
+            min: DVec3::new(-1.0, -0.5, -2.0),
+            max: DVec3::new(1.5, 0.5, 1.0),
+        };
+        let (fov, aspect) = (30.0_f64, 1.5);
+        let cam = Camera::frame(&b, Camera::DEFAULT_VIEW, fov, aspect).expect("framing");
+        let tan_v = (0.5 * fov.to_radians()).tan();
+        let mut widest = 0.0_f64;
+        for k in 0..8 {
+            let corner = DVec3::new(
+                if k & 1 == 0 { b.min.x } else { b.max.x },
+                if k & 2 == 0 { b.min.y } else { b.max.y },
+                if k & 4 == 0 { b.min.z } else { b.max.z },
+            );
+            let rel = corner - cam.eye;
+            let depth = rel.dot(cam.forward());
+            let x = rel.dot(cam.right) / (depth * tan_v * aspect);
+            let y = rel.dot(cam.up) / (depth * tan_v);
+            assert!(
+                x.abs() <= 1.0 && y.abs() <= 1.0,
+                "corner {corner} at ({x}, {y})"
+            );
+            widest = widest.max(x.abs()).max(y.abs());
+        }
+        assert!(widest > 0.9, "framing is tight: widest corner at {widest}");
+    }
+
+    #[test]
+    fn degenerate_cameras_are_errors() {
+        let p = Projection::Perspective { fov_deg: 40.0 };
+        assert!(Camera::look_at(DVec3::ONE, DVec3::ONE, DVec3::Y, p).is_err());
+        assert!(Camera::look_at(DVec3::Y, DVec3::ZERO, DVec3::Y, p).is_err());
+        let bad = Projection::Perspective { fov_deg: 180.0 };
+        assert!(Camera::look_at(DVec3::Z, DVec3::ZERO, DVec3::Y, bad).is_err());
+    }
+}

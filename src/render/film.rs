@@ -1,0 +1,470 @@
+//! The render loop: tiles in parallel (rayon), stratified supersampling per pixel, and the
+//! per-pixel geometry record (from the ray through the pixel centre) that the EXR stores.
+//!
+//! Determinism: every sample position and path-tracing decision is a hash of (seed, pixel,
+//! sample, dimension); tiles are rendered independently and assembled in tile order, and the
+//! integer counters are summed in tile order, so the image and statistics do not depend on the
+//! number of threads.
+
+use std::io::IsTerminal;
+use std::time::Instant;
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::render::camera::Camera;
+use crate::render::intersect::{Hit, IntersectCounters};
+use crate::render::modes::curvature::{CurvatureRange, abs_percentile, draw_legend};
+use crate::render::modes::{Mode, Overlay};
+use crate::render::sampler::pixel_offset;
+use crate::render::shaded;
+use crate::render::stats::RenderStats;
+use crate::render::trace::SurfaceTracer;
+
+/// Side of a square tile in pixels.
+const TILE: u32 = 16;
+
+/// What to render and how.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel (stratified).
+    pub spp: u32,
+    /// Shading mode.
+    pub mode: Mode,
+    /// Boundary lines.
+    pub overlay: Overlay,
+    /// Linear RGB of rays that miss.
+    pub background: DVec3,
+    /// Seed of all sample positions.
+    pub seed: u64,
+    /// Show a progress bar on stderr (only ever when stderr is a terminal).
+    pub progress: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 640,
+            height: 480,
+            spp: 4,
+            mode: Mode::by_name("zebra").unwrap_or(Mode::Normals),
+            overlay: Overlay::default(),
+            background: DVec3::splat(0.045),
+            seed: 0,
+            progress: true,
+        }
+    }
+}
+
+/// The geometry seen through one pixel centre (f64, as evaluated).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelGeometry {
+    /// The hit.
+    pub hit: Hit,
+    /// Mesh face of the hit patch.
+    pub face: u32,
+    /// Hit point `S(u, v)`.
+    pub position: DVec3,
+    /// Unit patch normal at the hit (patch orientation, not turned to the viewer).
+    pub normal: DVec3,
+    /// Gaussian curvature (0 where undefined).
+    pub gaussian: f64,
+    /// Mean curvature (0 where undefined).
+    pub mean: f64,
+}
+
+/// A rendered image: linear RGB plus the per-pixel geometry, rows top to bottom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Linear RGB per pixel.
+    pub rgb: Vec<[f32; 3]>,
+    /// Geometry through each pixel centre (None: the ray missed).
+    pub geometry: Vec<Option<PixelGeometry>>,
+}
+
+/// One tile's output, assembled later in tile order.
+struct TileResult {
+    x0: u32,
+    y0: u32,
+    w: u32,
+    h: u32,
+    rgb: Vec<[f32; 3]>,
+    geometry: Vec<Option<PixelGeometry>>,
+    counters: IntersectCounters,
+    rays: u64,
+    hits: u64,
+}
+
+/// Renders `tracer` seen by `camera`.
+pub fn render<T: SurfaceTracer>(
+    tracer: &T,
+    camera: &Camera,
+    settings: &RenderSettings,
+) -> crate::Result<(Frame, RenderStats)> {
+    if settings.width == 0 || settings.height == 0 || settings.spp == 0 {
+        return Err(crate::Error::Invalid(format!(
+            "image size {}x{} and samples per pixel {} must be positive",
+            settings.width, settings.height, settings.spp
+        )));
+    }
+    let start = Instant::now();
+    let mut stats = RenderStats::default();
+    let mode = resolve_mode(tracer, camera, settings, &mut stats);
+    let (w, h) = (settings.width, settings.height);
+    let tiles: Vec<(u32, u32)> = (0..h.div_ceil(TILE))
+        .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
+        .collect();
+    let bar = progress_bar(settings, tiles.len() as u64);
+    let results: Vec<TileResult> = tiles
+        .par_iter()
+        .map(|&(x0, y0)| {
+            let tile = render_tile(tracer, camera, settings, &mode, x0, y0);
+            if let Some(bar) = &bar {
+                bar.inc(1);
+            }
+            tile
+        })
+        .collect();
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let mut frame = Frame {
+        width: w,
+        height: h,
+        rgb: vec![[0.0; 3]; (w * h) as usize],
+        geometry: vec![None; (w * h) as usize],
+    };
+    let mut counters = IntersectCounters::default();
+    for tile in results {
+        for ly in 0..tile.h {
+            for lx in 0..tile.w {
+                let dst = ((tile.y0 + ly) * w + tile.x0 + lx) as usize;
+                let src = (ly * tile.w + lx) as usize;
+                frame.rgb[dst] = tile.rgb[src];
+                frame.geometry[dst] = tile.geometry[src];
+            }
+        }
+        counters.add(&tile.counters);
+        stats.rays += tile.rays;
+        stats.hits += tile.hits;
+    }
+    if let Mode::Curvature(p) = &mode
+        && p.legend
+    {
+        draw_legend(&mut frame.rgb, w, h);
+    }
+    stats.misses = stats.rays - stats.hits;
+    stats.set_newton(&counters);
+    stats.render_ms = start.elapsed().as_secs_f64() * 1e3;
+    stats.bvh_build_ms = tracer.build_ms();
+    stats.leaves = tracer.leaf_count() as u64;
+    stats.memory_bytes = tracer.memory_bytes() as u64;
+    stats.patches = tracer.surface().patches.len() as u64;
+    Ok((frame, stats))
+}
+
+/// A progress bar on stderr when asked for and stderr is a terminal.
+fn progress_bar(settings: &RenderSettings, tiles: u64) -> Option<indicatif::ProgressBar> {
+    if !settings.progress || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(tiles);
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("render {bar:40} {percent:>3}% {elapsed}")
+    {
+        bar.set_style(style);
+    }
+    Some(bar)
+}
+
+/// The mode with its scene-dependent parameters filled in: highlight-light placement and the
+/// automatic curvature range (percentile of |value| over a coarse grid of centre rays).
+fn resolve_mode<T: SurfaceTracer>(
+    tracer: &T,
+    camera: &Camera,
+    settings: &RenderSettings,
+    stats: &mut RenderStats,
+) -> Mode {
+    let bounds = tracer.bounds();
+    match &settings.mode {
+        Mode::Highlight(p) => Mode::Highlight(p.resolved(bounds.center(), bounds.diagonal())),
+        Mode::Curvature(p) => {
+            let mut p = *p;
+            p.half_range = match p.range {
+                CurvatureRange::Fixed(r) => r,
+                CurvatureRange::Auto { percentile } => {
+                    auto_curvature_range(tracer, camera, settings, p.quantity, percentile)
+                }
+            };
+            stats.curvature_half_range = Some(p.half_range);
+            Mode::Curvature(p)
+        }
+        other => other.clone(),
+    }
+}
+
+/// The automatic half-range of the curvature map: the `percentile` of |value| seen through a
+/// coarse grid of pixel centres (1 where nothing curved is in view).
+pub fn auto_curvature_range<T: SurfaceTracer>(
+    tracer: &T,
+    camera: &Camera,
+    settings: &RenderSettings,
+    quantity: crate::render::modes::CurvatureQuantity,
+    percentile: f64,
+) -> f64 {
+    let mut values = curvature_probe(tracer, camera, settings, quantity);
+    let r = abs_percentile(&mut values, percentile);
+    if r > 0.0 && r.is_finite() { r } else { 1.0 }
+}
+
+/// Curvature values seen through a coarse grid (≤ 96 × 96) of pixel centres.
+fn curvature_probe<T: SurfaceTracer>(
+    tracer: &T,
+    camera: &Camera,
+    settings: &RenderSettings,
+    quantity: crate::render::modes::CurvatureQuantity,
+) -> Vec<f64> {
+    let (w, h) = (settings.width.min(96), settings.height.min(96));
+    let aspect = f64::from(settings.width) / f64::from(settings.height);
+    let rows: Vec<Vec<f64>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let mut counters = IntersectCounters::default();
+            let mut row = Vec::new();
+            for x in 0..w {
+                let nx = 2.0 * (f64::from(x) + 0.5) / f64::from(w) - 1.0;
+                let ny = 1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(h);
+                let ray = camera.ray(nx, ny, aspect);
+                if let Some(hit) = tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counters) {
+                    let sp = tracer.shading_point(&hit, &ray);
+                    if let Some(c) = sp.curvature {
+                        let value = quantity.value(&c);
+                        if value.is_finite() {
+                            row.push(value);
+                        }
+                    }
+                }
+            }
+            row
+        })
+        .collect();
+    rows.into_iter().flatten().collect()
+}
+
+fn render_tile<T: SurfaceTracer>(
+    tracer: &T,
+    camera: &Camera,
+    settings: &RenderSettings,
+    mode: &Mode,
+    x0: u32,
+    y0: u32,
+) -> TileResult {
+    let (w, h) = (settings.width, settings.height);
+    let (tw, th) = (TILE.min(w - x0), TILE.min(h - y0));
+    let aspect = f64::from(w) / f64::from(h);
+    let mut tile = TileResult {
+        x0,
+        y0,
+        w: tw,
+        h: th,
+        rgb: Vec::with_capacity((tw * th) as usize),
+        geometry: Vec::with_capacity((tw * th) as usize),
+        counters: IntersectCounters::default(),
+        rays: 0,
+        hits: 0,
+    };
+    let ndc = |px: f64, py: f64| (2.0 * px / f64::from(w) - 1.0, 1.0 - 2.0 * py / f64::from(h));
+    for y in y0..y0 + th {
+        for x in x0..x0 + tw {
+            let pixel = u64::from(y) * u64::from(w) + u64::from(x);
+            // Geometry channels: the ray through the pixel centre.
+            let (cx, cy) = ndc(f64::from(x) + 0.5, f64::from(y) + 0.5);
+            let ray = camera.ray(cx, cy, aspect);
+            tile.rays += 1;
+            let geometry = tracer
+                .closest_hit(&ray, 0.0, f64::INFINITY, &mut tile.counters)
+                .map(|hit| {
+                    tile.hits += 1;
+                    let sp = tracer.shading_point(&hit, &ray);
+                    let c = sp.curvature;
+                    PixelGeometry {
+                        hit,
+                        face: sp.face,
+                        position: sp.jet.p,
+                        normal: sp.normal,
+                        gaussian: c.map_or(0.0, |c| c.gaussian),
+                        mean: c.map_or(0.0, |c| c.mean),
+                    }
+                });
+            tile.geometry.push(geometry);
+            // Colour: stratified supersampling.
+            let mut sum = DVec3::ZERO;
+            for s in 0..settings.spp {
+                let (ox, oy) = pixel_offset(settings.seed, pixel, s, settings.spp);
+                let (sx, sy) = ndc(f64::from(x) + ox, f64::from(y) + oy);
+                let ray = camera.ray(sx, sy, aspect);
+                tile.rays += 1;
+                let colour = match tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut tile.counters)
+                {
+                    None => settings.background,
+                    Some(hit) => {
+                        tile.hits += 1;
+                        let sp = tracer.shading_point(&hit, &ray);
+                        let base = match mode {
+                            Mode::Shaded(params) => {
+                                let mut path = shaded::PathState {
+                                    seed: settings.seed,
+                                    pixel,
+                                    sample: s,
+                                    rays: 0,
+                                    hits: 0,
+                                };
+                                let c = shaded::trace_path(
+                                    tracer,
+                                    params,
+                                    &sp,
+                                    &mut path,
+                                    &mut tile.counters,
+                                );
+                                tile.rays += path.rays;
+                                tile.hits += path.hits;
+                                c
+                            }
+                            _ => mode.shade(&sp),
+                        };
+                        if settings.overlay.enabled() {
+                            let footprint = camera.pixel_footprint(hit.t, h);
+                            settings.overlay.apply(
+                                base,
+                                &sp,
+                                footprint,
+                                tracer.face_edge_mask(hit.patch),
+                            )
+                        } else {
+                            base
+                        }
+                    }
+                };
+                sum += if colour.is_finite() {
+                    colour
+                } else {
+                    DVec3::ZERO
+                };
+            }
+            let c = sum / f64::from(settings.spp);
+            tile.rgb.push([c.x as f32, c.y as f32, c.z as f32]);
+        }
+    }
+    tile
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::bvh::SubdivisionCriterion;
+    use crate::render::fixtures::octahedron_sphere;
+    use crate::render::intersect::{NewtonSettings, Tracer};
+    use crate::render::modes::ZebraParams;
+
+    fn small_settings(mode: Mode) -> RenderSettings {
+        RenderSettings {
+            width: 48,
+            height: 40,
+            spp: 4,
+            mode,
+            progress: false,
+            ..RenderSettings::default()
+        }
+    }
+
+    #[test]
+    fn image_is_identical_for_any_thread_count() {
+        let surface = octahedron_sphere(3, 1.0, 0);
+        let tracer = Tracer::new(
+            &surface,
+            &SubdivisionCriterion::default(),
+            NewtonSettings::default(),
+        )
+        .expect("tracer");
+        let camera = Camera::frame(&surface.bounds(), Camera::DEFAULT_VIEW, 35.0, 48.0 / 40.0)
+            .expect("camera");
+        let settings = small_settings(Mode::Zebra(ZebraParams::default()));
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("thread pool")
+                .install(|| render(&tracer, &camera, &settings).expect("render"))
+        };
+        let (one, stats_one) = run(1);
+        let (two, stats_two) = run(2);
+        assert_eq!(one, two, "frames differ between 1 and 2 threads");
+        assert_eq!(stats_one.rays, stats_two.rays);
+        assert_eq!(stats_one.newton_runs, stats_two.newton_runs);
+        assert!(stats_one.hits > 0 && stats_one.misses > 0, "{stats_one:?}");
+    }
+
+    /// The geometry record of a pixel is the exact surface point on the pixel-centre ray, and
+    /// its normal is the patch normal evaluated there.
+    #[test]
+    fn pixel_geometry_lies_on_ray_and_patch() {
+        let surface = octahedron_sphere(4, 2.0, 1);
+        let tracer = Tracer::new(
+            &surface,
+            &SubdivisionCriterion::default(),
+            NewtonSettings::default(),
+        )
+        .expect("tracer");
+        let (w, h) = (40u32, 30u32);
+        let camera = Camera::frame(
+            &surface.bounds(),
+            Camera::DEFAULT_VIEW,
+            40.0,
+            f64::from(w) / f64::from(h),
+        )
+        .expect("camera");
+        let mut settings = small_settings(Mode::Normals);
+        (settings.width, settings.height, settings.spp) = (w, h, 1);
+        let (frame, _) = render(&tracer, &camera, &settings).expect("render");
+        let diag = surface.bounds().diagonal();
+        assert!(
+            tracer.root_tolerance() < 1e-9 * diag,
+            "root tolerance within the contract"
+        );
+        let mut checked = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let Some(g) = frame.geometry[(y * w + x) as usize] else {
+                    continue;
+                };
+                let ray = camera.ray(
+                    2.0 * (f64::from(x) + 0.5) / f64::from(w) - 1.0,
+                    1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(h),
+                    f64::from(w) / f64::from(h),
+                );
+                let patch = &surface.patches[g.hit.patch as usize];
+                assert!(
+                    (g.position - ray.at(g.hit.t)).length() <= tracer.root_tolerance(),
+                    "pixel ({x},{y}) off its ray"
+                );
+                assert!(
+                    (g.position - patch.eval(g.hit.u, g.hit.v)).length() <= 1e-15 * diag,
+                    "pixel ({x},{y}) off its patch"
+                );
+                let n = patch.jet(g.hit.u, g.hit.v).normal();
+                assert!(g.normal.angle_between(n) <= 1e-9, "pixel ({x},{y}) normal");
+                assert_eq!(g.face, patch.face);
+                checked += 1;
+            }
+        }
+        assert!(checked > 100, "only {checked} pixels hit");
+    }
+}

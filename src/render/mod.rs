@@ -1,0 +1,33 @@
+//! The exact renderer: Bézier patches are ray-traced directly (BVH over subdivided patch bounds,
+//! Newton in f64, no tessellation), so reflection lines, isophotes and curvature are computed
+//! from the surface itself at every pixel.
+//!
+//! Pipeline: [`intersect::Tracer`] (BVH of [`bvh`] + Newton of [`intersect`]) → [`film::render`]
+//! (camera rays, stratified supersampling, a [`modes::Mode`]) → [`output`] (PNG + EXR) and
+//! [`stats::RenderStats`].
+
+pub mod bvh;
+pub mod camera;
+pub mod cli;
+pub mod evaluate;
+pub mod film;
+pub mod fixtures;
+pub mod gallery;
+pub mod intersect;
+pub mod job;
+pub mod modes;
+pub mod output;
+pub mod ray;
+pub mod sampler;
+pub mod scene;
+pub mod shaded;
+pub mod stats;
+pub mod tessellate;
+pub mod trace;
+
+pub use camera::{Camera, Projection};
+pub use film::{Frame, PixelGeometry, RenderSettings, render};
+pub use intersect::{Hit, NewtonSettings, Ray64, Tracer};
+pub use modes::Mode;
+pub use stats::RenderStats;
+pub use trace::SurfaceTracer;

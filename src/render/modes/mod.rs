@@ -1,0 +1,148 @@
+//! Shading modes: each turns the exact local geometry of the closest hit (normal, curvatures,
+//! patch and face) into a linear RGB colour. Every quantity is evaluated from the patch itself
+//! at the hit, never interpolated, so stripes and colours do not depend on any mesh density.
+
+pub mod curvature;
+pub mod isophote;
+pub mod overlay;
+pub mod palette;
+pub mod zebra;
+
+use glam::DVec3;
+
+use crate::geom::{Curvature, Jet};
+use crate::render::intersect::{Hit, Ray64};
+
+pub use curvature::{CurvatureParams, CurvatureQuantity, CurvatureRange};
+pub use isophote::IsophoteParams;
+pub use overlay::Overlay;
+pub use zebra::{HighlightParams, ZebraParams};
+
+/// Everything a mode may read about the closest hit, evaluated once.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadingPoint {
+    /// The hit test's result.
+    pub hit: Hit,
+    /// Mesh face of the patch.
+    pub face: u32,
+    /// Piece of the face.
+    pub piece: u8,
+    /// Position, derivatives at `(u, v)`.
+    pub jet: Jet,
+    /// Unit patch normal `Su × Sv / |Su × Sv|` (orientation of the patch).
+    pub normal: DVec3,
+    /// The normal turned towards the viewer (hits on both sides of a surface shade alike).
+    pub facing_normal: DVec3,
+    /// Unit ray direction.
+    pub view: DVec3,
+    /// Curvatures with respect to [`ShadingPoint::normal`], None at singular points.
+    pub curvature: Option<Curvature>,
+}
+
+impl ShadingPoint {
+    /// Evaluates the full local geometry of `hit` on `jet` (from the hit's patch).
+    pub fn new(hit: Hit, face: u32, piece: u8, jet: Jet, ray: &Ray64) -> ShadingPoint {
+        let normal = jet.normal();
+        let facing_normal = if normal.dot(ray.dir) > 0.0 {
+            -normal
+        } else {
+            normal
+        };
+        ShadingPoint {
+            hit,
+            face,
+            piece,
+            jet,
+            normal,
+            facing_normal,
+            view: ray.dir,
+            curvature: jet.curvature(),
+        }
+    }
+}
+
+/// A shading mode with its parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Mode {
+    /// Reflection lines of an environment of parallel light stripes.
+    Zebra(ZebraParams),
+    /// View-independent highlight lines (Beier–Chen) of an array of parallel line lights.
+    Highlight(HighlightParams),
+    /// Bands of constant `n·L`.
+    Isophote(IsophoteParams),
+    /// A curvature quantity through a diverging colour map.
+    Curvature(CurvatureParams),
+    /// The normal as a colour, `(n + 1) / 2`.
+    Normals,
+    /// One colour per face, shaded lighter or darker per piece.
+    Patches,
+    /// Path-traced clear-coat material in a studio environment.
+    Shaded(crate::render::shaded::ShadedParams),
+}
+
+/// Mode names accepted by `--mode` and scene files.
+pub const MODE_NAMES: &[&str] = &[
+    "zebra",
+    "highlight",
+    "isophote",
+    "curvature",
+    "normals",
+    "patches",
+    "shaded",
+];
+
+impl Mode {
+    /// The mode called `name` with default parameters.
+    pub fn by_name(name: &str) -> crate::Result<Mode> {
+        Ok(match name {
+            "zebra" => Mode::Zebra(ZebraParams::default()),
+            "highlight" => Mode::Highlight(HighlightParams::default()),
+            "isophote" => Mode::Isophote(IsophoteParams::default()),
+            "curvature" => Mode::Curvature(CurvatureParams::default()),
+            "normals" => Mode::Normals,
+            "patches" => Mode::Patches,
+            "shaded" => Mode::Shaded(Default::default()),
+            _ => {
+                return Err(crate::Error::Invalid(format!(
+                    "unknown render mode '{name}' (known: {})",
+                    MODE_NAMES.join(", ")
+                )));
+            }
+        })
+    }
+
+    /// The mode's name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Mode::Zebra(_) => "zebra",
+            Mode::Highlight(_) => "highlight",
+            Mode::Isophote(_) => "isophote",
+            Mode::Curvature(_) => "curvature",
+            Mode::Normals => "normals",
+            Mode::Patches => "patches",
+            Mode::Shaded(_) => "shaded",
+        }
+    }
+
+    /// Linear RGB of a hit for the direct (non path-traced) modes; `Shaded` is handled by the
+    /// path tracer and gets a plain diffuse preview here.
+    pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
+        match self {
+            Mode::Zebra(p) => p.shade(sp),
+            Mode::Highlight(p) => p.shade(sp),
+            Mode::Isophote(p) => p.shade(sp),
+            Mode::Curvature(p) => p.shade(sp),
+            Mode::Normals => palette::srgb_to_linear(0.5 * (sp.normal + DVec3::ONE)),
+            Mode::Patches => {
+                let base = palette::face_colour(sp.face, sp.piece);
+                base * (0.3 + 0.7 * sp.facing_normal.dot(-sp.view).max(0.0))
+            }
+            Mode::Shaded(_) => DVec3::splat(0.8 * sp.facing_normal.dot(-sp.view).max(0.0)),
+        }
+    }
+}
+
+/// Fractional part in `[0, 1)`, also for negative numbers.
+pub(crate) fn fract(x: f64) -> f64 {
+    x - x.floor()
+}

@@ -1,0 +1,104 @@
+//! Colour helpers: sRGB transfer, the diverging colour map and per-face colours.
+
+use glam::DVec3;
+
+/// sRGB-encoded value (0..1) to linear light [IEC 61966-2-1].
+pub fn srgb_to_linear(c: DVec3) -> DVec3 {
+    let f = |x: f64| {
+        if x <= 0.04045 {
+            x / 12.92
+        } else {
+            ((x + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    DVec3::new(f(c.x), f(c.y), f(c.z))
+}
+
+/// Linear light (0..1, clamped) to the sRGB-encoded value.
+pub fn linear_to_srgb(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Anchors of the diverging map (sRGB-encoded): cool blue, neutral light grey, warm red.
+const COOL: DVec3 = DVec3::new(0.230, 0.299, 0.754);
+const NEUTRAL: DVec3 = DVec3::new(0.865, 0.865, 0.865);
+const WARM: DVec3 = DVec3::new(0.706, 0.016, 0.150);
+
+/// Diverging colour map: `s ∈ [−1, 1]` (clamped) from blue through grey to red, as linear RGB.
+/// Interpolated in sRGB so that equal steps of `s` look equally large.
+pub fn diverging(s: f64) -> DVec3 {
+    let s = if s.is_finite() {
+        s.clamp(-1.0, 1.0)
+    } else {
+        0.0
+    };
+    let encoded = if s < 0.0 {
+        NEUTRAL.lerp(COOL, -s)
+    } else {
+        NEUTRAL.lerp(WARM, s)
+    };
+    srgb_to_linear(encoded)
+}
+
+/// A colour per face (golden-ratio hue steps so neighbours differ), lighter or darker per
+/// piece, as linear RGB.
+pub fn face_colour(face: u32, piece: u8) -> DVec3 {
+    let hue = fract_golden(face);
+    let value = 0.95 - 0.12 * f64::from(piece % 4);
+    srgb_to_linear(hsv(hue, 0.55, value))
+}
+
+fn fract_golden(i: u32) -> f64 {
+    let x = f64::from(i) * 0.618_033_988_749_895;
+    x - x.floor()
+}
+
+/// HSV (all 0..1) to sRGB-encoded RGB.
+fn hsv(h: f64, s: f64, v: f64) -> DVec3 {
+    let h6 = h * 6.0;
+    let sector = h6.floor();
+    let f = h6 - sector;
+    let (p, q, t) = (v * (1.0 - s), v * (1.0 - s * f), v * (1.0 - s * (1.0 - f)));
+    match sector as i32 % 6 {
+        0 => DVec3::new(v, t, p),
+        1 => DVec3::new(q, v, p),
+        2 => DVec3::new(p, v, t),
+        3 => DVec3::new(p, q, v),
+        4 => DVec3::new(t, p, v),
+        _ => DVec3::new(v, p, q),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_round_trip() {
+        for i in 0..=20 {
+            let x = f64::from(i) / 20.0;
+            let back = srgb_to_linear(DVec3::splat(linear_to_srgb(x))).x;
+            assert!((back - x).abs() < 1e-12, "{x} -> {back}");
+        }
+        // The standard's reference point: linear 0.5 encodes to about 0.7354.
+        assert!((linear_to_srgb(0.5) - 0.735_356_983).abs() < 1e-8);
+    }
+
+    #[test]
+    fn diverging_is_symmetric_around_grey() {
+        let mid = diverging(0.0);
+        assert!((mid.x - mid.y).abs() < 1e-15 && (mid.y - mid.z).abs() < 1e-15);
+        assert!(diverging(1.0).x > diverging(1.0).z, "positive is warm");
+        assert!(diverging(-1.0).z > diverging(-1.0).x, "negative is cool");
+        assert_eq!(
+            diverging(f64::NAN),
+            mid,
+            "NaN maps to neutral, never into the image"
+        );
+    }
+}

@@ -1,0 +1,84 @@
+//! Rays in f64 and the two ray representations the intersection code uses: the two-plane form
+//! of the Newton system and the slab test against an axis-aligned box.
+
+use glam::{DVec2, DVec3};
+
+use crate::geom::Aabb;
+
+/// A ray in f64. `dir` has unit length, so `t` is a distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray64 {
+    /// Start point.
+    pub origin: DVec3,
+    /// Unit direction.
+    pub dir: DVec3,
+}
+
+impl Ray64 {
+    /// A ray from `origin` along `dir` (normalised here).
+    pub fn new(origin: DVec3, dir: DVec3) -> Ray64 {
+        Ray64 {
+            origin,
+            dir: dir.normalize(),
+        }
+    }
+
+    /// The point at distance `t`.
+    pub fn at(&self, t: f64) -> DVec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// The ray as two planes through it, for the 2×2 Newton system.
+#[derive(Clone, Copy, Debug)]
+pub struct RayPlanes {
+    n1: DVec3,
+    n2: DVec3,
+    d1: f64,
+    d2: f64,
+}
+
+impl RayPlanes {
+    /// The planes of `ray` (normals orthonormal and perpendicular to the direction).
+    pub fn new(ray: &Ray64) -> RayPlanes {
+        let (n1, n2) = ray.dir.any_orthonormal_pair();
+        RayPlanes {
+            n1,
+            n2,
+            d1: n1.dot(ray.origin),
+            d2: n2.dot(ray.origin),
+        }
+    }
+
+    /// Signed distances of `p` from the two planes (zero on the ray's line).
+    pub fn residual(&self, p: DVec3) -> DVec2 {
+        DVec2::new(self.n1.dot(p) - self.d1, self.n2.dot(p) - self.d2)
+    }
+
+    /// A tangent vector in plane coordinates.
+    pub fn project(&self, v: DVec3) -> DVec2 {
+        DVec2::new(self.n1.dot(v), self.n2.dot(v))
+    }
+}
+
+/// Slab test of an f64 ray against a box grown by `pad`, restricted to `(t_min, t_max)`.
+pub fn ray_enters_box(ray: &Ray64, b: &Aabb, pad: f64, t_min: f64, t_max: f64) -> bool {
+    let lo = b.min - DVec3::splat(pad);
+    let hi = b.max + DVec3::splat(pad);
+    let mut near = t_min - pad;
+    let mut far = t_max + pad;
+    for axis in 0..3 {
+        let o = ray.origin[axis];
+        let d = ray.dir[axis];
+        if d == 0.0 {
+            if o < lo[axis] || o > hi[axis] {
+                return false;
+            }
+            continue;
+        }
+        let (a, b) = ((lo[axis] - o) / d, (hi[axis] - o) / d);
+        near = near.max(a.min(b));
+        far = far.min(a.max(b));
+    }
+    near <= far
+}

@@ -1,0 +1,97 @@
+//! Deterministic sample positions: every random number is a hash of (seed, pixel, sample,
+//! dimension), so an image does not depend on the number of threads or the order of tiles.
+
+/// SplitMix64 finaliser: a fast bijective 64-bit mixer.
+fn mix(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// A uniform number in `[0, 1)` for (seed, pixel, sample, dimension).
+pub fn uniform(seed: u64, pixel: u64, sample: u32, dimension: u32) -> f64 {
+    let key = mix(seed ^ 0x9e37_79b9_7f4a_7c15)
+        ^ mix(pixel.wrapping_add(0x632b_e59b_d9b4_e019))
+        ^ mix((u64::from(sample) << 32 | u64::from(dimension)).wrapping_add(0x8cb9_2ba7_2f3d_8dd7));
+    (mix(key) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// The position in the unit pixel square of sample `s` of `n`, stratified: a jittered m×m grid
+/// when `n = m²`, otherwise n-rooks (one sample per row and per column of an n×n grid).
+pub fn pixel_offset(seed: u64, pixel: u64, s: u32, n: u32) -> (f64, f64) {
+    let jx = uniform(seed, pixel, s, 0);
+    let jy = uniform(seed, pixel, s, 1);
+    let m = (f64::from(n).sqrt().round()) as u32;
+    if m * m == n {
+        let (cx, cy) = (s % m, s / m);
+        (
+            (f64::from(cx) + jx) / f64::from(m),
+            (f64::from(cy) + jy) / f64::from(m),
+        )
+    } else {
+        let row = (u64::from(s) * u64::from(coprime_step(n)) % u64::from(n)) as u32;
+        (
+            (f64::from(s) + jx) / f64::from(n),
+            (f64::from(row) + jy) / f64::from(n),
+        )
+    }
+}
+
+/// A step near n·0.618 that is coprime to n, so `s ↦ s·step mod n` permutes the rows.
+fn coprime_step(n: u32) -> u32 {
+    let gcd = |mut a: u32, mut b: u32| {
+        while b != 0 {
+            (a, b) = (b, a % b);
+        }
+        a
+    };
+    let mut k = ((f64::from(n) * 0.618).round() as u32).max(1);
+    while gcd(k, n) != 1 {
+        k += 1;
+    }
+    k
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniform_is_in_range_and_deterministic() {
+        let mut sum = 0.0;
+        for i in 0..10_000u64 {
+            let x = uniform(7, i, 3, 1);
+            assert!((0.0..1.0).contains(&x), "{x}");
+            assert_eq!(x, uniform(7, i, 3, 1), "same key, same number");
+            sum += x;
+        }
+        let mean = sum / 10_000.0;
+        assert!((mean - 0.5).abs() < 0.02, "mean {mean}");
+    }
+
+    #[test]
+    fn strata_are_each_hit_once() {
+        for n in [4u32, 5, 9, 6] {
+            let mut cols = vec![0; n as usize];
+            let mut rows = vec![0; n as usize];
+            let m = (f64::from(n).sqrt().round()) as u32;
+            for s in 0..n {
+                let (x, y) = pixel_offset(1, 42, s, n);
+                if m * m == n {
+                    cols[(x * f64::from(m)) as usize + m as usize * (y * f64::from(m)) as usize] +=
+                        1;
+                    rows[0] += 1;
+                } else {
+                    cols[(x * f64::from(n)) as usize] += 1;
+                    rows[(y * f64::from(n)) as usize] += 1;
+                }
+            }
+            if m * m == n {
+                assert!(cols.iter().all(|&c| c == 1), "grid cells of {n}: {cols:?}");
+            } else {
+                assert!(cols.iter().all(|&c| c == 1), "columns of {n}: {cols:?}");
+                assert!(rows.iter().all(|&c| c == 1), "rows of {n}: {rows:?}");
+            }
+        }
+    }
+}

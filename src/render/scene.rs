@@ -1,0 +1,507 @@
+//! Scene files (TOML): mesh, scheme and parameters, camera, mode and its parameters, size,
+//! samples, output. Every key is optional; the command line overrides any of them. Example:
+//!
+//! ```toml
+//! mesh = "ico.obj"            # relative to the scene file
+//! [scheme]
+//! name = "hb"
+//! params = { normals = "estimate" }
+//! [camera]
+//! eye = [3.0, 2.0, 4.0]       # omitted: automatic framing
+//! target = [0.0, 0.0, 0.0]
+//! up = [0.0, 1.0, 0.0]
+//! fov = 35.0
+//! ortho = false
+//! [render]
+//! mode = "zebra"              # zebra highlight isophote curvature normals patches shaded
+//! size = [640, 480]
+//! spp = 4
+//! output = "out/ico-zebra"    # writes .png and .exr
+//! overlay = "faces"           # none, faces, patches, both
+//! [zebra]
+//! axis = [0.0, 1.0, 0.0]
+//! stripes = 16
+//! duty = 0.5
+//! [curvature]
+//! quantity = "mean"           # gaussian mean maxabs k1 k2
+//! range = "auto"              # or a number: fixed half-range
+//! percentile = 95
+//! legend = true
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use serde::Deserialize;
+
+use crate::error::{Error, Result};
+use crate::render::bvh::SubdivisionCriterion;
+use crate::render::modes::{
+    CurvatureParams, CurvatureQuantity, CurvatureRange, HighlightParams, IsophoteParams, Mode,
+    Overlay, ZebraParams,
+};
+use crate::render::shaded::{Environment, LatLongMap, ShadedParams};
+
+/// A scene file as written (every key optional).
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Mesh file (OBJ), relative to the scene file.
+    pub mesh: Option<PathBuf>,
+    /// Surface construction.
+    #[serde(default)]
+    pub scheme: SchemeSection,
+    /// Camera.
+    #[serde(default)]
+    pub camera: CameraSection,
+    /// Image settings.
+    #[serde(default)]
+    pub render: RenderSection,
+    /// BVH subdivision criterion.
+    #[serde(default)]
+    pub bvh: BvhSection,
+    /// Zebra parameters.
+    #[serde(default)]
+    pub zebra: ZebraSection,
+    /// Highlight-line parameters.
+    #[serde(default)]
+    pub highlight: HighlightSection,
+    /// Isophote parameters.
+    #[serde(default)]
+    pub isophote: IsophoteSection,
+    /// Curvature parameters.
+    #[serde(default)]
+    pub curvature: CurvatureSection,
+    /// Path-tracer parameters.
+    #[serde(default)]
+    pub shaded: ShadedSection,
+}
+
+/// `[scheme]`
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SchemeSection {
+    /// Registered scheme name.
+    pub name: Option<String>,
+    /// Scheme parameters, `name = value`.
+    #[serde(default)]
+    pub params: toml::Table,
+}
+
+/// `[camera]`
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraSection {
+    /// Eye position (omitted: automatic framing).
+    pub eye: Option<[f64; 3]>,
+    /// Point looked at (omitted: centre of the surface's bounds).
+    pub target: Option<[f64; 3]>,
+    /// Up direction.
+    pub up: Option<[f64; 3]>,
+    /// Vertical field of view in degrees.
+    pub fov: Option<f64>,
+    /// Orthographic projection (same framing at the target as the perspective view).
+    pub ortho: Option<bool>,
+}
+
+/// `[render]`
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderSection {
+    /// Mode name.
+    pub mode: Option<String>,
+    /// Width and height in pixels.
+    pub size: Option<[u32; 2]>,
+    /// Samples per pixel.
+    pub spp: Option<u32>,
+    /// Output stem (".png" and ".exr" are appended), relative to the working directory.
+    pub output: Option<PathBuf>,
+    /// Boundary overlay: none, faces, patches, both.
+    pub overlay: Option<String>,
+    /// Overlay line width in pixels.
+    pub line_width: Option<f64>,
+    /// Sample seed.
+    pub seed: Option<u64>,
+    /// Background colour (linear RGB).
+    pub background: Option<[f64; 3]>,
+    /// Render a tessellation with this many segments per patch edge instead of the patches.
+    pub tessellate: Option<u32>,
+}
+
+/// `[bvh]`
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BvhSection {
+    /// See [`SubdivisionCriterion::flatness`].
+    pub flatness: Option<f64>,
+    /// See [`SubdivisionCriterion::max_cone_deg`].
+    pub cone_deg: Option<f64>,
+    /// See [`SubdivisionCriterion::max_depth`].
+    pub max_depth: Option<u32>,
+}
+
+/// `[zebra]`
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ZebraSection {
+    /// Direction of the light tubes.
+    pub axis: Option<[f64; 3]>,
+    /// Bright stripes per full turn.
+    pub stripes: Option<f64>,
+    /// Bright fraction of a period.
+    pub duty: Option<f64>,
+}
+
+/// `[highlight]`
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HighlightSection {
+    /// A point of the light plane.
+    pub origin: Option<[f64; 3]>,
+    /// Light plane normal.
+    pub plane_normal: Option<[f64; 3]>,
+    /// Direction of the line lights.
+    pub direction: Option<[f64; 3]>,
+    /// Distance between lights.
+    pub spacing: Option<f64>,
+    /// Bright fraction of a period.
+    pub duty: Option<f64>,
+}
+
+/// `[isophote]`
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IsophoteSection {
+    /// Direction towards the light.
+    pub light: Option<[f64; 3]>,
+    /// Number of bands.
+    pub bands: Option<u32>,
+}
+
+/// `[curvature]`
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurvatureSection {
+    /// gaussian, mean, maxabs, k1, k2.
+    pub quantity: Option<String>,
+    /// "auto" or a fixed half-range.
+    pub range: Option<toml::Value>,
+    /// Percentile of |value| for the automatic range.
+    pub percentile: Option<f64>,
+    /// Draw a colour bar.
+    pub legend: Option<bool>,
+}
+
+/// `[shaded]`
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShadedSection {
+    /// Base albedo (linear RGB).
+    pub base_colour: Option<[f64; 3]>,
+    /// Clear-coat gloss cone half-angle, degrees.
+    pub coat_roughness_deg: Option<f64>,
+    /// Longest path.
+    pub bounces: Option<u32>,
+    /// "studio" or the path of a lat-long EXR.
+    pub environment: Option<String>,
+}
+
+impl SceneFile {
+    /// Reads and parses a scene file; relative mesh and environment paths are made relative to
+    /// the file's directory.
+    pub fn load(path: &Path) -> Result<SceneFile> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let mut scene = SceneFile::parse(&text)
+            .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
+        let dir = path.parent().unwrap_or(Path::new(""));
+        if let Some(mesh) = &scene.mesh
+            && mesh.is_relative()
+        {
+            scene.mesh = Some(dir.join(mesh));
+        }
+        if let Some(env) = &scene.shaded.environment
+            && env != "studio"
+            && Path::new(env).is_relative()
+        {
+            scene.shaded.environment = Some(dir.join(env).to_string_lossy().into_owned());
+        }
+        Ok(scene)
+    }
+
+    /// Parses scene text.
+    pub fn parse(text: &str) -> Result<SceneFile> {
+        toml::from_str(text).map_err(|e| Error::Invalid(format!("scene file: {e}")))
+    }
+
+    /// Scheme parameters as `name = value` text pairs.
+    pub fn scheme_params(&self) -> Vec<(String, String)> {
+        self.scheme
+            .params
+            .iter()
+            .map(|(k, v)| {
+                let text = match v {
+                    toml::Value::String(s) => s.clone(),
+                    other => other.to_string(),
+                };
+                (k.clone(), text)
+            })
+            .collect()
+    }
+
+    /// The subdivision criterion (defaults where unset).
+    pub fn criterion(&self) -> Result<SubdivisionCriterion> {
+        let mut c = SubdivisionCriterion::default();
+        if let Some(f) = self.bvh.flatness {
+            c.flatness = positive("bvh.flatness", f)?;
+        }
+        if let Some(a) = self.bvh.cone_deg {
+            c.max_cone_deg = positive("bvh.cone_deg", a)?;
+        }
+        if let Some(d) = self.bvh.max_depth {
+            if d > 16 {
+                return Err(Error::Invalid(format!("bvh.max_depth {d} is above 16")));
+            }
+            c.max_depth = d;
+        }
+        Ok(c)
+    }
+
+    /// The boundary overlay.
+    pub fn overlay(&self) -> Result<Overlay> {
+        let mut o = Overlay::default();
+        match self.render.overlay.as_deref().unwrap_or("none") {
+            "none" => {}
+            "faces" => o.face_edges = true,
+            "patches" => o.patch_edges = true,
+            "both" => (o.face_edges, o.patch_edges) = (true, true),
+            other => {
+                return Err(Error::Invalid(format!(
+                    "render.overlay '{other}' is not one of none, faces, patches, both"
+                )));
+            }
+        }
+        if let Some(w) = self.render.line_width {
+            o.width_px = positive("render.line_width", w)?;
+        }
+        Ok(o)
+    }
+
+    /// The mode with its section's parameters.
+    pub fn mode(&self) -> Result<Mode> {
+        let name = self.render.mode.as_deref().unwrap_or("zebra");
+        let mut mode = Mode::by_name(name)?;
+        match &mut mode {
+            Mode::Zebra(p) => self.zebra_into(p)?,
+            Mode::Highlight(p) => self.highlight_into(p)?,
+            Mode::Isophote(p) => self.isophote_into(p)?,
+            Mode::Curvature(p) => self.curvature_into(p)?,
+            Mode::Shaded(p) => self.shaded_into(p)?,
+            Mode::Normals | Mode::Patches => {}
+        }
+        Ok(mode)
+    }
+
+    fn zebra_into(&self, p: &mut ZebraParams) -> Result<()> {
+        let z = &self.zebra;
+        if let Some(a) = z.axis {
+            p.axis = direction("zebra.axis", a)?;
+        }
+        if let Some(s) = z.stripes {
+            p.stripes = positive("zebra.stripes", s)?;
+        }
+        if let Some(d) = z.duty {
+            p.duty = fraction("zebra.duty", d)?;
+        }
+        Ok(())
+    }
+
+    fn highlight_into(&self, p: &mut HighlightParams) -> Result<()> {
+        let h = &self.highlight;
+        if let Some(o) = h.origin {
+            p.origin = Some(finite_point("highlight.origin", o)?);
+        }
+        if let Some(n) = h.plane_normal {
+            p.plane_normal = direction("highlight.plane_normal", n)?;
+        }
+        if let Some(d) = h.direction {
+            p.direction = direction("highlight.direction", d)?;
+        }
+        if let Some(s) = h.spacing {
+            p.spacing = Some(positive("highlight.spacing", s)?);
+        }
+        if let Some(d) = h.duty {
+            p.duty = fraction("highlight.duty", d)?;
+        }
+        if p.plane_normal.cross(p.direction).length() < 1e-9 {
+            return Err(Error::Invalid(
+                "highlight.direction must not be parallel to highlight.plane_normal".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    fn isophote_into(&self, p: &mut IsophoteParams) -> Result<()> {
+        if let Some(l) = self.isophote.light {
+            p.light = direction("isophote.light", l)?;
+        }
+        if let Some(b) = self.isophote.bands {
+            if b == 0 {
+                return Err(Error::Invalid("isophote.bands must be at least 1".into()));
+            }
+            p.bands = b;
+        }
+        Ok(())
+    }
+
+    fn curvature_into(&self, p: &mut CurvatureParams) -> Result<()> {
+        let c = &self.curvature;
+        if let Some(q) = &c.quantity {
+            p.quantity = CurvatureQuantity::by_name(q)?;
+        }
+        let percentile = match c.percentile {
+            Some(x) if (0.0..=100.0).contains(&x) => x,
+            Some(x) => {
+                return Err(Error::Invalid(format!(
+                    "curvature.percentile {x} is not in [0, 100]"
+                )));
+            }
+            None => 95.0,
+        };
+        p.range = match &c.range {
+            None => CurvatureRange::Auto { percentile },
+            Some(toml::Value::String(s)) if s == "auto" => CurvatureRange::Auto { percentile },
+            Some(toml::Value::Float(x)) => CurvatureRange::Fixed(positive("curvature.range", *x)?),
+            Some(toml::Value::Integer(x)) => {
+                CurvatureRange::Fixed(positive("curvature.range", *x as f64)?)
+            }
+            Some(other) => {
+                return Err(Error::Invalid(format!(
+                    "curvature.range {other} is neither \"auto\" nor a number"
+                )));
+            }
+        };
+        if let Some(l) = c.legend {
+            p.legend = l;
+        }
+        Ok(())
+    }
+
+    fn shaded_into(&self, p: &mut ShadedParams) -> Result<()> {
+        let s = &self.shaded;
+        if let Some(c) = s.base_colour {
+            if c.iter().any(|x| !(0.0..=1.0).contains(x)) {
+                return Err(Error::Invalid(format!(
+                    "shaded.base_colour {c:?} must lie in [0, 1]"
+                )));
+            }
+            p.base_colour = DVec3::from_array(c);
+        }
+        if let Some(r) = s.coat_roughness_deg {
+            p.coat_roughness = positive("shaded.coat_roughness_deg", r)?.to_radians();
+        }
+        if let Some(b) = s.bounces {
+            p.max_bounces = b.max(1);
+        }
+        if let Some(env) = &s.environment
+            && env != "studio"
+        {
+            p.environment =
+                Environment::Map(std::sync::Arc::new(LatLongMap::load(Path::new(env))?));
+        }
+        Ok(())
+    }
+}
+
+fn positive(name: &str, x: f64) -> Result<f64> {
+    if x > 0.0 && x.is_finite() {
+        Ok(x)
+    } else {
+        Err(Error::Invalid(format!(
+            "{name} = {x} must be a positive number"
+        )))
+    }
+}
+
+fn fraction(name: &str, x: f64) -> Result<f64> {
+    if (0.0..=1.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err(Error::Invalid(format!("{name} = {x} must lie in [0, 1]")))
+    }
+}
+
+fn finite_point(name: &str, p: [f64; 3]) -> Result<DVec3> {
+    let v = DVec3::from_array(p);
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Error::Invalid(format!("{name} = {p:?} must be finite")))
+    }
+}
+
+fn direction(name: &str, p: [f64; 3]) -> Result<DVec3> {
+    let v = finite_point(name, p)?;
+    if v.length() > 0.0 {
+        Ok(v.normalize())
+    } else {
+        Err(Error::Invalid(format!("{name} = {p:?} must be non-zero")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn full_scene_parses() {
+        let scene = SceneFile::parse(
+            r#"
+            mesh = "ico.obj"
+            [scheme]
+            name = "hb"
+            params = { normals = "estimate", t = 0.5 }
+            [camera]
+            eye = [3.0, 2.0, 4.0]
+            fov = 30
+            [render]
+            mode = "curvature"
+            size = [320, 200]
+            spp = 9
+            overlay = "both"
+            [curvature]
+            quantity = "gaussian"
+            range = 2.5
+            legend = true
+            "#,
+        )
+        .expect("valid scene");
+        assert_eq!(scene.scheme.name.as_deref(), Some("hb"));
+        let params = scene.scheme_params();
+        assert!(params.contains(&("t".into(), "0.5".into())), "{params:?}");
+        let Mode::Curvature(c) = scene.mode().expect("mode") else {
+            panic!("curvature mode expected");
+        };
+        assert_eq!(c.quantity, CurvatureQuantity::Gaussian);
+        assert_eq!(c.range, CurvatureRange::Fixed(2.5));
+        assert!(c.legend);
+        let o = scene.overlay().expect("overlay");
+        assert!(o.face_edges && o.patch_edges);
+    }
+
+    #[test]
+    fn bad_scenes_name_the_key() {
+        let err = SceneFile::parse("[render]\nsize = [1, 2]\nfoo = 3").expect_err("unknown key");
+        assert!(err.to_string().contains("foo"), "{err}");
+        let scene = SceneFile::parse("[zebra]\nduty = 1.5").expect("parses");
+        let err = scene.mode().expect_err("duty out of range");
+        assert!(err.to_string().contains("zebra.duty"), "{err}");
+        let scene = SceneFile::parse("[render]\nmode = \"sparkle\"").expect("parses");
+        assert!(
+            scene
+                .mode()
+                .expect_err("unknown mode")
+                .to_string()
+                .contains("sparkle")
+        );
+    }
+}

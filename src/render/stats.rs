@@ -1,0 +1,67 @@
+//! Named render statistics, written by `--stats F.json` with exactly the keys of DESIGN.md
+//! (plus a few extra keys after them).
+
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::render::intersect::IntersectCounters;
+
+/// What one render did and what it cost.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct RenderStats {
+    /// Rays traced (camera rays, geometry rays through pixel centres, path-tracing rays).
+    pub rays: u64,
+    /// Rays that hit the surface.
+    pub hits: u64,
+    /// Rays that hit nothing.
+    pub misses: u64,
+    /// Mean Newton iterations per accepted root.
+    pub newton_iter_mean: f64,
+    /// Largest Newton iteration count of an accepted root.
+    pub newton_iter_max: u32,
+    /// Newton runs that missed a root the fallback subdivision then found in their leaf.
+    pub newton_failures: u64,
+    /// Leaf subdivision plus BVH build, milliseconds.
+    pub bvh_build_ms: f64,
+    /// Rendering (all rays and shading), milliseconds.
+    pub render_ms: f64,
+    /// BVH leaves (sub-patches, or triangles on the tessellated path).
+    pub leaves: u64,
+    /// Bytes of the surface representation traced: patches (or triangles and normals) plus BVH.
+    pub memory_bytes: u64,
+    /// Newton runs started (one per leaf the traversal reached).
+    pub newton_runs: u64,
+    /// Roots found by the fallback subdivision after a failed Newton run.
+    pub fallback_roots: u64,
+    /// Newton runs that neither converged nor left their leaf (the fallback searched the leaf;
+    /// most find nothing: the ray misses that leaf).
+    pub newton_unconverged: u64,
+    /// Number of patches.
+    pub patches: u64,
+    /// Half-range of the curvature colour map, when in curvature mode.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub curvature_half_range: Option<f64>,
+}
+
+impl RenderStats {
+    /// Fills the Newton fields from summed counters.
+    pub fn set_newton(&mut self, c: &IntersectCounters) {
+        self.newton_iter_mean = if c.roots_accepted > 0 {
+            c.accepted_iterations as f64 / c.roots_accepted as f64
+        } else {
+            0.0
+        };
+        self.newton_iter_max = c.accepted_iterations_max;
+        self.newton_failures = c.newton_failures;
+        self.newton_runs = c.newton_runs;
+        self.fallback_roots = c.fallback_roots;
+        self.newton_unconverged = c.newton_unconverged;
+    }
+
+    /// Writes the statistics as pretty JSON to `path`.
+    pub fn write_json(&self, path: &std::path::Path) -> Result<()> {
+        let text = serde_json::to_string_pretty(self)
+            .map_err(|e| Error::Invalid(format!("statistics to JSON: {e}")))?;
+        std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))
+    }
+}

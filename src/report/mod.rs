@@ -1,0 +1,290 @@
+//! Recorded results: every registered scheme (default parameters) built on the benchmark
+//! meshes — the closed scenes and meshes sampled from analytic surfaces with exact normals — and
+//! measured: all metrics, the bending energy, and on analytic meshes the distance and normal
+//! error to the true surface. Written as `metrics.json` (the machine-readable record that
+//! [`compare`] reads), `metrics.csv` and `metrics.md`, stamped with the git commit and date.
+
+pub mod analytic;
+pub mod compare;
+pub mod plots;
+
+use std::path::Path;
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::app::build_timed;
+use crate::error::{Error, Result};
+use crate::mesh::{Mesh, generate};
+use crate::metrics::Metrics;
+use crate::metrics::energy::bending_energy;
+use crate::schemes::{self, SCHEMES};
+use analytic::{Analytic, surface_error};
+
+/// A mesh the report measures every scheme on.
+pub struct BenchmarkMesh {
+    /// Name in the report.
+    pub name: String,
+    /// The mesh.
+    pub mesh: Mesh,
+    /// The surface it was sampled from, if any.
+    pub analytic: Option<Analytic>,
+}
+
+/// The benchmark meshes: the closed scenes, an icosphere (level 2), an ellipsoid (level 2) and
+/// a 24 × 12 torus sampled from their analytic surfaces.
+pub fn benchmark_meshes() -> Result<Vec<BenchmarkMesh>> {
+    let mut out = Vec::new();
+    for scene in generate::SCENES.iter() {
+        out.push(BenchmarkMesh {
+            name: scene.name.to_string(),
+            mesh: scene.mesh()?,
+            analytic: None,
+        });
+    }
+    let radii = DVec3::new(1.0, 0.8, 1.3);
+    let sampled = [
+        (
+            "sphere-320",
+            generate::analytic::sphere(2),
+            Analytic::Sphere { radius: 1.0 },
+        ),
+        (
+            "ellipsoid-320",
+            generate::analytic::ellipsoid(radii, 2),
+            Analytic::Ellipsoid { radii },
+        ),
+        (
+            "torus-576",
+            generate::analytic::torus(24, 12, 1.0, 0.4),
+            Analytic::Torus {
+                major: 1.0,
+                minor: 0.4,
+            },
+        ),
+    ];
+    for (name, s, analytic) in sampled {
+        out.push(BenchmarkMesh {
+            name: name.to_string(),
+            mesh: Mesh::from_triangles(s.positions, s.faces)?.0,
+            analytic: Some(analytic),
+        });
+    }
+    Ok(out)
+}
+
+/// One scheme on one benchmark mesh.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Record {
+    /// Benchmark mesh name.
+    pub mesh: String,
+    /// Scheme name.
+    pub scheme: String,
+    /// Every figure of the metrics JSON, by its key.
+    pub figures: serde_json::Map<String, serde_json::Value>,
+}
+
+/// A whole report.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Report {
+    /// Always `smoothlab-report`.
+    pub format: String,
+    /// Format version.
+    pub version: u32,
+    /// `git rev-parse HEAD` of the working tree, or `unknown`.
+    pub commit: String,
+    /// UTC date and time of the run (ISO 8601).
+    pub date: String,
+    /// The records, meshes in benchmark order, schemes in registry order.
+    pub records: Vec<Record>,
+}
+
+/// Measures every registered scheme on every benchmark mesh it accepts.
+pub fn run() -> Result<Report> {
+    let mut records = Vec::new();
+    for bench in benchmark_meshes()? {
+        for spec in SCHEMES {
+            if spec.needs_closed_mesh && !bench.mesh.is_closed() {
+                continue;
+            }
+            let (surface, ms) = build_timed(spec.name, &bench.mesh, &[])?;
+            let metrics = Metrics::measure(&surface, &bench.mesh, ms);
+            let mut figures = match serde_json::to_value(&metrics) {
+                Ok(serde_json::Value::Object(map)) => map,
+                _ => return Err(Error::Invalid("metrics did not serialise".into())),
+            };
+            figures.insert("bending_energy".into(), bending_energy(&surface).into());
+            if let Some(a) = bench.analytic {
+                let diag = bench.mesh.bounds().diagonal();
+                let (max_d, mean_d, normal) = surface_error(&surface, &a);
+                figures.insert("distance_max_rel".into(), (max_d / diag).into());
+                figures.insert("distance_mean_rel".into(), (mean_d / diag).into());
+                figures.insert("normal_error_max_rad".into(), normal.into());
+            }
+            records.push(Record {
+                mesh: bench.name.clone(),
+                scheme: spec.name.to_string(),
+                figures,
+            });
+        }
+    }
+    Ok(Report {
+        format: "smoothlab-report".into(),
+        version: 1,
+        commit: git_commit(),
+        date: utc_now(),
+        records,
+    })
+}
+
+fn git_commit() -> String {
+    std::process::Command::new("git")
+        .args(["rev-parse", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .map(|s| s.trim().to_string())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// The current UTC time as `YYYY-MM-DDTHH:MM:SSZ` (civil-from-days, proleptic Gregorian).
+fn utc_now() -> String {
+    let secs = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs()) as i64;
+    let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
+        rem / 3600,
+        rem % 3600 / 60,
+        rem % 60
+    )
+}
+
+/// The columns of the CSV and Markdown tables (any figure a record lacks is left empty / `-`).
+pub const COLUMNS: &[&str] = &[
+    "patches",
+    "construct_ms",
+    "interp_max_rel",
+    "g0_max_rel",
+    "g1_between_faces_max_rad",
+    "g1_inside_faces_max_rad",
+    "curvature_jump_max_rel",
+    "continuity_order",
+    "continuity_order_typical",
+    "min_regularity_rel",
+    "network_undulation_max_rad",
+    "bending_energy",
+    "distance_max_rel",
+    "normal_error_max_rad",
+];
+
+fn value_text(v: Option<&serde_json::Value>) -> Option<String> {
+    match v? {
+        serde_json::Value::Number(n) if n.is_f64() => n.as_f64().map(|x| format!("{x:.3e}")),
+        serde_json::Value::Number(n) => Some(n.to_string()),
+        serde_json::Value::String(s) => Some(s.clone()),
+        _ => None,
+    }
+}
+
+/// `metrics.csv`: one row per record.
+pub fn to_csv(report: &Report) -> String {
+    let mut out = format!("mesh,scheme,{}\n", COLUMNS.join(","));
+    for r in &report.records {
+        let cells: Vec<String> = COLUMNS
+            .iter()
+            .map(|c| value_text(r.figures.get(*c)).unwrap_or_default())
+            .collect();
+        out += &format!("{},{},{}\n", r.mesh, r.scheme, cells.join(","));
+    }
+    out
+}
+
+/// `metrics.md`: a table per mesh.
+pub fn to_markdown(report: &Report) -> String {
+    let mut out = format!(
+        "# smoothlab results\n\ncommit `{}`, {}. Lengths relative to the bounding-box diagonal, \
+         angles in radians; written by `smoothlab report`.\n",
+        report.commit, report.date
+    );
+    let mut meshes: Vec<&str> = report.records.iter().map(|r| r.mesh.as_str()).collect();
+    meshes.dedup();
+    for mesh in meshes {
+        out += &format!("\n## {mesh}\n\n| scheme | {} |\n", COLUMNS.join(" | "));
+        out += &format!("|---|{}\n", "---:|".repeat(COLUMNS.len()));
+        for r in report.records.iter().filter(|r| r.mesh == mesh) {
+            let cells: Vec<String> = COLUMNS
+                .iter()
+                .map(|c| value_text(r.figures.get(*c)).unwrap_or_else(|| "-".into()))
+                .collect();
+            out += &format!("| {} | {} |\n", r.scheme, cells.join(" | "));
+        }
+    }
+    out
+}
+
+/// Runs the report and writes `metrics.{json,csv,md}` into `out_dir` and the SVG plots of
+/// [`plots`] into `out_dir/figures/`.
+pub fn write(out_dir: &Path) -> Result<Report> {
+    let report = run()?;
+    plots::write_plots(&report, &out_dir.join("figures"))?;
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    let json = serde_json::to_string_pretty(&report)
+        .map_err(|e| Error::Invalid(format!("report JSON: {e}")))?;
+    for (name, text) in [
+        ("metrics.json", json),
+        ("metrics.csv", to_csv(&report)),
+        ("metrics.md", to_markdown(&report)),
+    ] {
+        let path = out_dir.join(name);
+        std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
+    }
+    Ok(report)
+}
+
+/// Reads a `metrics.json` written by [`write`].
+pub fn read(path: &Path) -> Result<Report> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let report: Report = serde_json::from_str(&text)
+        .map_err(|e| Error::Invalid(format!("{}: not a smoothlab report: {e}", path.display())))?;
+    if report.format != "smoothlab-report" {
+        return Err(Error::Invalid(format!(
+            "{}: format '{}' is not smoothlab-report",
+            path.display(),
+            report.format
+        )));
+    }
+    Ok(report)
+}
+
+/// Names of the schemes a report covers, for checks that every registered scheme is in it.
+pub fn schemes_covered(report: &Report) -> Vec<String> {
+    let mut names: Vec<String> = schemes::names().iter().map(|s| s.to_string()).collect();
+    names.retain(|n| report.records.iter().any(|r| &r.scheme == n));
+    names
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn utc_date_is_well_formed() {
+        let d = utc_now();
+        assert_eq!(d.len(), 20, "{d}");
+        assert!(d.ends_with('Z') && d.as_bytes()[10] == b'T', "{d}");
+        assert!(d.starts_with("20"), "{d}");
+    }
+}

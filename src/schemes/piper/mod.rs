@@ -1,0 +1,249 @@
+//! Piper 1987, *Visually smooth interpolation with triangular Bézier patches*, as explained
+//! step by step in [Piper87 §3.8] (Lamberts 1997): a G¹ surface through the mesh vertices
+//! with the given vertex normals, made of three quartic Bézier triangles per face
+//! (a Clough–Tocher split at the centroid).
+//!
+//! The five steps of [Piper87 §3.8]:
+//! 1. per face, a candidate cubic net: corners at the vertices, each boundary point the far
+//!    end of its edge projected into the near vertex's tangent plane and scaled (with a
+//!    guard against the two points of an edge crossing), the centre by Farin's C⁰ rule
+//!    ([`cubic_net::candidate_net`]);
+//! 2. the net split at the centroid into three cubic sub-nets ([`cubic_net::split_at_centroid`]);
+//! 3. per shared edge, the centre points of the two sub-nets beside it made coplanar with the
+//!    edge's inner points, the taller triangle moving more ([`cubic_net::coplanar_centres`]);
+//! 4. the sub-nets elevated to degree four ([`cubic_net::elevate`]);
+//! 5. per shared edge, the two rows beside it and the edge's middle point moved as little as
+//!    possible to satisfy Piper's G¹ conditions, eqs. (17)–(20) and the system `A x = b`
+//!    including its dependent-rows case ([`g1_solve`]); then per face the points M, N, O reset so
+//!    that the three pieces join C¹ ([`c1_restore`]).
+//!
+//! Only steps 3 and 5 look across an edge, and only at the face on the other side: the
+//! construction is local, so open meshes work as they are — a boundary edge has no neighbour,
+//! its sub-net keeps its candidate points, and every interior edge is G¹.
+//!
+//! Where this differs from the thesis, and why:
+//! * edge scaling (`scaling=`): the thesis's factor `1/3 + ‖q − b‖/9` measures a length in
+//!   the mesh's units, so the surface changes shape when the mesh is scaled, and the thesis
+//!   says it must be tuned by trial. It is available as `scaling=thesis`. The default,
+//!   `scaling=circle`, gives the leg the length of the cubic that best fits a circular arc
+//!   (`2‖chord‖ / (3(1 + cos Θ))`): invariant under similarities, planes reproduced with a
+//!   uniform parametrisation, spheres approximated to fourth order. `scaling=farin` is
+//!   Farin's 2-D rule of [Piper87 §2] ([`crate::bezier::hermite2d`]) in the plane of the
+//!   chord and the projected edge (same invariance and precision, longer legs on steep
+//!   edges); `scaling=relative` is the thesis's factor with the distance in chord lengths
+//!   (scale invariant; 4/9 of the chord on flat data, so only second order on spheres, but
+//!   the calmest zebra stripes on coarse, spiky meshes). Every rule is capped at the edge's
+//!   midpoint, the crossing guard ([`cubic_net::edge_point`]);
+//! * step 3: the thesis's projection-and-scaling makes the four points coplanar only to first
+//!   order; here both centres are projected onto one plane between the two, weighted by the
+//!   same heights — exactly coplanar (this only changes the starting point of step 5);
+//! * step 5: `C0 = C4 = 0` are solved in the tangent plane instead of by dropping a
+//!   coordinate; the underdetermined `A e = b − A y` is solved for the least change; the
+//!   middle row of `A` is rewritten in the weight differences so that the dependent-rows case
+//!   is decided robustly (see [`g1_solve`]).
+//!
+//! Parameters: `normals=estimate|obj` (the mesh's vertex normals or the file's),
+//! `scaling=circle|farin|relative|thesis`.
+
+pub mod c1_restore;
+pub mod cubic_net;
+pub mod g1_solve;
+
+use rayon::prelude::*;
+
+use crate::bezier::TriangleBezier;
+use crate::bezier::triangle::index;
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::schemes::{ParamSpec, Params, SchemeSpec};
+use crate::surface::{Patch, PatchGeometry, Surface};
+use cubic_net::{Cubic, EdgeScaling, Quartic};
+use g1_solve::EdgeNet;
+
+/// Registry entry.
+pub const SPEC: SchemeSpec = SchemeSpec {
+    name: "piper",
+    summary: "Piper 1987: Clough-Tocher split, 3 quartic Bezier triangles per face, G1 (Piper87)",
+    params: &[
+        ParamSpec {
+            name: "normals",
+            default: "estimate",
+            help: "vertex normals: estimate (angle-weighted) or obj (the file's vn)",
+        },
+        ParamSpec {
+            name: "scaling",
+            default: "circle",
+            help: "edge legs: circle (arc fit) | farin (2-D rule) | relative (thesis factor in chord lengths) | thesis (1/3 + |q-b|/9, depends on the mesh size)",
+        },
+    ],
+    needs_closed_mesh: false,
+    build,
+};
+
+/// Reads the `scaling` parameter.
+fn edge_scaling(params: &Params) -> Result<EdgeScaling> {
+    Ok(
+        match params.choice("scaling", &["circle", "farin", "relative", "thesis"])? {
+            "farin" => EdgeScaling::Farin,
+            "relative" => EdgeScaling::Relative,
+            "thesis" => EdgeScaling::Thesis,
+            _ => EdgeScaling::Circle,
+        },
+    )
+}
+
+/// The rows of two quartic pieces at their shared outer edge, in P's direction. Piece rows:
+/// `S_i = p(4−i, i, 0)`, `R_i = p(3−i, i, 1)`; Q runs the other way, so
+/// `T_i = Q's R_{3−i} = q(i, 3−i, 1)`.
+fn edge_net(quartic_p: &Quartic, quartic_q: &Quartic) -> EdgeNet {
+    EdgeNet {
+        s: std::array::from_fn(|i| quartic_p[index(4, 4 - i, i)]),
+        r: std::array::from_fn(|i| quartic_p[index(4, 3 - i, i)]),
+        t: std::array::from_fn(|i| quartic_q[index(4, i, 3 - i)]),
+    }
+}
+
+/// A piece of a face: `(face, k)`, the piece over the face's edge `k`.
+type PieceId = (usize, usize);
+
+/// The data of steps 3–5: the cubic sub-nets of every face (steps 1–2).
+struct Construction<'a> {
+    mesh: &'a Mesh,
+    cubic_pieces: Vec<[Cubic; 3]>,
+}
+
+impl Construction<'_> {
+    /// Height of face `f` over its edge `k` (twice the area over the edge length).
+    fn height(&self, (f, k): PieceId) -> f64 {
+        let p = self.mesh.faces()[f].map(|v| self.mesh.positions()[v as usize]);
+        (p[1] - p[0]).cross(p[2] - p[0]).length() / (p[(k + 1) % 3] - p[k]).length()
+    }
+
+    /// Steps 3–4 at the edge shared by pieces `p` and `q`: both sub-nets with their centres
+    /// made coplanar, as quartics.
+    fn edge_quartics(&self, p: PieceId, q: PieceId) -> (Quartic, Quartic) {
+        let mut cubic_p = self.cubic_pieces[p.0][p.1];
+        let mut cubic_q = self.cubic_pieces[q.0][q.1];
+        let centre = index(3, 1, 1);
+        let (centre_p, centre_q) = cubic_net::coplanar_centres(
+            cubic_p[index(3, 2, 1)],
+            cubic_p[index(3, 1, 2)],
+            cubic_p[centre],
+            cubic_q[centre],
+            self.height(p),
+            self.height(q),
+        );
+        cubic_p[centre] = centre_p;
+        cubic_q[centre] = centre_q;
+        (cubic_net::elevate(&cubic_p), cubic_net::elevate(&cubic_q))
+    }
+
+    /// Steps 3–5 at the edge shared by pieces `p` and `q` (`p` < `q`, so that both faces get
+    /// the same result bit for bit): the two quartic pieces after the G¹ solve.
+    fn solve_edge(&self, p: PieceId, q: PieceId) -> Result<(Quartic, Quartic)> {
+        let (mut quartic_p, mut quartic_q) = self.edge_quartics(p, q);
+        let net = edge_net(&quartic_p, &quartic_q);
+        let face = self.mesh.faces()[p.0];
+        let (start, end) = (face[p.1] as usize, face[(p.1 + 1) % 3] as usize);
+        let fold = |a: usize, b: usize| Error::DegenerateEdge {
+            scheme: SPEC.name.to_string(),
+            a,
+            b,
+            reason: format!(
+                "at vertex {a} the control points of both faces are in line with the edge \
+                 (the faces fold onto each other)"
+            ),
+        };
+        let (w1, w2) = g1_solve::end_weights(&net);
+        let w1 = w1.ok_or_else(|| fold(start, end))?;
+        let w2 = w2.ok_or_else(|| fold(end, start))?;
+        let x = g1_solve::solve_edge(&net, w1, w2);
+        quartic_p[index(4, 2, 1)] = x.r[0];
+        quartic_p[index(4, 1, 2)] = x.r[1];
+        quartic_p[index(4, 2, 2)] = x.s2;
+        quartic_q[index(4, 1, 2)] = x.t[0];
+        quartic_q[index(4, 2, 1)] = x.t[1];
+        quartic_q[index(4, 2, 2)] = x.s2;
+        Ok((quartic_p, quartic_q))
+    }
+
+    /// The three final quartic nets of face `f`.
+    fn face_nets(&self, f: usize) -> Result<[Quartic; 3]> {
+        let mut pieces = [[glam::DVec3::ZERO; 15]; 3];
+        for (k, piece) in pieces.iter_mut().enumerate() {
+            *piece = match self.mesh.neighbor(f as u32, k) {
+                None => cubic_net::elevate(&self.cubic_pieces[f][k]),
+                Some((g, kg)) => {
+                    let other = (g as usize, kg);
+                    if f < other.0 {
+                        self.solve_edge((f, k), other)?.0
+                    } else {
+                        self.solve_edge(other, (f, k))?.1
+                    }
+                }
+            };
+        }
+        c1_restore::restore_c1(&mut pieces);
+        Ok(pieces)
+    }
+}
+
+/// Builds Piper's surface: 3 quartic patches per face, piece `k` over the sub-triangle
+/// (corner k, corner k+1, centroid) of the face.
+fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
+    let construction = candidates(mesh, params)?;
+    // Steps 3–5, per face (each shared edge is solved by both of its faces, identically).
+    let nets = (0..mesh.face_count())
+        .into_par_iter()
+        .map(|f| construction.face_nets(f))
+        .collect::<Result<Vec<_>>>()?;
+    let patches = nets
+        .into_iter()
+        .enumerate()
+        .flat_map(|(f, pieces)| {
+            pieces.into_iter().enumerate().map(move |(k, net)| Patch {
+                face: f as u32,
+                piece: k as u8,
+                domain: cubic_net::piece_domain(k),
+                geometry: PatchGeometry::Bezier(TriangleBezier::new(4, net.to_vec())),
+            })
+        })
+        .collect();
+    Ok(Surface {
+        scheme: SPEC.name.to_string(),
+        params: params.values().to_vec(),
+        patches,
+    })
+}
+
+/// Steps 1–2 for every face, in parallel.
+fn candidates<'a>(mesh: &'a Mesh, params: &Params) -> Result<Construction<'a>> {
+    let scaling = edge_scaling(params)?;
+    let normals = mesh.vertex_normals(params.normal_source()?)?;
+    let positions = mesh.positions();
+    // Steps 1–2, per face.
+    let cubic_pieces = mesh
+        .faces()
+        .par_iter()
+        .map(|face| {
+            let p = face.map(|v| positions[v as usize]);
+            let n = face.map(|v| normals[v as usize]);
+            cubic_net::candidate_net(p, n, scaling)
+                .map(|net| cubic_net::split_at_centroid(&net))
+                .map_err(|(from, to)| Error::DegenerateEdge {
+                    scheme: SPEC.name.to_string(),
+                    a: face[from] as usize,
+                    b: face[to] as usize,
+                    reason: format!(
+                        "the normal of vertex {} lies along the edge, so the edge has no \
+                         tangent direction there",
+                        face[from]
+                    ),
+                })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Construction { mesh, cubic_pieces })
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,288 @@
+//! End-to-end tests of the exact renderer on scheme-built surfaces: watertightness from inside
+//! closed `hb` surfaces, the `render` command's files (PNG, EXR channels and their meaning,
+//! statistics keys) and its errors.
+
+use std::path::PathBuf;
+
+use glam::DVec3;
+use smoothlab::mesh::Mesh;
+use smoothlab::mesh::generate::{Triangles, icosahedron, mixed_valence};
+use smoothlab::render::bvh::SubdivisionCriterion;
+use smoothlab::render::cli::{RenderArgs, render_command};
+use smoothlab::render::intersect::IntersectCounters;
+use smoothlab::render::output::EXR_CHANNELS;
+use smoothlab::render::sampler::uniform;
+use smoothlab::render::{NewtonSettings, Ray64, Tracer};
+use smoothlab::surface::Surface;
+
+fn hb(mesh: Triangles) -> Surface {
+    let (positions, faces) = mesh;
+    let (mesh, _) = Mesh::from_triangles(positions, faces).expect("valid generated mesh");
+    smoothlab::schemes::build("hb", &mesh, &[]).expect("hb builds on a closed mesh")
+}
+
+fn sphere_direction(seed: u64, i: u64) -> DVec3 {
+    let z = 2.0 * uniform(seed, i, 0, 0) - 1.0;
+    let phi = std::f64::consts::TAU * uniform(seed, i, 0, 1);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    DVec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// Shoots `rays` rays from points near the centre of a closed surface; returns the misses.
+fn escapes(surface: &Surface, rays: u64) -> (u64, IntersectCounters) {
+    let tracer = Tracer::new(
+        surface,
+        &SubdivisionCriterion::default(),
+        NewtonSettings::default(),
+    )
+    .expect("tracer");
+    let centre = surface.bounds().center();
+    let mut counters = IntersectCounters::default();
+    let mut misses = 0;
+    for i in 0..rays {
+        let origin = centre + sphere_direction(77, i) * 0.05 * uniform(78, i, 0, 0);
+        let ray = Ray64::new(origin, sphere_direction(79, i));
+        if tracer
+            .closest_hit(&ray, 0.0, f64::INFINITY, &mut counters)
+            .is_none()
+        {
+            misses += 1;
+        }
+    }
+    (misses, counters)
+}
+
+#[test]
+fn hb_icosahedron_is_watertight_from_inside() {
+    let (misses, counters) = escapes(&hb(icosahedron()), 100_000);
+    assert_eq!(
+        misses, 0,
+        "rays escaped the closed hb icosahedron; {counters:?}"
+    );
+}
+
+#[test]
+fn hb_with_valence_16_vertices_is_watertight_from_inside() {
+    let (misses, counters) = escapes(&hb(mixed_valence()), 100_000);
+    assert_eq!(
+        misses, 0,
+        "rays escaped the closed hb surface; {counters:?}"
+    );
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("smoothlab-render-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn write_obj(dir: &std::path::Path, (positions, faces): Triangles) -> PathBuf {
+    let mut text = String::new();
+    for p in positions {
+        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    for f in faces {
+        text += &format!("f {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1);
+    }
+    let path = dir.join("mesh.obj");
+    std::fs::write(&path, text).expect("write obj");
+    path
+}
+
+/// The command writes PNG, EXR and statistics; every EXR hit pixel is the surface point of the
+/// patch `patch_id` at `(u, v)` and lies on the pixel's ray (to f32 precision of the file).
+#[test]
+fn render_command_writes_png_exr_and_stats() {
+    let dir = temp_dir("cmd");
+    let obj = write_obj(&dir, icosahedron());
+    let stem = dir.join("ico");
+    let stats_path = dir.join("stats.json");
+    let args = RenderArgs {
+        input: obj.clone(),
+        scheme: Some("hb".into()),
+        mode: Some("curvature".into()),
+        size: Some([40, 30]),
+        spp: Some(4),
+        output: Some(stem.clone()),
+        stats: Some(stats_path.clone()),
+        ..RenderArgs::default()
+    };
+    let stats = render_command(&args).expect("render");
+    assert!(stats.hits > 0 && stats.misses > 0, "{stats:?}");
+    let png = image::open(stem.with_extension("png")).expect("PNG readable");
+    assert_eq!((png.width(), png.height()), (40, 30));
+
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats_path).expect("stats file"))
+            .expect("stats JSON");
+    for key in [
+        "rays",
+        "hits",
+        "misses",
+        "newton_iter_mean",
+        "newton_iter_max",
+        "newton_failures",
+        "bvh_build_ms",
+        "render_ms",
+        "leaves",
+        "memory_bytes",
+    ] {
+        assert!(json.get(key).is_some(), "stats lack '{key}': {json}");
+    }
+
+    let image = exr::prelude::read_all_flat_layers_from_file(stem.with_extension("exr"))
+        .expect("EXR readable");
+    let layer = &image.layer_data[0];
+    let mut names: Vec<String> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    names.sort();
+    let mut expected: Vec<String> = EXR_CHANNELS.iter().map(|s| s.to_string()).collect();
+    expected.sort();
+    assert_eq!(names, expected);
+    let channel = |name: &str| -> Vec<f32> {
+        layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.to_string() == name)
+            .map(|c| c.sample_data.values_as_f32().collect())
+            .unwrap_or_else(|| panic!("channel {name}"))
+    };
+    let (patch_id, u, v) = (channel("patch_id"), channel("u"), channel("v"));
+    let (px, py, pz) = (channel("P.X"), channel("P.Y"), channel("P.Z"));
+    let z = channel("Z");
+    let all: Vec<Vec<f32>> = EXR_CHANNELS.iter().map(|n| channel(n)).collect();
+    assert!(
+        all.iter().flatten().all(|x| x.is_finite()),
+        "no NaN or infinity in the EXR"
+    );
+
+    let surface = hb(icosahedron());
+    let diag = surface.bounds().diagonal();
+    let mut hits = 0;
+    for i in 0..patch_id.len() {
+        if patch_id[i] < 0.0 {
+            assert_eq!((z[i], u[i], v[i]), (-1.0, -1.0, -1.0), "miss pixel {i}");
+            continue;
+        }
+        hits += 1;
+        let patch = &surface.patches[patch_id[i] as usize];
+        let p = patch.eval(f64::from(u[i]), f64::from(v[i]));
+        let stored = DVec3::new(f64::from(px[i]), f64::from(py[i]), f64::from(pz[i]));
+        // The file holds f32: agreement to a few f32 ulps of the coordinates.
+        assert!(
+            (p - stored).length() <= 1e-6 * diag,
+            "pixel {i}: {p} vs {stored}"
+        );
+    }
+    assert!(hits > 100, "{hits} hit pixels");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn render_command_errors_name_the_problem() {
+    let missing = RenderArgs {
+        input: PathBuf::from("/nonexistent/mesh.obj"),
+        ..RenderArgs::default()
+    };
+    let err = render_command(&missing).expect_err("missing file");
+    assert!(err.to_string().contains("/nonexistent/mesh.obj"), "{err}");
+
+    let dir = temp_dir("err");
+    let obj = write_obj(&dir, icosahedron());
+    let bad_mode = RenderArgs {
+        input: obj,
+        mode: Some("sparkle".into()),
+        output: Some(dir.join("x")),
+        ..RenderArgs::default()
+    };
+    let err = render_command(&bad_mode).expect_err("unknown mode");
+    assert!(err.to_string().contains("sparkle"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The acceptance figure: 10^6 rays from inside each closed hb surface (run with `--ignored`;
+/// prints the Newton statistics).
+#[test]
+#[ignore]
+fn million_rays_stay_inside_closed_hb_surfaces() {
+    for (name, mesh) in [
+        ("icosahedron", icosahedron()),
+        ("mixed_valence", mixed_valence()),
+    ] {
+        let (misses, c) = escapes(&hb(mesh), 1_000_000);
+        println!(
+            "{name}: misses {misses}, Newton mean {:.3} max {}, failures {}, unconverged {}, runs {}",
+            c.accepted_iterations as f64 / c.roots_accepted as f64,
+            c.accepted_iterations_max,
+            c.newton_failures,
+            c.newton_unconverged,
+            c.newton_runs
+        );
+        assert_eq!(misses, 0, "{name}");
+    }
+}
+
+/// Wall-clock throughput probe for tuning (run with `--ignored`): 65 536 camera rays on an hb
+/// torus of 15 360 patches, one thread. The criterion bench benches/render.rs is the reference.
+#[test]
+#[ignore]
+fn primary_ray_throughput_probe() {
+    use smoothlab::render::camera::Camera;
+    use smoothlab::render::job::surface_samples;
+    let sampled = smoothlab::mesh::generate::analytic::torus(60, 32, 1.0, 0.35);
+    let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).expect("torus");
+    let surface = smoothlab::schemes::build("hb", &mesh, &[]).expect("hb");
+    let tracer = Tracer::new(
+        &surface,
+        &SubdivisionCriterion::default(),
+        NewtonSettings::default(),
+    )
+    .expect("tracer");
+    let camera = Camera::frame_points(&surface_samples(&surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
+        .expect("camera");
+    let side = 256u32;
+    let rays: Vec<Ray64> = (0..side * side)
+        .map(|k| {
+            let (x, y) = (k % side, k / side);
+            camera.ray(
+                2.0 * (f64::from(x) + 0.5) / f64::from(side) - 1.0,
+                1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(side),
+                1.0,
+            )
+        })
+        .collect();
+    // On-CPU time of this thread (Linux schedstat, ns): the machine is shared, so wall time
+    // understates what one core does.
+    let cpu_ns = || -> Option<f64> {
+        let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+        text.split_whitespace().next()?.parse().ok()
+    };
+    let cpu_start = cpu_ns();
+    let start = std::time::Instant::now();
+    let mut counters = IntersectCounters::default();
+    let mut hits = 0;
+    for _ in 0..5 {
+        for ray in &rays {
+            hits += u64::from(
+                tracer
+                    .closest_hit(ray, 0.0, f64::INFINITY, &mut counters)
+                    .is_some(),
+            );
+        }
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let cpu_seconds = cpu_ns()
+        .zip(cpu_start)
+        .map_or(seconds, |(end, begin)| (end - begin) * 1e-9);
+    println!(
+        "{:.0} rays/s wall, {:.0} rays/s per core (on-CPU time), {hits} hits, {:?}",
+        5.0 * rays.len() as f64 / seconds,
+        5.0 * rays.len() as f64 / cpu_seconds,
+        counters
+    );
+}
