@@ -178,3 +178,54 @@ pub fn in_face_order(face: [u32; 3], corners: [u32; 3], patch: &TriangleBezier) 
         patch.point(a[0], a[1])
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::schemes::gk::refine::prepare;
+    use crate::schemes::gk::regular::regular_patches;
+    use crate::schemes::testing::closed_test_meshes;
+
+    /// For every irregular vertex of valence 3..=16 and k = 1..4: 4n patches of degree 2d on
+    /// distinct faces (the n faces around the vertex and the 3n of ring 2); for k ≤ 2, where
+    /// the ring-2 faces have regular subnets, the surface ring read through the sector charts
+    /// is exactly the regular patch of the face (the two readings of the net agree).
+    #[test]
+    fn each_hole_gets_4n_patches_and_the_ring_agrees_with_the_regular_surface() {
+        for (name, mesh) in closed_test_meshes() {
+            for k in 1..=4 {
+                let net = prepare(&mesh, k).unwrap();
+                let m = &net.mesh;
+                let control = ControlNet::new(m, k);
+                let regular = regular_patches(&control, k);
+                let d = crate::schemes::gk::plane::degree(k);
+                for v in (0..m.vertex_count() as u32).filter(|&v| m.valence(v) != 6) {
+                    let n = m.valence(v);
+                    let filling = fill(m, &control, k, v).expect("prepared nets fill");
+                    assert_eq!(filling.patches.len(), 4 * n, "{name} k = {k}");
+                    let mut faces: Vec<u32> = filling.patches.iter().map(|p| p.face).collect();
+                    faces.sort_unstable();
+                    faces.dedup();
+                    assert_eq!(faces.len(), 4 * n);
+                    assert!(filling.patches.iter().all(|p| p.patch.degree() == 2 * d));
+                    for (s, sector) in filling.ring.iter().enumerate() {
+                        for (tau, ring_patch) in sector.iter().enumerate() {
+                            let hp = &filling.patches[4 * s + 1 + tau];
+                            let face = m.faces()[hp.face as usize];
+                            match &regular[hp.face as usize] {
+                                Some(p) if k <= 2 => {
+                                    let ours = in_face_order(face, hp.corners, ring_patch);
+                                    for (a, b) in ours.points().iter().zip(p.points()) {
+                                        assert!((*a - *b).length() < 1e-13, "{name} k = {k}");
+                                    }
+                                }
+                                None if k > 2 => {}
+                                other => panic!("{name} k = {k}: regular patch {other:?}"),
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
