@@ -1,5 +1,6 @@
 //! Mesh loading (validation and topology of a 100,000-face torus) and the construction
-//! throughput of every registered scheme (faces per second) on an icosphere of 81,920 faces.
+//! throughput of every registered scheme (faces per second) on an icosphere of 81,920 faces
+//! (`gk` once per smoothness order k = 1..4).
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use smoothlab::mesh::{Mesh, generate};
@@ -24,6 +25,16 @@ fn construct(c: &mut Criterion) {
     group.measurement_time(std::time::Duration::from_secs(4));
     group.throughput(Throughput::Elements(mesh.face_count() as u64));
     for spec in schemes::SCHEMES {
+        if spec.name == "gk" {
+            // One figure per smoothness order: degree and subnet size grow with k.
+            for k in 1..=4 {
+                let params = [("k".to_string(), k.to_string())];
+                group.bench_function(format!("gk-k{k}/icosphere-81920"), |b| {
+                    b.iter(|| schemes::build("gk", &mesh, &params).expect("builds"))
+                });
+            }
+            continue;
+        }
         group.bench_function(format!("{}/icosphere-81920", spec.name), |b| {
             b.iter(|| schemes::build(spec.name, &mesh, &[]).expect("builds"))
         });

@@ -4,6 +4,7 @@
 
 pub mod blend;
 pub mod flat;
+pub mod gk;
 pub mod hb;
 pub mod loop94;
 pub mod piper;
@@ -51,6 +52,7 @@ pub const SCHEMES: &[SchemeSpec] = &[
     piper::SPEC,
     blend::nielson::SPEC,
     blend::fang_mann::SPEC,
+    gk::SPEC,
 ];
 
 /// Looks a scheme up by name.

@@ -1,0 +1,231 @@
+//! Hole filling, Construction 2.1 [UP §2]: around an irregular vertex of valence n the faces
+//! of rings 1 and 2 get 4n patches of degree 2d:
+//!
+//! 1. the surface ring `r`: the (half-)box-spline patches of the coalesced net over the 3n
+//!    ring-2 faces, read through the sector charts ([`crate::schemes::gk::sector`]); for
+//!    k ≤ 2 these are ordinary regular patches, for k ≥ 3 they exist only because the inner
+//!    rings coalesce;
+//! 2. the plane parametrization `x` ([`crate::schemes::gk::plane`]), rotated into each sector;
+//! 3. the quadratic `q` fitted to `r` over `x`, and `p_i = q ∘ x_i`
+//!    ([`crate::schemes::gk::compose`]);
+//! 4. the adaptation of the ring patches ([`crate::schemes::gk::adapt`]).
+//!
+//! Inner patches are `q ∘ x_s` unchanged. The patches are returned in the chart's corner
+//! order with the mesh face and its corner vertices, so the caller can rotate them into the
+//! face's own order.
+
+use std::f64::consts::TAU;
+
+use glam::{DVec2, DVec3};
+
+use crate::bezier::TriangleBezier;
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::schemes::gk::adapt::Adaptation;
+use crate::schemes::gk::box_spline::{ControlSite, GridTriangle};
+use crate::schemes::gk::compose::Quadratic;
+use crate::schemes::gk::plane::{RING_TRIANGLES, plane_sector, rotate};
+use crate::schemes::gk::regular::ControlNet;
+use crate::schemes::gk::sector::{Rings, SectorSite, classify, resolve, sector_patch};
+
+/// One patch of a p-patch, in chart corner order.
+#[derive(Clone, Debug)]
+pub struct HolePatch {
+    /// The face of the prepared net.
+    pub face: u32,
+    /// The net vertices at the chart corners, in chart order.
+    pub corners: [u32; 3],
+    /// 1 for an inner patch `q ∘ x_s`, 2 for an adapted ring patch.
+    pub piece: u8,
+    /// The patch, degree 2d.
+    pub patch: TriangleBezier,
+}
+
+/// Everything the filling of one hole computed (the patches and, for tests, its parts).
+#[derive(Clone, Debug)]
+pub struct Filling {
+    /// The 4n patches: per sector the inner patch, then the three ring patches.
+    pub patches: Vec<HolePatch>,
+    /// The surface ring `r`, per sector and ring triangle (degree d).
+    pub ring: Vec<[TriangleBezier; 3]>,
+    /// The fitted quadratic.
+    pub q: Quadratic,
+}
+
+/// Rings of the net the charts of ring-2 patches reach.
+fn chart_rings(k: usize) -> usize {
+    2 + k.div_ceil(2)
+}
+
+/// Fills the hole of irregular vertex `v`.
+pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filling> {
+    let refuse = |what: &str| Error::Invalid(format!("gk: irregular vertex {v}: {what}"));
+    let n = mesh.valence(v);
+    let rings = Rings::around(mesh, v, chart_rings(k))
+        .ok_or_else(|| refuse("its rings are not regular (another irregular vertex nearby)"))?;
+    let multiple = control
+        .multiple(v)
+        .ok_or_else(|| refuse("it has no multiple vertex"))?;
+    let value = |sector: usize, site: ControlSite| -> Option<DVec3> {
+        match resolve(site, sector, n, k)? {
+            SectorSite::Multiple => Some(multiple),
+            SectorSite::Vertex(point) => rings.vertex(point).map(|w| control.vertex(w)),
+            SectorSite::Face(corners) => rings.face(mesh, sector, corners).map(|f| control.face(f)),
+        }
+    };
+    let ring: Vec<[TriangleBezier; 3]> = (0..n)
+        .map(|s| {
+            let mut out = Vec::with_capacity(3);
+            for t in RING_TRIANGLES {
+                out.push(
+                    sector_patch(k, t, |site| value(s, site))
+                        .ok_or_else(|| refuse("a ring patch's subnet cannot be read"))?,
+                );
+            }
+            Ok([out[0].clone(), out[1].clone(), out[2].clone()])
+        })
+        .collect::<Result<_>>()?;
+    let planar = plane_sector(n, k);
+    let angle = |s: usize| TAU * s as f64 / n as f64;
+    let x_ring: Vec<[TriangleBezier; 3]> = (0..n)
+        .map(|s| planar.ring.clone().map(|p| rotate(&p, angle(s))))
+        .collect();
+    let q = fit_quadratic(&x_ring, &ring).ok_or_else(|| refuse("q cannot be fitted"))?;
+
+    let d = planar.inner.degree();
+    let elevated: Vec<TriangleBezier> = ring
+        .iter()
+        .flatten()
+        .map(|p| (0..d).fold(p.clone(), |e, _| e.elevate()))
+        .collect();
+    let composed: Vec<TriangleBezier> = x_ring.iter().flatten().map(|x| q.compose(x)).collect();
+    let differences: Vec<Vec<DVec3>> = composed
+        .iter()
+        .zip(&elevated)
+        .map(|(c, e)| {
+            c.points()
+                .iter()
+                .zip(e.points())
+                .map(|(a, b)| *a - *b)
+                .collect()
+        })
+        .collect();
+    let adaptation = Adaptation::get(n, k, 2 * d)
+        .ok_or_else(|| refuse("the adaptation conditions are dependent"))?;
+    let corrections = adaptation.apply(&differences);
+
+    let mut patches = Vec::with_capacity(4 * n);
+    for s in 0..n {
+        let corners_of = |t: GridTriangle| {
+            t.corners()
+                .map(|c| rings.vertex(classify(c, s, n)).unwrap_or(v))
+        };
+        let inner_face = mesh.ring_faces(v)[s];
+        patches.push(HolePatch {
+            face: inner_face,
+            corners: corners_of(GridTriangle::UP),
+            piece: 1,
+            patch: q.compose(&rotate(&planar.inner, angle(s))),
+        });
+        for (tau, t) in RING_TRIANGLES.iter().enumerate() {
+            let face = rings
+                .face(mesh, s, t.corners())
+                .ok_or_else(|| refuse("a ring-2 face is missing"))?;
+            let e = &elevated[3 * s + tau];
+            let points = e
+                .points()
+                .iter()
+                .zip(&corrections[3 * s + tau])
+                .map(|(a, b)| *a + *b)
+                .collect();
+            patches.push(HolePatch {
+                face,
+                corners: corners_of(*t),
+                piece: 2,
+                patch: TriangleBezier::new(2 * d, points),
+            });
+        }
+    }
+    Ok(Filling { patches, ring, q })
+}
+
+/// The least-squares quadratic with `q(x(ξ)) ≈ r(ξ)` on a grid over the ring patches.
+fn fit_quadratic(x: &[[TriangleBezier; 3]], r: &[[TriangleBezier; 3]]) -> Option<Quadratic> {
+    let steps = 6;
+    let mut samples = Vec::new();
+    for (xs, rs) in x.iter().zip(r) {
+        for (xp, rp) in xs.iter().zip(rs) {
+            for a in 0..=steps {
+                for b in 0..=steps - a {
+                    let w = DVec3::new((steps - a - b) as f64, a as f64, b as f64) / steps as f64;
+                    let plane = xp.eval(w);
+                    samples.push((DVec2::new(plane.x, plane.y), rp.eval(w)));
+                }
+            }
+        }
+    }
+    Quadratic::fit(&samples)
+}
+
+/// The patch in the face's own corner order, given its chart-order corners.
+pub fn in_face_order(face: [u32; 3], corners: [u32; 3], patch: &TriangleBezier) -> TriangleBezier {
+    let r = corners.iter().position(|&c| c == face[0]).unwrap_or(0);
+    TriangleBezier::from_fn(patch.degree(), |i, j, l| {
+        let mut a = [0usize; 3];
+        a[r] = i;
+        a[(r + 1) % 3] = j;
+        a[(r + 2) % 3] = l;
+        patch.point(a[0], a[1])
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::schemes::gk::refine::prepare;
+    use crate::schemes::gk::regular::regular_patches;
+    use crate::schemes::testing::closed_test_meshes;
+
+    /// For every irregular vertex of valence 3..=16 and k = 1..4: 4n patches of degree 2d on
+    /// distinct faces (the n faces around the vertex and the 3n of ring 2); for k ≤ 2, where
+    /// the ring-2 faces have regular subnets, the surface ring read through the sector charts
+    /// is exactly the regular patch of the face (the two readings of the net agree).
+    #[test]
+    fn each_hole_gets_4n_patches_and_the_ring_agrees_with_the_regular_surface() {
+        for (name, mesh) in closed_test_meshes() {
+            for k in 1..=4 {
+                let net = prepare(&mesh, k).unwrap();
+                let m = &net.mesh;
+                let control = ControlNet::new(m, k);
+                let regular = regular_patches(&control, k);
+                let d = crate::schemes::gk::plane::degree(k);
+                for v in (0..m.vertex_count() as u32).filter(|&v| m.valence(v) != 6) {
+                    let n = m.valence(v);
+                    let filling = fill(m, &control, k, v).expect("prepared nets fill");
+                    assert_eq!(filling.patches.len(), 4 * n, "{name} k = {k}");
+                    let mut faces: Vec<u32> = filling.patches.iter().map(|p| p.face).collect();
+                    faces.sort_unstable();
+                    faces.dedup();
+                    assert_eq!(faces.len(), 4 * n);
+                    assert!(filling.patches.iter().all(|p| p.patch.degree() == 2 * d));
+                    for (s, sector) in filling.ring.iter().enumerate() {
+                        for (tau, ring_patch) in sector.iter().enumerate() {
+                            let hp = &filling.patches[4 * s + 1 + tau];
+                            let face = m.faces()[hp.face as usize];
+                            match &regular[hp.face as usize] {
+                                Some(p) if k <= 2 => {
+                                    let ours = in_face_order(face, hp.corners, ring_patch);
+                                    for (a, b) in ours.points().iter().zip(p.points()) {
+                                        assert!((*a - *b).length() < 1e-13, "{name} k = {k}");
+                                    }
+                                }
+                                None if k > 2 => {}
+                                other => panic!("{name} k = {k}: regular patch {other:?}"),
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

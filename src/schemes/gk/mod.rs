@@ -1,0 +1,299 @@
+//! Umlauf–Prautzsch triangular G^k splines [UP], `k = 1..4`: the input mesh is a control net
+//! (the surface approximates it, like a subdivision surface). Stages:
+//!
+//! 1. [`box_spline`]: exact Bézier nets of the symmetric three-directional box spline
+//!    (`k = 2(m−1)`, degree `d = 3m − 2`) and the half-box splines (`k = 2m − 3`,
+//!    `d = 3(m−1)`) for one patch of a regular subnet [UP §2, §3].
+//! 2. [`refine`]: Loop refinement until irregular vertices are `k + 2` edges apart;
+//!    [`regular::ControlNet`] coalesces the inner rings around each irregular vertex.
+//! 3. [`regular`]: one patch per face with a regular subnet ([`chart`] finds the subnets).
+//! 4. [`hole`]: Construction 2.1 for every irregular vertex of valence n — the ring `r` from
+//!    the sector charts ([`sector`]), the plane parametrization `x` ([`plane`]), the
+//!    quadratic `q` and `p = q ∘ x` ([`compose`]), the adaptation ([`adapt`]): 4n patches of
+//!    degree 2d on the n faces around the vertex and the 3n faces of the next ring.
+//!
+//! Continuity: C^k in the lattice parametrisation across every joint except those between
+//! the n inner p-patches of a hole, which are G^∞ (one quadratic over an injective planar map).
+//!
+//! Patches and faces: every patch belongs to the input face that contains its refined face
+//! (refinement splits each input face regularly), with `domain` the exact face-barycentric
+//! corners of that refined face, so [`crate::surface::Surface::joints`] pairs patches across
+//! input faces as for any other scheme. `piece` is 0 for a (half-)box-spline patch, 1 for an
+//! inner p-patch `q ∘ x_s`, 2 for an adapted ring patch.
+
+pub mod adapt;
+pub mod box_spline;
+pub mod chart;
+pub mod compose;
+pub mod hole;
+pub mod jets;
+pub mod plane;
+pub mod refine;
+pub mod regular;
+pub mod sector;
+
+use rayon::prelude::*;
+
+use crate::bezier::TriangleBezier;
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::schemes::{ParamSpec, Params, SchemeSpec};
+use crate::surface::{Patch, PatchGeometry, Surface};
+
+/// Registry entry.
+pub const SPEC: SchemeSpec = SchemeSpec {
+    name: "gk",
+    summary: "Umlauf-Prautzsch 2000: C^k (half-)box-spline surface of a refined control net (UP)",
+    params: &[ParamSpec {
+        name: "k",
+        default: "2",
+        help: "smoothness order 1..4 (even: box spline of degree 3k/2+1; odd: half-box spline of degree 3(k+1)/2)",
+    }],
+    needs_closed_mesh: true,
+    build,
+};
+
+/// The smoothness order parameter, checked to be 1..=4.
+pub fn order(params: &Params) -> Result<usize> {
+    let k = params.number("k")?;
+    if k.fract() != 0.0 || !(1.0..=4.0).contains(&k) {
+        return Err(Error::BadParam {
+            name: "k".into(),
+            reason: format!("must be one of 1, 2, 3, 4, got {k}"),
+        });
+    }
+    Ok(k as usize)
+}
+
+/// The surface of the prepared net: regular patches, and with `fill_holes` the p-patches.
+pub fn surface_patches(
+    net: &refine::RefinedNet,
+    k: usize,
+    fill_holes: bool,
+) -> Result<Vec<Option<(TriangleBezier, u8)>>> {
+    let mesh = &net.mesh;
+    let control = regular::ControlNet::new(mesh, k);
+    let mut faces: Vec<Option<(TriangleBezier, u8)>> = regular::regular_patches(&control, k)
+        .into_iter()
+        .map(|p| p.map(|p| (p, 0)))
+        .collect();
+    if !fill_holes {
+        return Ok(faces);
+    }
+    let irregular: Vec<u32> = (0..mesh.vertex_count() as u32)
+        .filter(|&v| mesh.valence(v) != 6)
+        .collect();
+    let fillings: Vec<(u32, hole::Filling)> = irregular
+        .par_iter()
+        .map(|&v| hole::fill(mesh, &control, k, v).map(|f| (v, f)))
+        .collect::<Result<_>>()?;
+    let mut filled_by = vec![u32::MAX; mesh.face_count()];
+    for (v, filling) in fillings {
+        for hp in filling.patches {
+            let f = hp.face as usize;
+            if filled_by[f] != u32::MAX {
+                return Err(Error::Invalid(format!(
+                    "gk: the holes of irregular vertices {} and {v} overlap at face {f} of the \
+                     refined net",
+                    filled_by[f]
+                )));
+            }
+            filled_by[f] = v;
+            let patch = hole::in_face_order(mesh.faces()[f], hp.corners, &hp.patch);
+            faces[f] = Some((patch, hp.piece));
+        }
+    }
+    Ok(faces)
+}
+
+fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
+    let k = order(params)?;
+    let net = refine::prepare(mesh, k)?;
+    let patches = surface_patches(&net, k, true)?
+        .into_par_iter()
+        .enumerate()
+        .filter_map(|(f, patch)| {
+            let (patch, piece) = patch?;
+            Some(Patch {
+                face: net.origin[f],
+                piece,
+                domain: net.domain[f],
+                geometry: PatchGeometry::Bezier(patch),
+            })
+        })
+        .collect();
+    Ok(Surface {
+        scheme: SPEC.name.to_string(),
+        params: params.values().to_vec(),
+        patches,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::metrics::{Metrics, continuity};
+    use crate::schemes::gk::jets::lattice_jump;
+    use crate::schemes::testing::{closed_test_meshes, params};
+
+    /// Faces without a regular subnet around one irregular vertex of valence n: ring 1 for
+    /// k = 1, 2 (n faces), rings 1 and 2 for k = 3, 4 (n + 3n faces).
+    fn hole_faces(k: usize, n: usize) -> usize {
+        if k <= 2 { n } else { 4 * n }
+    }
+
+    /// Without hole filling, the faces left without a patch are exactly those around the
+    /// irregular vertices: ring 1 (n faces) for k ≤ 2, rings 1 and 2 (4n) for k ≥ 3.
+    #[test]
+    fn regular_surface_has_one_hole_per_irregular_vertex() {
+        for (name, mesh) in closed_test_meshes() {
+            for k in 1..=4 {
+                let net = refine::prepare(&mesh, k).unwrap();
+                let holes: usize = (0..net.mesh.vertex_count() as u32)
+                    .map(|v| net.mesh.valence(v))
+                    .filter(|&n| n != 6)
+                    .map(|n| hole_faces(k, n))
+                    .sum();
+                let regular = surface_patches(&net, k, false).unwrap();
+                let missing = regular.iter().filter(|p| p.is_none()).count();
+                assert_eq!(missing, holes, "{name} k = {k}");
+            }
+        }
+    }
+
+    /// The closed scenes and the valence fans 3, 5, 8, 12 and 16 (the metrics, with their
+    /// continuity order, take a while on the refined nets).
+    fn surface_test_meshes() -> Vec<(String, Mesh)> {
+        closed_test_meshes()
+            .into_iter()
+            .filter(|(name, _)| {
+                !name.starts_with("valence-fan")
+                    || ["-3", "-5", "-8", "-12", "-16"]
+                        .iter()
+                        .any(|n| name.ends_with(n))
+            })
+            .collect()
+    }
+
+    /// With the holes filled, for k = 1..4: every face has a patch (degree d, or 2d for the
+    /// 4n patches of each hole); every joint except those between two inner p-patches is C^k
+    /// in the lattice parametrisation (derivatives of order ≤ k agree to 1e-12 of the bound
+    /// the nets put on them, see [`lattice_jump`]) — regular–regular, regular–ring,
+    /// ring–ring and ring–inner; the inner p-patches meet each other with positions and
+    /// normals equal to rounding (they are one quadratic over a planar map). The metrics'
+    /// geometric continuity order is ≥ k at every lattice joint.
+    #[test]
+    fn filled_surface_is_c_k_at_every_lattice_joint() {
+        for (name, mesh) in surface_test_meshes() {
+            for k in 1..=4 {
+                let p = params(&SPEC, &[("k", &k.to_string())]);
+                let surface = build(&mesh, &p).expect("closed meshes build");
+                let net = refine::prepare(&mesh, k).unwrap();
+                let label = format!("{name} k = {k}");
+                assert_eq!(surface.patches.len(), net.mesh.face_count(), "{label}");
+                let d = box_spline::Family::for_order(k).degree();
+                for patch in &surface.patches {
+                    let expected = if patch.piece == 0 { d } else { 2 * d };
+                    assert_eq!(patch.degree(), Some(expected), "{label}");
+                }
+                let joints = surface.joints(mesh.faces());
+                let mut worst = [0.0f64; 3]; // regular–regular, with a ring patch, inner–ring
+                let mut smoother = 0usize;
+                for j in &joints {
+                    assert!(j.reversed, "{label}: consistently oriented");
+                    let (pa, pb) = (
+                        &surface.patches[j.a.patch as usize],
+                        &surface.patches[j.b.patch as usize],
+                    );
+                    let kind = match (pa.piece, pb.piece) {
+                        (1, 1) => continue,
+                        (0, 0) => 0,
+                        (1, _) | (_, 1) => 2,
+                        _ => 1,
+                    };
+                    let (a, b) = (pa.as_bezier().unwrap(), pb.as_bezier().unwrap());
+                    let (ea, eb) = (j.a.edge as usize, j.b.edge as usize);
+                    for order in 0..=k {
+                        worst[kind] = worst[kind].max(lattice_jump(a, ea, b, eb, order));
+                    }
+                    if lattice_jump(a, ea, b, eb, k + 1) < 1e-12 {
+                        smoother += 1;
+                    }
+                }
+                let m = Metrics::measure(&surface, &mesh, 0.0);
+                eprintln!(
+                    "{label}: {} patches, {} joints; worst order-≤k jump regular {:.1e}, \
+                     ring {:.1e}, inner–ring {:.1e}; {smoother} joints also C^{}; \
+                     G0 {:.1e}, G1 {:.1e} rad, inside faces {:.1e} rad; \
+                     continuity order {:?} (typical {:?})",
+                    surface.patches.len(),
+                    joints.len(),
+                    worst[0],
+                    worst[1],
+                    worst[2],
+                    k + 1,
+                    m.g0_max_rel.unwrap(),
+                    m.g1_max_rad.unwrap(),
+                    m.g1_inside_faces_max_rad.unwrap_or(0.0),
+                    m.continuity_order,
+                    m.continuity_order_typical,
+                );
+                for (what, w) in ["regular", "ring", "inner–ring"].iter().zip(worst) {
+                    assert!(w < 1e-12, "{label}: {what} jump {w:e}");
+                }
+                assert!(
+                    smoother < joints.len(),
+                    "{label}: no joint shows order k + 1 fails"
+                );
+                assert!(m.g0_max_rel.unwrap() < 1e-12, "{label}");
+                assert!(m.g1_max_rad.unwrap() < 1e-9, "{label}");
+                assert_eq!(m.singular_samples, 0, "{label}");
+                // The geometric order of the metrics module, per kind of joint.
+                let diag = mesh.bounds().diagonal();
+                let (mut lattice_order, mut inner_order) = (i32::MAX, i32::MAX);
+                for j in &joints {
+                    let order = continuity::joint_order(&surface, j, diag);
+                    let pieces = (
+                        surface.patches[j.a.patch as usize].piece,
+                        surface.patches[j.b.patch as usize].piece,
+                    );
+                    if pieces == (1, 1) {
+                        inner_order = inner_order.min(order);
+                    } else {
+                        lattice_order = lattice_order.min(order);
+                    }
+                }
+                eprintln!(
+                    "{label}: measured G^{lattice_order} at lattice joints, G^{inner_order} between inner p-patches"
+                );
+                assert!(
+                    lattice_order >= k as i32,
+                    "{label}: measured G^{lattice_order}"
+                );
+                // Between inner p-patches the surface is one quadratic over an injective planar
+                // map (G^∞); the measure resolves that to order 5 for k ≤ 2, to order 3 for
+                // the degree-12 and degree-14 patches of k = 3, 4 at valences ≤ 12, and to
+                // order 2 around the valence-16 vertices of the 16-fan at k = 4.
+                let max_valence = (0..mesh.vertex_count() as u32)
+                    .map(|v| mesh.valence(v))
+                    .max();
+                let floor = if max_valence <= Some(12) || k < 4 {
+                    (k as i32).min(3)
+                } else {
+                    2
+                };
+                if inner_order != i32::MAX {
+                    assert!(inner_order >= floor, "{label}: inner G^{inner_order}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn order_outside_one_to_four_is_refused() {
+        for bad in ["0", "5", "2.5", "x"] {
+            let err = order(&params(&SPEC, &[("k", bad)])).unwrap_err();
+            assert!(err.to_string().contains("'k'"), "{bad}: {err}");
+        }
+    }
+}

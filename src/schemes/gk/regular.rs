@@ -1,0 +1,171 @@
+//! The generalized (half-)box-spline surface [UP §2, §3]: one Bézier patch of degree `d` for
+//! every face of the prepared net whose subnet is regular, none for the others (the holes).
+//!
+//! Box splines (even k) take their control points at the net's vertices. Half-box splines
+//! (odd k) take them at the vertices of the hexagonal dual net, which are placed at the face
+//! centroids of the triangle net; an irregular (n-sided) mesh of the dual net is then exactly
+//! an irregular vertex of the triangle net.
+
+use std::collections::{HashMap, VecDeque};
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::bezier::TriangleBezier;
+use crate::mesh::Mesh;
+use crate::schemes::gk::box_spline::{ControlSite, Family, GridTriangle, PatchStencil};
+use crate::schemes::gk::chart::{Chart, chart, face_of};
+use crate::schemes::gk::sector::coalesced_rings;
+
+/// Chart radius of a patch's subnet: `k/2` for box splines, `(k+1)/2` for half-box splines
+/// (the corners of the triangles that reach within `(k−1)/2` of the patch).
+pub fn subnet_radius(k: usize) -> i32 {
+    match Family::for_order(k) {
+        Family::Box { m } => m as i32 - 1,
+        Family::HalfBox { m } => m as i32 - 1,
+    }
+}
+
+/// The control points patches are built from: vertex positions (even k) or dual points at
+/// the face centroids (odd k), with the rings around each irregular vertex coalesced into
+/// its multiple vertex [UP §2, §3] (see [`crate::schemes::gk::sector::coalesced_rings`]).
+///
+/// The multiple vertex is the irregular vertex itself for box splines, and the centroid of
+/// the n-gon's dual points (the mean of the centroids of the faces around the vertex) for
+/// half-box splines. Coalesced vertices are those within `k/2 − 1` edges of the irregular
+/// vertex; coalesced faces those with a corner within `(k−1)/2` edges of it.
+pub struct ControlNet<'a> {
+    mesh: &'a Mesh,
+    /// Control points at the vertices (even k).
+    positions: Vec<DVec3>,
+    /// Control points at the faces (odd k).
+    centroids: Vec<DVec3>,
+    /// The multiple vertex of each irregular vertex.
+    multiple: HashMap<u32, DVec3>,
+}
+
+impl<'a> ControlNet<'a> {
+    /// The control net of `mesh` for smoothness order `k`.
+    pub fn new(mesh: &'a Mesh, k: usize) -> Self {
+        let mut positions = mesh.positions().to_vec();
+        let centroid = |f: &[u32; 3]| {
+            f.iter()
+                .map(|&v| mesh.positions()[v as usize])
+                .sum::<DVec3>()
+                / 3.0
+        };
+        let mut centroids: Vec<DVec3> = mesh.faces().iter().map(centroid).collect();
+        let irregular: Vec<u32> = (0..mesh.vertex_count() as u32)
+            .filter(|&v| mesh.valence(v) != 6)
+            .collect();
+        let odd = !k.is_multiple_of(2);
+        let multiple: HashMap<u32, DVec3> = irregular
+            .iter()
+            .map(|&v| {
+                let point = if odd {
+                    let faces = mesh.ring_faces(v);
+                    faces.iter().map(|&f| centroids[f as usize]).sum::<DVec3>() / faces.len() as f64
+                } else {
+                    mesh.positions()[v as usize]
+                };
+                (v, point)
+            })
+            .collect();
+        let rings = coalesced_rings(k);
+        let (owner, dist) = distances(mesh, &irregular, rings + 1);
+        if odd {
+            for (f, face) in mesh.faces().iter().enumerate() {
+                if let Some(&c) = face.iter().min_by_key(|&&c| dist[c as usize])
+                    && dist[c as usize] <= rings
+                {
+                    centroids[f] = multiple[&owner[c as usize]];
+                }
+            }
+        } else {
+            for v in 0..mesh.vertex_count() {
+                if dist[v] <= rings {
+                    positions[v] = multiple[&owner[v]];
+                }
+            }
+        }
+        ControlNet {
+            mesh,
+            positions,
+            centroids,
+            multiple,
+        }
+    }
+
+    /// The control point at vertex `v` (even k).
+    pub fn vertex(&self, v: u32) -> DVec3 {
+        self.positions[v as usize]
+    }
+
+    /// The control point at face `f` (odd k).
+    pub fn face(&self, f: u32) -> DVec3 {
+        self.centroids[f as usize]
+    }
+
+    /// The multiple vertex of irregular vertex `v`.
+    pub fn multiple(&self, v: u32) -> Option<DVec3> {
+        self.multiple.get(&v).copied()
+    }
+
+    /// The control point at `site` of `chart`, if the chart holds it.
+    pub fn value(&self, chart: &Chart, site: ControlSite) -> Option<DVec3> {
+        match site {
+            ControlSite::Vertex(p) => chart.get(&p).map(|&v| self.positions[v as usize]),
+            ControlSite::Face(f) => {
+                let [x, y, z] = f.corners().map(|c| chart.get(&c).copied());
+                let face = face_of(self.mesh, x?, y?, z?)?;
+                Some(self.centroids[face as usize])
+            }
+        }
+    }
+}
+
+/// For every vertex, the nearest of `sources` and the distance to it in edges (`usize::MAX`
+/// beyond `depth`).
+fn distances(mesh: &Mesh, sources: &[u32], depth: usize) -> (Vec<u32>, Vec<usize>) {
+    let mut dist = vec![usize::MAX; mesh.vertex_count()];
+    let mut owner = vec![u32::MAX; mesh.vertex_count()];
+    let mut queue: VecDeque<u32> = sources.iter().copied().collect();
+    for &s in sources {
+        dist[s as usize] = 0;
+        owner[s as usize] = s;
+    }
+    while let Some(v) = queue.pop_front() {
+        if dist[v as usize] >= depth {
+            continue;
+        }
+        for &w in mesh.one_ring(v) {
+            if dist[w as usize] == usize::MAX {
+                dist[w as usize] = dist[v as usize] + 1;
+                owner[w as usize] = owner[v as usize];
+                queue.push_back(w);
+            }
+        }
+    }
+    (owner, dist)
+}
+
+/// The patch of every face of `mesh` (`None` where the subnet is irregular), in face order.
+pub fn regular_patches(net: &ControlNet, k: usize) -> Vec<Option<TriangleBezier>> {
+    let stencil = PatchStencil::new(k, GridTriangle::UP);
+    let mesh = net.mesh;
+    let radius = subnet_radius(k);
+    mesh.faces()
+        .par_iter()
+        .map(|face| {
+            let chart = chart(mesh, *face, radius)?;
+            let mut complete = true;
+            let points = stencil.apply(|site| {
+                net.value(&chart, site).unwrap_or_else(|| {
+                    complete = false;
+                    DVec3::ZERO
+                })
+            });
+            complete.then(|| TriangleBezier::new(stencil.degree, points))
+        })
+        .collect()
+}
