@@ -12,6 +12,7 @@ pub mod cli;
 pub mod evaluate;
 pub mod film;
 pub mod fixtures;
+pub mod font;
 pub mod gallery;
 pub mod intersect;
 pub mod job;
