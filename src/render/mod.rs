@@ -9,6 +9,7 @@
 pub mod bvh;
 pub mod camera;
 pub mod cli;
+pub mod curves;
 pub mod evaluate;
 pub mod film;
 pub mod fixtures;
@@ -25,6 +26,7 @@ pub mod shaded;
 pub mod stats;
 pub mod tessellate;
 pub mod trace;
+pub mod tubes;
 
 pub use camera::{Camera, Projection};
 pub use film::{Frame, PixelGeometry, RenderSettings, render};
