@@ -22,7 +22,7 @@ pub struct RenderArgs {
     /// Scheme parameter `name=value` (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub params: Vec<String>,
-    /// Mode: zebra, highlight, isophote, curvature, normals, patches, shaded.
+    /// Mode: zebra, highlight, isophote, curvature, normals, patches, diffuse, shaded.
     #[arg(long)]
     pub mode: Option<String>,
     /// Eye position `X,Y,Z`.

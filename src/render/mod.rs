@@ -11,6 +11,7 @@ pub mod camera;
 pub mod cli;
 pub mod curves;
 pub mod evaluate;
+pub mod figure;
 pub mod film;
 pub mod fixtures;
 pub mod font;

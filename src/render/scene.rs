@@ -13,7 +13,7 @@
 //! fov = 35.0
 //! ortho = false
 //! [render]
-//! mode = "zebra"              # zebra highlight isophote curvature normals patches shaded
+//! mode = "zebra"              # zebra highlight isophote curvature normals patches diffuse shaded
 //! size = [640, 480]
 //! spp = 4
 //! output = "out/ico-zebra"    # writes .png and .exr
@@ -332,7 +332,7 @@ impl SceneFile {
             Mode::Isophote(p) => self.isophote_into(p)?,
             Mode::Curvature(p) => self.curvature_into(p)?,
             Mode::Shaded(p) => self.shaded_into(p)?,
-            Mode::Normals | Mode::Patches => {}
+            Mode::Normals | Mode::Patches | Mode::Diffuse => {}
         }
         Ok(mode)
     }
