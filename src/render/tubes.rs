@@ -148,8 +148,8 @@ fn slab_hit(bounds: &Aabb, origin: DVec3, inv: DVec3, t_max: f64) -> bool {
     let t1 = (bounds.max - origin) * inv;
     let near = t0.min(t1).max_element().max(0.0);
     let far = t0.max(t1).min_element().min(t_max);
-    // NaN (a ray in a box face plane) compares false: treat as a hit to stay conservative.
-    !(near > far)
+    // NaN (a ray in a box face plane) is incomparable: treat as a hit to stay conservative.
+    near.partial_cmp(&far) != Some(std::cmp::Ordering::Greater)
 }
 
 /// Entry distance and normal of the ray on the capsule of radius `r` around segment `a b`, if

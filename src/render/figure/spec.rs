@@ -125,7 +125,21 @@ fn param_text(value: &toml::Value) -> String {
 impl FigureSpec {
     /// Parses spec text; unknown keys are errors that name the key.
     pub fn parse(text: &str) -> Result<FigureSpec> {
-        toml::from_str(text).map_err(|e| Error::Invalid(format!("figure spec: {e}")))
+        toml::from_str(text).map_err(|e: toml::de::Error| {
+            // One line: the message with the line it points at (TOML's own text draws a
+            // multi-line excerpt).
+            let line = e.span().map(|s| {
+                1 + text.as_bytes()[..s.start.min(text.len())]
+                    .iter()
+                    .filter(|&&b| b == b'\n')
+                    .count()
+            });
+            let message = e.message().replace('\n', " ");
+            Error::Invalid(match line {
+                Some(l) => format!("figure spec line {l}: {message}"),
+                None => format!("figure spec: {message}"),
+            })
+        })
     }
 
     /// Reads a spec file.
@@ -172,9 +186,15 @@ impl FigureSpec {
             }
             None => {}
         }
-        let scene: SceneFile = toml::Value::Table(table)
-            .try_into()
-            .map_err(|e: toml::de::Error| context(Error::Invalid(format!("params: {e}"))))?;
+        let scene: SceneFile =
+            toml::Value::Table(table)
+                .try_into()
+                .map_err(|e: toml::de::Error| {
+                    context(Error::Invalid(format!(
+                        "params: {}",
+                        e.message().replace('\n', " ")
+                    )))
+                })?;
         let mode = scene.mode().map_err(context)?;
         let mut curves = CurveOverlay {
             curves: entry.curves.unwrap_or(false),
@@ -435,7 +455,8 @@ mod tests {
                 .expect_err("bad spec")
                 .to_string()
         };
-        assert!(err(&format!("{SPEC}\ncolour = 3")).contains("colour"));
+        let top = err(&format!("colour = 3\n{SPEC}"));
+        assert!(top.contains("line 1") && top.contains("colour"), "{top}");
         assert!(err(&SPEC.replace("curves = true", "curvez = true")).contains("curvez"));
         assert!(err(&SPEC.replace("stripes = 8", "stripez = 8")).contains("stripez"));
         assert!(err(&SPEC.replace("\"loop94\"", "\"loop95\"")).contains("loop95"));
