@@ -91,6 +91,12 @@ enum Command {
     },
     /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
     Render(Box<smoothlab::render::cli::RenderArgs>),
+    /// Render a labelled grid (schemes x modes) from a figure spec to PNG + one EXR per cell.
+    Figure {
+        /// Figure spec files (.toml), rendered in turn.
+        #[arg(required = true)]
+        specs: Vec<PathBuf>,
+    },
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -127,6 +133,18 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             warnings: Vec::new(),
             failed: false,
         }),
+        Some(Command::Figure { specs }) => {
+            let mut stdout = String::new();
+            for spec in &specs {
+                let files = smoothlab::render::figure::spec::run_figure_spec(spec)?;
+                stdout += &smoothlab::render::figure::spec::figure_summary(&files);
+            }
+            Ok(Output {
+                stdout,
+                warnings: Vec::new(),
+                failed: false,
+            })
+        }
         Some(Command::Metrics {
             mesh,
             scheme,

@@ -22,7 +22,7 @@ pub struct RenderArgs {
     /// Scheme parameter `name=value` (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub params: Vec<String>,
-    /// Mode: zebra, highlight, isophote, curvature, normals, patches, shaded.
+    /// Mode: zebra, highlight, isophote, curvature, normals, patches, diffuse, shaded.
     #[arg(long)]
     pub mode: Option<String>,
     /// Eye position `X,Y,Z`.
@@ -173,7 +173,7 @@ pub fn render_command(args: &RenderArgs) -> Result<RenderStats> {
         .clone()
         .unwrap_or_else(|| schemes::names().first().map_or("hb", |s| s).to_string());
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
-    let (frame, stats) = render_scene(&surface, &scene)?;
+    let (frame, stats) = render_scene(&surface, &mesh, &scene)?;
     let stem = scene.render.output.clone().unwrap_or_else(|| {
         let mode = scene.render.mode.as_deref().unwrap_or("zebra");
         let name = mesh_path

@@ -20,6 +20,7 @@ use crate::render::sampler::pixel_offset;
 use crate::render::shaded;
 use crate::render::stats::RenderStats;
 use crate::render::trace::SurfaceTracer;
+use crate::render::tubes::Tubes;
 
 /// Side of a square tile in pixels.
 const TILE: u32 = 16;
@@ -43,6 +44,10 @@ pub struct RenderSettings {
     pub seed: u64,
     /// Show a progress bar on stderr (only ever when stderr is a terminal).
     pub progress: bool,
+    /// Trace the surface (false: only the curve tubes are seen; the geometry record is empty).
+    pub surface: bool,
+    /// Tubes of the curve-network overlay, traced with the surface.
+    pub curves: Option<std::sync::Arc<Tubes>>,
 }
 
 impl Default for RenderSettings {
@@ -56,6 +61,8 @@ impl Default for RenderSettings {
             background: DVec3::splat(0.045),
             seed: 0,
             progress: true,
+            surface: true,
+            curves: None,
         }
     }
 }
@@ -289,21 +296,24 @@ fn render_tile<T: SurfaceTracer>(
             let (cx, cy) = ndc(f64::from(x) + 0.5, f64::from(y) + 0.5);
             let ray = camera.ray(cx, cy, aspect);
             tile.rays += 1;
-            let geometry = tracer
-                .closest_hit(&ray, 0.0, f64::INFINITY, &mut tile.counters)
-                .map(|hit| {
-                    tile.hits += 1;
-                    let sp = tracer.shading_point(&hit, &ray);
-                    let c = sp.curvature;
-                    PixelGeometry {
-                        hit,
-                        face: sp.face,
-                        position: sp.jet.p,
-                        normal: sp.normal,
-                        gaussian: c.map_or(0.0, |c| c.gaussian),
-                        mean: c.map_or(0.0, |c| c.mean),
-                    }
-                });
+            let centre_hit = if settings.surface {
+                tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut tile.counters)
+            } else {
+                None
+            };
+            let geometry = centre_hit.map(|hit| {
+                tile.hits += 1;
+                let sp = tracer.shading_point(&hit, &ray);
+                let c = sp.curvature;
+                PixelGeometry {
+                    hit,
+                    face: sp.face,
+                    position: sp.jet.p,
+                    normal: sp.normal,
+                    gaussian: c.map_or(0.0, |c| c.gaussian),
+                    mean: c.map_or(0.0, |c| c.mean),
+                }
+            });
             tile.geometry.push(geometry);
             // Colour: stratified supersampling.
             let mut sum = DVec3::ZERO;
@@ -312,11 +322,22 @@ fn render_tile<T: SurfaceTracer>(
                 let (sx, sy) = ndc(f64::from(x) + ox, f64::from(y) + oy);
                 let ray = camera.ray(sx, sy, aspect);
                 tile.rays += 1;
-                let colour = match tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut tile.counters)
-                {
-                    None => settings.background,
-                    Some(hit) => {
-                        tile.hits += 1;
+                let hit = if settings.surface {
+                    tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut tile.counters)
+                } else {
+                    None
+                };
+                tile.hits += u64::from(hit.is_some());
+                let tube = settings.curves.as_ref().and_then(|tubes| {
+                    let t_max = hit.map_or(f64::INFINITY, |h| h.t);
+                    tubes
+                        .closest_hit(&ray, t_max)
+                        .map(|th| tubes.shade(&th, &ray))
+                });
+                let colour = match (tube, hit) {
+                    (Some(c), _) => c,
+                    (None, None) => settings.background,
+                    (None, Some(hit)) => {
                         let sp = tracer.shading_point(&hit, &ray);
                         let base = match mode {
                             Mode::Shaded(params) => {

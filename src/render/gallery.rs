@@ -1,23 +1,19 @@
 //! The built-in gallery (what `smoothlab` renders with no arguments): every registered scheme on
 //! the deformed icosahedron, in zebra, isophote and curvature mode, from one shared camera, plus
-//! one side-by-side sheet (rows = schemes, columns = modes).
-//!
-//! The curvature colour range is chosen once — the median over the curved schemes of the
-//! automatic range (95th percentile of |H| in view) — and then fixed for all schemes, so their
-//! colours compare; a scheme with sharp creases saturates instead of washing out the others.
+//! one labelled sheet (rows = schemes, columns = modes) made by the figure grid
+//! ([`crate::render::figure`]), with its common curvature range.
 
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::mesh::generate::deformed_icosahedron;
-use crate::render::bvh::SubdivisionCriterion;
-use crate::render::camera::Camera;
-use crate::render::film::{Frame, RenderSettings, auto_curvature_range, render};
-use crate::render::intersect::{NewtonSettings, Tracer};
-use crate::render::job::surface_samples;
-use crate::render::modes::{CurvatureParams, CurvatureRange, Mode, Overlay};
-use crate::render::output::{srgb8, write_png};
+use crate::render::curves::CurveOverlay;
+use crate::render::figure::{
+    CurvatureChoice, FigureJob, FigureMode, FigureSurface, View, framing_camera, render_figure,
+};
+use crate::render::modes::{CurvatureParams, Mode};
+use crate::render::output::write_png;
 use crate::render::stats::RenderStats;
 use crate::schemes::{self, SCHEMES};
 
@@ -73,107 +69,62 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
     let (mesh, _) = Mesh::from_triangles(positions, faces)?;
     let surfaces = SCHEMES
         .iter()
-        .map(|spec| schemes::build(spec.name, &mesh, &[]))
-        .collect::<Result<Vec<_>>>()?;
-    let samples: Vec<_> = surfaces.iter().flat_map(surface_samples).collect();
-    let camera = Camera::frame_points(&samples, Camera::DEFAULT_VIEW, 30.0, 1.0)?;
-    let tracers = surfaces
-        .iter()
-        .map(|s| {
-            Tracer::new(
-                s,
-                &SubdivisionCriterion::default(),
-                NewtonSettings::default(),
-            )
+        .map(|spec| {
+            Ok(FigureSurface {
+                label: spec.name.to_string(),
+                surface: schemes::build(spec.name, &mesh, &[])?,
+            })
         })
         .collect::<Result<Vec<_>>>()?;
-    let curvature = CurvatureParams::default();
-    let percentile = match curvature.range {
-        CurvatureRange::Auto { percentile } => percentile,
-        CurvatureRange::Fixed(_) => 95.0,
-    };
-    let probe_settings = RenderSettings {
-        width: options.size,
-        height: options.size,
-        ..RenderSettings::default()
-    };
-    // Schemes with nothing curved in view (flat) report the fallback range 1 and do not vote.
-    let mut ranges: Vec<f64> = tracers
+    let all: Vec<_> = surfaces.iter().map(|s| &s.surface).collect();
+    let camera = framing_camera(&all, 30.0, 1.0)?;
+    let modes = GALLERY_MODES
         .iter()
-        .filter(|t| t.surface.patches.iter().any(|p| p.degree() != Some(1)))
-        .map(|t| auto_curvature_range(t, &camera, &probe_settings, curvature.quantity, percentile))
-        .collect();
-    ranges.sort_by(f64::total_cmp);
-    let half_range = ranges.get(ranges.len() / 2).copied().unwrap_or(1.0);
-    let mut images = Vec::new();
-    let mut frames: Vec<Frame> = Vec::new();
-    for (surface, tracer) in surfaces.iter().zip(&tracers) {
-        for mode_name in GALLERY_MODES {
-            let mode = match Mode::by_name(mode_name)? {
-                Mode::Curvature(p) => Mode::Curvature(CurvatureParams {
-                    range: CurvatureRange::Fixed(half_range),
-                    legend: true,
-                    ..p
-                }),
+        .map(|name| {
+            let mode = match Mode::by_name(name)? {
+                Mode::Curvature(p) => Mode::Curvature(CurvatureParams { legend: true, ..p }),
                 other => other,
             };
-            let settings = RenderSettings {
-                width: options.size,
-                height: options.size,
-                spp: options.spp,
+            Ok(FigureMode {
+                label: name.to_string(),
                 mode,
-                overlay: Overlay::default(),
-                progress: false,
-                ..RenderSettings::default()
-            };
-            let (frame, stats) = render(tracer, &camera, &settings)?;
-            let path = out_dir.join(format!("{}-{mode_name}.png", surface.scheme));
-            write_png(&frame, &path)?;
-            images.push(GalleryImage {
-                scheme: surface.scheme.clone(),
-                mode: mode_name.to_string(),
-                path,
-                stats,
-            });
-            frames.push(frame);
-        }
+                curves: CurveOverlay::default(),
+                surface: true,
+                view: View::Common,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let job = FigureJob {
+        title: "deformed icosahedron, every scheme".into(),
+        mesh,
+        surfaces,
+        modes,
+        camera,
+        size: [options.size, options.size],
+        spp: options.spp,
+        curvature: CurvatureChoice::Common,
+        transpose: false,
+    };
+    let figure = render_figure(&job)?;
+    let mut images = Vec::with_capacity(figure.cells.len());
+    for cell in figure.cells {
+        let scheme = job.surfaces[cell.surface].surface.scheme.clone();
+        let mode = GALLERY_MODES[cell.mode];
+        let path = out_dir.join(format!("{scheme}-{mode}.png"));
+        write_png(&cell.frame, &path)?;
+        images.push(GalleryImage {
+            scheme,
+            mode: mode.to_string(),
+            path,
+            stats: cell.stats,
+        });
     }
     let sheet = out_dir.join("gallery.png");
-    write_sheet(&frames, GALLERY_MODES.len(), options.size, &sheet)?;
+    figure
+        .sheet
+        .save_with_format(&sheet, image::ImageFormat::Png)
+        .map_err(|e| Error::Invalid(format!("{}: {e}", sheet.display())))?;
     Ok(Gallery { images, sheet })
-}
-
-/// Tiles equally sized frames into rows of `columns`, with a 4-pixel dark gutter.
-fn write_sheet(frames: &[Frame], columns: usize, size: u32, path: &Path) -> Result<()> {
-    let rows = frames.len().div_ceil(columns).max(1) as u32;
-    let gutter = 4u32;
-    let cols = columns as u32;
-    let (w, h) = (
-        cols * size + (cols + 1) * gutter,
-        rows * size + (rows + 1) * gutter,
-    );
-    let mut sheet = image::RgbImage::from_pixel(w, h, image::Rgb([24, 24, 24]));
-    for (k, frame) in frames.iter().enumerate() {
-        let (col, row) = ((k % columns) as u32, (k / columns) as u32);
-        let (x0, y0) = (
-            gutter + col * (size + gutter),
-            gutter + row * (size + gutter),
-        );
-        let bytes = srgb8(frame);
-        for y in 0..frame.height.min(size) {
-            for x in 0..frame.width.min(size) {
-                let i = ((y * frame.width + x) * 3) as usize;
-                sheet.put_pixel(
-                    x0 + x,
-                    y0 + y,
-                    image::Rgb([bytes[i], bytes[i + 1], bytes[i + 2]]),
-                );
-            }
-        }
-    }
-    sheet
-        .save_with_format(path, image::ImageFormat::Png)
-        .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))
 }
 
 /// A plain-text table of the gallery's render statistics, one line per image.

@@ -5,6 +5,7 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
+use crate::mesh::Mesh;
 use crate::render::camera::{Camera, Projection};
 use crate::render::film::{Frame, RenderSettings, render};
 use crate::render::intersect::{NewtonSettings, Tracer};
@@ -107,10 +108,16 @@ pub fn scene_settings(scene: &SceneFile) -> Result<RenderSettings> {
     Ok(settings)
 }
 
-/// Renders `surface` as `scene` describes (exact patches, or a tessellation when
-/// `render.tessellate` is set).
-pub fn render_scene(surface: &Surface, scene: &SceneFile) -> Result<(Frame, RenderStats)> {
-    let settings = scene_settings(scene)?;
+/// Renders `surface` (built on `mesh`) as `scene` describes (exact patches, or a tessellation
+/// when `render.tessellate` is set), with the curve-network tubes it asks for.
+pub fn render_scene(
+    surface: &Surface,
+    mesh: &Mesh,
+    scene: &SceneFile,
+) -> Result<(Frame, RenderStats)> {
+    let mut settings = scene_settings(scene)?;
+    settings.curves = scene.curve_overlay()?.tubes(surface, mesh)?;
+    settings.surface = scene.render.surface.unwrap_or(true);
     let aspect = f64::from(settings.width) / f64::from(settings.height);
     let camera = scene_camera(scene, surface, aspect)?;
     match scene.render.tessellate {

@@ -9,9 +9,12 @@
 pub mod bvh;
 pub mod camera;
 pub mod cli;
+pub mod curves;
 pub mod evaluate;
+pub mod figure;
 pub mod film;
 pub mod fixtures;
+pub mod font;
 pub mod gallery;
 pub mod intersect;
 pub mod job;
@@ -24,6 +27,7 @@ pub mod shaded;
 pub mod stats;
 pub mod tessellate;
 pub mod trace;
+pub mod tubes;
 
 pub use camera::{Camera, Projection};
 pub use film::{Frame, PixelGeometry, RenderSettings, render};

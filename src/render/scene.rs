@@ -13,11 +13,16 @@
 //! fov = 35.0
 //! ortho = false
 //! [render]
-//! mode = "zebra"              # zebra highlight isophote curvature normals patches shaded
+//! mode = "zebra"              # zebra highlight isophote curvature normals patches diffuse shaded
 //! size = [640, 480]
 //! spp = 4
 //! output = "out/ico-zebra"    # writes .png and .exr
 //! overlay = "faces"           # none, faces, patches, both
+//! curves = true               # boundary curves as blue tubes
+//! control_polygons = true     # their control polygons as red tubes
+//! surface = true              # false: the tubes alone
+//! curve_radius = 0.003        # relative to the bounding-box diagonal
+//! curve_edge = 4              # only the curves of this mesh edge
 //! [zebra]
 //! axis = [0.0, 1.0, 0.0]
 //! stripes = 16
@@ -36,6 +41,7 @@ use serde::Deserialize;
 
 use crate::error::{Error, Result};
 use crate::render::bvh::SubdivisionCriterion;
+use crate::render::curves::CurveOverlay;
 use crate::render::modes::{
     CurvatureParams, CurvatureQuantity, CurvatureRange, HighlightParams, IsophoteParams, Mode,
     Overlay, ZebraParams,
@@ -126,6 +132,16 @@ pub struct RenderSection {
     pub background: Option<[f64; 3]>,
     /// Render a tessellation with this many segments per patch edge instead of the patches.
     pub tessellate: Option<u32>,
+    /// Draw the boundary curves (images of the mesh edges) as tubes.
+    pub curves: Option<bool>,
+    /// Draw the Bézier control polygons of the boundary curves as tubes.
+    pub control_polygons: Option<bool>,
+    /// Trace the surface (false: the curves alone).
+    pub surface: Option<bool>,
+    /// Tube radius relative to the bounding-box diagonal.
+    pub curve_radius: Option<f64>,
+    /// Draw the curves of this mesh edge only (index in the mesh's edge list).
+    pub curve_edge: Option<usize>,
 }
 
 /// `[bvh]`
@@ -286,6 +302,26 @@ impl SceneFile {
         Ok(o)
     }
 
+    /// The curve-network overlay of `[render]`.
+    pub fn curve_overlay(&self) -> Result<CurveOverlay> {
+        let r = &self.render;
+        let mut c = CurveOverlay {
+            curves: r.curves.unwrap_or(false),
+            control_polygons: r.control_polygons.unwrap_or(false),
+            edge: r.curve_edge,
+            ..CurveOverlay::default()
+        };
+        if let Some(radius) = r.curve_radius {
+            c.radius_rel = positive("render.curve_radius", radius)?;
+        }
+        if !r.surface.unwrap_or(true) && !c.enabled() {
+            return Err(Error::Invalid(
+                "render.surface = false needs render.curves or render.control_polygons".into(),
+            ));
+        }
+        Ok(c)
+    }
+
     /// The mode with its section's parameters.
     pub fn mode(&self) -> Result<Mode> {
         let name = self.render.mode.as_deref().unwrap_or("zebra");
@@ -296,7 +332,7 @@ impl SceneFile {
             Mode::Isophote(p) => self.isophote_into(p)?,
             Mode::Curvature(p) => self.curvature_into(p)?,
             Mode::Shaded(p) => self.shaded_into(p)?,
-            Mode::Normals | Mode::Patches => {}
+            Mode::Normals | Mode::Patches | Mode::Diffuse => {}
         }
         Ok(mode)
     }

@@ -76,6 +76,8 @@ pub enum Mode {
     Normals,
     /// One colour per face, shaded lighter or darker per piece.
     Patches,
+    /// Plain light grey lit from the eye: a quiet background for the curve-network tubes.
+    Diffuse,
     /// Path-traced clear-coat material in a studio environment.
     Shaded(crate::render::shaded::ShadedParams),
 }
@@ -88,6 +90,7 @@ pub const MODE_NAMES: &[&str] = &[
     "curvature",
     "normals",
     "patches",
+    "diffuse",
     "shaded",
 ];
 
@@ -101,6 +104,7 @@ impl Mode {
             "curvature" => Mode::Curvature(CurvatureParams::default()),
             "normals" => Mode::Normals,
             "patches" => Mode::Patches,
+            "diffuse" => Mode::Diffuse,
             "shaded" => Mode::Shaded(Default::default()),
             _ => {
                 return Err(crate::Error::Invalid(format!(
@@ -120,6 +124,7 @@ impl Mode {
             Mode::Curvature(_) => "curvature",
             Mode::Normals => "normals",
             Mode::Patches => "patches",
+            Mode::Diffuse => "diffuse",
             Mode::Shaded(_) => "shaded",
         }
     }
@@ -136,6 +141,10 @@ impl Mode {
             Mode::Patches => {
                 let base = palette::face_colour(sp.face, sp.piece);
                 base * (0.3 + 0.7 * sp.facing_normal.dot(-sp.view).max(0.0))
+            }
+            Mode::Diffuse => {
+                let facing = sp.facing_normal.dot(-sp.view).max(0.0);
+                DVec3::splat(0.12 + 0.6 * facing)
             }
             Mode::Shaded(_) => DVec3::splat(0.8 * sp.facing_normal.dot(-sp.view).max(0.0)),
         }

@@ -1,0 +1,322 @@
+//! Figures: grids of renders, rows × columns (surfaces × modes, or transposed), from one camera
+//! and one size, with labels, one common curvature colour range and the curve-network overlay
+//! per column. Used by `smoothlab figure SPEC.toml` ([`spec`]) and by the built-in gallery.
+//!
+//! The common automatic curvature range is the median, over the rows whose surface is curved
+//! (not every patch linear), of each surface's automatic range (the chosen percentile of |value|
+//! in view): one fixed range for all cells so colours compare, and a scheme with sharp creases
+//! saturates instead of washing out the others.
+
+pub mod sheet;
+pub mod spec;
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::error::Result;
+use crate::mesh::Mesh;
+use crate::render::bvh::SubdivisionCriterion;
+use crate::render::camera::{Camera, Projection};
+use crate::render::curves::CurveOverlay;
+use crate::render::film::{Frame, RenderSettings, auto_curvature_range, render};
+use crate::render::intersect::{NewtonSettings, Tracer};
+use crate::render::modes::{CurvatureRange, Mode, Overlay};
+use crate::render::stats::RenderStats;
+use crate::surface::Surface;
+
+pub use sheet::{SheetLabels, compose};
+
+/// One surface of a figure (a row, or a column when transposed).
+#[derive(Clone, Debug)]
+pub struct FigureSurface {
+    /// Label.
+    pub label: String,
+    /// The surface.
+    pub surface: Surface,
+}
+
+/// Where a cell looks from.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum View {
+    /// The figure's common camera.
+    #[default]
+    Common,
+    /// Orthographic, perpendicular to the chord plane of mesh edge `edge` (the plane through
+    /// the chord and the mean normal of the edge's faces), so the boundary curve's bending in
+    /// that plane is seen undistorted [HB00 Fig. 14 bottom].
+    EdgeSide {
+        /// Mesh edge index.
+        edge: usize,
+    },
+}
+
+/// One way of looking at every surface (a column, or a row when transposed).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FigureMode {
+    /// Label.
+    pub label: String,
+    /// Shading mode; a curvature mode's range is replaced by the figure's.
+    pub mode: Mode,
+    /// Curve tubes to draw.
+    pub curves: CurveOverlay,
+    /// Trace the surface.
+    pub surface: bool,
+    /// Camera of these cells.
+    pub view: View,
+}
+
+/// The curvature range of a figure's curvature cells.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CurvatureChoice {
+    /// This half-range for every cell.
+    Fixed(f64),
+    /// The common automatic range (see the module docs).
+    Common,
+}
+
+/// Everything a figure needs.
+#[derive(Clone, Debug)]
+pub struct FigureJob {
+    /// Title line.
+    pub title: String,
+    /// The mesh all surfaces were built on.
+    pub mesh: Mesh,
+    /// Surfaces.
+    pub surfaces: Vec<FigureSurface>,
+    /// Modes.
+    pub modes: Vec<FigureMode>,
+    /// Common camera.
+    pub camera: Camera,
+    /// Cell size.
+    pub size: [u32; 2],
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Curvature range.
+    pub curvature: CurvatureChoice,
+    /// Surfaces as columns and modes as rows.
+    pub transpose: bool,
+}
+
+/// One rendered cell.
+#[derive(Clone, Debug)]
+pub struct FigureCell {
+    /// Index of its surface.
+    pub surface: usize,
+    /// Index of its mode.
+    pub mode: usize,
+    /// The image.
+    pub frame: Frame,
+    /// Its statistics.
+    pub stats: RenderStats,
+}
+
+/// A rendered figure.
+#[derive(Clone, Debug)]
+pub struct Figure {
+    /// Cells in sheet order (row-major).
+    pub cells: Vec<FigureCell>,
+    /// The labelled sheet.
+    pub sheet: image::RgbImage,
+    /// The curvature half-range used, if any cell shows curvature.
+    pub curvature_half_range: Option<f64>,
+}
+
+/// The camera that frames all `surfaces` from the default direction.
+pub fn framing_camera(surfaces: &[&Surface], fov: f64, aspect: f64) -> Result<Camera> {
+    let samples: Vec<DVec3> = surfaces
+        .iter()
+        .flat_map(|s| crate::render::job::surface_samples(s))
+        .collect();
+    Camera::frame_points(&samples, Camera::DEFAULT_VIEW, fov, aspect)
+}
+
+/// The side camera of [`View::EdgeSide`] for an image of aspect `aspect`.
+pub fn edge_side_camera(mesh: &Mesh, edge: usize, aspect: f64) -> Result<Camera> {
+    let edges = mesh.edges();
+    let e = edges.get(edge).ok_or_else(|| {
+        crate::Error::Invalid(format!(
+            "edge {edge} does not exist (the mesh has {} edges)",
+            edges.len()
+        ))
+    })?;
+    let p = mesh.positions();
+    let (a, b) = (p[e.a as usize], p[e.b as usize]);
+    let mut normal = mesh.face_normal(e.faces.0);
+    if let Some(f) = e.faces.1 {
+        normal += mesh.face_normal(f);
+    }
+    let chord = b - a;
+    let side = chord.cross(normal).normalize_or_zero();
+    let up = side.cross(chord).normalize_or_zero();
+    let length = chord.length();
+    let centre = 0.5 * (a + b);
+    // The chord spans 85 % of the width.
+    let height = length / 0.85 / aspect;
+    Camera::look_at(
+        centre + side * (4.0 * length),
+        centre,
+        up,
+        Projection::Orthographic { height },
+    )
+}
+
+/// The median of the automatic curvature ranges of the curved surfaces (1 if none is curved).
+fn common_curvature_range(
+    tracers: &[Tracer<'_>],
+    camera: &Camera,
+    settings: &RenderSettings,
+    mode: &Mode,
+) -> f64 {
+    let Mode::Curvature(p) = mode else {
+        return 1.0;
+    };
+    let percentile = match p.range {
+        CurvatureRange::Auto { percentile } => percentile,
+        CurvatureRange::Fixed(_) => 95.0,
+    };
+    let mut ranges: Vec<f64> = tracers
+        .iter()
+        .filter(|t| t.surface.patches.iter().any(|p| p.degree() != Some(1)))
+        .map(|t| auto_curvature_range(t, camera, settings, p.quantity, percentile))
+        .collect();
+    ranges.sort_by(f64::total_cmp);
+    ranges.get(ranges.len() / 2).copied().unwrap_or(1.0)
+}
+
+/// Renders every cell of `job` and composes the labelled sheet.
+pub fn render_figure(job: &FigureJob) -> Result<Figure> {
+    let [w, h] = job.size;
+    let aspect = f64::from(w) / f64::from(h);
+    let tracers = job
+        .surfaces
+        .iter()
+        .map(|s| {
+            Tracer::new(
+                &s.surface,
+                &SubdivisionCriterion::default(),
+                NewtonSettings::default(),
+            )
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let base = RenderSettings {
+        width: w,
+        height: h,
+        spp: job.spp,
+        overlay: Overlay::default(),
+        progress: false,
+        ..RenderSettings::default()
+    };
+    let mut half_range = None;
+    let mut modes = Vec::with_capacity(job.modes.len());
+    for m in &job.modes {
+        let mode = match &m.mode {
+            Mode::Curvature(p) => {
+                let r = match (half_range, job.curvature) {
+                    (Some(r), _) => r,
+                    (None, CurvatureChoice::Fixed(r)) => r,
+                    (None, CurvatureChoice::Common) => {
+                        common_curvature_range(&tracers, &job.camera, &base, &m.mode)
+                    }
+                };
+                half_range = Some(r);
+                Mode::Curvature(crate::render::modes::CurvatureParams {
+                    range: CurvatureRange::Fixed(r),
+                    ..*p
+                })
+            }
+            other => other.clone(),
+        };
+        let camera = match m.view {
+            View::Common => job.camera,
+            View::EdgeSide { edge } => edge_side_camera(&job.mesh, edge, aspect)?,
+        };
+        modes.push((mode, camera));
+    }
+    let mut cells = Vec::new();
+    let (outer, inner) = if job.transpose {
+        (job.modes.len(), job.surfaces.len())
+    } else {
+        (job.surfaces.len(), job.modes.len())
+    };
+    for o in 0..outer {
+        for i in 0..inner {
+            let (s, m) = if job.transpose { (i, o) } else { (o, i) };
+            let spec = &job.modes[m];
+            let (mode, camera) = &modes[m];
+            let surface = &job.surfaces[s].surface;
+            let curves: Option<Arc<_>> = spec.curves.tubes(surface, &job.mesh)?;
+            let settings = RenderSettings {
+                mode: mode.clone(),
+                surface: spec.surface,
+                curves,
+                ..base.clone()
+            };
+            let (frame, stats) = render(&tracers[s], camera, &settings)?;
+            cells.push(FigureCell {
+                surface: s,
+                mode: m,
+                frame,
+                stats,
+            });
+        }
+    }
+    let surface_labels: Vec<String> = job.surfaces.iter().map(|s| s.label.clone()).collect();
+    let mode_labels: Vec<String> = job
+        .modes
+        .iter()
+        .map(|m| match (&m.mode, half_range) {
+            (Mode::Curvature(_), Some(r)) => format!("{} +-{}", m.label, short_number(r)),
+            _ => m.label.clone(),
+        })
+        .collect();
+    let (rows, columns) = if job.transpose {
+        (mode_labels, surface_labels)
+    } else {
+        (surface_labels, mode_labels)
+    };
+    let labels = SheetLabels {
+        title: job.title.clone(),
+        rows,
+        columns,
+    };
+    let frames: Vec<&Frame> = cells.iter().map(|c| &c.frame).collect();
+    let sheet = compose(&frames, &labels, job.size);
+    Ok(Figure {
+        cells,
+        sheet,
+        curvature_half_range: half_range,
+    })
+}
+
+/// A number with three significant digits for labels.
+pub fn short_number(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let digits = (2 - x.abs().log10().floor() as i32).clamp(0, 6) as usize;
+    format!("{x:.digits$}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_numbers_keep_three_digits() {
+        assert_eq!(short_number(0.012345), "0.0123");
+        assert_eq!(short_number(1.5), "1.50");
+        assert_eq!(short_number(123.4), "123");
+    }
+
+    #[test]
+    fn the_side_camera_looks_across_the_chord() {
+        let (p, f) = crate::mesh::generate::icosahedron();
+        let mesh = Mesh::from_triangles(p, f).expect("mesh").0;
+        let camera = edge_side_camera(&mesh, 0, 1.0).expect("camera");
+        let e = mesh.edges()[0];
+        let chord = mesh.positions()[e.b as usize] - mesh.positions()[e.a as usize];
+        assert!(camera.forward().dot(chord).abs() < 1e-12 * chord.length());
+        assert!(edge_side_camera(&mesh, 10_000, 1.0).is_err());
+    }
+}

@@ -1,0 +1,468 @@
+//! Figure spec files (TOML) for `smoothlab figure SPEC.toml`: a mesh, schemes with parameters,
+//! modes with parameters and curve overlays, one camera, one cell size and sample count, one
+//! curvature range, an output stem. Writes `STEM.png` (the labelled grid) and one
+//! `STEM-<row>-<column>-<scheme>-<mode>.exr` per cell (the channels of the render command).
+//!
+//! ```toml
+//! title = "G1 schemes"                  # optional title line
+//! mesh = "deformed-icosahedron"         # a scenes/ mesh name, or an OBJ path (relative to this file)
+//! output = "results/figures/g1"         # stem, relative to the working directory
+//! size = [256, 256]                     # per cell
+//! spp = 4
+//! exr = true                            # one EXR per cell
+//! transpose = false                     # true: schemes as columns, modes as rows
+//! curvature_range = "auto"              # or a number: fixed half-range of every curvature cell
+//! [camera]                              # as in scene files; omitted: frames all surfaces
+//! fov = 30
+//! [[schemes]]
+//! name = "hb"
+//! label = "HB00"                        # optional; default "name k=v ..."
+//! params = { gamma0 = -3.7, gamma1 = 4.6, gamma2 = 0.1 }
+//! [[modes]]
+//! name = "zebra"
+//! params = { stripes = 12 }             # keys of the mode's scene section ([zebra] etc.)
+//! curves = true                         # boundary curves as blue tubes
+//! control_polygons = true               # their control polygons as red tubes
+//! surface = true                        # false: the tubes alone
+//! curve_radius = 0.003                  # relative to the bounding-box diagonal
+//! curve_edge = 0                        # only this mesh edge's curves
+//! view = "common"                       # or "edge-side": across curve_edge's chord plane
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::mesh::generate::SCENES;
+use crate::render::camera::Projection;
+use crate::render::curves::CurveOverlay;
+use crate::render::figure::{
+    CurvatureChoice, Figure, FigureJob, FigureMode, FigureSurface, View, framing_camera,
+    render_figure,
+};
+use crate::render::job::DEFAULT_FOV;
+use crate::render::output::write_exr;
+use crate::render::scene::{CameraSection, SceneFile};
+use crate::schemes;
+
+/// A figure spec as written.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FigureSpec {
+    /// Title line.
+    pub title: Option<String>,
+    /// A scenes/ mesh name or an OBJ path relative to the spec file.
+    pub mesh: String,
+    /// Output stem (`.png` appended), relative to the working directory.
+    pub output: PathBuf,
+    /// Cell size in pixels.
+    pub size: Option<[u32; 2]>,
+    /// Samples per pixel.
+    pub spp: Option<u32>,
+    /// Write one EXR per cell (default true).
+    pub exr: Option<bool>,
+    /// Schemes as columns, modes as rows.
+    pub transpose: Option<bool>,
+    /// "auto" (common automatic range) or a fixed half-range.
+    pub curvature_range: Option<toml::Value>,
+    /// The common camera.
+    #[serde(default)]
+    pub camera: CameraSection,
+    /// The schemes.
+    pub schemes: Vec<SchemeEntry>,
+    /// The modes.
+    pub modes: Vec<ModeEntry>,
+}
+
+/// `[[schemes]]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SchemeEntry {
+    /// Registered scheme name.
+    pub name: String,
+    /// Label (default: name and parameters).
+    pub label: Option<String>,
+    /// Scheme parameters.
+    #[serde(default)]
+    pub params: toml::Table,
+}
+
+/// `[[modes]]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModeEntry {
+    /// Mode name.
+    pub name: String,
+    /// Label (default: the mode name).
+    pub label: Option<String>,
+    /// Keys of the mode's scene section.
+    #[serde(default)]
+    pub params: toml::Table,
+    /// Boundary curves as tubes.
+    pub curves: Option<bool>,
+    /// Control polygons as tubes.
+    pub control_polygons: Option<bool>,
+    /// Trace the surface.
+    pub surface: Option<bool>,
+    /// Tube radius relative to the bounding-box diagonal.
+    pub curve_radius: Option<f64>,
+    /// Only this mesh edge's curves.
+    pub curve_edge: Option<usize>,
+    /// "common" or "edge-side".
+    pub view: Option<String>,
+}
+
+/// Text of a TOML parameter value as the scheme registry reads it.
+fn param_text(value: &toml::Value) -> String {
+    match value {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+impl FigureSpec {
+    /// Parses spec text; unknown keys are errors that name the key.
+    pub fn parse(text: &str) -> Result<FigureSpec> {
+        toml::from_str(text).map_err(|e: toml::de::Error| {
+            // One line: the message with the line it points at (TOML's own text draws a
+            // multi-line excerpt).
+            let line = e.span().map(|s| {
+                1 + text.as_bytes()[..s.start.min(text.len())]
+                    .iter()
+                    .filter(|&&b| b == b'\n')
+                    .count()
+            });
+            let message = e.message().replace('\n', " ");
+            Error::Invalid(match line {
+                Some(l) => format!("figure spec line {l}: {message}"),
+                None => format!("figure spec: {message}"),
+            })
+        })
+    }
+
+    /// Reads a spec file.
+    pub fn load(path: &Path) -> Result<FigureSpec> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        FigureSpec::parse(&text).map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))
+    }
+
+    /// The mesh: a scenes/ name, else an OBJ path relative to `dir`.
+    pub fn load_mesh(&self, dir: &Path) -> Result<Mesh> {
+        if let Some(scene) = SCENES.iter().find(|s| s.name == self.mesh) {
+            return scene.mesh();
+        }
+        let path = Path::new(&self.mesh);
+        let path = if path.is_relative() {
+            dir.join(path)
+        } else {
+            path.to_path_buf()
+        };
+        Ok(Mesh::load_obj(&path)?.0)
+    }
+
+    /// The mode of entry `k` with its parameters, checked through the scene-file sections.
+    fn figure_mode(&self, k: usize) -> Result<FigureMode> {
+        let entry = &self.modes[k];
+        let context = |e: Error| Error::Invalid(format!("modes[{k}] ({}): {e}", entry.name));
+        let section = match entry.name.as_str() {
+            "zebra" | "highlight" | "isophote" | "curvature" | "shaded" => Some(entry.name.clone()),
+            _ => None,
+        };
+        let mut table = toml::Table::new();
+        let mut render = toml::Table::new();
+        render.insert("mode".into(), toml::Value::String(entry.name.clone()));
+        table.insert("render".into(), toml::Value::Table(render));
+        match section {
+            Some(name) => {
+                table.insert(name, toml::Value::Table(entry.params.clone()));
+            }
+            None if !entry.params.is_empty() => {
+                return Err(context(Error::Invalid(format!(
+                    "mode '{}' takes no params",
+                    entry.name
+                ))));
+            }
+            None => {}
+        }
+        let scene: SceneFile =
+            toml::Value::Table(table)
+                .try_into()
+                .map_err(|e: toml::de::Error| {
+                    context(Error::Invalid(format!(
+                        "params: {}",
+                        e.message().replace('\n', " ")
+                    )))
+                })?;
+        let mode = scene.mode().map_err(context)?;
+        let mut curves = CurveOverlay {
+            curves: entry.curves.unwrap_or(false),
+            control_polygons: entry.control_polygons.unwrap_or(false),
+            edge: entry.curve_edge,
+            ..CurveOverlay::default()
+        };
+        if let Some(r) = entry.curve_radius {
+            if !(r > 0.0 && r.is_finite()) {
+                return Err(context(Error::Invalid(format!(
+                    "curve_radius = {r} must be a positive number"
+                ))));
+            }
+            curves.radius_rel = r;
+        }
+        let surface = entry.surface.unwrap_or(true);
+        if !surface && !curves.enabled() {
+            return Err(context(Error::Invalid(
+                "surface = false needs curves or control_polygons".into(),
+            )));
+        }
+        let view = match entry.view.as_deref().unwrap_or("common") {
+            "common" => View::Common,
+            "edge-side" => View::EdgeSide {
+                edge: entry.curve_edge.unwrap_or(0),
+            },
+            other => {
+                return Err(context(Error::Invalid(format!(
+                    "view '{other}' is not one of common, edge-side"
+                ))));
+            }
+        };
+        Ok(FigureMode {
+            label: entry.label.clone().unwrap_or_else(|| entry.name.clone()),
+            mode,
+            curves,
+            surface,
+            view,
+        })
+    }
+
+    /// The figure job: builds the mesh and every scheme, resolves modes and the camera.
+    pub fn job(&self, dir: &Path) -> Result<FigureJob> {
+        if self.schemes.is_empty() || self.modes.is_empty() {
+            return Err(Error::Invalid(
+                "figure spec: needs at least one [[schemes]] and one [[modes]]".into(),
+            ));
+        }
+        let mesh = self.load_mesh(dir)?;
+        let mut surfaces = Vec::with_capacity(self.schemes.len());
+        for (k, entry) in self.schemes.iter().enumerate() {
+            let params: Vec<(String, String)> = entry
+                .params
+                .iter()
+                .map(|(n, v)| (n.clone(), param_text(v)))
+                .collect();
+            let surface = schemes::build(&entry.name, &mesh, &params)
+                .map_err(|e| Error::Invalid(format!("schemes[{k}] ({}): {e}", entry.name)))?;
+            let label = entry.label.clone().unwrap_or_else(|| {
+                let mut l = entry.name.clone();
+                for (n, v) in &params {
+                    l += &format!(" {n}={v}");
+                }
+                l
+            });
+            surfaces.push(FigureSurface { label, surface });
+        }
+        let modes = (0..self.modes.len())
+            .map(|k| self.figure_mode(k))
+            .collect::<Result<Vec<_>>>()?;
+        let size = self.size.unwrap_or([256, 256]);
+        if size[0] == 0 || size[1] == 0 || size[0] > 4096 || size[1] > 4096 {
+            return Err(Error::Invalid(format!(
+                "figure spec: size {}x{} must be between 1 and 4096 per side",
+                size[0], size[1]
+            )));
+        }
+        let spp = self.spp.unwrap_or(4);
+        if spp == 0 || spp > 4096 {
+            return Err(Error::Invalid(format!(
+                "figure spec: spp {spp} must be in 1..=4096"
+            )));
+        }
+        let curvature = match &self.curvature_range {
+            None => CurvatureChoice::Common,
+            Some(toml::Value::String(s)) if s == "auto" => CurvatureChoice::Common,
+            Some(toml::Value::Float(x)) if *x > 0.0 && x.is_finite() => CurvatureChoice::Fixed(*x),
+            Some(toml::Value::Integer(x)) if *x > 0 => CurvatureChoice::Fixed(*x as f64),
+            Some(other) => {
+                return Err(Error::Invalid(format!(
+                    "figure spec: curvature_range {other} is neither \"auto\" nor a positive number"
+                )));
+            }
+        };
+        let aspect = f64::from(size[0]) / f64::from(size[1]);
+        let camera = self.camera(&surfaces, aspect)?;
+        Ok(FigureJob {
+            title: self.title.clone().unwrap_or_default(),
+            mesh,
+            surfaces,
+            modes,
+            camera,
+            size,
+            spp,
+            curvature,
+            transpose: self.transpose.unwrap_or(false),
+        })
+    }
+
+    /// The common camera: the spec's eye, else automatic framing of all surfaces.
+    fn camera(
+        &self,
+        surfaces: &[FigureSurface],
+        aspect: f64,
+    ) -> Result<crate::render::camera::Camera> {
+        let c = &self.camera;
+        let fov = c.fov.unwrap_or(DEFAULT_FOV);
+        let all: Vec<&crate::surface::Surface> = surfaces.iter().map(|s| &s.surface).collect();
+        let framed = framing_camera(&all, fov, aspect)?;
+        let camera = match c.eye {
+            Some(eye) => crate::render::camera::Camera::look_at(
+                glam::DVec3::from_array(eye),
+                c.target.map_or(framed.target, glam::DVec3::from_array),
+                c.up.map_or(glam::DVec3::Y, glam::DVec3::from_array),
+                Projection::Perspective { fov_deg: fov },
+            )?,
+            None => framed,
+        };
+        if c.ortho.unwrap_or(false) {
+            camera.orthographic_of(fov)
+        } else {
+            Ok(camera)
+        }
+    }
+}
+
+/// What `smoothlab figure` wrote.
+#[derive(Clone, Debug)]
+pub struct FigureFiles {
+    /// The labelled grid.
+    pub png: PathBuf,
+    /// One EXR per cell (empty when `exr = false`).
+    pub exrs: Vec<PathBuf>,
+    /// The rendered figure.
+    pub figure: Figure,
+}
+
+/// File-name-safe form of a label.
+fn slug(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect()
+}
+
+/// Renders the spec at `path` and writes its files.
+pub fn run_figure_spec(path: &Path) -> Result<FigureFiles> {
+    let spec = FigureSpec::load(path)?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let job = spec
+        .job(dir)
+        .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
+    let figure = render_figure(&job)?;
+    let stem = &spec.output;
+    if let Some(parent) = stem.parent()
+        && !parent.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
+    }
+    let png = stem.with_extension("png");
+    figure
+        .sheet
+        .save_with_format(&png, image::ImageFormat::Png)
+        .map_err(|e| Error::Invalid(format!("{}: {e}", png.display())))?;
+    let mut exrs = Vec::new();
+    if spec.exr.unwrap_or(true) {
+        let cols = if job.transpose {
+            job.surfaces.len()
+        } else {
+            job.modes.len()
+        };
+        for (k, cell) in figure.cells.iter().enumerate() {
+            let name = format!(
+                "{}-{}-{}-{}-{}.exr",
+                stem.file_name()
+                    .map_or("figure".into(), |s| s.to_string_lossy()),
+                k / cols,
+                k % cols,
+                slug(&spec.schemes[cell.surface].name),
+                slug(&spec.modes[cell.mode].name)
+            );
+            let exr = stem.with_file_name(name);
+            write_exr(&cell.frame, &exr)?;
+            exrs.push(exr);
+        }
+    }
+    Ok(FigureFiles { png, exrs, figure })
+}
+
+/// One summary per figure for the terminal.
+pub fn figure_summary(files: &FigureFiles) -> String {
+    let mut out = format!("wrote {}", files.png.display());
+    if !files.exrs.is_empty() {
+        out += &format!(" and {} EXR cells", files.exrs.len());
+    }
+    if let Some(r) = files.figure.curvature_half_range {
+        out += &format!("; curvature half-range {r:.4}");
+    }
+    let ms: f64 = files.figure.cells.iter().map(|c| c.stats.render_ms).sum();
+    out += &format!("; {:.0} ms rendering\n", ms);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SPEC: &str = r#"
+        mesh = "icosahedron"
+        output = "x"
+        size = [16, 16]
+        [[schemes]]
+        name = "loop94"
+        params = { alpha = 1, beta = 0.1 }
+        [[modes]]
+        name = "zebra"
+        params = { stripes = 8 }
+        curves = true
+    "#;
+
+    #[test]
+    fn a_spec_becomes_a_job() {
+        let job = FigureSpec::parse(SPEC)
+            .expect("spec")
+            .job(Path::new(""))
+            .expect("job");
+        assert_eq!(job.surfaces[0].label, "loop94 alpha=1 beta=0.1");
+        assert_eq!(
+            job.surfaces[0]
+                .surface
+                .params
+                .iter()
+                .find(|p| p.0 == "beta")
+                .map(|p| p.1.as_str()),
+            Some("0.1")
+        );
+        assert!(job.modes[0].curves.curves && !job.modes[0].curves.control_polygons);
+        let crate::render::modes::Mode::Zebra(z) = &job.modes[0].mode else {
+            panic!("zebra expected");
+        };
+        assert_eq!(z.stripes, 8.0);
+    }
+
+    #[test]
+    fn bad_specs_name_the_key_or_name() {
+        let err = |text: &str| {
+            FigureSpec::parse(text)
+                .and_then(|s| s.job(Path::new("")).map(|_| ()))
+                .expect_err("bad spec")
+                .to_string()
+        };
+        let top = err(&format!("colour = 3\n{SPEC}"));
+        assert!(top.contains("line 1") && top.contains("colour"), "{top}");
+        assert!(err(&SPEC.replace("curves = true", "curvez = true")).contains("curvez"));
+        assert!(err(&SPEC.replace("stripes = 8", "stripez = 8")).contains("stripez"));
+        assert!(err(&SPEC.replace("\"loop94\"", "\"loop95\"")).contains("loop95"));
+        assert!(err(&SPEC.replace("\"zebra\"", "\"sparkle\"")).contains("sparkle"));
+        assert!(err(&SPEC.replace("beta = 0.1", "gamma = 0.1")).contains("gamma"));
+        assert!(err(&SPEC.replace("\"icosahedron\"", "\"nowhere.obj\"")).contains("nowhere.obj"));
+        assert!(err(&SPEC.replace("curves = true", "surface = false")).contains("surface"));
+    }
+}
