@@ -2,7 +2,11 @@
 //! sub-triangles until each piece is nearly flat with a narrow normal cone, and an obvhs
 //! compressed wide BVH (PLOC build + reinsertion) is built over the pieces' conservative boxes.
 //!
-//! A leaf is `(patch, sub-triangle of the patch's (u, v) domain)`. Its box is the box of the
+//! A leaf is `(patch, sub-triangle of the patch's (u, v) domain)`. Each Bézier leaf also keeps
+//! its sub-patch in power form over the leaf's own domain (built once here, see
+//! [`power_coefficients`]), so that Newton evaluates a cheap local polynomial instead of running
+//! de Casteljau on the whole patch, together with a second-derivative bound valid on the leaf.
+//! Its box is the box of the
 //! sub-patch's Bézier control net (convex-hull property: it contains the sub-patch), rounded
 //! outward to f32 and padded by a small fraction of the scene size so that the f32 traversal ray,
 //! which differs from the f64 ray by rounding, still enters every box the f64 ray enters.
@@ -18,6 +22,7 @@ use rayon::prelude::*;
 use crate::bezier::TriangleBezier;
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
+use crate::render::evaluate::{power_coefficients, second_derivative_bound};
 use crate::surface::{Surface, UV_CORNERS};
 
 /// When a piece of a patch is small enough to be a BVH leaf.
@@ -71,6 +76,13 @@ pub struct Leaf {
     pub lo: Vec3,
     /// Oriented box: largest coordinates.
     pub hi: Vec3,
+    /// Start of the leaf's power-form coefficients in [`PatchBvh::power`].
+    pub power: u32,
+    /// Degree of the power form; 0 when the leaf has none (the patch is then evaluated whole).
+    pub degree: u8,
+    /// Bound on |∂²S/∂δ²| over the leaf for unit leaf-local directions δ
+    /// ([`second_derivative_bound`] of the sub-net); infinite when unknown.
+    pub second_bound: f64,
 }
 
 impl Leaf {
@@ -112,7 +124,17 @@ impl Leaf {
             axes,
             lo: down(lo),
             hi: up(hi),
+            power: 0,
+            degree: 0,
+            second_bound: f64::INFINITY,
         }
+    }
+
+    /// Maps leaf-local barycentrics `(s, t)` (weights of the second and third corner) to the
+    /// patch's `(u, v)`.
+    pub fn patch_uv(&self, s: f64, t: f64) -> DVec2 {
+        let tri = self.tri();
+        tri[0] + (tri[1] - tri[0]) * s + (tri[2] - tri[0]) * t
     }
 
     /// Corners of the sub-triangle in `(u, v)`.
@@ -237,6 +259,8 @@ pub struct PatchBvh {
     pub build_time: Duration,
     /// Padding added to every leaf box (world units).
     pub padding: f64,
+    /// Power-form coefficients of all leaves, each leaf's run starting at [`Leaf::power`].
+    pub power: Vec<DVec3>,
 }
 
 impl PatchBvh {
@@ -267,7 +291,7 @@ impl PatchBvh {
         let padding = box_padding(&scene);
         // Per-patch subdivision is independent; collecting in patch order keeps the leaf list
         // (and so the BVH) identical for any thread count.
-        let per_patch: Vec<Vec<(Leaf, Aabb)>> = surface
+        let per_patch: Vec<Vec<(Leaf, Aabb, Vec<DVec3>)>> = surface
             .patches
             .par_iter()
             .enumerate()
@@ -293,25 +317,38 @@ impl PatchBvh {
                         )
                     },
                     patch.full_bounds(),
+                    Vec::new(),
                 )],
             })
             .collect();
-        let (leaves, boxes): (Vec<Leaf>, Vec<obvhs::aabb::Aabb>) = per_patch
-            .into_iter()
-            .flatten()
-            .map(|(leaf, b)| (leaf, outward_f32(&b, padding)))
-            .unzip();
+        let mut leaves = Vec::new();
+        let mut boxes = Vec::new();
+        let mut local_forms = Vec::new();
+        for (leaf, b, form) in per_patch.into_iter().flatten() {
+            leaves.push(leaf);
+            boxes.push(outward_f32(&b, padding));
+            local_forms.push(form);
+        }
         let bvh = build_cwbvh(&boxes, build_params(), &mut Duration::default());
+        // Leaves and their coefficients in traversal order, so that neighbouring BVH leaves
+        // are neighbours in memory too.
+        let mut power = Vec::with_capacity(local_forms.iter().map(Vec::len).sum());
         let leaves = bvh
             .primitive_indices
             .iter()
-            .map(|&i| leaves[i as usize])
+            .map(|&i| {
+                let mut leaf = leaves[i as usize];
+                leaf.power = power.len() as u32;
+                power.extend_from_slice(&local_forms[i as usize]);
+                leaf
+            })
             .collect();
         Ok(PatchBvh {
             bvh,
             leaves,
             build_time: start.elapsed(),
             padding,
+            power,
         })
     }
 
@@ -320,6 +357,7 @@ impl PatchBvh {
         std::mem::size_of_val(self.bvh.nodes.as_slice())
             + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
             + std::mem::size_of_val(self.leaves.as_slice())
+            + std::mem::size_of_val(self.power.as_slice())
     }
 }
 
@@ -331,12 +369,13 @@ pub fn build_params() -> BvhBuildParams {
     params
 }
 
-/// Leaves of one patch: recursive 4-split of the control net until [`is_leaf`].
+/// Leaves of one patch: recursive 4-split of the control net until [`is_leaf`], each with its
+/// box and its power-form coefficients.
 fn subdivide_patch(
     patch: u32,
     net: &TriangleBezier,
     criterion: &SubdivisionCriterion,
-) -> Vec<(Leaf, Aabb)> {
+) -> Vec<(Leaf, Aabb, Vec<DVec3>)> {
     let mut out = Vec::new();
     let mut stack = vec![(UV_CORNERS, net.clone(), 0u32)];
     while let Some((tri, piece, depth)) = stack.pop() {
@@ -345,10 +384,15 @@ fn subdivide_patch(
         if done {
             let d = piece.degree();
             let corners = [piece.point(d, 0), piece.point(0, d), piece.point(0, 0)];
-            out.push((
-                Leaf::new(patch, tri, corners, piece.points()),
-                piece.control_bounds(),
-            ));
+            let mut leaf = Leaf::new(patch, tri, corners, piece.points());
+            let form = if (1..=MAX_POWER_DEGREE).contains(&d) {
+                leaf.degree = d as u8;
+                leaf.second_bound = second_derivative_bound(&piece);
+                power_coefficients(&piece)
+            } else {
+                Vec::new()
+            };
+            out.push((leaf, piece.control_bounds(), form));
             continue;
         }
         let child_tris = split4(tri);
@@ -359,6 +403,9 @@ fn subdivide_patch(
     }
     out
 }
+
+/// Largest degree given a power form (the degrees the intersection code specialises).
+pub const MAX_POWER_DEGREE: usize = 6;
 
 /// The flatness and normal-cone test of [`SubdivisionCriterion`] on one control net.
 pub fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) -> bool {
