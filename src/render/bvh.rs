@@ -76,6 +76,13 @@ pub struct Leaf {
     pub lo: Vec3,
     /// Oriented box: largest coordinates.
     pub hi: Vec3,
+    /// Outward unit normals, in the box frame's first two coordinates, of the corner
+    /// triangle's edges `0→1`, `1→2`, `2→0`: with [`Leaf::edge_hi`] they bound the sub-patch by
+    /// a triangular prism, much tighter than the box's sides near the triangle's slanted edges.
+    pub edge_normals: [[f32; 2]; 3],
+    /// Largest `edge_normals[e] · (x, y)` over the control points (and so the sub-patch), grown
+    /// by [`PRISM_PAD`].
+    pub edge_hi: [f32; 3],
     /// Start of the leaf's power-form coefficients in [`PatchBvh::power`].
     pub power: u32,
     /// Degree of the power form; 0 when the leaf has none (the patch is then evaluated whole).
@@ -114,6 +121,30 @@ impl Leaf {
             hi = hi.max(c);
         }
         let pad = 1e-9 * (hi - lo).max_element().max(origin.abs().max_element());
+        // The prism's edge planes, from the corners in the stored frame.
+        let flat = |p: DVec3| {
+            let q = p - origin;
+            glam::DVec2::new(frame[0].dot(q), frame[1].dot(q))
+        };
+        let corner_xy = corners.map(flat);
+        let mut edge_normals = [[0.0_f32; 2]; 3];
+        let mut edge_hi = [f32::INFINITY; 3];
+        for e in 0..3 {
+            let along = corner_xy[(e + 1) % 3] - corner_xy[e];
+            let normal = DVec2::new(along.y, -along.x).normalize_or_zero();
+            if normal == DVec2::ZERO || !normal.is_finite() {
+                continue;
+            }
+            let stored = normal.as_vec2();
+            let n = stored.as_dvec2();
+            let reach = points
+                .iter()
+                .chain(corners.iter())
+                .map(|&p| n.dot(flat(p)))
+                .fold(f64::NEG_INFINITY, f64::max);
+            edge_normals[e] = stored.to_array();
+            edge_hi[e] = f32_up(reach + pad + PRISM_PAD * (hi - lo).max_element());
+        }
         let (lo, hi) = (lo - DVec3::splat(pad), hi + DVec3::splat(pad));
         let down = |v: DVec3| Vec3::new(f32_down(v.x), f32_down(v.y), f32_down(v.z));
         let up = |v: DVec3| Vec3::new(f32_up(v.x), f32_up(v.y), f32_up(v.z));
@@ -124,6 +155,8 @@ impl Leaf {
             axes,
             lo: down(lo),
             hi: up(hi),
+            edge_normals,
+            edge_hi,
             power: 0,
             degree: 0,
             second_bound: f64::INFINITY,
@@ -149,14 +182,18 @@ impl Leaf {
         (t[0] + t[1] + t[2]) / 3.0
     }
 
-    /// True if the ray `origin + t dir`, `t ∈ [t_min, t_max]`, meets the oriented box (a
-    /// conservative test: false means the ray cannot meet the sub-patch).
+    /// True if the ray `origin + t dir`, `t ∈ [t_min, t_max]`, meets the oriented box and the
+    /// edge prism (a conservative test: false means the ray cannot meet the sub-patch).
     pub fn ray_meets_box(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64) -> bool {
         let q = origin - self.corners[0].as_dvec3();
         let (mut near, mut far) = (t_min, t_max);
+        let mut local_origin = DVec3::ZERO;
+        let mut local_dir = DVec3::ZERO;
         for axis in 0..3 {
             let a = self.axes[axis].as_dvec3();
             let (o, d) = (a.dot(q), a.dot(dir));
+            local_origin[axis] = o;
+            local_dir[axis] = d;
             let (lo, hi) = (f64::from(self.lo[axis]), f64::from(self.hi[axis]));
             if d == 0.0 {
                 if o < lo || o > hi {
@@ -168,6 +205,31 @@ impl Leaf {
             let (t0, t1) = ((lo - o) * inv, (hi - o) * inv);
             near = near.max(t0.min(t1));
             far = far.min(t0.max(t1));
+            if near > far {
+                return false;
+            }
+        }
+        // The prism's three edge half-planes n · (x, y) ≤ h.
+        for e in 0..3 {
+            let n = DVec2::new(
+                f64::from(self.edge_normals[e][0]),
+                f64::from(self.edge_normals[e][1]),
+            );
+            let h = f64::from(self.edge_hi[e]);
+            let o = n.x * local_origin.x + n.y * local_origin.y;
+            let d = n.x * local_dir.x + n.y * local_dir.y;
+            if d == 0.0 {
+                if o > h {
+                    return false;
+                }
+                continue;
+            }
+            let reach = (h - o) / d;
+            if d > 0.0 {
+                far = far.min(reach);
+            } else {
+                near = near.max(reach);
+            }
             if near > far {
                 return false;
             }
@@ -403,6 +465,12 @@ fn subdivide_patch(
     }
     out
 }
+
+/// Growth of the edge prism beyond the control points, relative to the leaf's box size. Roots
+/// are accepted up to [`crate::render::NewtonSettings::domain_tolerance`] (1e-7) outside the
+/// leaf, where the polynomial runs at most ~4 × degree × tolerance × size outside the hull; 1e-5
+/// covers that for every degree up to 6 with a wide margin.
+pub const PRISM_PAD: f64 = 1e-5;
 
 /// Largest degree given a power form (the degrees the intersection code specialises).
 pub const MAX_POWER_DEGREE: usize = 6;
