@@ -93,6 +93,9 @@ pub struct IntersectCounters {
     pub newton_failures: u64,
     /// Roots found by the fallback subdivision (one per real failure).
     pub fallback_roots: u64,
+    /// Extra Newton runs from the corner-child centroids of a leaf after a grazing ray's run
+    /// from the centroid found no root in the leaf (see [`GRAZING_RESTARTS`]).
+    pub grazing_restarts: u64,
 }
 
 impl IntersectCounters {
@@ -107,6 +110,7 @@ impl IntersectCounters {
         self.newton_unconverged += other.newton_unconverged;
         self.newton_failures += other.newton_failures;
         self.fallback_roots += other.fallback_roots;
+        self.grazing_restarts += other.grazing_restarts;
     }
 }
 
@@ -248,28 +252,34 @@ impl<'s> Tracer<'s> {
         }
         let patch = &self.surface.patches[leaf.patch as usize];
         let tri = leaf.tri();
-        let start = match planar_start(leaf, ray, START_REJECTION) {
+        let (start, grazing) = match planar_start(leaf, ray, START_REJECTION) {
             Start::Outside => return None,
-            Start::At(st) => st,
-            Start::Grazing => DVec2::splat(1.0 / 3.0),
+            Start::At(st) => (st, false),
+            Start::Grazing => (DVec2::splat(1.0 / 3.0), true),
         };
         counters.newton_runs += 1;
-        let run = match leaf.degree {
-            1 => self.newton_local::<1>(leaf, start, planes),
-            2 => self.newton_local::<2>(leaf, start, planes),
-            3 => self.newton_local::<3>(leaf, start, planes),
-            4 => self.newton_local::<4>(leaf, start, planes),
-            5 => self.newton_local::<5>(leaf, start, planes),
-            6 => self.newton_local::<6>(leaf, start, planes),
-            // No power form: Newton on the whole patch, the root mapped back to the leaf.
-            _ => match self.newton(leaf.patch, tri, leaf.patch_uv(start.x, start.y), planes) {
-                Newton::Root(uv, iterations, p) => {
-                    let local = barycentric_in(tri, uv);
-                    Newton::Root(DVec2::new(local.y, local.z), iterations, p)
+        let mut run = self.solve_leaf(leaf, tri, start, planes);
+        if grazing && !self.root_in_leaf(&run) {
+            // A grazing ray may meet a flat piece twice, with the two roots close together
+            // (a silhouette): Newton from the centroid can settle on the one outside the leaf
+            // or fail. Restarting from the corner children's centroids finds the root inside.
+            // Only the centroid run's failure sends the leaf to the fallback: a restart from a
+            // corner that fails mostly wanders off a grazing ray that misses the piece.
+            let mut failed = matches!(run, Newton::Failed);
+            for restart in GRAZING_RESTARTS {
+                counters.newton_runs += 1;
+                counters.grazing_restarts += 1;
+                let retry = self.solve_leaf(leaf, tri, restart, planes);
+                if self.root_in_leaf(&retry) {
+                    run = retry;
+                    failed = false;
+                    break;
                 }
-                other => other,
-            },
-        };
+            }
+            if failed {
+                run = Newton::Failed;
+            }
+        }
         match run {
             Newton::Root(st, iterations, p) => {
                 let hit = self.accept_local(leaf, st, p, ray, t_min, t_max)?;
@@ -297,6 +307,37 @@ impl<'s> Tracer<'s> {
                 }
                 hit
             }
+        }
+    }
+
+    /// One Newton run in `leaf` from the leaf-local `start`, on the leaf's power form when it
+    /// has one (degree dispatched once per run, not per evaluation); roots in leaf-local `(s, t)`.
+    fn solve_leaf(&self, leaf: &Leaf, tri: [DVec2; 3], start: DVec2, planes: &RayPlanes) -> Newton {
+        match leaf.degree {
+            1 => self.newton_local::<1>(leaf, start, planes),
+            2 => self.newton_local::<2>(leaf, start, planes),
+            3 => self.newton_local::<3>(leaf, start, planes),
+            4 => self.newton_local::<4>(leaf, start, planes),
+            5 => self.newton_local::<5>(leaf, start, planes),
+            6 => self.newton_local::<6>(leaf, start, planes),
+            // No power form: Newton on the whole patch, the root mapped back to the leaf.
+            _ => match self.newton(leaf.patch, tri, leaf.patch_uv(start.x, start.y), planes) {
+                Newton::Root(uv, iterations, p) => {
+                    let local = barycentric_in(tri, uv);
+                    Newton::Root(DVec2::new(local.y, local.z), iterations, p)
+                }
+                other => other,
+            },
+        }
+    }
+
+    /// True if `run` converged to a root inside the leaf grown by the domain tolerance.
+    fn root_in_leaf(&self, run: &Newton) -> bool {
+        match run {
+            Newton::Root(st, ..) => {
+                st.x.min(st.y).min(1.0 - st.x - st.y) >= -self.newton.domain_tolerance
+            }
+            _ => false,
         }
     }
 
@@ -419,18 +460,26 @@ impl<'s> Tracer<'s> {
         let inside = |st: DVec2| st.x >= 0.0 && st.y >= 0.0 && st.x + st.y <= 1.0;
         let mut st = start;
         let mut iterations = 0;
+        let mut previous = f64::INFINITY;
         loop {
             let (p, ss, tt) = local_point_and_tangents::<D>(coefficients, st.x, st.y);
             let f = planes.residual(p);
             if !f.is_finite() {
                 return Newton::Failed;
             }
-            if f.length_squared() <= tolerance * tolerance {
+            let residual = f.length_squared();
+            if residual <= tolerance * tolerance {
                 return Newton::Root(st, iterations, p);
             }
-            if iterations == settings.max_iterations {
+            // Past the iteration cap a run goes on (up to twice the cap) only while every step
+            // at least halves the residual: near an almost double root (a silhouette) Newton
+            // converges linearly, steadily but slower than quadratically.
+            if iterations >= settings.max_iterations
+                && (iterations >= 2 * settings.max_iterations || residual > 0.25 * previous)
+            {
                 return Newton::Failed;
             }
+            previous = residual;
             let js = planes.project(ss);
             let jt = planes.project(tt);
             let det = js.perp_dot(jt);
@@ -552,6 +601,14 @@ fn planar_start(leaf: &Leaf, ray: &Ray64, escape: f64) -> Start {
     }
     Start::At(DVec2::new(b1, b2))
 }
+
+/// Leaf-local start points tried after a grazing ray's run from the centroid found no root in
+/// the leaf: the centroids of the three corner children of the leaf's 4-split.
+const GRAZING_RESTARTS: [DVec2; 3] = [
+    DVec2::new(1.0 / 6.0, 1.0 / 6.0),
+    DVec2::new(2.0 / 3.0, 1.0 / 6.0),
+    DVec2::new(1.0 / 6.0, 2.0 / 3.0),
+];
 
 /// Cosine of the angle between ray and corner-plane normal below which a ray counts as grazing
 /// (about 11.5° from the plane).
