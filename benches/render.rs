@@ -11,7 +11,7 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{Criterion, Throughput, criterion_group};
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::analytic::torus;
 use smoothlab::render::bvh::{PatchBvh, SubdivisionCriterion};
@@ -49,6 +49,9 @@ fn camera_rays(surface: &Surface, side: u32) -> Vec<Ray64> {
     rays
 }
 
+/// Not inlined so that `valgrind --tool=callgrind --toggle-collect='*trace_all*'` counts the
+/// tracing alone.
+#[inline(never)]
 fn trace_all<T: SurfaceTracer>(tracer: &T, rays: &[Ray64]) -> (u64, IntersectCounters) {
     let mut counters = IntersectCounters::default();
     let mut hits = 0;
@@ -161,5 +164,43 @@ fn exact_vs_tessellated(c: &mut Criterion) {
     group.finish();
 }
 
+/// `RENDER_RAY_STATS=SIDE cargo bench --bench render` traces SIDE² camera rays once on the 15k
+/// torus and prints the Newton counters scaled per 10⁶ rays, instead of running criterion. Under
+/// `valgrind --tool=callgrind --toggle-collect='*trace_all*'` the collected instructions divided
+/// by SIDE² are the instructions per ray, a figure that does not depend on machine load.
+fn ray_stats(side: u32) {
+    let surface = hb_torus();
+    let rays = camera_rays(&surface, side);
+    let exact = Tracer::new(
+        &surface,
+        &SubdivisionCriterion::default(),
+        NewtonSettings::default(),
+    )
+    .expect("tracer");
+    let (hits, counters) = trace_all(&exact, &rays);
+    let per_million = 1e6 / rays.len() as f64;
+    println!(
+        "{} rays, {hits} hits, {} leaves; Newton runs {}, mean iterations {:.3}, max {}; per 10^6 rays: failures {:.1}, unconverged {:.1}",
+        rays.len(),
+        exact.leaf_count(),
+        counters.newton_runs,
+        counters.accepted_iterations as f64 / counters.roots_accepted.max(1) as f64,
+        counters.accepted_iterations_max,
+        counters.newton_failures as f64 * per_million,
+        counters.newton_unconverged as f64 * per_million,
+    );
+}
+
 criterion_group!(benches, bvh_build, primary_rays, exact_vs_tessellated);
-criterion_main!(benches);
+
+fn main() {
+    if let Some(side) = std::env::var("RENDER_RAY_STATS")
+        .ok()
+        .and_then(|s| s.parse::<u32>().ok())
+    {
+        ray_stats(side);
+        return;
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

@@ -2,7 +2,11 @@
 //! sub-triangles until each piece is nearly flat with a narrow normal cone, and an obvhs
 //! compressed wide BVH (PLOC build + reinsertion) is built over the pieces' conservative boxes.
 //!
-//! A leaf is `(patch, sub-triangle of the patch's (u, v) domain)`. Its box is the box of the
+//! A leaf is `(patch, sub-triangle of the patch's (u, v) domain)`. Each Bézier leaf also keeps
+//! its sub-patch in power form over the leaf's own domain (built once here, see
+//! [`power_coefficients`]), so that Newton evaluates a cheap local polynomial instead of running
+//! de Casteljau on the whole patch, together with a second-derivative bound valid on the leaf.
+//! Its box is the box of the
 //! sub-patch's Bézier control net (convex-hull property: it contains the sub-patch), rounded
 //! outward to f32 and padded by a small fraction of the scene size so that the f32 traversal ray,
 //! which differs from the f64 ray by rounding, still enters every box the f64 ray enters.
@@ -19,6 +23,7 @@ use crate::bezier::TriangleBezier;
 use crate::blend::BlendPatch;
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
+use crate::render::evaluate::{power_coefficients, second_derivative_bound};
 use crate::surface::{Patch, PatchGeometry, Surface, UV_CORNERS};
 
 /// When a piece of a patch is small enough to be a BVH leaf.
@@ -72,6 +77,20 @@ pub struct Leaf {
     pub lo: Vec3,
     /// Oriented box: largest coordinates.
     pub hi: Vec3,
+    /// Outward unit normals, in the box frame's first two coordinates, of the corner
+    /// triangle's edges `0→1`, `1→2`, `2→0`: with [`Leaf::edge_hi`] they bound the sub-patch by
+    /// a triangular prism, much tighter than the box's sides near the triangle's slanted edges.
+    pub edge_normals: [[f32; 2]; 3],
+    /// Largest `edge_normals[e] · (x, y)` over the control points (and so the sub-patch), grown
+    /// by [`PRISM_PAD`].
+    pub edge_hi: [f32; 3],
+    /// Start of the leaf's power-form coefficients in [`PatchBvh::power`].
+    pub power: u32,
+    /// Degree of the power form; 0 when the leaf has none (the patch is then evaluated whole).
+    pub degree: u8,
+    /// Bound on |∂²S/∂δ²| over the leaf for unit leaf-local directions δ
+    /// ([`second_derivative_bound`] of the sub-net); infinite when unknown.
+    pub second_bound: f64,
 }
 
 impl Leaf {
@@ -103,6 +122,30 @@ impl Leaf {
             hi = hi.max(c);
         }
         let pad = 1e-9 * (hi - lo).max_element().max(origin.abs().max_element());
+        // The prism's edge planes, from the corners in the stored frame.
+        let flat = |p: DVec3| {
+            let q = p - origin;
+            glam::DVec2::new(frame[0].dot(q), frame[1].dot(q))
+        };
+        let corner_xy = corners.map(flat);
+        let mut edge_normals = [[0.0_f32; 2]; 3];
+        let mut edge_hi = [f32::INFINITY; 3];
+        for e in 0..3 {
+            let along = corner_xy[(e + 1) % 3] - corner_xy[e];
+            let normal = DVec2::new(along.y, -along.x).normalize_or_zero();
+            if normal == DVec2::ZERO || !normal.is_finite() {
+                continue;
+            }
+            let stored = normal.as_vec2();
+            let n = stored.as_dvec2();
+            let reach = points
+                .iter()
+                .chain(corners.iter())
+                .map(|&p| n.dot(flat(p)))
+                .fold(f64::NEG_INFINITY, f64::max);
+            edge_normals[e] = stored.to_array();
+            edge_hi[e] = f32_up(reach + pad + PRISM_PAD * (hi - lo).max_element());
+        }
         let (lo, hi) = (lo - DVec3::splat(pad), hi + DVec3::splat(pad));
         let down = |v: DVec3| Vec3::new(f32_down(v.x), f32_down(v.y), f32_down(v.z));
         let up = |v: DVec3| Vec3::new(f32_up(v.x), f32_up(v.y), f32_up(v.z));
@@ -113,7 +156,19 @@ impl Leaf {
             axes,
             lo: down(lo),
             hi: up(hi),
+            edge_normals,
+            edge_hi,
+            power: 0,
+            degree: 0,
+            second_bound: f64::INFINITY,
         }
+    }
+
+    /// Maps leaf-local barycentrics `(s, t)` (weights of the second and third corner) to the
+    /// patch's `(u, v)`.
+    pub fn patch_uv(&self, s: f64, t: f64) -> DVec2 {
+        let tri = self.tri();
+        tri[0] + (tri[1] - tri[0]) * s + (tri[2] - tri[0]) * t
     }
 
     /// Corners of the sub-triangle in `(u, v)`.
@@ -128,14 +183,18 @@ impl Leaf {
         (t[0] + t[1] + t[2]) / 3.0
     }
 
-    /// True if the ray `origin + t dir`, `t ∈ [t_min, t_max]`, meets the oriented box (a
-    /// conservative test: false means the ray cannot meet the sub-patch).
+    /// True if the ray `origin + t dir`, `t ∈ [t_min, t_max]`, meets the oriented box and the
+    /// edge prism (a conservative test: false means the ray cannot meet the sub-patch).
     pub fn ray_meets_box(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64) -> bool {
         let q = origin - self.corners[0].as_dvec3();
         let (mut near, mut far) = (t_min, t_max);
+        let mut local_origin = DVec3::ZERO;
+        let mut local_dir = DVec3::ZERO;
         for axis in 0..3 {
             let a = self.axes[axis].as_dvec3();
             let (o, d) = (a.dot(q), a.dot(dir));
+            local_origin[axis] = o;
+            local_dir[axis] = d;
             let (lo, hi) = (f64::from(self.lo[axis]), f64::from(self.hi[axis]));
             if d == 0.0 {
                 if o < lo || o > hi {
@@ -147,6 +206,31 @@ impl Leaf {
             let (t0, t1) = ((lo - o) * inv, (hi - o) * inv);
             near = near.max(t0.min(t1));
             far = far.min(t0.max(t1));
+            if near > far {
+                return false;
+            }
+        }
+        // The prism's three edge half-planes n · (x, y) ≤ h.
+        for e in 0..3 {
+            let n = DVec2::new(
+                f64::from(self.edge_normals[e][0]),
+                f64::from(self.edge_normals[e][1]),
+            );
+            let h = f64::from(self.edge_hi[e]);
+            let o = n.x * local_origin.x + n.y * local_origin.y;
+            let d = n.x * local_dir.x + n.y * local_dir.y;
+            if d == 0.0 {
+                if o > h {
+                    return false;
+                }
+                continue;
+            }
+            let reach = (h - o) / d;
+            if d > 0.0 {
+                far = far.min(reach);
+            } else {
+                near = near.max(reach);
+            }
             if near > far {
                 return false;
             }
@@ -238,6 +322,8 @@ pub struct PatchBvh {
     pub build_time: Duration,
     /// Padding added to every leaf box (world units).
     pub padding: f64,
+    /// Power-form coefficients of all leaves, each leaf's run starting at [`Leaf::power`].
+    pub power: Vec<DVec3>,
 }
 
 impl PatchBvh {
@@ -268,7 +354,7 @@ impl PatchBvh {
         let padding = box_padding(&scene);
         // Per-patch subdivision is independent; collecting in patch order keeps the leaf list
         // (and so the BVH) identical for any thread count.
-        let per_patch: Vec<Vec<(Leaf, Aabb)>> = surface
+        let per_patch: Vec<Vec<(Leaf, Aabb, Vec<DVec3>)>> = surface
             .patches
             .par_iter()
             .enumerate()
@@ -277,22 +363,34 @@ impl PatchBvh {
                 PatchGeometry::Blend(blend) => subdivide_blend(pi as u32, patch, blend, criterion),
             })
             .collect();
-        let (leaves, boxes): (Vec<Leaf>, Vec<obvhs::aabb::Aabb>) = per_patch
-            .into_iter()
-            .flatten()
-            .map(|(leaf, b)| (leaf, outward_f32(&b, padding)))
-            .unzip();
+        let mut leaves = Vec::new();
+        let mut boxes = Vec::new();
+        let mut local_forms = Vec::new();
+        for (leaf, b, form) in per_patch.into_iter().flatten() {
+            leaves.push(leaf);
+            boxes.push(outward_f32(&b, padding));
+            local_forms.push(form);
+        }
         let bvh = build_cwbvh(&boxes, build_params(), &mut Duration::default());
+        // Leaves and their coefficients in traversal order, so that neighbouring BVH leaves
+        // are neighbours in memory too.
+        let mut power = Vec::with_capacity(local_forms.iter().map(Vec::len).sum());
         let leaves = bvh
             .primitive_indices
             .iter()
-            .map(|&i| leaves[i as usize])
+            .map(|&i| {
+                let mut leaf = leaves[i as usize];
+                leaf.power = power.len() as u32;
+                power.extend_from_slice(&local_forms[i as usize]);
+                leaf
+            })
             .collect();
         Ok(PatchBvh {
             bvh,
             leaves,
             build_time: start.elapsed(),
             padding,
+            power,
         })
     }
 
@@ -301,6 +399,7 @@ impl PatchBvh {
         std::mem::size_of_val(self.bvh.nodes.as_slice())
             + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
             + std::mem::size_of_val(self.leaves.as_slice())
+            + std::mem::size_of_val(self.power.as_slice())
     }
 }
 
@@ -312,12 +411,13 @@ pub fn build_params() -> BvhBuildParams {
     params
 }
 
-/// Leaves of one patch: recursive 4-split of the control net until [`is_leaf`].
+/// Leaves of one patch: recursive 4-split of the control net until [`is_leaf`], each with its
+/// box and its power-form coefficients.
 fn subdivide_patch(
     patch: u32,
     net: &TriangleBezier,
     criterion: &SubdivisionCriterion,
-) -> Vec<(Leaf, Aabb)> {
+) -> Vec<(Leaf, Aabb, Vec<DVec3>)> {
     let mut out = Vec::new();
     let mut stack = vec![(UV_CORNERS, net.clone(), 0u32)];
     while let Some((tri, piece, depth)) = stack.pop() {
@@ -326,10 +426,15 @@ fn subdivide_patch(
         if done {
             let d = piece.degree();
             let corners = [piece.point(d, 0), piece.point(0, d), piece.point(0, 0)];
-            out.push((
-                Leaf::new(patch, tri, corners, piece.points()),
-                piece.control_bounds(),
-            ));
+            let mut leaf = Leaf::new(patch, tri, corners, piece.points());
+            let form = if (1..=MAX_POWER_DEGREE).contains(&d) {
+                leaf.degree = d as u8;
+                leaf.second_bound = second_derivative_bound(&piece);
+                power_coefficients(&piece)
+            } else {
+                Vec::new()
+            };
+            out.push((leaf, piece.control_bounds(), form));
             continue;
         }
         let child_tris = split4(tri);
@@ -351,7 +456,7 @@ fn subdivide_blend(
     patch: &Patch,
     blend: &BlendPatch,
     criterion: &SubdivisionCriterion,
-) -> Vec<(Leaf, Aabb)> {
+) -> Vec<(Leaf, Aabb, Vec<DVec3>)> {
     let mut out = Vec::new();
     let mut stack = vec![(UV_CORNERS, blend.sub_surfaces().clone(), 0u32)];
     while let Some((tri, nets, depth)) = stack.pop() {
@@ -366,7 +471,12 @@ fn subdivide_blend(
             let bounds = nets
                 .iter()
                 .fold(Aabb::EMPTY, |b, n| b.union(n.control_bounds()));
-            out.push((Leaf::new(patch_index, tri, corners, &points), bounds));
+            // No power form: Newton evaluates the blend itself.
+            out.push((
+                Leaf::new(patch_index, tri, corners, &points),
+                bounds,
+                Vec::new(),
+            ));
             continue;
         }
         let child_tris = split4(tri);
@@ -377,6 +487,14 @@ fn subdivide_blend(
     }
     out
 }
+/// Growth of the edge prism beyond the control points, relative to the leaf's box size. Roots
+/// are accepted up to [`crate::render::NewtonSettings::domain_tolerance`] (1e-7) outside the
+/// leaf, where the polynomial runs at most ~4 × degree × tolerance × size outside the hull; 1e-5
+/// covers that for every degree up to 6 with a wide margin.
+pub const PRISM_PAD: f64 = 1e-5;
+
+/// Largest degree given a power form (the degrees the intersection code specialises).
+pub const MAX_POWER_DEGREE: usize = 6;
 
 /// The flatness and normal-cone test of [`SubdivisionCriterion`] on one control net.
 pub fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) -> bool {

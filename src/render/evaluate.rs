@@ -1,7 +1,14 @@
-//! The evaluation Newton needs, and nothing more: position and first derivatives of a patch at
-//! `(u, v)`, by de Casteljau down to the linear level on a stack copy of the net (no
-//! allocation, no second derivatives). Falls back to [`Patch::jet`] for degrees above
-//! [`MAX_STACK_DEGREE`] and for non-polynomial patch kinds.
+//! The evaluation Newton needs, and nothing more: position and first derivatives.
+//!
+//! Two forms:
+//! - [`point_and_tangents`]: a whole patch at `(u, v)`, by de Casteljau down to the linear level
+//!   on a stack copy of the net (no allocation, no second derivatives). Falls back to
+//!   [`Patch::jet`] for degrees above [`MAX_STACK_DEGREE`] and for non-polynomial patch kinds.
+//! - [`local_point_and_tangents`]: a BVH leaf's sub-patch in power form over the leaf's own
+//!   domain, `S(s, t) = Σ c_jk s^j t^k` with `(s, t)` the leaf-local barycentrics of its second
+//!   and third corner ([`power_coefficients`], computed once at BVH build). Nested Horner with
+//!   the degree as a constant needs about a third of de Casteljau's arithmetic; over the small
+//!   leaf domain the high-order coefficients are tiny, so the form is well conditioned.
 
 use glam::DVec3;
 
@@ -65,6 +72,84 @@ pub fn point_and_tangents(patch: &Patch, u: f64, v: f64) -> (DVec3, DVec3, DVec3
     )
 }
 
+/// The power form of a Bézier triangle over its own domain: coefficients `c_jk` with
+/// `S(s, t) = Σ_{j+k ≤ d} c_jk s^j t^k` at barycentric `(1−s−t, s, t)`, stored row by row (`j`
+/// ascending, then `k` ascending; row `j` holds `d−j+1` entries, see [`power_index`]).
+///
+/// With `f(j, k) = b(d−j−k, j, k)` and forward differences Δ₁ in `j`, Δ₂ in `k`, the Taylor
+/// coefficients at the first corner are `c_jk = d! / (j! k! (d−j−k)!) · Δ₁^j Δ₂^k f(0, 0)`, the
+/// triangular form of the univariate `c_j = C(d, j) Δ^j b_0` [Farin, CAGD §17.3].
+pub fn power_coefficients(net: &TriangleBezier) -> Vec<DVec3> {
+    let d = net.degree();
+    let mut c: Vec<DVec3> = Vec::with_capacity(point_count(d));
+    for j in 0..=d {
+        for k in 0..=d - j {
+            c.push(net.point(d - j - k, j));
+        }
+    }
+    // Differences in k along every row j, in place: row[k] becomes Δ₂^k f(j, 0).
+    for j in 0..=d {
+        let row = power_index(d, j, 0);
+        let len = d - j;
+        for order in 1..=len {
+            for k in (order..=len).rev() {
+                c[row + k] = c[row + k] - c[row + k - 1];
+            }
+        }
+    }
+    // Then differences in j along every column k: entry (j, k) becomes Δ₁^j Δ₂^k f(0, 0).
+    for k in 0..=d {
+        let len = d - k;
+        for order in 1..=len {
+            for j in (order..=len).rev() {
+                let (at, below) = (power_index(d, j, k), power_index(d, j - 1, k));
+                c[at] = c[at] - c[below];
+            }
+        }
+    }
+    let factorial = |n: usize| (1..=n).map(|x| x as f64).product::<f64>();
+    for j in 0..=d {
+        for k in 0..=d - j {
+            let multinomial = factorial(d) / (factorial(j) * factorial(k) * factorial(d - j - k));
+            c[power_index(d, j, k)] *= multinomial;
+        }
+    }
+    c
+}
+
+/// Position of `c_jk` in [`power_coefficients`] of degree `d`: rows `0..j` hold
+/// `(d+1) + d + … + (d−j+2)` entries.
+pub const fn power_index(d: usize, j: usize, k: usize) -> usize {
+    j * (d + 1) - j * (j.saturating_sub(1)) / 2 + k
+}
+
+/// `S(s, t)`, `∂S/∂s`, `∂S/∂t` of the degree-`D` power form `c` ([`power_coefficients`]), by
+/// Horner in `t` inside each row and in `s` across rows. `D` is a constant so that every loop
+/// unrolls; `c` must hold `(D+1)(D+2)/2` coefficients.
+#[inline]
+pub fn local_point_and_tangents<const D: usize>(
+    c: &[DVec3],
+    s: f64,
+    t: f64,
+) -> (DVec3, DVec3, DVec3) {
+    let c = &c[..point_count(D)];
+    let (mut p, mut ps, mut pt) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+    for j in (0..=D).rev() {
+        let row = &c[power_index(D, j, 0)..power_index(D, j, 0) + D - j + 1];
+        // Row polynomial q_j(t) = Σ_k c_jk t^k and its derivative.
+        let mut q = row[D - j];
+        let mut qt = DVec3::ZERO;
+        for k in (0..D - j).rev() {
+            qt = qt * t + q;
+            q = q * t + row[k];
+        }
+        ps = ps * s + p;
+        p = p * s + q;
+        pt = pt * s + qt;
+    }
+    (p, ps, pt)
+}
+
 /// A bound on the second derivative of a Bézier triangle in any unit `(u, v)` direction over
 /// its domain. With δ = δu (e1 − e0) + δv (e2 − e0), `D²S(δ, δ) = d(d−1) Σ B^{d−2}_{ijk}
 /// (δu² Q11 + 2 δu δv Q12 + δv² Q22)` where Q are second differences of the control net, so
@@ -122,6 +207,52 @@ mod tests {
                     .max((su - jet.du).length())
                     .max((sv - jet.dv).length());
                 assert!(err <= 1e-13, "degree {d} at ({u}, {v}): {err:e}");
+            }
+        }
+    }
+
+    /// The power form reproduces the de Casteljau jet (position and both tangents) for every
+    /// degree the renderer specialises.
+    #[test]
+    fn power_form_matches_the_jet() {
+        fn check<const D: usize>() {
+            let net = TriangleBezier::from_fn(D, |i, j, k| {
+                let (i, j, k) = (i as f64, j as f64, k as f64);
+                DVec3::new(
+                    j + 0.3 * i * k,
+                    k - 0.2 * j * j,
+                    (i * 1.7 + j * 0.3 - k).sin(),
+                )
+            });
+            let c = power_coefficients(&net);
+            assert_eq!(c.len(), point_count(D));
+            let scale = net.control_bounds().diagonal();
+            for (u, v) in [(0.0, 0.0), (0.2, 0.3), (0.7, 0.1), (0.0, 1.0), (1.0, 0.0)] {
+                let jet = net.jet(u, v);
+                let (p, su, sv) = local_point_and_tangents::<D>(&c, u, v);
+                let err = (p - jet.p)
+                    .length()
+                    .max((su - jet.du).length() / D.max(1) as f64)
+                    .max((sv - jet.dv).length() / D.max(1) as f64);
+                assert!(err <= 1e-13 * scale, "degree {D} at ({u}, {v}): {err:e}");
+            }
+        }
+        check::<1>();
+        check::<2>();
+        check::<3>();
+        check::<4>();
+        check::<5>();
+        check::<6>();
+    }
+
+    #[test]
+    fn power_index_walks_the_rows() {
+        let d = 5;
+        let mut next = 0;
+        for j in 0..=d {
+            for k in 0..=d - j {
+                assert_eq!(power_index(d, j, k), next, "c({j},{k})");
+                next += 1;
             }
         }
     }

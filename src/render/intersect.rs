@@ -3,7 +3,9 @@
 //! The ray `o + t d` is written as the intersection of two planes `n1·x = n1·o`,
 //! `n2·x = n2·o` with `n1, n2 ⟂ d`, so a hit is a root of the 2×2 system
 //! `F(u, v) = (n1·(S(u,v) − o), n2·(S(u,v) − o)) = 0` and `t = (S − o)·d` follows. Newton
-//! starts at the leaf's centroid; a root is accepted when it lies in the leaf's sub-triangle
+//! runs in the leaf's own barycentrics `(s, t)` on the leaf's power form (see
+//! [`crate::render::evaluate::local_point_and_tangents`]), specialised to the patch degree, and
+//! starts where the ray meets the plane of the leaf's corners; a root is accepted when it lies in the leaf's sub-triangle
 //! grown by [`NewtonSettings::domain_tolerance`] (so a ray through a seam between two leaves is
 //! found by at least one of them). When Newton neither converges nor leaves the leaf (singular
 //! Jacobian, oscillation), the leaf is split into four recursively and Newton retried from each
@@ -17,7 +19,9 @@ use obvhs::ray::{Ray, RayHit};
 
 use crate::geom::Aabb;
 use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion, barycentric_in, split4};
-use crate::render::evaluate::{point_and_tangents, second_derivative_bound};
+use crate::render::evaluate::{
+    local_point_and_tangents, point_and_tangents, second_derivative_bound,
+};
 use crate::render::modes::overlay::face_edge_mask;
 pub use crate::render::ray::{Ray64, RayPlanes, ray_enters_box};
 use crate::surface::{Patch, Surface};
@@ -89,6 +93,9 @@ pub struct IntersectCounters {
     pub newton_failures: u64,
     /// Roots found by the fallback subdivision (one per real failure).
     pub fallback_roots: u64,
+    /// Extra Newton runs from the corner-child centroids of a leaf after a grazing ray's run
+    /// from the centroid found no root in the leaf (see [`GRAZING_RESTARTS`]).
+    pub grazing_restarts: u64,
 }
 
 impl IntersectCounters {
@@ -103,6 +110,7 @@ impl IntersectCounters {
         self.newton_unconverged += other.newton_unconverged;
         self.newton_failures += other.newton_failures;
         self.fallback_roots += other.fallback_roots;
+        self.grazing_restarts += other.grazing_restarts;
     }
 }
 
@@ -127,7 +135,7 @@ pub struct Tracer<'s> {
 
 /// Outcome of one Newton run.
 enum Newton {
-    /// Converged to `(u, v)` after `iterations` steps, at surface point `p`.
+    /// Converged to `(u, v)` (leaf-local `(s, t)` for a leaf run) after `iterations` steps, at surface point `p`.
     Root(DVec2, u32, DVec3),
     /// The iterate left the leaf: the ray meets the surface elsewhere (or not at all).
     Escaped,
@@ -244,15 +252,37 @@ impl<'s> Tracer<'s> {
         }
         let patch = &self.surface.patches[leaf.patch as usize];
         let tri = leaf.tri();
-        let start = match planar_start(leaf, tri, ray, START_REJECTION) {
+        let (start, grazing) = match planar_start(leaf, ray, START_REJECTION) {
             Start::Outside => return None,
-            Start::At(uv) => uv,
-            Start::Grazing => leaf.centroid(),
+            Start::At(st) => (st, false),
+            Start::Grazing => (DVec2::splat(1.0 / 3.0), true),
         };
         counters.newton_runs += 1;
-        match self.newton(leaf.patch, tri, start, planes) {
-            Newton::Root(uv, iterations, p) => {
-                let hit = self.accept(leaf.patch, tri, uv, p, ray, t_min, t_max)?;
+        let mut run = self.solve_leaf(leaf, tri, start, planes);
+        if grazing && !self.root_in_leaf(&run) {
+            // A grazing ray may meet a flat piece twice, with the two roots close together
+            // (a silhouette): Newton from the centroid can settle on the one outside the leaf
+            // or fail. Restarting from the corner children's centroids finds the root inside.
+            // Only the centroid run's failure sends the leaf to the fallback: a restart from a
+            // corner that fails mostly wanders off a grazing ray that misses the piece.
+            let mut failed = matches!(run, Newton::Failed);
+            for restart in GRAZING_RESTARTS {
+                counters.newton_runs += 1;
+                counters.grazing_restarts += 1;
+                let retry = self.solve_leaf(leaf, tri, restart, planes);
+                if self.root_in_leaf(&retry) {
+                    run = retry;
+                    failed = false;
+                    break;
+                }
+            }
+            if failed {
+                run = Newton::Failed;
+            }
+        }
+        match run {
+            Newton::Root(st, iterations, p) => {
+                let hit = self.accept_local(leaf, st, p, ray, t_min, t_max)?;
                 counters.roots_accepted += 1;
                 counters.accepted_iterations += u64::from(iterations);
                 counters.accepted_iterations_max = counters.accepted_iterations_max.max(iterations);
@@ -277,6 +307,37 @@ impl<'s> Tracer<'s> {
                 }
                 hit
             }
+        }
+    }
+
+    /// One Newton run in `leaf` from the leaf-local `start`, on the leaf's power form when it
+    /// has one (degree dispatched once per run, not per evaluation); roots in leaf-local `(s, t)`.
+    fn solve_leaf(&self, leaf: &Leaf, tri: [DVec2; 3], start: DVec2, planes: &RayPlanes) -> Newton {
+        match leaf.degree {
+            1 => self.newton_local::<1>(leaf, start, planes),
+            2 => self.newton_local::<2>(leaf, start, planes),
+            3 => self.newton_local::<3>(leaf, start, planes),
+            4 => self.newton_local::<4>(leaf, start, planes),
+            5 => self.newton_local::<5>(leaf, start, planes),
+            6 => self.newton_local::<6>(leaf, start, planes),
+            // No power form: Newton on the whole patch, the root mapped back to the leaf.
+            _ => match self.newton(leaf.patch, tri, leaf.patch_uv(start.x, start.y), planes) {
+                Newton::Root(uv, iterations, p) => {
+                    let local = barycentric_in(tri, uv);
+                    Newton::Root(DVec2::new(local.y, local.z), iterations, p)
+                }
+                other => other,
+            },
+        }
+    }
+
+    /// True if `run` converged to a root inside the leaf grown by the domain tolerance.
+    fn root_in_leaf(&self, run: &Newton) -> bool {
+        match run {
+            Newton::Root(st, ..) => {
+                st.x.min(st.y).min(1.0 - st.x - st.y) >= -self.newton.domain_tolerance
+            }
+            _ => false,
         }
     }
 
@@ -382,6 +443,94 @@ impl<'s> Tracer<'s> {
         }
     }
 
+    /// Newton on the two-plane system in the leaf-local barycentrics `(s, t)` of `leaf`, on its
+    /// degree-`D` power form, from `start`. The Taylor stop uses the leaf's own
+    /// second-derivative bound, valid only inside the leaf, so it applies only to steps that
+    /// start and end there (the leaf triangle is convex).
+    fn newton_local<const D: usize>(
+        &self,
+        leaf: &Leaf,
+        start: DVec2,
+        planes: &RayPlanes,
+    ) -> Newton {
+        let coefficients = &self.bvh.power[leaf.power as usize..];
+        let second_bound = 2.0 * leaf.second_bound;
+        let settings = &self.newton;
+        let tolerance = self.tolerance;
+        let inside = |st: DVec2| st.x >= 0.0 && st.y >= 0.0 && st.x + st.y <= 1.0;
+        let mut st = start;
+        let mut iterations = 0;
+        let mut previous = f64::INFINITY;
+        loop {
+            let (p, ss, tt) = local_point_and_tangents::<D>(coefficients, st.x, st.y);
+            let f = planes.residual(p);
+            if !f.is_finite() {
+                return Newton::Failed;
+            }
+            let residual = f.length_squared();
+            if residual <= tolerance * tolerance {
+                return Newton::Root(st, iterations, p);
+            }
+            // Past the iteration cap a run goes on (up to twice the cap) only while every step
+            // at least halves the residual: near an almost double root (a silhouette) Newton
+            // converges linearly, steadily but slower than quadratically.
+            if iterations >= settings.max_iterations
+                && (iterations >= 2 * settings.max_iterations || residual > 0.25 * previous)
+            {
+                return Newton::Failed;
+            }
+            previous = residual;
+            let js = planes.project(ss);
+            let jt = planes.project(tt);
+            let det = js.perp_dot(jt);
+            if det == 0.0 || !det.is_finite() {
+                return Newton::Failed;
+            }
+            // Solve [js jt] Δ = f by Cramer's rule.
+            let step = DVec2::new(f.perp_dot(jt), js.perp_dot(f)) / det;
+            let was_inside = inside(st);
+            st -= step;
+            iterations += 1;
+            // Taylor: after an exact Newton step the residual, and the error of the linearised
+            // point, are at most ½ M |Δ|²; below tolerance no further evaluation is needed.
+            let taylor = 0.5 * second_bound * step.length_squared();
+            if taylor <= tolerance && was_inside && inside(st) {
+                return Newton::Root(st, iterations, p - ss * step.x - tt * step.y);
+            }
+            if st.x.min(st.y).min(1.0 - st.x - st.y) < -settings.escape_distance {
+                return Newton::Escaped;
+            }
+        }
+    }
+
+    /// A leaf-local root `(s, t)` as a hit, if it lies in the leaf grown by the domain tolerance
+    /// and its distance is in `(t_min, t_max)`.
+    fn accept_local(
+        &self,
+        leaf: &Leaf,
+        st: DVec2,
+        p: DVec3,
+        ray: &Ray64,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<Hit> {
+        if st.x.min(st.y).min(1.0 - st.x - st.y) < -self.newton.domain_tolerance {
+            return None;
+        }
+        let t = (p - ray.origin).dot(ray.dir);
+        if t > t_min && t < t_max {
+            let uv = leaf.patch_uv(st.x, st.y);
+            Some(Hit {
+                t,
+                patch: leaf.patch,
+                u: uv.x,
+                v: uv.y,
+            })
+        } else {
+            None
+        }
+    }
+
     /// A converged root as a hit, if it lies in the sub-triangle `tri` grown by the domain
     /// tolerance and its distance is in `(t_min, t_max)`.
     #[allow(clippy::too_many_arguments)]
@@ -414,8 +563,8 @@ impl<'s> Tracer<'s> {
 
 /// Where Newton starts in a leaf.
 enum Start {
-    /// At this `(u, v)`: where the ray meets the plane of the leaf's corner points, mapped
-    /// through the corners' barycentric coordinates.
+    /// At these leaf-local barycentrics `(s, t)`: where the ray meets the plane of the leaf's
+    /// corner points.
     At(DVec2),
     /// The ray meets the corner plane further than the escape distance outside the leaf: it
     /// cannot meet this flat piece (no evaluation needed).
@@ -430,7 +579,7 @@ enum Start {
 /// the true root, one Newton step closer than the centroid; the early rejection needs a margin
 /// of at least flatness / tan(angle to the plane), which `escape` covers for every ray steeper
 /// than the grazing limit ([`START_REJECTION`]).
-fn planar_start(leaf: &Leaf, tri: [DVec2; 3], ray: &Ray64, escape: f64) -> Start {
+fn planar_start(leaf: &Leaf, ray: &Ray64, escape: f64) -> Start {
     let [a, b, c] = leaf.corners.map(|p| p.as_dvec3());
     let (e1, e2) = (b - a, c - a);
     let normal = e1.cross(e2);
@@ -450,8 +599,16 @@ fn planar_start(leaf: &Leaf, tri: [DVec2; 3], ray: &Ray64, escape: f64) -> Start
     if b0.min(b1).min(b2) < -escape || !b1.is_finite() || !b2.is_finite() {
         return Start::Outside;
     }
-    Start::At(tri[0] * b0 + tri[1] * b1 + tri[2] * b2)
+    Start::At(DVec2::new(b1, b2))
 }
+
+/// Leaf-local start points tried after a grazing ray's run from the centroid found no root in
+/// the leaf: the centroids of the three corner children of the leaf's 4-split.
+const GRAZING_RESTARTS: [DVec2; 3] = [
+    DVec2::new(1.0 / 6.0, 1.0 / 6.0),
+    DVec2::new(2.0 / 3.0, 1.0 / 6.0),
+    DVec2::new(1.0 / 6.0, 2.0 / 3.0),
+];
 
 /// Cosine of the angle between ray and corner-plane normal below which a ray counts as grazing
 /// (about 11.5° from the plane).
