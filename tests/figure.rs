@@ -113,3 +113,61 @@ fn bad_specs_fail_naming_the_fault() {
         assert!(!stderr.contains("panicked"), "{stderr}");
     }
 }
+
+/// The scene keys of the overlay: tubes alone on the background, blue network and red polygons.
+#[test]
+fn render_scene_draws_the_network_alone() {
+    let dir = scratch("scene");
+    let obj = dir.join("ico.obj");
+    let (positions, faces) = smoothlab::mesh::generate::icosahedron();
+    let mesh = smoothlab::mesh::Mesh::from_triangles(positions, faces)
+        .expect("mesh")
+        .0;
+    std::fs::write(&obj, mesh.to_obj("icosahedron")).expect("obj");
+    let render = |surface: bool| {
+        let text = format!(
+            "mesh = \"ico.obj\"\n[scheme]\nname = \"loop94\"\n[render]\nmode = \"diffuse\"\n\
+             size = [64, 64]\nspp = 1\noutput = \"net\"\ncurves = true\n\
+             control_polygons = true\nsurface = {surface}\ncurve_radius = 0.004\n"
+        );
+        std::fs::write(dir.join("scene.toml"), text).expect("scene");
+        let out = Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+            .args(["render", "scene.toml"])
+            .current_dir(&dir)
+            .output()
+            .expect("run smoothlab");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        image::open(dir.join("net.png")).expect("png").to_rgb8()
+    };
+    let alone = render(false);
+    let count = |png: &image::RgbImage, f: &dyn Fn(&[u8; 3]) -> bool| {
+        png.pixels().filter(|p| f(&p.0)).count()
+    };
+    let blue = count(&alone, &|p| {
+        u32::from(p[2]) > 2 * u32::from(p[0].max(p[1])) && p[2] > 100
+    });
+    let red = count(&alone, &|p| {
+        u32::from(p[0]) > 2 * u32::from(p[1].max(p[2])) && p[0] > 100
+    });
+    assert!(blue > 20 && red > 20, "blue {blue}, red {red}");
+    // Without the surface, the tubes behind it show and the rest is background.
+    let with_surface = render(true);
+    let background = alone.get_pixel(0, 0).0;
+    let empty_alone = count(&alone, &|p| *p == background);
+    let empty_with = count(&with_surface, &|p| *p == background);
+    assert!(
+        empty_alone > empty_with + 300,
+        "{empty_alone} vs {empty_with}"
+    );
+    let blue_with = count(&with_surface, &|p| {
+        u32::from(p[2]) > 2 * u32::from(p[0].max(p[1])) && p[2] > 100
+    });
+    assert!(
+        blue > blue_with,
+        "hidden tubes appear: {blue} vs {blue_with}"
+    );
+}

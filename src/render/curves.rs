@@ -291,7 +291,7 @@ mod tests {
     }
 
     #[test]
-    fn loop94_polygons_are_quartic_and_hb_polygons_come_in_two_halves() {
+    fn loop94_polygons_are_quartic_and_hb_polygons_are_two_cubics() {
         let mesh = icosahedron_mesh();
         let edge = mesh.edges()[0];
         let loop94 = schemes::build("loop94", &mesh, &[]).expect("loop94");
@@ -314,7 +314,7 @@ mod tests {
         assert!((polygons[1].last().copied().expect("point") - b).length() < 1e-12);
         assert!((polygons[0].last().copied().expect("point") - polygons[1][0]).length() < 1e-12);
         for poly in &polygons {
-            assert!(poly.len() <= 6, "at most quintic");
+            assert_eq!(poly.len(), 4, "HB00's boundary halves are cubic [HB00 §9]");
         }
     }
 
