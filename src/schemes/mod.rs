@@ -28,6 +28,14 @@ pub struct ParamSpec {
     pub help: &'static str,
 }
 
+/// The `normals=estimate|obj` parameter shared by the normal-based schemes (read with
+/// [`Params::normal_source`]).
+pub const NORMALS_PARAM: ParamSpec = ParamSpec {
+    name: "normals",
+    default: "estimate",
+    help: "vertex normals: estimate (angle-weighted) or obj (the file's vn)",
+};
+
 /// A registered scheme.
 #[derive(Clone, Copy, Debug)]
 pub struct SchemeSpec {

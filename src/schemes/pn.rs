@@ -12,18 +12,14 @@ use glam::DVec3;
 use crate::bezier::TriangleBezier;
 use crate::error::Result;
 use crate::mesh::Mesh;
-use crate::schemes::{ParamSpec, Params, SchemeSpec};
+use crate::schemes::{Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Registry entry.
 pub const SPEC: SchemeSpec = SchemeSpec {
     name: "pn",
     summary: "PN triangles (Vlachos et al. 2001): cubic per face from vertex normals, C0",
-    params: &[ParamSpec {
-        name: "normals",
-        default: "estimate",
-        help: "vertex normals: estimate (angle-weighted) or obj (the file's vn)",
-    }],
+    params: &[crate::schemes::NORMALS_PARAM],
     needs_closed_mesh: false,
     build,
 };

@@ -70,11 +70,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
             default: "1",
             help: "continuity order t (0..=6): weights f_{t,i} with alpha = u^(t+1)",
         },
-        ParamSpec {
-            name: "normals",
-            default: "estimate",
-            help: "vertex normals: estimate (angle-weighted) or obj (the file's vn)",
-        },
+        crate::schemes::NORMALS_PARAM,
     ],
     needs_closed_mesh: false,
     build,

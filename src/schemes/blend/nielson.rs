@@ -55,11 +55,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
             default: "1",
             help: "power of the weights (v w)^t / sum (1..=4); 1 is Nielson's",
         },
-        ParamSpec {
-            name: "normals",
-            default: "estimate",
-            help: "vertex normals: estimate (angle-weighted) or obj (the file's vn)",
-        },
+        crate::schemes::NORMALS_PARAM,
     ],
     needs_closed_mesh: false,
     build,

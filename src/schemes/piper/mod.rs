@@ -65,11 +65,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     name: "piper",
     summary: "Piper 1987: Clough-Tocher split, 3 quartic Bezier triangles per face, G1 (Piper87)",
     params: &[
-        ParamSpec {
-            name: "normals",
-            default: "estimate",
-            help: "vertex normals: estimate (angle-weighted) or obj (the file's vn)",
-        },
+        crate::schemes::NORMALS_PARAM,
         ParamSpec {
             name: "scaling",
             default: "circle",
