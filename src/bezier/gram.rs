@@ -2,7 +2,10 @@
 //! measured in the L² sense: `∫_T λ^α dA = 2·Area · α! / (|α|+2)!` (products of factorials over the
 //! three components), hence `∫ B^m_α B^m_β = 2·Area · m!² (α+β)! / (α! β! (2m+2)!)`.
 
-use crate::bezier::triangle::point_count;
+use glam::DVec2;
+
+use crate::bezier::triangle::{index, point_count};
+use crate::linalg::Matrix;
 
 /// Multi-indices (i, j, k) of degree `d` in the storage order of [`crate::bezier`].
 pub fn multi_indices(d: usize) -> Vec<[usize; 3]> {
@@ -35,6 +38,53 @@ pub fn bernstein_gram(m: usize, area: f64) -> Vec<Vec<f64>> {
                 .collect()
         })
         .collect()
+}
+
+/// Thin-plate energy matrix `Q` of the degree-`d` patches over the 2-D triangle `corners`:
+/// `∫ |S_xx|² + 2|S_xy|² + |S_yy|² dx dy = Σ_{α,β} Q_αβ b_α·b_β`. Per barycentric pair of
+/// directions, `D_a D_b S = d(d−1) Σ_γ (Δ_a Δ_b b)_γ B^{d−2}_γ`, and the products are integrated
+/// with [`bernstein_gram`] (Farin, CAGD §17.6 for the derivatives).
+pub fn thin_plate_matrix(d: usize, corners: [DVec2; 3]) -> Matrix {
+    let count = point_count(d);
+    let area2 = (corners[1] - corners[0]).perp_dot(corners[2] - corners[0]);
+    // ∇λ_i = rot90(c_{i+2} − c_{i+1}) / (2A).
+    let grad: [DVec2; 3] =
+        std::array::from_fn(|i| (corners[(i + 2) % 3] - corners[(i + 1) % 3]).perp() / area2);
+    let gx = grad.map(|g| g.x);
+    let gy = grad.map(|g| g.y);
+    let low = multi_indices(d - 2);
+    let gram = bernstein_gram(d - 2, area2.abs() / 2.0);
+    let scale = ((d * (d - 1)) as f64).powi(2);
+    let mut q = vec![vec![0.0; count]; count];
+    for (a, b, weight) in [(gx, gx, 1.0), (gx, gy, 2.0), (gy, gy, 1.0)] {
+        // Row γ: coefficient γ of D_a D_b S as a combination of the control points.
+        let rows: Vec<Vec<f64>> = low
+            .iter()
+            .map(|g| {
+                let mut row = vec![0.0; count];
+                for (s, a_s) in a.iter().enumerate() {
+                    for (t, b_t) in b.iter().enumerate() {
+                        let mut m = *g;
+                        m[s] += 1;
+                        m[t] += 1;
+                        row[index(d, m[0], m[1])] += a_s * b_t;
+                    }
+                }
+                row
+            })
+            .collect();
+        for (g1, r1) in rows.iter().enumerate() {
+            for (g2, r2) in rows.iter().enumerate() {
+                let w = weight * scale * gram[g1][g2];
+                for (i, x) in r1.iter().enumerate().filter(|(_, x)| **x != 0.0) {
+                    for (j, y) in r2.iter().enumerate().filter(|(_, y)| **y != 0.0) {
+                        q[i][j] += w * x * y;
+                    }
+                }
+            }
+        }
+    }
+    q
 }
 
 /// Degree elevation `d → d+1` as a matrix: row β of the result holds the weights of the degree-d
@@ -90,6 +140,64 @@ mod tests {
         for (row, expected) in m.iter().zip(elevated.points()) {
             let p: DVec3 = row.iter().zip(patch.points()).map(|(w, p)| *w * *p).sum();
             assert!((p - *expected).length() < 1e-13);
+        }
+    }
+
+    /// A quadratic function has constant second derivatives: the thin-plate energy of its
+    /// degree-d form over a triangle equals (f_xx² + 2 f_xy² + f_yy²) × area, for d = 2..9.
+    #[test]
+    fn thin_plate_energy_of_a_quadratic_is_exact() {
+        let corners = [
+            DVec2::new(0.2, 0.1),
+            DVec2::new(1.3, 0.4),
+            DVec2::new(0.5, 1.2),
+        ];
+        let f = |p: DVec2| 1.5 * p.x * p.x + 2.0 * p.x * p.y - 0.5 * p.y * p.y + p.x;
+        let area = (corners[1] - corners[0]).perp_dot(corners[2] - corners[0]) / 2.0;
+        let expected = (3.0f64.powi(2) + 2.0 * 2.0f64.powi(2) + 1.0) * area;
+        for d in 2..=9 {
+            // Coefficients of f: interpolate its values at the domain points.
+            let idx = multi_indices(d);
+            let at = |m: &[usize; 3]| m.map(|x| x as f64 / d as f64);
+            let collocation: Matrix = idx
+                .iter()
+                .map(|p| {
+                    let l = at(p);
+                    idx.iter()
+                        .map(|m| {
+                            factorial(d) / (factorial(m[0]) * factorial(m[1]) * factorial(m[2]))
+                                * l[0].powi(m[0] as i32)
+                                * l[1].powi(m[1] as i32)
+                                * l[2].powi(m[2] as i32)
+                        })
+                        .collect()
+                })
+                .collect();
+            let inverse =
+                crate::linalg::invert(&collocation).expect("domain points are unisolvent");
+            let values: Vec<f64> = idx
+                .iter()
+                .map(|m| {
+                    let l = at(m);
+                    f(l[0] * corners[0] + l[1] * corners[1] + l[2] * corners[2])
+                })
+                .collect();
+            let coef: Vec<f64> = inverse
+                .iter()
+                .map(|row| row.iter().zip(&values).map(|(a, b)| a * b).sum())
+                .collect();
+            let q = thin_plate_matrix(d, corners);
+            let energy: f64 = (0..idx.len())
+                .map(|i| {
+                    (0..idx.len())
+                        .map(|j| coef[i] * q[i][j] * coef[j])
+                        .sum::<f64>()
+                })
+                .sum();
+            assert!(
+                (energy - expected).abs() < 1e-9 * expected,
+                "d = {d}: {energy} vs {expected}"
+            );
         }
     }
 }

@@ -11,27 +11,34 @@
 //!   p-patches `q ∘ x_s` with G^k (C^k in the chart across the inner edges);
 //! * at the outer boundary (rows `≤ k` along an outer edge, points within k of an outer
 //!   vertex) `D' = 0`, so `P = r` there to order k and `P` joins the regular surface C^k;
-//! * the remaining ("free") points lie in a band of `k + 1` rows in between. They are the
-//!   closest, in the least-squares sense, to the radial blend `φ D` (φ falling linearly from 1
-//!   at the inner rows to 0 at the outer rows) subject to the C^k conditions across the 3n
-//!   ring joints (the lattice parallelogram conditions: across an edge `P Q` of triangles
-//!   `(P, Q, a)` and `(Q, P, b)`, `b = P + Q − a` has barycentric coordinates `(1, 1, −1)`, and
-//!   row t of the second patch is the blossom of the first at `P^{i_P} Q^{i_Q} b^t`).
+//! * the remaining ("free") points lie in a band of `k + 1` rows in between. They minimise
+//!   the thin-plate energy `Σ ∫ |D'_xx|² + 2|D'_xy|² + |D'_yy|²` of the correction over the
+//!   3n triangles (each the unit equilateral triangle of the lattice), subject to the C^k
+//!   conditions across the 3n ring joints (the lattice parallelogram conditions: across an
+//!   edge `P Q` of triangles `(P, Q, a)` and `(Q, P, b)`, `b = P + Q − a` has barycentric
+//!   coordinates `(1, 1, −1)`, and row t of the second patch is the blossom of the first at
+//!   `P^{i_P} Q^{i_Q} b^t`). The correction so bends as little as it can: its second
+//!   derivatives, which add to the curvature of `P`, are spread over the whole band. (The
+//!   closest points to a radial blend `φ D`, tried first, bent the correction at the band's
+//!   edges and left a visible ring of low curvature in the curvature images at k = 3, 4.)
 //!
-//! This is "a small constrained solve": `min |f − f₀|²` subject to `M f = g` gives
-//! `f = f₀ + Mᵀ (M Mᵀ)⁻¹ (g − M f₀)`. `M`, the blend weights and `(M Mᵀ)⁻¹` depend only on
-//! (n, k), so they are computed once per valence and order and cached; each hole then costs a
-//! few sparse and one dense matrix–vector products. Conditions that involve no free point hold
-//! already (D is C^k, and so is 0) and are left out.
+//! This is "a small constrained solve": with the energy `½ fᵀ A f + fᵀ A_fp p` (A block
+//! diagonal, one block per triangle, positive definite because the prescribed rows fix the
+//! linear polynomials) and the conditions `M f = g`, the minimiser is
+//! `f = f* + A⁻¹ Mᵀ (M A⁻¹ Mᵀ)⁻¹ (g − M f*)` with `f* = −A⁻¹ A_fp p` the unconstrained one.
+//! The blocks, `M` and `(M A⁻¹ Mᵀ)⁻¹` depend only on (n, k), so they are computed once per
+//! valence and order and cached; each hole then costs a few sparse and one dense
+//! matrix–vector products. Conditions that involve no free point hold already (D is C^k, and
+//! so is 0) and are left out.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
-use crate::bezier::gram::{factorial, multi_indices};
+use crate::bezier::gram::{factorial, multi_indices, thin_plate_matrix};
 use crate::bezier::triangle::{index, point_count};
-use crate::linalg::invert;
+use crate::linalg::{Matrix, invert};
 
 /// What the adaptation does with one control point of a ring triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,21 +81,70 @@ fn ring_joints(n: usize) -> Vec<(usize, usize, usize, usize)> {
         .collect()
 }
 
+/// The thin-plate fairing of one kind of ring triangle: the free points, the prescribed inner
+/// points, and the energy blocks that map them.
+#[derive(Clone, Debug)]
+struct Fairing {
+    /// Local indices of the free points.
+    free: Vec<usize>,
+    /// Local indices of the inner points (prescribed `D' = D`; outer ones are 0).
+    inner: Vec<usize>,
+    /// `−A_ff⁻¹ A_f,inner`: the unconstrained minimiser from the inner values.
+    start: Matrix,
+    /// `A_ff⁻¹`.
+    inverse: Matrix,
+}
+
+impl Fairing {
+    fn new(roles: &[PointRole], energy: &Matrix) -> Option<Fairing> {
+        let pick = |role| {
+            (0..roles.len())
+                .filter(|&i| roles[i] == role)
+                .collect::<Vec<_>>()
+        };
+        let (free, inner) = (pick(PointRole::Free), pick(PointRole::Inner));
+        let block: Matrix = free
+            .iter()
+            .map(|&i| free.iter().map(|&j| energy[i][j]).collect())
+            .collect();
+        let inverse = invert(&block)?;
+        let start = inverse
+            .iter()
+            .map(|row| {
+                inner
+                    .iter()
+                    .map(|&c| {
+                        -row.iter()
+                            .zip(&free)
+                            .map(|(w, &j)| w * energy[j][c])
+                            .sum::<f64>()
+                    })
+                    .collect()
+            })
+            .collect();
+        Some(Fairing {
+            free,
+            inner,
+            start,
+            inverse,
+        })
+    }
+}
+
 /// The precomputed adaptation for one valence and order.
 #[derive(Debug)]
 pub struct Adaptation {
     degree: usize,
     roles: [Vec<PointRole>; 3],
-    /// Global point (`triangle · N + index`) of each free unknown.
-    free: Vec<usize>,
-    /// Blend weight φ of each free unknown.
-    blend: Vec<f64>,
+    fairing: [Fairing; 3],
+    /// First free unknown of each ring triangle (its free points are numbered in a row).
+    first_free: Vec<usize>,
     /// The kept conditions: (global point, coefficient), free and prescribed alike.
     rows: Vec<Vec<(usize, f64)>>,
     /// Free-unknown number of each global point (usize::MAX if not free).
     free_of: Vec<usize>,
-    /// `(M Mᵀ)⁻¹`.
-    inverse: Vec<Vec<f64>>,
+    /// `(M A⁻¹ Mᵀ)⁻¹`.
+    inverse: Matrix,
 }
 
 /// The rows of `M` that are independent of the rows before them, from the Gram matrix
@@ -141,19 +197,24 @@ impl Adaptation {
                 .map(|a| role(tau, *a, degree, k))
                 .collect::<Vec<_>>()
         });
+        // Δ and ∇ triangles of the lattice are congruent equilateral triangles, and the
+        // thin-plate energy is invariant under their rotations and reflections.
+        let equilateral = [DVec2::ZERO, DVec2::X, DVec2::new(0.5, 3f64.sqrt() / 2.0)];
+        let energy = thin_plate_matrix(degree, equilateral);
+        let fairing = [
+            Fairing::new(&roles[0], &energy)?,
+            Fairing::new(&roles[1], &energy)?,
+            Fairing::new(&roles[2], &energy)?,
+        ];
         let triangles = 3 * n;
-        let mut free = Vec::new();
-        let mut blend = Vec::new();
         let mut free_of = vec![usize::MAX; triangles * count];
-        let band = (degree - 2 * k) as f64;
+        let mut first_free = Vec::with_capacity(triangles);
+        let mut unknowns = 0;
         for t in 0..triangles {
-            for (i, a) in indices.iter().enumerate() {
-                if roles[t % 3][i] == PointRole::Free {
-                    let inner_level = if t % 3 == 1 { degree - a[1] } else { a[0] };
-                    free_of[t * count + i] = free.len();
-                    free.push(t * count + i);
-                    blend.push((inner_level - k) as f64 / band);
-                }
+            first_free.push(unknowns);
+            for &i in &fairing[t % 3].free {
+                free_of[t * count + i] = unknowns;
+                unknowns += 1;
             }
         }
         let mut rows = Vec::new();
@@ -183,54 +244,87 @@ impl Adaptation {
                 }
             }
         }
-        // M Mᵀ over the free columns.
-        let dense: Vec<Vec<(usize, f64)>> = rows
+        let adaptation = |rows, inverse| Adaptation {
+            degree,
+            roles: roles.clone(),
+            fairing: fairing.clone(),
+            first_free: first_free.clone(),
+            rows,
+            free_of: free_of.clone(),
+            inverse,
+        };
+        // M A⁻¹ Mᵀ over the free columns, rows of M sparse and A⁻¹ block diagonal.
+        let probe = adaptation(rows, Vec::new());
+        let sparse: Vec<Vec<(usize, f64)>> =
+            probe.rows.iter().map(|r| probe.free_part(r)).collect();
+        let weighted: Vec<Vec<(usize, f64)>> = sparse.iter().map(|a| probe.weigh(a)).collect();
+        let mut scatter = vec![0.0; unknowns];
+        let gram: Matrix = weighted
             .iter()
-            .map(|row| {
-                row.iter()
-                    .filter(|(p, _)| free_of[*p] != usize::MAX)
-                    .map(|(p, c)| (free_of[*p], *c))
-                    .collect()
-            })
-            .collect();
-        let mut scatter = vec![0.0; free.len()];
-        let gram: Vec<Vec<f64>> = dense
-            .iter()
-            .map(|a| {
-                for (j, c) in a {
+            .map(|wa| {
+                for (j, c) in wa {
                     scatter[*j] += c;
                 }
-                let out = dense
+                let out = sparse
                     .iter()
                     .map(|b| b.iter().map(|(j, c)| c * scatter[*j]).sum())
                     .collect();
-                for (j, _) in a {
+                for (j, _) in wa {
                     scatter[*j] = 0.0;
                 }
                 out
             })
             .collect();
         let independent = independent_rows(&gram);
-        let gram: Vec<Vec<f64>> = independent
+        let gram: Matrix = independent
             .iter()
             .map(|&i| independent.iter().map(|&j| gram[i][j]).collect())
             .collect();
-        let rows: Vec<Vec<(usize, f64)>> = independent.iter().map(|&i| rows[i].clone()).collect();
-        let inverse = invert(&gram)?;
-        Some(Adaptation {
-            degree,
-            roles,
-            free,
-            blend,
-            rows,
-            free_of,
-            inverse,
-        })
+        let rows = independent.iter().map(|&i| probe.rows[i].clone()).collect();
+        Some(adaptation(rows, invert(&gram)?))
+    }
+
+    /// The free entries of a condition row, as (unknown, coefficient).
+    fn free_part(&self, row: &[(usize, f64)]) -> Vec<(usize, f64)> {
+        row.iter()
+            .filter(|(p, _)| self.free_of[*p] != usize::MAX)
+            .map(|(p, c)| (self.free_of[*p], *c))
+            .collect()
+    }
+
+    /// `A⁻¹ a` for a sparse vector `a` over the free unknowns (sparse again: A⁻¹ acts within
+    /// the triangles `a` touches).
+    fn weigh(&self, a: &[(usize, f64)]) -> Vec<(usize, f64)> {
+        let mut triangles: Vec<usize> = a.iter().map(|(j, _)| self.triangle_of(*j)).collect();
+        triangles.sort_unstable();
+        triangles.dedup();
+        let mut out = Vec::new();
+        for t in triangles {
+            let first = self.first_free[t];
+            let fairing = &self.fairing[t % 3];
+            for (r, row) in fairing.inverse.iter().enumerate() {
+                let value: f64 = a
+                    .iter()
+                    .filter(|(j, _)| (first..first + row.len()).contains(j))
+                    .map(|(j, c)| row[j - first] * c)
+                    .sum();
+                out.push((first + r, value));
+            }
+        }
+        out
+    }
+
+    /// The ring triangle of free unknown `j`.
+    fn triangle_of(&self, j: usize) -> usize {
+        self.first_free.partition_point(|&f| f <= j) - 1
     }
 
     /// Number of free points and of conditions (for diagnostics).
     pub fn size(&self) -> (usize, usize) {
-        (self.free.len(), self.rows.len())
+        (
+            self.free_of.iter().filter(|&&f| f != usize::MAX).count(),
+            self.rows.len(),
+        )
     }
 
     /// The role of point `i` of ring triangle `tau`.
@@ -238,27 +332,19 @@ impl Adaptation {
         self.roles[tau][i]
     }
 
-    /// The correction `D'` for the differences `D` (all 3n nets, `3s + tau` order).
-    pub fn apply(&self, differences: &[Vec<DVec3>]) -> Vec<Vec<DVec3>> {
+    /// `g − M f` for the kept conditions, prescribed points at their values (`D` inner, 0
+    /// outer).
+    fn residual(&self, f: &[DVec3], differences: &[Vec<DVec3>]) -> Vec<DVec3> {
         let count = point_count(self.degree);
-        let value_of = |p: usize| differences[p / count][p % count];
-        let f0: Vec<DVec3> = self
-            .free
-            .iter()
-            .zip(&self.blend)
-            .map(|(&p, &phi)| phi * value_of(p))
-            .collect();
-        // Residual of the conditions at f₀, with prescribed points at their values.
-        let residual: Vec<DVec3> = self
-            .rows
+        self.rows
             .iter()
             .map(|row| {
                 -row.iter()
                     .map(|&(p, c)| {
                         let x = if self.free_of[p] != usize::MAX {
-                            f0[self.free_of[p]]
+                            f[self.free_of[p]]
                         } else if self.roles[(p / count) % 3][p % count] == PointRole::Inner {
-                            value_of(p)
+                            differences[p / count][p % count]
                         } else {
                             DVec3::ZERO
                         };
@@ -266,19 +352,55 @@ impl Adaptation {
                     })
                     .sum::<DVec3>()
             })
-            .collect();
+            .collect()
+    }
+
+    /// `f += A⁻¹ Mᵀ (M A⁻¹ Mᵀ)⁻¹ residual`: the least-energy change that removes `residual`.
+    fn correct(&self, f: &mut [DVec3], residual: &[DVec3]) {
         let y: Vec<DVec3> = self
             .inverse
             .iter()
-            .map(|row| row.iter().zip(&residual).map(|(w, r)| *w * *r).sum())
+            .map(|row| row.iter().zip(residual).map(|(w, r)| *w * *r).sum())
             .collect();
-        let mut f = f0;
+        let mut pushed = vec![DVec3::ZERO; f.len()];
         for (row, yi) in self.rows.iter().zip(&y) {
             for &(p, c) in row {
                 if self.free_of[p] != usize::MAX {
-                    f[self.free_of[p]] += c * *yi;
+                    pushed[self.free_of[p]] += c * *yi;
                 }
             }
+        }
+        for (t, &first) in self.first_free.iter().enumerate() {
+            let inverse = &self.fairing[t % 3].inverse;
+            for (r, row) in inverse.iter().enumerate() {
+                f[first + r] += row
+                    .iter()
+                    .zip(&pushed[first..first + row.len()])
+                    .map(|(w, z)| *w * *z)
+                    .sum::<DVec3>();
+            }
+        }
+    }
+
+    /// The correction `D'` for the differences `D` (all 3n nets, `3s + tau` order).
+    pub fn apply(&self, differences: &[Vec<DVec3>]) -> Vec<Vec<DVec3>> {
+        let count = point_count(self.degree);
+        // The unconstrained minimiser f* = −A⁻¹ A_fp p, triangle by triangle.
+        let mut f: Vec<DVec3> = Vec::with_capacity(self.free_of.len());
+        for (t, net) in differences.iter().enumerate() {
+            let fairing = &self.fairing[t % 3];
+            f.extend(fairing.start.iter().map(|row| {
+                row.iter()
+                    .zip(&fairing.inner)
+                    .map(|(w, &i)| *w * net[i])
+                    .sum::<DVec3>()
+            }));
+        }
+        // f += A⁻¹ Mᵀ (M A⁻¹ Mᵀ)⁻¹ (g − M f); the second round removes what rounding left
+        // of the residual (iterative refinement).
+        for _ in 0..2 {
+            let residual = self.residual(&f, differences);
+            self.correct(&mut f, &residual);
         }
         differences
             .iter()

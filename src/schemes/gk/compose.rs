@@ -37,23 +37,23 @@ impl Quadratic {
     /// The least-squares fit of `samples` (planar point, target point); `None` if the planar
     /// points do not determine a quadratic (they lie on a conic).
     pub fn fit(samples: &[(DVec2, DVec3)]) -> Option<Quadratic> {
-        let mut normal = vec![vec![0.0; 6]; 6];
-        let mut rhs = [DVec3::ZERO; 6];
-        for (p, target) in samples {
-            let m = monomials(*p);
-            for a in 0..6 {
-                for b in 0..6 {
-                    normal[a][b] += m[a] * m[b];
-                }
-                rhs[a] += m[a] * *target;
-            }
-        }
-        let inverse = invert(&normal)?;
-        let mut c = [DVec3::ZERO; 6];
-        for (a, row) in inverse.iter().enumerate() {
-            c[a] = row.iter().zip(&rhs).map(|(w, r)| *w * *r).sum();
-        }
-        Some(Quadratic(c))
+        let rows = samples
+            .iter()
+            .map(|(p, target)| (monomials(*p).to_vec(), *target));
+        let c = least_squares(rows, 6)?;
+        Some(Quadratic(std::array::from_fn(|i| c[i])))
+    }
+
+    /// The joint least-squares fit of q and a shift `δ` to targets that move with it:
+    /// `min Σ |q(p) − (r + β δ)|²` over samples (planar point p, target r, weight β).
+    pub fn fit_with_shift(samples: &[(DVec2, DVec3, f64)]) -> Option<(Quadratic, DVec3)> {
+        let rows = samples.iter().map(|(p, target, beta)| {
+            let mut basis = monomials(*p).to_vec();
+            basis.push(-beta);
+            (basis, *target)
+        });
+        let c = least_squares(rows, 7)?;
+        Some((Quadratic(std::array::from_fn(|i| c[i])), c[6]))
     }
 
     /// `q ∘ x` for a planar patch `x` (its z coordinates are ignored): a patch of degree 2d.
@@ -80,6 +80,31 @@ impl Quadratic {
         }
         TriangleBezier::new(2 * d, net)
     }
+}
+
+/// The least-squares solution of `Σ basis_i c_i ≈ target` over `rows` (by the normal
+/// equations; the bases here are small and well scaled), `None` if it is not unique.
+fn least_squares(
+    rows: impl Iterator<Item = (Vec<f64>, DVec3)>,
+    unknowns: usize,
+) -> Option<Vec<DVec3>> {
+    let mut normal = vec![vec![0.0; unknowns]; unknowns];
+    let mut rhs = vec![DVec3::ZERO; unknowns];
+    for (basis, target) in rows {
+        for (a, ba) in basis.iter().enumerate() {
+            for (b, bb) in basis.iter().enumerate() {
+                normal[a][b] += ba * bb;
+            }
+            rhs[a] += *ba * target;
+        }
+    }
+    let inverse = invert(&normal)?;
+    Some(
+        inverse
+            .iter()
+            .map(|row| row.iter().zip(&rhs).map(|(w, r)| *w * *r).sum())
+            .collect(),
+    )
 }
 
 /// The product of a scalar net of degree `d1` and a vector net of degree `d2`.

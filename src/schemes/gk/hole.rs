@@ -24,8 +24,8 @@ use crate::mesh::Mesh;
 use crate::schemes::gk::adapt::Adaptation;
 use crate::schemes::gk::box_spline::{ControlSite, GridTriangle};
 use crate::schemes::gk::compose::Quadratic;
-use crate::schemes::gk::plane::{RING_TRIANGLES, plane_sector, rotate};
-use crate::schemes::gk::regular::ControlNet;
+use crate::schemes::gk::plane::{PlaneSector, RING_TRIANGLES, plane_sector, rotate};
+use crate::schemes::gk::regular::{ControlNet, dual_point};
 use crate::schemes::gk::sector::{Rings, SectorSite, classify, resolve, sector_patch};
 
 /// One patch of a p-patch, in chart corner order.
@@ -57,40 +57,103 @@ fn chart_rings(k: usize) -> usize {
     2 + k.div_ceil(2)
 }
 
-/// Fills the hole of irregular vertex `v`.
-pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filling> {
-    let refuse = |what: &str| Error::Invalid(format!("gk: irregular vertex {v}: {what}"));
-    let n = mesh.valence(v);
-    let rings = Rings::around(mesh, v, chart_rings(k))
-        .ok_or_else(|| refuse("its rings are not regular (another irregular vertex nearby)"))?;
-    let multiple = control
-        .multiple(v)
-        .ok_or_else(|| refuse("it has no multiple vertex"))?;
+/// The surface ring `r` of irregular vertex `v` (3 patches of degree d per sector) with the
+/// multiple vertex at `multiple`.
+fn surface_ring(
+    mesh: &Mesh,
+    rings: &Rings,
+    control: &ControlNet,
+    k: usize,
+    multiple: DVec3,
+) -> Option<Vec<[TriangleBezier; 3]>> {
+    let n = mesh.valence(rings.centre);
+    let vertex = |sector: usize, p: [i32; 2]| -> Option<DVec3> {
+        match resolve(ControlSite::Vertex(p), sector, n, k)? {
+            SectorSite::Vertex(point) => rings.vertex(point).map(|w| control.vertex(w)),
+            _ => Some(multiple),
+        }
+    };
     let value = |sector: usize, site: ControlSite| -> Option<DVec3> {
         match resolve(site, sector, n, k)? {
             SectorSite::Multiple => Some(multiple),
             SectorSite::Vertex(point) => rings.vertex(point).map(|w| control.vertex(w)),
-            SectorSite::Face(corners) => rings.face(mesh, sector, corners).map(|f| control.face(f)),
+            SectorSite::Face(corners) => {
+                let [a, b, c] = corners.map(|p| vertex(sector, p));
+                Some(dual_point([a?, b?, c?]))
+            }
         }
     };
-    let ring: Vec<[TriangleBezier; 3]> = (0..n)
+    (0..n)
         .map(|s| {
-            let mut out = Vec::with_capacity(3);
-            for t in RING_TRIANGLES {
-                out.push(
-                    sector_patch(k, t, |site| value(s, site))
-                        .ok_or_else(|| refuse("a ring patch's subnet cannot be read"))?,
-                );
-            }
-            Ok([out[0].clone(), out[1].clone(), out[2].clone()])
+            let [a, b, c] = RING_TRIANGLES.map(|t| sector_patch(k, t, |site| value(s, site)));
+            Some([a?, b?, c?])
         })
-        .collect::<Result<_>>()?;
+        .collect()
+}
+
+/// The sector charts of `v` and its planar ring patches `x_{n+1..4n}`, rotated into place.
+fn charts(mesh: &Mesh, k: usize, v: u32) -> Result<(Rings, PlaneSector, Vec<[TriangleBezier; 3]>)> {
+    let n = mesh.valence(v);
+    let rings = Rings::around(mesh, v, chart_rings(k)).ok_or_else(|| {
+        refusal(
+            v,
+            "its rings are not regular (another irregular vertex nearby)",
+        )
+    })?;
     let planar = plane_sector(n, k);
-    let angle = |s: usize| TAU * s as f64 / n as f64;
-    let x_ring: Vec<[TriangleBezier; 3]> = (0..n)
-        .map(|s| planar.ring.clone().map(|p| rotate(&p, angle(s))))
+    let x_ring = (0..n)
+        .map(|s| planar.ring.clone().map(|p| rotate(&p, sector_angle(s, n))))
         .collect();
-    let q = fit_quadratic(&x_ring, &ring).ok_or_else(|| refuse("q cannot be fitted"))?;
+    Ok((rings, planar, x_ring))
+}
+
+fn refusal(v: u32, what: &str) -> Error {
+    Error::Invalid(format!("gk: irregular vertex {v}: {what}"))
+}
+
+fn sector_angle(s: usize, n: usize) -> f64 {
+    TAU * s as f64 / n as f64
+}
+
+/// Where the coalesced rings of irregular vertex `v` are placed: the multiple vertex `P`
+/// that, jointly with q, minimises `Σ |q(x(ξ)) − r_P(ξ)|²` over the sample grid of the ring.
+/// `r_P` is affine in P with one scalar weight per point (`r_P = r_0 + β P`), so this is the
+/// least-squares problem of [`Quadratic::fit_with_shift`]. The surface ring is then as close
+/// to a quadratic over the plane parametrization as the net allows, and the adaptation has
+/// the least to correct: on the deformed icosahedron `max |q ∘ x − r|` halves at k = 3, 4
+/// against `P = v`.
+pub fn placed_multiple(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<DVec3> {
+    let (rings, _, x_ring) = charts(mesh, k, v)?;
+    let start = control
+        .multiple(v)
+        .ok_or_else(|| refusal(v, "it has no multiple vertex"))?;
+    let unreadable = || refusal(v, "a ring patch's subnet cannot be read");
+    let base = surface_ring(mesh, &rings, control, k, start).ok_or_else(unreadable)?;
+    let moved = surface_ring(mesh, &rings, control, k, start + DVec3::X).ok_or_else(unreadable)?;
+    let mut samples = Vec::new();
+    for ((xs, rs), ms) in x_ring.iter().zip(&base).zip(&moved) {
+        for ((x, r), m) in xs.iter().zip(rs).zip(ms) {
+            for w in sample_grid() {
+                let (plane, at) = (x.eval(w), r.eval(w));
+                samples.push((DVec2::new(plane.x, plane.y), at, (m.eval(w) - at).x));
+            }
+        }
+    }
+    let (_, shift) =
+        Quadratic::fit_with_shift(&samples).ok_or_else(|| refusal(v, "q cannot be fitted"))?;
+    Ok(start + shift)
+}
+
+/// Fills the hole of irregular vertex `v`.
+pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filling> {
+    let n = mesh.valence(v);
+    let (rings, planar, x_ring) = charts(mesh, k, v)?;
+    let multiple = control
+        .multiple(v)
+        .ok_or_else(|| refusal(v, "it has no multiple vertex"))?;
+    let ring = surface_ring(mesh, &rings, control, k, multiple)
+        .ok_or_else(|| refusal(v, "a ring patch's subnet cannot be read"))?;
+    let q = fit_quadratic(&x_ring, &ring).ok_or_else(|| refusal(v, "q cannot be fitted"))?;
 
     let d = planar.inner.degree();
     let elevated: Vec<TriangleBezier> = ring
@@ -111,7 +174,7 @@ pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filli
         })
         .collect();
     let adaptation = Adaptation::get(n, k, 2 * d)
-        .ok_or_else(|| refuse("the adaptation conditions are dependent"))?;
+        .ok_or_else(|| refusal(v, "the adaptation conditions are dependent"))?;
     let corrections = adaptation.apply(&differences);
 
     let mut patches = Vec::with_capacity(4 * n);
@@ -125,12 +188,12 @@ pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filli
             face: inner_face,
             corners: corners_of(GridTriangle::UP),
             piece: 1,
-            patch: q.compose(&rotate(&planar.inner, angle(s))),
+            patch: q.compose(&rotate(&planar.inner, sector_angle(s, n))),
         });
         for (tau, t) in RING_TRIANGLES.iter().enumerate() {
             let face = rings
                 .face(mesh, s, t.corners())
-                .ok_or_else(|| refuse("a ring-2 face is missing"))?;
+                .ok_or_else(|| refusal(v, "a ring-2 face is missing"))?;
             let e = &elevated[3 * s + tau];
             let points = e
                 .points()
@@ -149,18 +212,23 @@ pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filli
     Ok(Filling { patches, ring, q })
 }
 
+/// Barycentric sample points of a ring patch for the fits (a grid of step 1/6).
+fn sample_grid() -> impl Iterator<Item = DVec3> {
+    const STEPS: usize = 6;
+    (0..=STEPS).flat_map(|a| {
+        (0..=STEPS - a)
+            .map(move |b| DVec3::new((STEPS - a - b) as f64, a as f64, b as f64) / STEPS as f64)
+    })
+}
+
 /// The least-squares quadratic with `q(x(ξ)) ≈ r(ξ)` on a grid over the ring patches.
 fn fit_quadratic(x: &[[TriangleBezier; 3]], r: &[[TriangleBezier; 3]]) -> Option<Quadratic> {
-    let steps = 6;
     let mut samples = Vec::new();
     for (xs, rs) in x.iter().zip(r) {
         for (xp, rp) in xs.iter().zip(rs) {
-            for a in 0..=steps {
-                for b in 0..=steps - a {
-                    let w = DVec3::new((steps - a - b) as f64, a as f64, b as f64) / steps as f64;
-                    let plane = xp.eval(w);
-                    samples.push((DVec2::new(plane.x, plane.y), rp.eval(w)));
-                }
+            for w in sample_grid() {
+                let plane = xp.eval(w);
+                samples.push((DVec2::new(plane.x, plane.y), rp.eval(w)));
             }
         }
     }

@@ -162,7 +162,9 @@ pub enum SectorSite {
     Multiple,
     /// The net vertex at this point.
     Vertex(SectorPoint),
-    /// The dual point of the lattice triangle with these corners (in the chart's order).
+    /// The dual point of the lattice triangle with these corners (in the chart's order): the
+    /// centroid of the corners' control points, each resolved as a vertex site (so the
+    /// n-gon's own dual points are the multiple vertex).
     Face([[i32; 2]; 3]),
 }
 
@@ -191,20 +193,12 @@ pub fn resolve(site: ControlSite, sector: usize, n: usize, k: usize) -> Option<S
             point => Some(SectorSite::Vertex(point)),
         },
         ControlSite::Face(f) => {
+            // A dual point is the centroid of its three corners, each read as a vertex.
             let corners = f.corners();
-            // The n-gon's own dual points are the faces at the centre; each further dual
-            // ring adds the faces one grid step further out.
-            let inner = corners.iter().map(|&c| ring_of(c)).min().unwrap_or(0);
-            let opposite = corners
+            let readable = corners
                 .iter()
-                .any(|&c| c != [0, 0] && classify(c, sector, n) == SectorPoint::Centre);
-            if inner <= coalesced {
-                Some(SectorSite::Multiple)
-            } else if opposite {
-                None
-            } else {
-                Some(SectorSite::Face(corners))
-            }
+                .all(|&c| resolve(ControlSite::Vertex(c), sector, n, k).is_some());
+            readable.then_some(SectorSite::Face(corners))
         }
     }
 }
