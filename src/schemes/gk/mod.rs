@@ -5,7 +5,9 @@
 //!    (`k = 2(m−1)`, degree `d = 3m − 2`) and the half-box splines (`k = 2m − 3`,
 //!    `d = 3(m−1)`) for one patch of a regular subnet [UP §2, §3].
 //! 2. [`refine`]: Loop refinement until irregular vertices are `k + 2` edges apart;
-//!    [`regular::ControlNet`] coalesces the inner rings around each irregular vertex.
+//!    [`regular::ControlNet`] coalesces the inner rings around each irregular vertex (k ≥ 3)
+//!    into a multiple vertex placed so that the surface ring is nearest a quadratic over the
+//!    plane parametrization ([`hole::placed_multiple`]).
 //! 3. [`regular`]: one patch per face with a regular subnet ([`chart`] finds the subnets).
 //! 4. [`hole`]: Construction 2.1 for every irregular vertex of valence n — the ring `r` from
 //!    the sector charts ([`sector`]), the plane parametrization `x` ([`plane`]), the
@@ -14,6 +16,8 @@
 //!
 //! Continuity: C^k in the lattice parametrisation across every joint except those between
 //! the n inner p-patches of a hole, which are G^∞ (one quadratic over an injective planar map).
+//! The adaptation spreads the difference between `q ∘ x` and `r` over the ring by least
+//! thin-plate energy, so the curvature stays smooth across the hole's border.
 //!
 //! Patches and faces: every patch belongs to the input face that contains its refined face
 //! (refinement splits each input face regularly), with `domain` the exact face-barycentric
@@ -65,6 +69,22 @@ pub fn order(params: &Params) -> Result<usize> {
     Ok(k as usize)
 }
 
+/// The control net of the prepared mesh: where rings coalesce (k ≥ 3), each multiple vertex
+/// is placed by [`hole::placed_multiple`].
+pub fn control_net(mesh: &Mesh, k: usize) -> Result<regular::ControlNet<'_>> {
+    let control = regular::ControlNet::new(mesh, k);
+    if sector::coalesced_rings(k) == 0 {
+        return Ok(control);
+    }
+    let multiples = (0..mesh.vertex_count() as u32)
+        .filter(|&v| mesh.valence(v) != 6)
+        .collect::<Vec<_>>()
+        .par_iter()
+        .map(|&v| hole::placed_multiple(mesh, &control, k, v).map(|p| (v, p)))
+        .collect::<Result<_>>()?;
+    Ok(regular::ControlNet::with_multiples(mesh, k, multiples))
+}
+
 /// The surface of the prepared net: regular patches, and with `fill_holes` the p-patches.
 pub fn surface_patches(
     net: &refine::RefinedNet,
@@ -75,14 +95,7 @@ pub fn surface_patches(
     let irregular: Vec<u32> = (0..mesh.vertex_count() as u32)
         .filter(|&v| mesh.valence(v) != 6)
         .collect();
-    let mut control = regular::ControlNet::new(mesh, k);
-    if fill_holes && sector::coalesced_rings(k) > 0 {
-        let multiples = irregular
-            .par_iter()
-            .map(|&v| hole::placed_multiple(mesh, &control, k, v).map(|p| (v, p)))
-            .collect::<Result<_>>()?;
-        control = regular::ControlNet::with_multiples(mesh, k, multiples);
-    }
+    let control = control_net(mesh, k)?;
     let mut faces: Vec<Option<(TriangleBezier, u8)>> = regular::regular_patches(&control, k)
         .into_iter()
         .map(|p| p.map(|p| (p, 0)))
