@@ -12,11 +12,10 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use smoothlab::mesh::generate::analytic::torus;
 use smoothlab::mesh::{Mesh, generate};
-use smoothlab::render::bvh::SubdivisionCriterion;
 use smoothlab::render::camera::Camera;
 use smoothlab::render::intersect::IntersectCounters;
 use smoothlab::render::job::surface_samples;
-use smoothlab::render::{NewtonSettings, Ray64, SurfaceTracer, Tracer};
+use smoothlab::render::{Ray64, SurfaceTracer, Tracer};
 use smoothlab::surface::Surface;
 
 /// Parameter points per patch, spread over the domain.
@@ -127,12 +126,7 @@ fn primary_rays(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(4));
     group.throughput(Throughput::Elements(rays.len() as u64));
     for (label, surface) in &surfaces {
-        let tracer = Tracer::new(
-            surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(surface).expect("tracer");
         let (hits, counters) = trace_all(&tracer, &rays);
         println!(
             "{label}: {} patches, {} leaves, build {:.0} ms; {hits}/{} rays hit; Newton runs \

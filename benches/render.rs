@@ -19,7 +19,7 @@ use smoothlab::render::camera::Camera;
 use smoothlab::render::intersect::IntersectCounters;
 use smoothlab::render::job::surface_samples;
 use smoothlab::render::tessellate::TessellatedTracer;
-use smoothlab::render::{NewtonSettings, Ray64, SurfaceTracer, Tracer};
+use smoothlab::render::{Ray64, SurfaceTracer, Tracer};
 use smoothlab::surface::Surface;
 
 /// 60 × 32 quads → 3840 faces → 15 360 hb patches.
@@ -82,12 +82,7 @@ fn bvh_build(c: &mut Criterion) {
 fn primary_rays(c: &mut Criterion) {
     let surface = hb_torus();
     let rays = camera_rays(&surface, 256);
-    let exact = Tracer::new(
-        &surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer");
+    let exact = Tracer::with_default_settings(&surface).expect("tracer");
     report_exact("hb torus 15k", &surface, &exact, &rays);
     let mut group = c.benchmark_group("primary_rays");
     group
@@ -122,12 +117,7 @@ fn report_exact(name: &str, surface: &Surface, exact: &Tracer, rays: &[Ray64]) {
 fn exact_vs_tessellated(c: &mut Criterion) {
     let surface = hb_torus_of(20, 10);
     let rays = camera_rays(&surface, 256);
-    let exact = Tracer::new(
-        &surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer");
+    let exact = Tracer::with_default_settings(&surface).expect("tracer");
     report_exact("hb torus 1600", &surface, &exact, &rays);
     let target = 0.01_f64.to_radians();
     let mut level = 8;
@@ -171,12 +161,7 @@ fn exact_vs_tessellated(c: &mut Criterion) {
 fn ray_stats(side: u32) {
     let surface = hb_torus();
     let rays = camera_rays(&surface, side);
-    let exact = Tracer::new(
-        &surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer");
+    let exact = Tracer::with_default_settings(&surface).expect("tracer");
     let (hits, counters) = trace_all(&exact, &rays);
     let per_million = 1e6 / rays.len() as f64;
     println!(

@@ -7,12 +7,11 @@ use std::path::PathBuf;
 use glam::DVec3;
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::{Triangles, icosahedron, mixed_valence};
-use smoothlab::render::bvh::SubdivisionCriterion;
 use smoothlab::render::cli::{RenderArgs, render_command};
 use smoothlab::render::intersect::IntersectCounters;
 use smoothlab::render::output::EXR_CHANNELS;
-use smoothlab::render::sampler::uniform;
-use smoothlab::render::{NewtonSettings, Ray64, Tracer};
+use smoothlab::render::sampler::{sphere_direction, uniform};
+use smoothlab::render::{Ray64, Tracer};
 use smoothlab::surface::Surface;
 
 fn hb(mesh: Triangles) -> Surface {
@@ -21,21 +20,9 @@ fn hb(mesh: Triangles) -> Surface {
     smoothlab::schemes::build("hb", &mesh, &[]).expect("hb builds on a closed mesh")
 }
 
-fn sphere_direction(seed: u64, i: u64) -> DVec3 {
-    let z = 2.0 * uniform(seed, i, 0, 0) - 1.0;
-    let phi = std::f64::consts::TAU * uniform(seed, i, 0, 1);
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    DVec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
 /// Shoots `rays` rays from points near the centre of a closed surface; returns the misses.
 fn escapes(surface: &Surface, rays: u64) -> (u64, IntersectCounters) {
-    let tracer = Tracer::new(
-        surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer");
+    let tracer = Tracer::with_default_settings(surface).expect("tracer");
     let centre = surface.bounds().center();
     let mut counters = IntersectCounters::default();
     let mut misses = 0;
@@ -237,12 +224,7 @@ fn primary_ray_throughput_probe() {
     let sampled = smoothlab::mesh::generate::analytic::torus(60, 32, 1.0, 0.35);
     let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).expect("torus");
     let surface = smoothlab::schemes::build("hb", &mesh, &[]).expect("hb");
-    let tracer = Tracer::new(
-        &surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer");
+    let tracer = Tracer::with_default_settings(&surface).expect("tracer");
     let camera = Camera::frame_points(&surface_samples(&surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
         .expect("camera");
     let side = 256u32;

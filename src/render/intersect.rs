@@ -170,6 +170,16 @@ impl<'s> Tracer<'s> {
         })
     }
 
+    /// [`Tracer::new`] with the default subdivision criterion and Newton settings (those of
+    /// `smoothlab render` without scene overrides).
+    pub fn with_default_settings(surface: &'s Surface) -> crate::Result<Tracer<'s>> {
+        Tracer::new(
+            surface,
+            &SubdivisionCriterion::default(),
+            NewtonSettings::default(),
+        )
+    }
+
     /// Largest distance of an accepted root from its ray:
     /// `residual_tolerance × diagonal + 256 ε × max |coordinate|`.
     pub fn root_tolerance(&self) -> f64 {
@@ -628,26 +638,13 @@ pub fn in_grown_triangle(tri: [DVec2; 3], uv: DVec2, tolerance: f64) -> bool {
 mod tests {
     use super::*;
     use crate::render::fixtures::{height_field_patch, octahedron_sphere};
-    use crate::render::sampler::uniform;
-
-    fn unit_direction(seed: u64, i: u64) -> DVec3 {
-        // Uniform on the sphere from two hashed numbers.
-        let z = 2.0 * uniform(seed, i, 0, 0) - 1.0;
-        let phi = std::f64::consts::TAU * uniform(seed, i, 0, 1);
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        DVec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
+    use crate::render::sampler::{sphere_direction, uniform};
 
     /// Every sampled point of a leaf's sub-patch lies in its oriented box.
     #[test]
     fn oriented_boxes_contain_their_sub_patches() {
         let surface = octahedron_sphere(4, 1.0, 1);
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         for leaf in &tracer.bvh.leaves {
             let patch = &surface.patches[leaf.patch as usize];
             let tri = leaf.tri();
@@ -669,12 +666,7 @@ mod tests {
     #[test]
     fn vertical_rays_hit_the_height_field_exactly() {
         let surface = height_field_patch();
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let mut counters = IntersectCounters::default();
         let mut worst = 0.0_f64;
         for i in 0..2000u64 {
@@ -702,18 +694,13 @@ mod tests {
     #[test]
     fn closed_surface_is_watertight_from_inside() {
         let surface = octahedron_sphere(3, 1.0, 1);
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let mut counters = IntersectCounters::default();
         let mut misses = 0;
         let rays = 20_000u64;
         for i in 0..rays {
             let origin = DVec3::new(0.11, -0.07, 0.05) * (i % 5) as f64;
-            let ray = Ray64::new(origin, unit_direction(11, i));
+            let ray = Ray64::new(origin, sphere_direction(11, i));
             if tracer
                 .closest_hit(&ray, 0.0, f64::INFINITY, &mut counters)
                 .is_none()
@@ -744,17 +731,12 @@ mod tests {
     #[test]
     fn closest_hit_equals_brute_force() {
         let surface = octahedron_sphere(4, 1.3, 1);
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let mut counters = IntersectCounters::default();
         let (mut hits, mut t_sum_bvh, mut t_sum_brute) = (0, 0.0, 0.0);
         for i in 0..3000u64 {
-            let origin = unit_direction(5, i) * 3.0;
-            let towards = unit_direction(6, i) * 0.9;
+            let origin = sphere_direction(5, i) * 3.0;
+            let towards = sphere_direction(6, i) * 0.9;
             let ray = Ray64::new(origin, towards - origin);
             let fast = tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counters);
             let slow = tracer.closest_hit_brute_force(&ray, 0.0, f64::INFINITY, &mut counters);
@@ -783,18 +765,13 @@ mod tests {
     #[test]
     fn hits_lie_on_ray_and_patch() {
         let surface = octahedron_sphere(5, 2.0, 1);
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let diag = surface.bounds().diagonal();
         let mut counters = IntersectCounters::default();
         let mut worst = 0.0_f64;
         for i in 0..5000u64 {
-            let origin = unit_direction(8, i) * 6.0;
-            let ray = Ray64::new(origin, unit_direction(9, i) * 1.5 - origin);
+            let origin = sphere_direction(8, i) * 6.0;
+            let ray = Ray64::new(origin, sphere_direction(9, i) * 1.5 - origin);
             if let Some(hit) = tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counters) {
                 let p = surface.patches[hit.patch as usize].eval(hit.u, hit.v);
                 worst = worst.max((p - ray.at(hit.t)).length() / diag);
