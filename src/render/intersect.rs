@@ -15,6 +15,7 @@
 //! closest hit by the caller.
 
 use glam::{DVec2, DVec3, Vec3A};
+use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray, RayHit};
 
 use crate::geom::Aabb;
@@ -195,36 +196,16 @@ impl<'s> Tracer<'s> {
         counters: &mut IntersectCounters,
     ) -> Option<Hit> {
         let planes = RayPlanes::new(ray);
-        // `+ 0.0` turns −0.0 into +0.0: obvhs picks the slab order from `d < 0` but the
-        // inverse direction from the sign bit, and the two disagree on −0.0.
-        let traversal = Ray::new(
-            ray.origin.as_vec3a(),
-            ray.dir.as_vec3a() + Vec3A::ZERO,
-            // The f32 bounds are widened by the padding so that rounding of t never culls a leaf.
-            (t_min - self.bvh.padding).max(0.0) as f32,
-            if t_max.is_finite() {
-                (t_max + self.bvh.padding) as f32
-            } else {
-                f32::INFINITY
+        closest_in_bvh(
+            &self.bvh.bvh,
+            self.bvh.padding,
+            ray,
+            t_min,
+            t_max,
+            |id, best_t| {
+                self.intersect_leaf(&self.bvh.leaves[id], ray, &planes, t_min, best_t, counters)
             },
-        );
-        let mut best: Option<Hit> = None;
-        let mut best_t = t_max;
-        let mut record = RayHit::none();
-        self.bvh.bvh.ray_traverse(traversal, &mut record, |_, id| {
-            let leaf = &self.bvh.leaves[id];
-            match self.intersect_leaf(leaf, ray, &planes, t_min, best_t, counters) {
-                Some(hit) => {
-                    best_t = hit.t;
-                    best = Some(hit);
-                    // Rounded up (plus padding) so that the f32 culling never drops a box
-                    // that may still hold a closer f64 hit.
-                    (hit.t + self.bvh.padding) as f32
-                }
-                None => f32::INFINITY,
-            }
-        });
-        best
+        )
     }
 
     /// The closest hit by testing every leaf (no BVH): the reference for tests.
@@ -610,6 +591,47 @@ fn planar_start(leaf: &Leaf, ray: &Ray64, escape: f64) -> Start {
         return Start::Outside;
     }
     Start::At(DVec2::new(b1, b2))
+}
+
+/// The closest of the hits `hit_of(primitive, t_max so far)` over the primitives of `bvh` whose
+/// boxes the ray enters, with `t ∈ (t_min, t_max)`: the traversal shared by the exact and the
+/// tessellated tracer.
+///
+/// The BVH is f32, so the traversal ray's interval is widened by `padding` (see
+/// [`crate::render::bvh::box_padding`]) and every closer hit shrinks it to `t + padding`,
+/// rounded to f32: rounding of t never culls a box that may still hold a closer f64 hit.
+pub(crate) fn closest_in_bvh(
+    bvh: &CwBvh,
+    padding: f64,
+    ray: &Ray64,
+    t_min: f64,
+    t_max: f64,
+    mut hit_of: impl FnMut(usize, f64) -> Option<Hit>,
+) -> Option<Hit> {
+    // `+ 0.0` turns −0.0 into +0.0: obvhs picks the slab order from `d < 0` but the
+    // inverse direction from the sign bit, and the two disagree on −0.0.
+    let traversal = Ray::new(
+        ray.origin.as_vec3a(),
+        ray.dir.as_vec3a() + Vec3A::ZERO,
+        (t_min - padding).max(0.0) as f32,
+        if t_max.is_finite() {
+            (t_max + padding) as f32
+        } else {
+            f32::INFINITY
+        },
+    );
+    let mut best: Option<Hit> = None;
+    let mut best_t = t_max;
+    let mut record = RayHit::none();
+    bvh.ray_traverse(traversal, &mut record, |_, id| match hit_of(id, best_t) {
+        Some(hit) => {
+            best_t = hit.t;
+            best = Some(hit);
+            (hit.t + padding) as f32
+        }
+        None => f32::INFINITY,
+    });
+    best
 }
 
 /// Leaf-local start points tried after a grazing ray's run from the centroid found no root in
