@@ -271,22 +271,7 @@ fn metrics_json_has_the_contract_keys() {
     let list = value.as_array().expect("a list, one object per scheme");
     assert_eq!(list.len(), 1);
     let m = &list[0];
-    for key in [
-        "scheme",
-        "params",
-        "faces",
-        "patches",
-        "construct_ms",
-        "interp_max_rel",
-        "g0_max_rel",
-        "g1_max_rad",
-        "g1_mean_rad",
-        "g1_between_faces_max_rad",
-        "g1_inside_faces_max_rad",
-        "curvature_jump_max_rel",
-        "continuity_order",
-        "min_regularity_rel",
-    ] {
+    for key in smoothlab::metrics::CONTRACT_KEYS {
         assert!(m.get(key).is_some(), "missing key {key} in {m}");
     }
     assert_eq!(m["scheme"], "pn");
