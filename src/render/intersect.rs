@@ -408,14 +408,9 @@ impl<'s> Tracer<'s> {
             if iterations == settings.max_iterations {
                 return Newton::Failed;
             }
-            let ju = planes.project(su);
-            let jv = planes.project(sv);
-            let det = ju.perp_dot(jv);
-            if det == 0.0 || !det.is_finite() {
+            let Some(step) = planes.newton_step(f, su, sv) else {
                 return Newton::Failed;
-            }
-            // Solve [ju jv] Δ = f by Cramer's rule.
-            let step = DVec2::new(f.perp_dot(jv), ju.perp_dot(f)) / det;
+            };
             uv -= step;
             iterations += 1;
             // Taylor: after an exact Newton step the residual is at most ½ M |Δ|² (M bounds
@@ -471,14 +466,9 @@ impl<'s> Tracer<'s> {
                 return Newton::Failed;
             }
             previous = residual;
-            let js = planes.project(ss);
-            let jt = planes.project(tt);
-            let det = js.perp_dot(jt);
-            if det == 0.0 || !det.is_finite() {
+            let Some(step) = planes.newton_step(f, ss, tt) else {
                 return Newton::Failed;
-            }
-            // Solve [js jt] Δ = f by Cramer's rule.
-            let step = DVec2::new(f.perp_dot(jt), js.perp_dot(f)) / det;
+            };
             let was_inside = inside(st);
             st -= step;
             iterations += 1;
