@@ -156,6 +156,19 @@ impl Params {
         }
     }
 
+    /// `name` as a finite number greater than zero; `why` says what a value ≤ 0 would break.
+    pub fn positive_number(&self, name: &str, why: &str) -> Result<f64> {
+        let x = self.number(name)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(Error::BadParam {
+                name: name.to_string(),
+                reason: format!("must be > 0 ({why}), got {x}"),
+            })
+        }
+    }
+
     /// `name` as one of `choices`.
     pub fn choice<'a>(&self, name: &str, choices: &[&'a str]) -> Result<&'a str> {
         let text = self.text(name);

@@ -149,3 +149,14 @@ fn locality() {
         assert!(changed_inside > 0, "moving vertex {moved} changed nothing");
     }
 }
+
+#[test]
+fn non_positive_beta_is_a_typed_error_naming_beta() {
+    for beta in ["0", "-0.5"] {
+        let err = shape_params(&params(&SPEC, &[("beta", beta)])).unwrap_err();
+        assert!(
+            matches!(&err, Error::BadParam { name, .. } if name == "beta"),
+            "beta = {beta}: {err}"
+        );
+    }
+}
