@@ -2,29 +2,21 @@
 //! one `error: …` line naming the element at fault; good input writes the contracted files.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+use common::smoothlab;
+
+mod common;
 
 /// A fresh directory for one test's files.
 fn scratch(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("cli")
-        .join(test);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch directory");
-    dir
+    common::scratch("cli", test)
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write test file");
     path
-}
-
-fn smoothlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_smoothlab"))
-        .args(args)
-        .output()
-        .expect("run smoothlab")
 }
 
 fn stderr(out: &Output) -> String {

@@ -14,6 +14,8 @@ use smoothlab::render::sampler::{sphere_direction, uniform};
 use smoothlab::render::{Ray64, Tracer};
 use smoothlab::surface::Surface;
 
+mod common;
+
 fn hb(mesh: Triangles) -> Surface {
     let (positions, faces) = mesh;
     let (mesh, _) = Mesh::from_triangles(positions, faces).expect("valid generated mesh");
@@ -57,12 +59,6 @@ fn hb_with_valence_16_vertices_is_watertight_from_inside() {
     );
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("smoothlab-render-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
 fn write_obj(dir: &std::path::Path, (positions, faces): Triangles) -> PathBuf {
     let mut text = String::new();
     for p in positions {
@@ -80,7 +76,7 @@ fn write_obj(dir: &std::path::Path, (positions, faces): Triangles) -> PathBuf {
 /// patch `patch_id` at `(u, v)` and lies on the pixel's ray (to f32 precision of the file).
 #[test]
 fn render_command_writes_png_exr_and_stats() {
-    let dir = temp_dir("cmd");
+    let dir = common::scratch("render", "cmd");
     let obj = write_obj(&dir, icosahedron());
     let stem = dir.join("ico");
     let stats_path = dir.join("stats.json");
@@ -179,7 +175,7 @@ fn render_command_errors_name_the_problem() {
     let err = render_command(&missing).expect_err("missing file");
     assert!(err.to_string().contains("/nonexistent/mesh.obj"), "{err}");
 
-    let dir = temp_dir("err");
+    let dir = common::scratch("render", "err");
     let obj = write_obj(&dir, icosahedron());
     let bad_mode = RenderArgs {
         input: obj,
