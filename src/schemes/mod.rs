@@ -15,7 +15,7 @@ pub mod vertex_rings;
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, NormalSource};
-use crate::surface::Surface;
+use crate::surface::{Patch, Surface};
 
 /// One parameter a scheme understands.
 #[derive(Clone, Copy, Debug)]
@@ -133,6 +133,16 @@ impl Params {
     /// All values, defaults filled in, in the scheme's order.
     pub fn values(&self) -> &[(String, String)] {
         &self.values
+    }
+
+    /// The surface of `patches` built by scheme `scheme` with these parameters (both recorded
+    /// in it, for export and the metrics).
+    pub fn surface(&self, scheme: &str, patches: Vec<Patch>) -> Surface {
+        Surface {
+            scheme: scheme.to_string(),
+            params: self.values.clone(),
+            patches,
+        }
     }
 
     /// The text value of `name` (which the scheme declared).

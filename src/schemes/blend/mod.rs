@@ -272,11 +272,7 @@ pub fn build_blend(
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(Surface {
-        scheme: scheme.to_string(),
-        params: params.values().to_vec(),
-        patches,
-    })
+    Ok(params.surface(scheme, patches))
 }
 
 /// The integer parameter `t` in `range`.

@@ -175,11 +175,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
         })
         .collect();
     let patches: Vec<Patch> = per_face.into_iter().flatten().collect();
-    Ok(Surface {
-        scheme: SPEC.name.to_string(),
-        params: params.values().to_vec(),
-        patches,
-    })
+    Ok(params.surface(SPEC.name, patches))
 }
 
 /// Largest disagreement between the two ways of computing the points two edges share at a

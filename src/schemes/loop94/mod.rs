@@ -84,11 +84,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
             geometry: PatchGeometry::Bezier(sextic(&face_edges(&table, *face, f))),
         })
         .collect();
-    Ok(Surface {
-        scheme: SPEC.name.to_string(),
-        params: params.values().to_vec(),
-        patches,
-    })
+    Ok(params.surface(SPEC.name, patches))
 }
 
 /// Largest disagreement of the twist points computed from either edge, and of Loop's middle
