@@ -4,9 +4,12 @@
 use std::hint::black_box;
 use std::time::Duration;
 
+use common::parameter_spread;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use smoothlab::bezier::TriangleBezier;
+
+mod common;
 
 /// Parameter points per iteration, spread over the domain so branch prediction sees variety.
 const SAMPLES: usize = 1024;
@@ -21,13 +24,7 @@ fn quintic() -> TriangleBezier {
 
 fn jet_throughput(c: &mut Criterion) {
     let patch = quintic();
-    let params: Vec<(f64, f64)> = (0..SAMPLES)
-        .map(|n| {
-            let u = (n as f64 * 0.618_033_988_75).fract();
-            let v = (n as f64 * 0.754_877_666_25).fract() * (1.0 - u);
-            (u, v)
-        })
-        .collect();
+    let params = parameter_spread(SAMPLES);
     let mut group = c.benchmark_group("triangle");
     group.throughput(Throughput::Elements(SAMPLES as u64));
     group.bench_function("jet_quintic", |b| {

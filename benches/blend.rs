@@ -8,16 +8,15 @@
 use std::hint::black_box;
 use std::time::Duration;
 
+use common::{camera_rays, parameter_spread, ray_throughput_group, trace_all};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use smoothlab::mesh::generate::analytic::torus;
 use smoothlab::mesh::{Mesh, generate};
-use smoothlab::render::bvh::SubdivisionCriterion;
-use smoothlab::render::camera::Camera;
-use smoothlab::render::intersect::IntersectCounters;
-use smoothlab::render::job::surface_samples;
-use smoothlab::render::{NewtonSettings, Ray64, SurfaceTracer, Tracer};
+use smoothlab::render::{SurfaceTracer, Tracer};
 use smoothlab::surface::Surface;
+
+mod common;
 
 /// Parameter points per patch, spread over the domain.
 const SAMPLES: usize = 64;
@@ -44,13 +43,7 @@ fn build(
 }
 
 fn jet_throughput(c: &mut Criterion) {
-    let params: Vec<(f64, f64)> = (0..SAMPLES)
-        .map(|n| {
-            let u = (n as f64 * 0.618_033_988_75).fract();
-            let v = (n as f64 * 0.754_877_666_25).fract() * (1.0 - u);
-            (u, v)
-        })
-        .collect();
+    let params = parameter_spread(SAMPLES);
     let mut group = c.benchmark_group("patch_jet");
     for (label, scheme, p) in [
         ("hb", "hb", vec![]),
@@ -77,35 +70,6 @@ fn jet_throughput(c: &mut Criterion) {
     group.finish();
 }
 
-/// Camera rays of a `side × side` image framing `surface`.
-fn camera_rays(surface: &Surface, side: u32) -> Vec<Ray64> {
-    let camera = Camera::frame_points(&surface_samples(surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
-        .expect("camera");
-    let mut rays = Vec::with_capacity((side * side) as usize);
-    for y in 0..side {
-        for x in 0..side {
-            let nx = 2.0 * (f64::from(x) + 0.5) / f64::from(side) - 1.0;
-            let ny = 1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(side);
-            rays.push(camera.ray(nx, ny, 1.0));
-        }
-    }
-    rays
-}
-
-fn trace_all(tracer: &Tracer, rays: &[Ray64]) -> (u64, IntersectCounters) {
-    let mut counters = IntersectCounters::default();
-    let mut hits = 0;
-    for ray in rays {
-        if tracer
-            .closest_hit(ray, 0.0, f64::INFINITY, &mut counters)
-            .is_some()
-        {
-            hits += 1;
-        }
-    }
-    (hits, counters)
-}
-
 fn primary_rays(c: &mut Criterion) {
     // 40 × 20 quads → 1600 faces: 6400 hb patches, 1600 blend patches.
     let sampled = torus(40, 20, 1.0, 0.35);
@@ -121,18 +85,9 @@ fn primary_rays(c: &mut Criterion) {
     })
     .collect();
     let rays = camera_rays(&surfaces[0].1, 128);
-    let mut group = c.benchmark_group("primary_rays_torus_1600_faces");
-    group
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(4));
-    group.throughput(Throughput::Elements(rays.len() as u64));
+    let mut group = ray_throughput_group(c, "primary_rays_torus_1600_faces", rays.len(), 4);
     for (label, surface) in &surfaces {
-        let tracer = Tracer::new(
-            surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(surface).expect("tracer");
         let (hits, counters) = trace_all(&tracer, &rays);
         println!(
             "{label}: {} patches, {} leaves, build {:.0} ms; {hits}/{} rays hit; Newton runs \

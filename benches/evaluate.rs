@@ -5,22 +5,19 @@
 use std::hint::black_box;
 use std::time::Duration;
 
+use common::parameter_spread;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use smoothlab::mesh::{Mesh, generate};
 use smoothlab::schemes;
+
+mod common;
 
 const SAMPLES: usize = 4096;
 
 fn evaluate(c: &mut Criterion) {
     let (p, f) = generate::deformed_icosahedron();
     let (mesh, _) = Mesh::from_triangles(p, f).expect("valid");
-    let params: Vec<(f64, f64)> = (0..SAMPLES)
-        .map(|n| {
-            let u = (n as f64 * 0.618_033_988_75).fract();
-            let v = (n as f64 * 0.754_877_666_25).fract() * (1.0 - u);
-            (u, v)
-        })
-        .collect();
+    let params = parameter_spread(SAMPLES);
     let mut group = c.benchmark_group("evaluate");
     group.sample_size(20);
     group.measurement_time(Duration::from_secs(2));

@@ -11,16 +11,16 @@
 use std::hint::black_box;
 use std::time::Duration;
 
+use common::{camera_rays, ray_throughput_group, trace_all};
 use criterion::{Criterion, Throughput, criterion_group};
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::analytic::torus;
 use smoothlab::render::bvh::{PatchBvh, SubdivisionCriterion};
-use smoothlab::render::camera::Camera;
-use smoothlab::render::intersect::IntersectCounters;
-use smoothlab::render::job::surface_samples;
 use smoothlab::render::tessellate::TessellatedTracer;
-use smoothlab::render::{NewtonSettings, Ray64, SurfaceTracer, Tracer};
+use smoothlab::render::{Ray64, SurfaceTracer, Tracer};
 use smoothlab::surface::Surface;
+
+mod common;
 
 /// 60 × 32 quads → 3840 faces → 15 360 hb patches.
 fn hb_torus() -> Surface {
@@ -32,38 +32,6 @@ fn hb_torus_of(major: u32, minor: u32) -> Surface {
     let sampled = torus(major, minor, 1.0, 0.35);
     let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).expect("torus mesh");
     smoothlab::schemes::build("hb", &mesh, &[]).expect("hb on the torus")
-}
-
-/// Camera rays of a `side × side` image framing the surface.
-fn camera_rays(surface: &Surface, side: u32) -> Vec<Ray64> {
-    let camera = Camera::frame_points(&surface_samples(surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
-        .expect("camera");
-    let mut rays = Vec::with_capacity((side * side) as usize);
-    for y in 0..side {
-        for x in 0..side {
-            let nx = 2.0 * (f64::from(x) + 0.5) / f64::from(side) - 1.0;
-            let ny = 1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(side);
-            rays.push(camera.ray(nx, ny, 1.0));
-        }
-    }
-    rays
-}
-
-/// Not inlined so that `valgrind --tool=callgrind --toggle-collect='*trace_all*'` counts the
-/// tracing alone.
-#[inline(never)]
-fn trace_all<T: SurfaceTracer>(tracer: &T, rays: &[Ray64]) -> (u64, IntersectCounters) {
-    let mut counters = IntersectCounters::default();
-    let mut hits = 0;
-    for ray in rays {
-        if tracer
-            .closest_hit(ray, 0.0, f64::INFINITY, &mut counters)
-            .is_some()
-        {
-            hits += 1;
-        }
-    }
-    (hits, counters)
 }
 
 fn bvh_build(c: &mut Criterion) {
@@ -82,18 +50,9 @@ fn bvh_build(c: &mut Criterion) {
 fn primary_rays(c: &mut Criterion) {
     let surface = hb_torus();
     let rays = camera_rays(&surface, 256);
-    let exact = Tracer::new(
-        &surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer");
+    let exact = Tracer::with_default_settings(&surface).expect("tracer");
     report_exact("hb torus 15k", &surface, &exact, &rays);
-    let mut group = c.benchmark_group("primary_rays");
-    group
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(5));
-    group.throughput(Throughput::Elements(rays.len() as u64));
+    let mut group = ray_throughput_group(c, "primary_rays", rays.len(), 5);
     group.bench_function("exact_hb_torus_15k", |b| {
         b.iter(|| trace_all(&exact, black_box(&rays)))
     });
@@ -122,12 +81,7 @@ fn report_exact(name: &str, surface: &Surface, exact: &Tracer, rays: &[Ray64]) {
 fn exact_vs_tessellated(c: &mut Criterion) {
     let surface = hb_torus_of(20, 10);
     let rays = camera_rays(&surface, 256);
-    let exact = Tracer::new(
-        &surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer");
+    let exact = Tracer::with_default_settings(&surface).expect("tracer");
     report_exact("hb torus 1600", &surface, &exact, &rays);
     let target = 0.01_f64.to_radians();
     let mut level = 8;
@@ -150,11 +104,7 @@ fn exact_vs_tessellated(c: &mut Criterion) {
         "memory exact / tessellated = {:.4}",
         exact.memory_bytes() as f64 / tessellated.memory_bytes() as f64
     );
-    let mut group = c.benchmark_group("exact_vs_tessellated");
-    group
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(5));
-    group.throughput(Throughput::Elements(rays.len() as u64));
+    let mut group = ray_throughput_group(c, "exact_vs_tessellated", rays.len(), 5);
     group.bench_function("exact_hb_torus_1600", |b| {
         b.iter(|| trace_all(&exact, black_box(&rays)))
     });
@@ -171,12 +121,7 @@ fn exact_vs_tessellated(c: &mut Criterion) {
 fn ray_stats(side: u32) {
     let surface = hb_torus();
     let rays = camera_rays(&surface, side);
-    let exact = Tracer::new(
-        &surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer");
+    let exact = Tracer::with_default_settings(&surface).expect("tracer");
     let (hits, counters) = trace_all(&exact, &rays);
     let per_million = 1e6 / rays.len() as f64;
     println!(

@@ -263,6 +263,21 @@ pub fn run_metrics(
     })
 }
 
+/// Builds `scheme` with the raw `--param` values on the mesh file at `mesh_path`; the scheme
+/// name and the parameter syntax are checked before the (possibly slow) mesh load. Returns the
+/// mesh, the surface and the loading warnings.
+fn build_on_file(
+    mesh_path: &Path,
+    scheme: &str,
+    raw_params: &[String],
+) -> Result<(Mesh, Surface, Vec<String>)> {
+    let params = parse_params(raw_params)?;
+    schemes::find(scheme)?;
+    let (mesh, warnings) = load_mesh(mesh_path)?;
+    let (surface, _) = build_timed(scheme, &mesh, &params)?;
+    Ok((mesh, surface, warnings))
+}
+
 /// `smoothlab export MESH --scheme S --format json|bv|obj -o F [--tess N] [--param k=v]…`.
 pub fn run_export(
     mesh_path: &Path,
@@ -272,10 +287,7 @@ pub fn run_export(
     tess: usize,
     raw_params: &[String],
 ) -> Result<Output> {
-    let params = parse_params(raw_params)?;
-    schemes::find(scheme)?;
-    let (mesh, warnings) = load_mesh(mesh_path)?;
-    let (surface, _) = build_timed(scheme, &mesh, &params)?;
+    let (_, surface, warnings) = build_on_file(mesh_path, scheme, raw_params)?;
     write_file(out_path, &export::export(&surface, format, tess)?)?;
     Ok(Output {
         stdout: format!(
@@ -296,10 +308,7 @@ pub fn run_sample(
     raw_params: &[String],
     json: &Path,
 ) -> Result<Output> {
-    let params = parse_params(raw_params)?;
-    schemes::find(scheme)?;
-    let (mesh, warnings) = load_mesh(mesh_path)?;
-    let (surface, _) = build_timed(scheme, &mesh, &params)?;
+    let (mesh, surface, warnings) = build_on_file(mesh_path, scheme, raw_params)?;
     let samples = export::samples::edge_samples(&surface, &mesh)?;
     let text = serde_json::to_string(&samples)
         .map_err(|e| Error::Invalid(format!("edge samples JSON: {e}")))?;

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use smoothlab::app::{self, Output};
 use smoothlab::export::Format;
 
@@ -21,25 +21,16 @@ struct Cli {
 enum Command {
     /// Build one scheme (or all) on a mesh and print the smoothness metrics.
     Metrics {
-        /// The mesh (OBJ).
-        mesh: PathBuf,
-        /// Scheme name, or `all`.
-        #[arg(long)]
-        scheme: String,
-        /// Scheme parameter `name=value` (repeatable).
-        #[arg(long = "param", value_name = "NAME=VALUE")]
-        params: Vec<String>,
+        #[command(flatten)]
+        input: SchemeOnMesh,
         /// Also write the metrics JSON here.
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
     /// Build a scheme on a mesh and write its patches.
     Export {
-        /// The mesh (OBJ).
-        mesh: PathBuf,
-        /// Scheme name.
-        #[arg(long)]
-        scheme: String,
+        #[command(flatten)]
+        input: SchemeOnMesh,
         /// Output format.
         #[arg(long, value_enum)]
         format: FormatArg,
@@ -49,21 +40,12 @@ enum Command {
         /// Subdivisions per patch edge (obj only).
         #[arg(long, default_value_t = 8)]
         tess: usize,
-        /// Scheme parameter `name=value` (repeatable).
-        #[arg(long = "param", value_name = "NAME=VALUE")]
-        params: Vec<String>,
     },
     /// Build a scheme on a mesh and write, for every shared edge, points and normals sampled
     /// from both of its faces (edge-samples JSON).
     Sample {
-        /// The mesh (OBJ).
-        mesh: PathBuf,
-        /// Scheme name.
-        #[arg(long)]
-        scheme: String,
-        /// Scheme parameter `name=value` (repeatable).
-        #[arg(long = "param", value_name = "NAME=VALUE")]
-        params: Vec<String>,
+        #[command(flatten)]
+        input: SchemeOnMesh,
         /// Output file.
         #[arg(long, value_name = "FILE")]
         json: PathBuf,
@@ -97,6 +79,19 @@ enum Command {
         #[arg(required = true)]
         specs: Vec<PathBuf>,
     },
+}
+
+/// The mesh a command builds a surface on, and the scheme with its parameters.
+#[derive(Args)]
+struct SchemeOnMesh {
+    /// The mesh (OBJ).
+    mesh: PathBuf,
+    /// Scheme name (`smoothlab schemes` lists them; `metrics` also takes `all`).
+    #[arg(long)]
+    scheme: String,
+    /// Scheme parameter `name=value` (repeatable).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -145,26 +140,25 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                 failed: false,
             })
         }
-        Some(Command::Metrics {
-            mesh,
-            scheme,
-            params,
-            json,
-        }) => app::run_metrics(&mesh, &scheme, &params, json.as_deref()),
+        Some(Command::Metrics { input, json }) => {
+            app::run_metrics(&input.mesh, &input.scheme, &input.params, json.as_deref())
+        }
         Some(Command::Export {
-            mesh,
-            scheme,
+            input,
             format,
             output,
             tess,
-            params,
-        }) => app::run_export(&mesh, &scheme, format.into(), &output, tess, &params),
-        Some(Command::Sample {
-            mesh,
-            scheme,
-            params,
-            json,
-        }) => app::run_sample(&mesh, &scheme, &params, &json),
+        }) => app::run_export(
+            &input.mesh,
+            &input.scheme,
+            format.into(),
+            &output,
+            tess,
+            &input.params,
+        ),
+        Some(Command::Sample { input, json }) => {
+            app::run_sample(&input.mesh, &input.scheme, &input.params, &json)
+        }
         Some(Command::Schemes) => Ok(app::run_schemes()),
         Some(Command::Report { out }) => app::run_report(&out),
         Some(Command::Compare {

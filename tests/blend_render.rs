@@ -4,9 +4,8 @@
 
 use glam::DVec3;
 use smoothlab::mesh::{Mesh, generate};
-use smoothlab::render::bvh::SubdivisionCriterion;
 use smoothlab::render::intersect::IntersectCounters;
-use smoothlab::render::{NewtonSettings, Ray64, Tracer};
+use smoothlab::render::{Ray64, Tracer};
 use smoothlab::surface::Surface;
 
 fn mesh() -> Mesh {
@@ -54,12 +53,7 @@ fn near_vertex_targets(mesh: &Mesh) -> Vec<DVec3> {
 }
 
 fn tracer(surface: &Surface) -> Tracer<'_> {
-    Tracer::new(
-        surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer")
+    Tracer::with_default_settings(surface).expect("tracer")
 }
 
 /// Every ray from inside hits: random directions from a few interior origins, and rays aimed

@@ -2,29 +2,21 @@
 //! one `error: …` line naming the element at fault; good input writes the contracted files.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+use common::smoothlab;
+
+mod common;
 
 /// A fresh directory for one test's files.
 fn scratch(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("cli")
-        .join(test);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch directory");
-    dir
+    common::scratch("cli", test)
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write test file");
     path
-}
-
-fn smoothlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_smoothlab"))
-        .args(args)
-        .output()
-        .expect("run smoothlab")
 }
 
 fn stderr(out: &Output) -> String {
@@ -271,22 +263,7 @@ fn metrics_json_has_the_contract_keys() {
     let list = value.as_array().expect("a list, one object per scheme");
     assert_eq!(list.len(), 1);
     let m = &list[0];
-    for key in [
-        "scheme",
-        "params",
-        "faces",
-        "patches",
-        "construct_ms",
-        "interp_max_rel",
-        "g0_max_rel",
-        "g1_max_rad",
-        "g1_mean_rad",
-        "g1_between_faces_max_rad",
-        "g1_inside_faces_max_rad",
-        "curvature_jump_max_rel",
-        "continuity_order",
-        "min_regularity_rel",
-    ] {
+    for key in smoothlab::metrics::CONTRACT_KEYS {
         assert!(m.get(key).is_some(), "missing key {key} in {m}");
     }
     assert_eq!(m["scheme"], "pn");

@@ -7,13 +7,14 @@ use std::path::PathBuf;
 use glam::DVec3;
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::{Triangles, icosahedron, mixed_valence};
-use smoothlab::render::bvh::SubdivisionCriterion;
 use smoothlab::render::cli::{RenderArgs, render_command};
 use smoothlab::render::intersect::IntersectCounters;
 use smoothlab::render::output::EXR_CHANNELS;
-use smoothlab::render::sampler::uniform;
-use smoothlab::render::{NewtonSettings, Ray64, Tracer};
+use smoothlab::render::sampler::{sphere_direction, uniform};
+use smoothlab::render::{Ray64, Tracer};
 use smoothlab::surface::Surface;
+
+mod common;
 
 fn hb(mesh: Triangles) -> Surface {
     let (positions, faces) = mesh;
@@ -21,21 +22,9 @@ fn hb(mesh: Triangles) -> Surface {
     smoothlab::schemes::build("hb", &mesh, &[]).expect("hb builds on a closed mesh")
 }
 
-fn sphere_direction(seed: u64, i: u64) -> DVec3 {
-    let z = 2.0 * uniform(seed, i, 0, 0) - 1.0;
-    let phi = std::f64::consts::TAU * uniform(seed, i, 0, 1);
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    DVec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
 /// Shoots `rays` rays from points near the centre of a closed surface; returns the misses.
 fn escapes(surface: &Surface, rays: u64) -> (u64, IntersectCounters) {
-    let tracer = Tracer::new(
-        surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer");
+    let tracer = Tracer::with_default_settings(surface).expect("tracer");
     let centre = surface.bounds().center();
     let mut counters = IntersectCounters::default();
     let mut misses = 0;
@@ -70,12 +59,6 @@ fn hb_with_valence_16_vertices_is_watertight_from_inside() {
     );
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("smoothlab-render-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
 fn write_obj(dir: &std::path::Path, (positions, faces): Triangles) -> PathBuf {
     let mut text = String::new();
     for p in positions {
@@ -93,7 +76,7 @@ fn write_obj(dir: &std::path::Path, (positions, faces): Triangles) -> PathBuf {
 /// patch `patch_id` at `(u, v)` and lies on the pixel's ray (to f32 precision of the file).
 #[test]
 fn render_command_writes_png_exr_and_stats() {
-    let dir = temp_dir("cmd");
+    let dir = common::scratch("render", "cmd");
     let obj = write_obj(&dir, icosahedron());
     let stem = dir.join("ico");
     let stats_path = dir.join("stats.json");
@@ -192,7 +175,7 @@ fn render_command_errors_name_the_problem() {
     let err = render_command(&missing).expect_err("missing file");
     assert!(err.to_string().contains("/nonexistent/mesh.obj"), "{err}");
 
-    let dir = temp_dir("err");
+    let dir = common::scratch("render", "err");
     let obj = write_obj(&dir, icosahedron());
     let bad_mode = RenderArgs {
         input: obj,
@@ -237,12 +220,7 @@ fn primary_ray_throughput_probe() {
     let sampled = smoothlab::mesh::generate::analytic::torus(60, 32, 1.0, 0.35);
     let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).expect("torus");
     let surface = smoothlab::schemes::build("hb", &mesh, &[]).expect("hb");
-    let tracer = Tracer::new(
-        &surface,
-        &SubdivisionCriterion::default(),
-        NewtonSettings::default(),
-    )
-    .expect("tracer");
+    let tracer = Tracer::with_default_settings(&surface).expect("tracer");
     let camera = Camera::frame_points(&surface_samples(&surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
         .expect("camera");
     let side = 256u32;

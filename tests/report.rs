@@ -2,21 +2,14 @@
 //! passes on identical reports and flags an injected regression with exit code 1.
 
 use std::path::PathBuf;
-use std::process::Command;
 
+use common::smoothlab;
 use smoothlab::report::{self, Report};
 
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("smoothlab-report-{test}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
+mod common;
 
-fn smoothlab(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_smoothlab"))
-        .args(args)
-        .output()
-        .expect("runs")
+fn scratch(test: &str) -> PathBuf {
+    common::scratch("report", test)
 }
 
 #[test]

@@ -31,6 +31,25 @@ use crate::surface::Surface;
 
 pub use joints::{CurvatureFloor, JOINT_SAMPLES, JointStats, normal_angle};
 
+/// The keys every object of the metrics JSON has: the contract of DESIGN.md (`continuity_order`
+/// included) and the regularity figure. Tools reading the JSON may rely on them.
+pub const CONTRACT_KEYS: [&str; 14] = [
+    "scheme",
+    "params",
+    "faces",
+    "patches",
+    "construct_ms",
+    "interp_max_rel",
+    "g0_max_rel",
+    "g1_max_rad",
+    "g1_mean_rad",
+    "g1_between_faces_max_rad",
+    "g1_inside_faces_max_rad",
+    "curvature_jump_max_rel",
+    "continuity_order",
+    "min_regularity_rel",
+];
+
 /// The measured figures of one surface (one scheme on one mesh). Field names are the keys of
 /// the metrics JSON contract in DESIGN.md. Figures over an empty set (e.g. joints inside
 /// faces, for a scheme with one patch per face) are `None`, written as `null`.
@@ -418,22 +437,7 @@ mod tests {
         let (s, faces, positions) = pieces_of_one_polynomial();
         let m = Metrics::measure_faces(&s, &faces, &positions, 0.0);
         let value = serde_json::to_value(&m).expect("serialisable");
-        for key in [
-            "scheme",
-            "params",
-            "faces",
-            "patches",
-            "construct_ms",
-            "interp_max_rel",
-            "g0_max_rel",
-            "g1_max_rad",
-            "g1_mean_rad",
-            "g1_between_faces_max_rad",
-            "g1_inside_faces_max_rad",
-            "curvature_jump_max_rel",
-            "continuity_order",
-            "min_regularity_rel",
-        ] {
+        for key in CONTRACT_KEYS {
             assert!(value.get(key).is_some(), "missing key {key}");
         }
         // Pieces of one polynomial agree to every measured order.

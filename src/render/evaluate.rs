@@ -182,17 +182,23 @@ mod tests {
     use super::*;
     use crate::surface::PatchGeometry;
 
+    /// A curved, non-symmetric control net of degree `degree`: a test patch with no special
+    /// structure for the evaluators to exploit.
+    fn wavy_net(degree: usize) -> TriangleBezier {
+        TriangleBezier::from_fn(degree, |i, j, k| {
+            let (i, j, k) = (i as f64, j as f64, k as f64);
+            DVec3::new(
+                j + 0.3 * i * k,
+                k - 0.2 * j * j,
+                (i * 1.7 + j * 0.3 - k).sin(),
+            )
+        })
+    }
+
     #[test]
     fn matches_the_jet_for_every_stack_degree() {
         for d in 1..=MAX_STACK_DEGREE + 1 {
-            let net = TriangleBezier::from_fn(d, |i, j, k| {
-                let (i, j, k) = (i as f64, j as f64, k as f64);
-                DVec3::new(
-                    j + 0.3 * i * k,
-                    k - 0.2 * j * j,
-                    (i * 1.7 + j * 0.3 - k).sin(),
-                )
-            });
+            let net = wavy_net(d);
             let patch = Patch {
                 face: 0,
                 piece: 0,
@@ -216,14 +222,7 @@ mod tests {
     #[test]
     fn power_form_matches_the_jet() {
         fn check<const D: usize>() {
-            let net = TriangleBezier::from_fn(D, |i, j, k| {
-                let (i, j, k) = (i as f64, j as f64, k as f64);
-                DVec3::new(
-                    j + 0.3 * i * k,
-                    k - 0.2 * j * j,
-                    (i * 1.7 + j * 0.3 - k).sin(),
-                )
-            });
+            let net = wavy_net(D);
             let c = power_coefficients(&net);
             assert_eq!(c.len(), point_count(D));
             let scale = net.control_bounds().diagonal();

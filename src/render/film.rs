@@ -390,9 +390,8 @@ fn render_tile<T: SurfaceTracer>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::bvh::SubdivisionCriterion;
     use crate::render::fixtures::octahedron_sphere;
-    use crate::render::intersect::{NewtonSettings, Tracer};
+    use crate::render::intersect::Tracer;
     use crate::render::modes::ZebraParams;
 
     fn small_settings(mode: Mode) -> RenderSettings {
@@ -409,12 +408,7 @@ mod tests {
     #[test]
     fn image_is_identical_for_any_thread_count() {
         let surface = octahedron_sphere(3, 1.0, 0);
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let camera = Camera::frame(&surface.bounds(), Camera::DEFAULT_VIEW, 35.0, 48.0 / 40.0)
             .expect("camera");
         let settings = small_settings(Mode::Zebra(ZebraParams::default()));
@@ -438,12 +432,7 @@ mod tests {
     #[test]
     fn pixel_geometry_lies_on_ray_and_patch() {
         let surface = octahedron_sphere(4, 2.0, 1);
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let (w, h) = (40u32, 30u32);
         let camera = Camera::frame(
             &surface.bounds(),

@@ -15,6 +15,7 @@
 //! closest hit by the caller.
 
 use glam::{DVec2, DVec3, Vec3A};
+use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray, RayHit};
 
 use crate::geom::Aabb;
@@ -170,6 +171,16 @@ impl<'s> Tracer<'s> {
         })
     }
 
+    /// [`Tracer::new`] with the default subdivision criterion and Newton settings (those of
+    /// `smoothlab render` without scene overrides).
+    pub fn with_default_settings(surface: &'s Surface) -> crate::Result<Tracer<'s>> {
+        Tracer::new(
+            surface,
+            &SubdivisionCriterion::default(),
+            NewtonSettings::default(),
+        )
+    }
+
     /// Largest distance of an accepted root from its ray:
     /// `residual_tolerance × diagonal + 256 ε × max |coordinate|`.
     pub fn root_tolerance(&self) -> f64 {
@@ -185,36 +196,16 @@ impl<'s> Tracer<'s> {
         counters: &mut IntersectCounters,
     ) -> Option<Hit> {
         let planes = RayPlanes::new(ray);
-        // `+ 0.0` turns −0.0 into +0.0: obvhs picks the slab order from `d < 0` but the
-        // inverse direction from the sign bit, and the two disagree on −0.0.
-        let traversal = Ray::new(
-            ray.origin.as_vec3a(),
-            ray.dir.as_vec3a() + Vec3A::ZERO,
-            // The f32 bounds are widened by the padding so that rounding of t never culls a leaf.
-            (t_min - self.bvh.padding).max(0.0) as f32,
-            if t_max.is_finite() {
-                (t_max + self.bvh.padding) as f32
-            } else {
-                f32::INFINITY
+        closest_in_bvh(
+            &self.bvh.bvh,
+            self.bvh.padding,
+            ray,
+            t_min,
+            t_max,
+            |id, best_t| {
+                self.intersect_leaf(&self.bvh.leaves[id], ray, &planes, t_min, best_t, counters)
             },
-        );
-        let mut best: Option<Hit> = None;
-        let mut best_t = t_max;
-        let mut record = RayHit::none();
-        self.bvh.bvh.ray_traverse(traversal, &mut record, |_, id| {
-            let leaf = &self.bvh.leaves[id];
-            match self.intersect_leaf(leaf, ray, &planes, t_min, best_t, counters) {
-                Some(hit) => {
-                    best_t = hit.t;
-                    best = Some(hit);
-                    // Rounded up (plus padding) so that the f32 culling never drops a box
-                    // that may still hold a closer f64 hit.
-                    (hit.t + self.bvh.padding) as f32
-                }
-                None => f32::INFINITY,
-            }
-        });
-        best
+        )
     }
 
     /// The closest hit by testing every leaf (no BVH): the reference for tests.
@@ -417,14 +408,9 @@ impl<'s> Tracer<'s> {
             if iterations == settings.max_iterations {
                 return Newton::Failed;
             }
-            let ju = planes.project(su);
-            let jv = planes.project(sv);
-            let det = ju.perp_dot(jv);
-            if det == 0.0 || !det.is_finite() {
+            let Some(step) = planes.newton_step(f, su, sv) else {
                 return Newton::Failed;
-            }
-            // Solve [ju jv] Δ = f by Cramer's rule.
-            let step = DVec2::new(f.perp_dot(jv), ju.perp_dot(f)) / det;
+            };
             uv -= step;
             iterations += 1;
             // Taylor: after an exact Newton step the residual is at most ½ M |Δ|² (M bounds
@@ -480,14 +466,9 @@ impl<'s> Tracer<'s> {
                 return Newton::Failed;
             }
             previous = residual;
-            let js = planes.project(ss);
-            let jt = planes.project(tt);
-            let det = js.perp_dot(jt);
-            if det == 0.0 || !det.is_finite() {
+            let Some(step) = planes.newton_step(f, ss, tt) else {
                 return Newton::Failed;
-            }
-            // Solve [js jt] Δ = f by Cramer's rule.
-            let step = DVec2::new(f.perp_dot(jt), js.perp_dot(f)) / det;
+            };
             let was_inside = inside(st);
             st -= step;
             iterations += 1;
@@ -602,6 +583,47 @@ fn planar_start(leaf: &Leaf, ray: &Ray64, escape: f64) -> Start {
     Start::At(DVec2::new(b1, b2))
 }
 
+/// The closest of the hits `hit_of(primitive, t_max so far)` over the primitives of `bvh` whose
+/// boxes the ray enters, with `t ∈ (t_min, t_max)`: the traversal shared by the exact and the
+/// tessellated tracer.
+///
+/// The BVH is f32, so the traversal ray's interval is widened by `padding` (see
+/// [`crate::render::bvh::box_padding`]) and every closer hit shrinks it to `t + padding`,
+/// rounded to f32: rounding of t never culls a box that may still hold a closer f64 hit.
+pub(crate) fn closest_in_bvh(
+    bvh: &CwBvh,
+    padding: f64,
+    ray: &Ray64,
+    t_min: f64,
+    t_max: f64,
+    mut hit_of: impl FnMut(usize, f64) -> Option<Hit>,
+) -> Option<Hit> {
+    // `+ 0.0` turns −0.0 into +0.0: obvhs picks the slab order from `d < 0` but the
+    // inverse direction from the sign bit, and the two disagree on −0.0.
+    let traversal = Ray::new(
+        ray.origin.as_vec3a(),
+        ray.dir.as_vec3a() + Vec3A::ZERO,
+        (t_min - padding).max(0.0) as f32,
+        if t_max.is_finite() {
+            (t_max + padding) as f32
+        } else {
+            f32::INFINITY
+        },
+    );
+    let mut best: Option<Hit> = None;
+    let mut best_t = t_max;
+    let mut record = RayHit::none();
+    bvh.ray_traverse(traversal, &mut record, |_, id| match hit_of(id, best_t) {
+        Some(hit) => {
+            best_t = hit.t;
+            best = Some(hit);
+            (hit.t + padding) as f32
+        }
+        None => f32::INFINITY,
+    });
+    best
+}
+
 /// Leaf-local start points tried after a grazing ray's run from the centroid found no root in
 /// the leaf: the centroids of the three corner children of the leaf's 4-split.
 const GRAZING_RESTARTS: [DVec2; 3] = [
@@ -628,26 +650,13 @@ pub fn in_grown_triangle(tri: [DVec2; 3], uv: DVec2, tolerance: f64) -> bool {
 mod tests {
     use super::*;
     use crate::render::fixtures::{height_field_patch, octahedron_sphere};
-    use crate::render::sampler::uniform;
-
-    fn unit_direction(seed: u64, i: u64) -> DVec3 {
-        // Uniform on the sphere from two hashed numbers.
-        let z = 2.0 * uniform(seed, i, 0, 0) - 1.0;
-        let phi = std::f64::consts::TAU * uniform(seed, i, 0, 1);
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        DVec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
+    use crate::render::sampler::{sphere_direction, uniform};
 
     /// Every sampled point of a leaf's sub-patch lies in its oriented box.
     #[test]
     fn oriented_boxes_contain_their_sub_patches() {
         let surface = octahedron_sphere(4, 1.0, 1);
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         for leaf in &tracer.bvh.leaves {
             let patch = &surface.patches[leaf.patch as usize];
             let tri = leaf.tri();
@@ -669,12 +678,7 @@ mod tests {
     #[test]
     fn vertical_rays_hit_the_height_field_exactly() {
         let surface = height_field_patch();
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let mut counters = IntersectCounters::default();
         let mut worst = 0.0_f64;
         for i in 0..2000u64 {
@@ -702,18 +706,13 @@ mod tests {
     #[test]
     fn closed_surface_is_watertight_from_inside() {
         let surface = octahedron_sphere(3, 1.0, 1);
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let mut counters = IntersectCounters::default();
         let mut misses = 0;
         let rays = 20_000u64;
         for i in 0..rays {
             let origin = DVec3::new(0.11, -0.07, 0.05) * (i % 5) as f64;
-            let ray = Ray64::new(origin, unit_direction(11, i));
+            let ray = Ray64::new(origin, sphere_direction(11, i));
             if tracer
                 .closest_hit(&ray, 0.0, f64::INFINITY, &mut counters)
                 .is_none()
@@ -744,17 +743,12 @@ mod tests {
     #[test]
     fn closest_hit_equals_brute_force() {
         let surface = octahedron_sphere(4, 1.3, 1);
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let mut counters = IntersectCounters::default();
         let (mut hits, mut t_sum_bvh, mut t_sum_brute) = (0, 0.0, 0.0);
         for i in 0..3000u64 {
-            let origin = unit_direction(5, i) * 3.0;
-            let towards = unit_direction(6, i) * 0.9;
+            let origin = sphere_direction(5, i) * 3.0;
+            let towards = sphere_direction(6, i) * 0.9;
             let ray = Ray64::new(origin, towards - origin);
             let fast = tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counters);
             let slow = tracer.closest_hit_brute_force(&ray, 0.0, f64::INFINITY, &mut counters);
@@ -783,18 +777,13 @@ mod tests {
     #[test]
     fn hits_lie_on_ray_and_patch() {
         let surface = octahedron_sphere(5, 2.0, 1);
-        let tracer = Tracer::new(
-            &surface,
-            &SubdivisionCriterion::default(),
-            NewtonSettings::default(),
-        )
-        .expect("tracer");
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let diag = surface.bounds().diagonal();
         let mut counters = IntersectCounters::default();
         let mut worst = 0.0_f64;
         for i in 0..5000u64 {
-            let origin = unit_direction(8, i) * 6.0;
-            let ray = Ray64::new(origin, unit_direction(9, i) * 1.5 - origin);
+            let origin = sphere_direction(8, i) * 6.0;
+            let ray = Ray64::new(origin, sphere_direction(9, i) * 1.5 - origin);
             if let Some(hit) = tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counters) {
                 let p = surface.patches[hit.patch as usize].eval(hit.u, hit.v);
                 worst = worst.max((p - ray.at(hit.t)).length() / diag);

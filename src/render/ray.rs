@@ -55,6 +55,19 @@ impl RayPlanes {
         DVec2::new(self.n1.dot(p) - self.d1, self.n2.dot(p) - self.d2)
     }
 
+    /// The Newton step `Δ` of the two-plane system at residual `f` with surface tangents
+    /// `su`, `sv`: the solution of `[project(su) project(sv)] Δ = f` by Cramer's rule, or None
+    /// when that Jacobian is singular or not finite. The next iterate is `(u, v) − Δ`.
+    #[inline]
+    pub fn newton_step(&self, f: DVec2, su: DVec3, sv: DVec3) -> Option<DVec2> {
+        let (ju, jv) = (self.project(su), self.project(sv));
+        let det = ju.perp_dot(jv);
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        Some(DVec2::new(f.perp_dot(jv), ju.perp_dot(f)) / det)
+    }
+
     /// A tangent vector in plane coordinates.
     pub fn project(&self, v: DVec3) -> DVec2 {
         DVec2::new(self.n1.dot(v), self.n2.dot(v))

@@ -1,6 +1,8 @@
 //! Deterministic sample positions: every random number is a hash of (seed, pixel, sample,
 //! dimension), so an image does not depend on the number of threads or the order of tiles.
 
+use glam::DVec3;
+
 /// SplitMix64 finaliser: a fast bijective 64-bit mixer.
 fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -14,6 +16,15 @@ pub fn uniform(seed: u64, pixel: u64, sample: u32, dimension: u32) -> f64 {
         ^ mix(pixel.wrapping_add(0x632b_e59b_d9b4_e019))
         ^ mix((u64::from(sample) << 32 | u64::from(dimension)).wrapping_add(0x8cb9_2ba7_2f3d_8dd7));
     (mix(key) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// A direction uniform on the unit sphere for (seed, index): z uniform in [−1, 1] and the
+/// azimuth uniform (Archimedes), from dimensions 0 and 1 of sample 0.
+pub fn sphere_direction(seed: u64, index: u64) -> DVec3 {
+    let z = 2.0 * uniform(seed, index, 0, 0) - 1.0;
+    let phi = std::f64::consts::TAU * uniform(seed, index, 0, 1);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    DVec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
 /// The position in the unit pixel square of sample `s` of `n`, stratified: a jittered m×m grid

@@ -10,16 +10,15 @@
 
 use std::time::{Duration, Instant};
 
-use glam::{DVec2, DVec3, Vec2, Vec3, Vec3A};
+use glam::{DVec2, DVec3, Vec2, Vec3};
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::build_cwbvh;
-use obvhs::ray::{Ray, RayHit};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::geom::{Aabb, Jet};
 use crate::render::bvh::{box_padding, build_params, outward_f32};
-use crate::render::intersect::{Hit, IntersectCounters, Ray64};
+use crate::render::intersect::{Hit, IntersectCounters, Ray64, closest_in_bvh};
 use crate::render::modes::ShadingPoint;
 use crate::render::modes::overlay::face_edge_mask;
 use crate::render::trace::SurfaceTracer;
@@ -178,38 +177,21 @@ impl SurfaceTracer for TessellatedTracer<'_> {
         t_max: f64,
         _counters: &mut IntersectCounters,
     ) -> Option<Hit> {
-        let traversal = Ray::new(
-            ray.origin.as_vec3a(),
-            ray.dir.as_vec3a() + Vec3A::ZERO,
-            (t_min - self.padding).max(0.0) as f32,
-            if t_max.is_finite() {
-                (t_max + self.padding) as f32
-            } else {
-                f32::INFINITY
-            },
-        );
-        let mut best: Option<Hit> = None;
-        let mut best_t = t_max;
-        let mut record = RayHit::none();
-        self.bvh.ray_traverse(traversal, &mut record, |_, id| {
+        closest_in_bvh(&self.bvh, self.padding, ray, t_min, t_max, |id, best_t| {
             let (tri, patch) = self.triangles[id];
-            match self.intersect_triangle(tri, ray) {
-                Some((t, b1, b2)) if t > t_min && t < best_t => {
-                    let [a, b, c] = tri.map(|i| self.vertices[i as usize].uv.as_dvec2());
-                    let uv = a * (1.0 - b1 - b2) + b * b1 + c * b2;
-                    best_t = t;
-                    best = Some(Hit {
-                        t,
-                        patch,
-                        u: uv.x,
-                        v: uv.y,
-                    });
-                    (t + self.padding) as f32
-                }
-                _ => f32::INFINITY,
+            let (t, b1, b2) = self.intersect_triangle(tri, ray)?;
+            if t <= t_min || t >= best_t {
+                return None;
             }
-        });
-        best
+            let [a, b, c] = tri.map(|i| self.vertices[i as usize].uv.as_dvec2());
+            let uv = a * (1.0 - b1 - b2) + b * b1 + c * b2;
+            Some(Hit {
+                t,
+                patch,
+                u: uv.x,
+                v: uv.y,
+            })
+        })
     }
 
     fn shading_point(&self, hit: &Hit, ray: &Ray64) -> ShadingPoint {
@@ -229,21 +211,7 @@ impl SurfaceTracer for TessellatedTracer<'_> {
             dv: dv.as_dvec3() * scale,
             ..Jet::default()
         };
-        let facing_normal = if normal.dot(ray.dir) > 0.0 {
-            -normal
-        } else {
-            normal
-        };
-        ShadingPoint {
-            hit: *hit,
-            face: patch.face,
-            piece: patch.piece,
-            jet,
-            normal,
-            facing_normal,
-            view: ray.dir,
-            curvature: jet.curvature(),
-        }
+        ShadingPoint::with_normal(*hit, patch.face, patch.piece, jet, normal, ray)
     }
 
     fn face_edge_mask(&self, patch: u32) -> u8 {

@@ -15,7 +15,7 @@ pub mod vertex_rings;
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, NormalSource};
-use crate::surface::Surface;
+use crate::surface::{Patch, Surface};
 
 /// One parameter a scheme understands.
 #[derive(Clone, Copy, Debug)]
@@ -135,6 +135,16 @@ impl Params {
         &self.values
     }
 
+    /// The surface of `patches` built by scheme `scheme` with these parameters (both recorded
+    /// in it, for export and the metrics).
+    pub fn surface(&self, scheme: &str, patches: Vec<Patch>) -> Surface {
+        Surface {
+            scheme: scheme.to_string(),
+            params: self.values.clone(),
+            patches,
+        }
+    }
+
     /// The text value of `name` (which the scheme declared).
     pub fn text(&self, name: &str) -> &str {
         self.values
@@ -153,6 +163,19 @@ impl Params {
                 name: name.to_string(),
                 reason: format!("'{text}' is not a finite number"),
             }),
+        }
+    }
+
+    /// `name` as a finite number greater than zero; `why` says what a value ≤ 0 would break.
+    pub fn positive_number(&self, name: &str, why: &str) -> Result<f64> {
+        let x = self.number(name)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(Error::BadParam {
+                name: name.to_string(),
+                reason: format!("must be > 0 ({why}), got {x}"),
+            })
         }
     }
 

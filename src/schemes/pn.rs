@@ -42,11 +42,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
             }
         })
         .collect();
-    Ok(Surface {
-        scheme: SPEC.name.to_string(),
-        params: params.values().to_vec(),
-        patches,
-    })
+    Ok(params.surface(SPEC.name, patches))
 }
 
 /// The cubic PN triangle of corners `p` with unit vertex normals `n`.

@@ -1,7 +1,8 @@
-//! Test support shared by the scheme modules: the meshes every G¹ scheme is measured on and
-//! parameter helpers.
+//! Test support shared by the scheme modules: the meshes every G¹ scheme is measured on,
+//! parameter helpers and the acceptance bounds of a G¹ surface.
 
 use crate::mesh::{Mesh, generate};
+use crate::metrics::Metrics;
 use crate::schemes::{Params, SchemeSpec};
 
 /// A validated mesh from generated triangles.
@@ -45,4 +46,41 @@ impl Lcg {
             .wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
+}
+
+/// The joint figures of a G¹ surface: G0 gap (relative to the diagonal) and the largest normal
+/// jumps between faces and inside faces (rad).
+#[derive(Clone, Copy, Debug)]
+pub struct JointFigures {
+    /// Largest G0 gap.
+    pub gap: f64,
+    /// Largest normal jump across mesh edges (0 with no interior edge).
+    pub between: f64,
+    /// Largest normal jump between the pieces of a face.
+    pub inside: f64,
+}
+
+/// Asserts that the measured surface is G¹ up to round-off, between faces and between the
+/// pieces of each face: G0 gap ≤ 1e-12, normal jumps ≤ 1e-9 rad. Returns the figures.
+pub fn assert_g1_joints(m: &Metrics, label: &str) -> JointFigures {
+    let figures = JointFigures {
+        gap: m.g0_max_rel.expect("joints measured"),
+        between: m.g1_between_faces_max_rad.unwrap_or(0.0),
+        inside: m.g1_inside_faces_max_rad.expect("several pieces per face"),
+    };
+    let JointFigures {
+        gap,
+        between,
+        inside,
+    } = figures;
+    assert!(gap <= 1e-12, "G0 gap {gap} on {label}");
+    assert!(
+        between <= 1e-9,
+        "normal jump between faces {between} rad on {label}"
+    );
+    assert!(
+        inside <= 1e-9,
+        "normal jump inside faces {inside} rad on {label}"
+    );
+    figures
 }

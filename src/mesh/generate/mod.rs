@@ -7,7 +7,10 @@
 //! normals. [`SCENES`] lists the meshes committed as `scenes/<name>.obj`; a unit test checks
 //! that each committed file parses to exactly the mesh generated here. After changing a
 //! generator, rewrite the files with
-//! `cargo test --lib mesh::generate -- --ignored write_scenes`.
+//! `cargo test --lib mesh::generate -- --ignored write_scenes`. [`SCANNED_SCENES`] lists the
+//! committed meshes that come from scans (the Stanford bunny) rather than from a generator;
+//! their tests check that each loads without repairs, closed, with the stated genus, face
+//! count and valences.
 
 pub mod analytic;
 pub mod bad;
@@ -15,7 +18,7 @@ mod grids;
 mod scenes;
 
 pub use grids::{disk, genus2, torus};
-pub use scenes::{SCENES, SceneMesh};
+pub use scenes::{SCANNED_SCENES, SCENES, ScannedMesh, SceneMesh};
 
 use std::f64::consts::TAU;
 

@@ -1,5 +1,6 @@
-//! The closed meshes committed as `scenes/<name>.obj`, and the test that keeps those files equal
-//! to their generators.
+//! The closed meshes committed as `scenes/<name>.obj`: the generated ones, with the test that
+//! keeps those files equal to their generators, and the scanned ones, whose files are their own
+//! source and are checked against what their headers state.
 
 use super::{
     Triangles, cube, deformed_icosahedron, genus2, icosahedron, mixed_valence, octahedron,
@@ -104,9 +105,57 @@ impl SceneMesh {
     }
 }
 
+/// A closed mesh committed as `scenes/<name>.obj` that comes from a scanned shape, not from a
+/// generator: the file is the source. Its header names the scan, its terms of use and the
+/// command of `scenes/tools/decimate_scan.py` that made it.
+#[derive(Clone, Copy, Debug)]
+pub struct ScannedMesh {
+    /// File stem (kebab-case).
+    pub name: &'static str,
+    /// Genus of the closed surface (Euler characteristic 2 − 2·genus).
+    pub genus: u32,
+    /// Number of faces.
+    pub faces: usize,
+    /// Lowest and highest vertex valence.
+    pub valences: (usize, usize),
+}
+
+/// The scanned closed meshes of scenes/: organic, irregular control meshes of about a thousand
+/// faces, small enough for the schemes that refine the mesh.
+pub const SCANNED_SCENES: [ScannedMesh; 2] = [
+    ScannedMesh {
+        // The Stanford bunny, decimated by quadric edge collapses.
+        name: "bunny",
+        genus: 0,
+        faces: 1000,
+        valences: (3, 9),
+    },
+    ScannedMesh {
+        // The same decimation after 250 seeded edge flips that spread the valences.
+        name: "bunny-irregular",
+        genus: 0,
+        faces: 1000,
+        valences: (3, 12),
+    },
+];
+
+impl ScannedMesh {
+    /// Where the file is committed: `scenes/<name>.obj` under the crate root.
+    pub fn path(&self) -> std::path::PathBuf {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes")
+            .join(format!("{}.obj", self.name))
+    }
+
+    /// The committed mesh, loaded and validated.
+    pub fn mesh(&self) -> Result<Mesh> {
+        Ok(Mesh::load_obj(&self.path())?.0)
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::SCENES;
+    use super::{SCANNED_SCENES, SCENES};
     use crate::mesh::Mesh;
 
     #[test]
@@ -134,8 +183,78 @@ mod tests {
     }
 
     #[test]
+    fn scanned_scenes_load_without_repairs_as_stated() {
+        for scan in &SCANNED_SCENES {
+            let (mesh, report) = Mesh::load_obj(&scan.path()).unwrap();
+            assert_eq!(
+                report,
+                Default::default(),
+                "{}: loading repaired it",
+                scan.name
+            );
+            assert!(mesh.is_closed(), "{}: open", scan.name);
+            assert_eq!(
+                mesh.euler_characteristic(),
+                2 - 2 * i64::from(scan.genus),
+                "{}",
+                scan.name
+            );
+            assert_eq!(mesh.face_count(), scan.faces, "{}", scan.name);
+            let valences = (0..mesh.vertex_count() as u32).map(|v| mesh.valence(v));
+            let lowest = valences.clone().min().unwrap();
+            let highest = valences.max().unwrap();
+            assert_eq!((lowest, highest), scan.valences, "{}", scan.name);
+        }
+    }
+
+    #[test]
+    fn scanned_scenes_face_outward() {
+        for scan in &SCANNED_SCENES {
+            let mesh = scan.mesh().unwrap();
+            let six_volume: f64 = mesh
+                .faces()
+                .iter()
+                .map(|face| {
+                    let [a, b, c] = face.map(|v| mesh.positions()[v as usize]);
+                    a.dot(b.cross(c))
+                })
+                .sum();
+            assert!(six_volume > 0.0, "{}: inside out", scan.name);
+        }
+    }
+
+    #[test]
+    fn scanned_scene_headers_state_source_terms_and_procedure() {
+        for scan in &SCANNED_SCENES {
+            let text = std::fs::read_to_string(scan.path()).unwrap();
+            let header: String = text
+                .lines()
+                .take_while(|line| line.starts_with('#'))
+                .collect::<Vec<_>>()
+                .join("\n");
+            let counts = format!("{} faces, genus {}", scan.faces, scan.genus);
+            for needed in [
+                counts.as_str(),
+                "Source: Stanford 3D Scanning Repository",
+                "Stanford's terms",
+                "scenes/tools/decimate_scan.py",
+            ] {
+                assert!(
+                    header.contains(needed),
+                    "{}: header lacks {needed:?}",
+                    scan.name
+                );
+            }
+        }
+    }
+
+    #[test]
     fn scene_names_are_kebab_case_and_unique() {
-        let mut names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
+        let mut names: Vec<&str> = SCENES
+            .iter()
+            .map(|s| s.name)
+            .chain(SCANNED_SCENES.iter().map(|s| s.name))
+            .collect();
         for name in &names {
             assert!(
                 name.chars()
@@ -143,9 +262,10 @@ mod tests {
                 "{name}"
             );
         }
+        let count = names.len();
         names.sort_unstable();
         names.dedup();
-        assert_eq!(names.len(), SCENES.len());
+        assert_eq!(names.len(), count);
     }
 
     /// Rewrites scenes/*.obj from the generators:

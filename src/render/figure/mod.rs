@@ -16,11 +16,10 @@ use glam::DVec3;
 
 use crate::error::Result;
 use crate::mesh::Mesh;
-use crate::render::bvh::SubdivisionCriterion;
 use crate::render::camera::{Camera, Projection};
 use crate::render::curves::CurveOverlay;
 use crate::render::film::{Frame, RenderSettings, auto_curvature_range, render};
-use crate::render::intersect::{NewtonSettings, Tracer};
+use crate::render::intersect::Tracer;
 use crate::render::modes::{CurvatureRange, Mode, Overlay};
 use crate::render::stats::RenderStats;
 use crate::surface::Surface;
@@ -191,13 +190,7 @@ pub fn render_figure(job: &FigureJob) -> Result<Figure> {
     let tracers = job
         .surfaces
         .iter()
-        .map(|s| {
-            Tracer::new(
-                &s.surface,
-                &SubdivisionCriterion::default(),
-                NewtonSettings::default(),
-            )
-        })
+        .map(|s| Tracer::with_default_settings(&s.surface))
         .collect::<Result<Vec<_>>>()?;
     let base = RenderSettings {
         width: w,

@@ -42,7 +42,19 @@ pub struct ShadingPoint {
 impl ShadingPoint {
     /// Evaluates the full local geometry of `hit` on `jet` (from the hit's patch).
     pub fn new(hit: Hit, face: u32, piece: u8, jet: Jet, ray: &Ray64) -> ShadingPoint {
-        let normal = jet.normal();
+        ShadingPoint::with_normal(hit, face, piece, jet, jet.normal(), ray)
+    }
+
+    /// The local geometry of `hit` with a given unit `normal` (the tessellated path shades
+    /// with interpolated vertex normals instead of the jet's).
+    pub fn with_normal(
+        hit: Hit,
+        face: u32,
+        piece: u8,
+        jet: Jet,
+        normal: DVec3,
+        ray: &Ray64,
+    ) -> ShadingPoint {
         let facing_normal = if normal.dot(ray.dir) > 0.0 {
             -normal
         } else {

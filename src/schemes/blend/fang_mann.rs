@@ -52,8 +52,8 @@ use crate::bezier::TriangleBezier;
 use crate::blend::WeightFamily;
 use crate::error::Result;
 use crate::mesh::Mesh;
-use crate::schemes::blend::{EdgeFrame, EdgeFrames, build_blend, order_param};
-use crate::schemes::{ParamSpec, Params, SchemeSpec};
+use crate::schemes::blend::{EdgeFrame, EdgeFrames, blend_params, build_blend};
+use crate::schemes::{Params, SchemeSpec};
 use crate::surface::Surface;
 
 /// Largest accepted `t` (the weights use powers `t + 1`; beyond this nothing new is shown and
@@ -64,27 +64,19 @@ pub const MAX_T: u32 = 6;
 pub const SPEC: SchemeSpec = SchemeSpec {
     name: "fang-mann",
     summary: "Fang-Mann boundary blend: cubic sub-surfaces from one edge surface per edge, C^t",
-    params: &[
-        ParamSpec {
-            name: "t",
-            default: "1",
-            help: "continuity order t (0..=6): weights f_{t,i} with alpha = u^(t+1)",
-        },
-        crate::schemes::NORMALS_PARAM,
-    ],
+    params: &blend_params("continuity order t (0..=6): weights f_{t,i} with alpha = u^(t+1)"),
     needs_closed_mesh: false,
     build,
 };
 
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
-    let t = order_param(params, 0..=MAX_T)?;
-    let faces = mesh.faces();
     build_blend(
         mesh,
         params,
         SPEC.name,
-        WeightFamily::FangMann { t },
-        |frames, f, c| Ok(sub_surface(frames, faces, f, c)),
+        0..=MAX_T,
+        |t| WeightFamily::FangMann { t },
+        |frames, faces, f, c| Ok(sub_surface(frames, faces, f, c)),
     )
 }
 

@@ -36,7 +36,7 @@ use crate::bezier::TriangleBezier;
 use crate::blend::{BlendPatch, WeightFamily};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::schemes::Params;
+use crate::schemes::{NORMALS_PARAM, ParamSpec, Params};
 use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Smallest `|π(e) × D| / |e|²` accepted at an edge end: below it the vertex normal is
@@ -228,24 +228,41 @@ impl EdgeFrames {
     }
 }
 
-/// Builds one blend patch per face from `sub_surface(frames, face, corner)`, the sub-surface
-/// owning the edge opposite `corner`.
+/// The parameters of a blend scheme: the power `t` of its weights (default 1; `t_help` says
+/// which values it takes and what they mean) and the vertex normals.
+pub const fn blend_params(t_help: &'static str) -> [ParamSpec; 2] {
+    [
+        ParamSpec {
+            name: "t",
+            default: "1",
+            help: t_help,
+        },
+        NORMALS_PARAM,
+    ]
+}
+
+/// Builds one blend patch per face: the weights `family(t)` for the parameter `t` (an integer
+/// in `orders`) over the three sub-surfaces `sub_surface(frames, faces, face, corner)`, the
+/// one for `corner` owning the edge opposite it.
 pub fn build_blend(
     mesh: &Mesh,
     params: &Params,
     scheme: &str,
-    family: WeightFamily,
-    sub_surface: impl Fn(&EdgeFrames, usize, usize) -> Result<TriangleBezier> + Sync,
+    orders: std::ops::RangeInclusive<u32>,
+    family: impl Fn(u32) -> WeightFamily,
+    sub_surface: impl Fn(&EdgeFrames, &[[u32; 3]], usize, usize) -> Result<TriangleBezier> + Sync,
 ) -> Result<Surface> {
+    let family = family(order_param(params, orders)?);
     let normals = mesh.vertex_normals(params.normal_source()?)?;
     let frames = EdgeFrames::build(mesh, &normals, scheme)?;
+    let faces = mesh.faces();
     let patches = (0..mesh.face_count())
         .into_par_iter()
         .map(|f| {
             let subs = [
-                sub_surface(&frames, f, 0)?,
-                sub_surface(&frames, f, 1)?,
-                sub_surface(&frames, f, 2)?,
+                sub_surface(&frames, faces, f, 0)?,
+                sub_surface(&frames, faces, f, 1)?,
+                sub_surface(&frames, faces, f, 2)?,
             ];
             Ok(Patch {
                 face: f as u32,
@@ -255,15 +272,11 @@ pub fn build_blend(
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(Surface {
-        scheme: scheme.to_string(),
-        params: params.values().to_vec(),
-        patches,
-    })
+    Ok(params.surface(scheme, patches))
 }
 
 /// The integer parameter `t` in `range`.
-pub fn order_param(params: &Params, range: std::ops::RangeInclusive<u32>) -> Result<u32> {
+fn order_param(params: &Params, range: std::ops::RangeInclusive<u32>) -> Result<u32> {
     let text = params.text("t");
     match text.trim().parse::<u32>() {
         Ok(t) if range.contains(&t) => Ok(t),

@@ -38,8 +38,8 @@ use crate::bezier::{CurveBezier, TriangleBezier};
 use crate::blend::WeightFamily;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::schemes::blend::{EdgeFrames, build_blend, order_param};
-use crate::schemes::{ParamSpec, Params, SchemeSpec};
+use crate::schemes::blend::{EdgeFrames, blend_params, build_blend};
+use crate::schemes::{Params, SchemeSpec};
 use crate::surface::Surface;
 
 /// Largest accepted power `t`.
@@ -49,27 +49,19 @@ pub const MAX_T: u32 = 4;
 pub const SPEC: SchemeSpec = SchemeSpec {
     name: "nielson",
     summary: "Nielson 1987 side-vertex blend of three quartic sub-surfaces per face, G1 (FM)",
-    params: &[
-        ParamSpec {
-            name: "t",
-            default: "1",
-            help: "power of the weights (v w)^t / sum (1..=4); 1 is Nielson's",
-        },
-        crate::schemes::NORMALS_PARAM,
-    ],
+    params: &blend_params("power of the weights (v w)^t / sum (1..=4); 1 is Nielson's"),
     needs_closed_mesh: false,
     build,
 };
 
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
-    let power = order_param(params, 1..=MAX_T)?;
-    let faces = mesh.faces();
     build_blend(
         mesh,
         params,
         SPEC.name,
-        WeightFamily::Nielson { power },
-        |frames, f, c| sub_surface(frames, faces, f, c),
+        1..=MAX_T,
+        |power| WeightFamily::Nielson { power },
+        sub_surface,
     )
 }
 

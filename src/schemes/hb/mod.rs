@@ -86,13 +86,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
 /// Reads and checks the shape parameters.
 fn shape_params(params: &Params) -> Result<(ShapeParams, FreeRule)> {
     let alpha = params.number("alpha")?;
-    let beta = params.number("beta")?;
-    if beta <= 0.0 {
-        return Err(Error::BadParam {
-            name: "beta".into(),
-            reason: format!("must be > 0 (tangents vanish or flip), got {beta}"),
-        });
-    }
+    let beta = params.positive_number("beta", "tangents vanish or flip")?;
     let (g0, g1) = (params.number("gamma0")?, params.number("gamma1")?);
     let g2 = if params.text("gamma2") == "auto" {
         1.0 - g0 - g1
@@ -181,11 +175,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
         })
         .collect();
     let patches: Vec<Patch> = per_face.into_iter().flatten().collect();
-    Ok(Surface {
-        scheme: SPEC.name.to_string(),
-        params: params.values().to_vec(),
-        patches,
-    })
+    Ok(params.surface(SPEC.name, patches))
 }
 
 /// Largest disagreement between the two ways of computing the points two edges share at a

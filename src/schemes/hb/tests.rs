@@ -7,7 +7,9 @@ use glam::{DMat3, DVec3};
 use super::*;
 use crate::mesh::generate;
 use crate::metrics::Metrics;
-use crate::schemes::testing::{Lcg, closed_test_meshes, mesh, params};
+use crate::schemes::testing::{
+    JointFigures, Lcg, assert_g1_joints, closed_test_meshes, mesh, params,
+};
 
 fn check(mesh_name: &str, mesh: &Mesh, p: &Params, interpolates: bool) {
     let surface = build(mesh, p).expect("hb builds on a closed mesh");
@@ -22,22 +24,13 @@ fn check(mesh_name: &str, mesh: &Mesh, p: &Params, interpolates: bool) {
         "{label}"
     );
     assert_eq!(m.singular_samples, 0, "{label}");
-    let gap = m.g0_max_rel.unwrap();
-    let (between, inside) = (
-        m.g1_between_faces_max_rad.unwrap(),
-        m.g1_inside_faces_max_rad.unwrap(),
-    );
+    let JointFigures {
+        gap,
+        between,
+        inside,
+    } = assert_g1_joints(&m, &label);
     eprintln!(
         "{label}: gap {gap:.1e}, normal jump between faces {between:.1e} rad, inside {inside:.1e} rad"
-    );
-    assert!(gap <= 1e-12, "G0 gap {gap} on {label}");
-    assert!(
-        between <= 1e-9,
-        "normal jump between faces {between} rad on {label}"
-    );
-    assert!(
-        inside <= 1e-9,
-        "normal jump inside faces {inside} rad on {label}"
     );
     if interpolates {
         let e = m.interp_max_rel.unwrap();
@@ -154,5 +147,16 @@ fn locality() {
             }
         }
         assert!(changed_inside > 0, "moving vertex {moved} changed nothing");
+    }
+}
+
+#[test]
+fn non_positive_beta_is_a_typed_error_naming_beta() {
+    for beta in ["0", "-0.5"] {
+        let err = shape_params(&params(&SPEC, &[("beta", beta)])).unwrap_err();
+        assert!(
+            matches!(&err, Error::BadParam { name, .. } if name == "beta"),
+            "beta = {beta}: {err}"
+        );
     }
 }

@@ -18,7 +18,7 @@ pub mod vertex;
 
 use rayon::prelude::*;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::schemes::vertex_rings::HalfEdgeTable;
 use crate::schemes::{ParamSpec, Params, SchemeSpec};
@@ -48,13 +48,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
 
 fn shape(params: &Params) -> Result<LoopShape> {
     let alpha = params.number("alpha")?;
-    let beta = params.number("beta")?;
-    if beta <= 0.0 {
-        return Err(Error::BadParam {
-            name: "beta".into(),
-            reason: format!("must be > 0 (tangents vanish or flip), got {beta}"),
-        });
-    }
+    let beta = params.positive_number("beta", "tangents vanish or flip")?;
     Ok(LoopShape { alpha, beta })
 }
 
@@ -90,11 +84,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
             geometry: PatchGeometry::Bezier(sextic(&face_edges(&table, *face, f))),
         })
         .collect();
-    Ok(Surface {
-        scheme: SPEC.name.to_string(),
-        params: params.values().to_vec(),
-        patches,
-    })
+    Ok(params.surface(SPEC.name, patches))
 }
 
 /// Largest disagreement of the twist points computed from either edge, and of Loop's middle

@@ -205,11 +205,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
             })
         })
         .collect();
-    Ok(Surface {
-        scheme: SPEC.name.to_string(),
-        params: params.values().to_vec(),
-        patches,
-    })
+    Ok(params.surface(SPEC.name, patches))
 }
 
 /// Steps 1–2 for every face, in parallel.

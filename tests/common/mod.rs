@@ -1,0 +1,25 @@
+//! Helpers shared by the end-to-end test suites (each includes this module with `mod common;`).
+
+#![allow(dead_code, reason = "each suite uses only some of the helpers")]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A fresh, empty directory for the files of test `test` of suite `suite`, under Cargo's
+/// scratch directory for integration tests.
+pub fn scratch(suite: &str, test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(suite)
+        .join(test);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+/// Runs the `smoothlab` binary with `args` and waits for it.
+pub fn smoothlab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+        .args(args)
+        .output()
+        .expect("run smoothlab")
+}
