@@ -25,6 +25,7 @@
 //! `H_m^{Δ,∇}` have `k = 2m − 3`, `d = 3(m−1)`.
 
 use std::collections::{BTreeMap, HashMap};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use crate::bezier::gram::multi_indices;
 
@@ -314,6 +315,20 @@ pub struct PatchStencil {
 }
 
 impl PatchStencil {
+    /// The stencil over the reference triangle `Δ(0,0)` (`up`) or `∇(0,0)`, computed once per
+    /// order and orientation (the derivation by repeated integration is the costly part of
+    /// building small nets).
+    pub fn reference(k: usize, up: bool) -> Arc<PatchStencil> {
+        static CACHE: OnceLock<Mutex<HashMap<(usize, bool), Arc<PatchStencil>>>> = OnceLock::new();
+        let cache = CACHE.get_or_init(Default::default);
+        let mut map = cache
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        map.entry((k, up))
+            .or_insert_with(|| Arc::new(PatchStencil::new(k, GridTriangle { i: 0, j: 0, up })))
+            .clone()
+    }
+
     /// The stencil of the patch over grid triangle `target` for smoothness order `k`.
     ///
     /// Box splines: the control point at lattice point `p` weighs `N_m(x − p + (m,m))` (the

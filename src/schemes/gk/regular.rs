@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use crate::bezier::TriangleBezier;
 use crate::mesh::Mesh;
-use crate::schemes::gk::box_spline::{ControlSite, Family, GridTriangle, PatchStencil};
+use crate::schemes::gk::box_spline::{ControlSite, Family, PatchStencil};
 use crate::schemes::gk::chart::{Chart, chart, face_of};
 use crate::schemes::gk::sector::coalesced_rings;
 
@@ -146,7 +146,7 @@ fn distances(mesh: &Mesh, sources: &[u32], depth: usize) -> (Vec<u32>, Vec<usize
 
 /// The patch of every face of `mesh` (`None` where the subnet is irregular), in face order.
 pub fn regular_patches(net: &ControlNet, k: usize) -> Vec<Option<TriangleBezier>> {
-    let stencil = PatchStencil::new(k, GridTriangle::UP);
+    let stencil = PatchStencil::reference(k, true);
     let mesh = net.mesh;
     let radius = subnet_radius(k);
     mesh.faces()

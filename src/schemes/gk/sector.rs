@@ -210,12 +210,7 @@ pub fn sector_patch(
     triangle: GridTriangle,
     mut value: impl FnMut(ControlSite) -> Option<DVec3>,
 ) -> Option<TriangleBezier> {
-    let reference = GridTriangle {
-        i: 0,
-        j: 0,
-        up: triangle.up,
-    };
-    let stencil = PatchStencil::new(k, reference);
+    let stencil = PatchStencil::reference(k, triangle.up);
     let offset = [triangle.i, triangle.j];
     let mut complete = true;
     let net = stencil.apply(|site| {
