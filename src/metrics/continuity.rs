@@ -383,7 +383,7 @@ pub fn joint_order(surface: &Surface, joint: &Joint, diag: f64) -> i32 {
 mod tests {
     use super::*;
     use crate::bezier::TriangleBezier;
-    use crate::bezier::gram::{factorial, multi_indices};
+    use crate::bezier::gram::{domain_point_collocation, multi_indices};
     use crate::linalg::invert;
     use crate::surface::{Patch, PatchEdge, PatchGeometry};
     use glam::DVec2;
@@ -393,20 +393,7 @@ mod tests {
     fn interpolate(d: usize, f: &dyn Fn(DVec2) -> DVec3) -> TriangleBezier {
         let idx = multi_indices(d);
         let bary = |m: &[usize; 3]| m.map(|x| x as f64 / d as f64);
-        let basis: Vec<Vec<f64>> = idx
-            .iter()
-            .map(|at| {
-                let l = bary(at);
-                idx.iter()
-                    .map(|m| {
-                        factorial(d) / (factorial(m[0]) * factorial(m[1]) * factorial(m[2]))
-                            * l[0].powi(m[0] as i32)
-                            * l[1].powi(m[1] as i32)
-                            * l[2].powi(m[2] as i32)
-                    })
-                    .collect()
-            })
-            .collect();
+        let basis = domain_point_collocation(d);
         let inv = invert(&basis).expect("interpolation at domain points is regular");
         let values: Vec<DVec3> = idx
             .iter()
@@ -480,19 +467,26 @@ mod tests {
         assert_eq!(joint_order(&surface, &joint, 2f64.sqrt()), -1);
     }
 
+    /// A non-affine (cubic) map of the unit triangle that fixes its edge x + y = 1.
+    fn cubic_domain_map(uv: DVec2) -> DVec2 {
+        let bump = 0.6 * (1.0 - uv.x - uv.y) * uv.x * uv.y;
+        DVec2::new(uv.x + bump, uv.y - bump)
+    }
+
+    /// A homogeneous quadratic: its graph keeps its shape under `(x, y, z) ↦ s·(x, y, s z)`.
+    fn homogeneous_quadratic(p: DVec2) -> f64 {
+        0.3 * p.x * p.x - 0.2 * p.x * p.y + 0.1 * p.y * p.y
+    }
+
     /// The measure is geometric: side B read through a non-affine (cubic) map of its domain that
     /// fixes the shared edge is the same surface (all orders agree although the parametrisations
     /// are only C⁰ across the edge), and a G2 join stays G2.
     #[test]
     fn orders_are_geometric_not_parametric() {
-        let phi = |uv: DVec2| {
-            let bump = 0.6 * (1.0 - uv.x - uv.y) * uv.x * uv.y;
-            DVec2::new(uv.x + bump, uv.y - bump)
-        };
-        let quad = |p: DVec2| 0.3 * p.x * p.x - 0.2 * p.x * p.y + 0.1 * p.y * p.y;
+        let (phi, quad) = (cubic_domain_map, homogeneous_quadratic);
         let (surface, joint) = two_sided(&quad, &quad, &phi, 6);
         assert_eq!(joint_order(&surface, &joint, 2f64.sqrt()), MAX_ORDER as i32);
-        let g2 = move |p: DVec2| quad(p) + 0.4 * (p.x + p.y - 1.0).powi(3);
+        let g2 = |p: DVec2| quad(p) + 0.4 * (p.x + p.y - 1.0).powi(3);
         let (surface, joint) = two_sided(&quad, &g2, &phi, 9);
         assert_eq!(joint_order(&surface, &joint, 2f64.sqrt()), 2);
     }
@@ -536,12 +530,8 @@ mod tests {
     /// A genuine jump at order 3 is caught at both sizes.
     #[test]
     fn rounding_floor_resolves_what_f64_data_supports() {
-        let phi = |uv: DVec2| {
-            let bump = 0.6 * (1.0 - uv.x - uv.y) * uv.x * uv.y;
-            DVec2::new(uv.x + bump, uv.y - bump)
-        };
-        let quad = |p: DVec2| 0.3 * p.x * p.x - 0.2 * p.x * p.y + 0.1 * p.y * p.y;
-        let g2 = move |p: DVec2| quad(p) + 0.4 * (p.x + p.y - 1.0).powi(3);
+        let (phi, quad) = (cubic_domain_map, homogeneous_quadratic);
+        let g2 = |p: DVec2| quad(p) + 0.4 * (p.x + p.y - 1.0).powi(3);
         let diag = 4.0;
         for (size, expected) in [(2e-2, 4), (1e-2, 3)] {
             let (same, joint) = two_sided(&quad, &quad, &phi, 6);

@@ -314,12 +314,15 @@ pub struct PatchStencil {
     pub entries: Vec<(ControlSite, Vec<i64>)>,
 }
 
+/// Reference stencils by (order, orientation).
+type StencilCache = HashMap<(usize, bool), Arc<PatchStencil>>;
+
 impl PatchStencil {
     /// The stencil over the reference triangle `Δ(0,0)` (`up`) or `∇(0,0)`, computed once per
     /// order and orientation (the derivation by repeated integration is the costly part of
     /// building small nets).
     pub fn reference(k: usize, up: bool) -> Arc<PatchStencil> {
-        static CACHE: OnceLock<Mutex<HashMap<(usize, bool), Arc<PatchStencil>>>> = OnceLock::new();
+        static CACHE: OnceLock<Mutex<StencilCache>> = OnceLock::new();
         let cache = CACHE.get_or_init(Default::default);
         let mut map = cache
             .lock()
