@@ -8,8 +8,9 @@
 //! sit at the origin. For half-box splines (odd k) the dual points are the centroids of the
 //! triangles of the Fig. 4.1 net of order k + 1 (UP §4: "we take the dual net of the control
 //! net in Figure 4.1"), so only the n-gon's own dual points (k = 3) sit at the origin:
-//! coalescing all `(k−1)/2` dual rings as the real net does would make the planar ring patch
-//! flat to third order along its inner boundary (Jacobian 0, measured).
+//! coalescing all `(k−1)/2` dual rings would make the planar ring patch flat to third order
+//! along its inner boundary (Jacobian 0, measured). The surface's control net is coalesced
+//! the same way ([`crate::schemes::gk::regular::ControlNet`]), so its ring matches this one.
 //!
 //! The 3n ring patches `x_{n+1..4n}` are the (half-)box-spline patches of this net over the
 //! ring-2 triangles of each sector chart (`Δ(1,0)`, `∇(1,0)`, `Δ(1,1)`). The inner patch

@@ -168,8 +168,9 @@ pub enum SectorSite {
     Face([[i32; 2]; 3]),
 }
 
-/// Number of vertex rings (box splines) or dual rings around the n-gon (half-box splines)
-/// that coalesce with the irregular vertex: `k/2 − 1` resp. `(k−1)/2` [UP §2, §3].
+/// Number of vertex rings of the triangle net that coalesce with the irregular vertex:
+/// `k/2 − 1` for box splines [UP §2], `(k−1)/2` for half-box splines, whose dual points are
+/// then the centroids of the coalesced triangle net [UP §3, §4].
 pub fn coalesced_rings(k: usize) -> usize {
     if k.is_multiple_of(2) {
         k / 2 - 1
