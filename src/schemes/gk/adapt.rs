@@ -83,7 +83,7 @@ fn ring_joints(n: usize) -> Vec<(usize, usize, usize, usize)> {
 
 /// The thin-plate fairing of one kind of ring triangle: the free points, the prescribed inner
 /// points, and the energy blocks that map them.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 struct Fairing {
     /// Local indices of the free points.
     free: Vec<usize>,
@@ -244,20 +244,22 @@ impl Adaptation {
                 }
             }
         }
-        let adaptation = |rows, inverse| Adaptation {
+        let mut adaptation = Adaptation {
             degree,
-            roles: roles.clone(),
-            fairing: fairing.clone(),
-            first_free: first_free.clone(),
+            roles,
+            fairing,
+            first_free,
             rows,
-            free_of: free_of.clone(),
-            inverse,
+            free_of,
+            inverse: Vec::new(),
         };
         // M A⁻¹ Mᵀ over the free columns, rows of M sparse and A⁻¹ block diagonal.
-        let probe = adaptation(rows, Vec::new());
-        let sparse: Vec<Vec<(usize, f64)>> =
-            probe.rows.iter().map(|r| probe.free_part(r)).collect();
-        let weighted: Vec<Vec<(usize, f64)>> = sparse.iter().map(|a| probe.weigh(a)).collect();
+        let sparse: Vec<Vec<(usize, f64)>> = adaptation
+            .rows
+            .iter()
+            .map(|r| adaptation.free_part(r))
+            .collect();
+        let weighted: Vec<Vec<(usize, f64)>> = sparse.iter().map(|a| adaptation.weigh(a)).collect();
         let mut scatter = vec![0.0; unknowns];
         let gram: Matrix = weighted
             .iter()
@@ -280,8 +282,12 @@ impl Adaptation {
             .iter()
             .map(|&i| independent.iter().map(|&j| gram[i][j]).collect())
             .collect();
-        let rows = independent.iter().map(|&i| probe.rows[i].clone()).collect();
-        Some(adaptation(rows, invert(&gram)?))
+        adaptation.rows = independent
+            .iter()
+            .map(|&i| adaptation.rows[i].clone())
+            .collect();
+        adaptation.inverse = invert(&gram)?;
+        Some(adaptation)
     }
 
     /// The free entries of a condition row, as (unknown, coefficient).
