@@ -23,7 +23,7 @@ use crate::bezier::TriangleBezier;
 use crate::blend::BlendPatch;
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
-use crate::render::evaluate::{power_coefficients, second_derivative_bound};
+use crate::render::evaluate::{power_coefficients, second_derivative_bounds};
 use crate::surface::{Patch, PatchGeometry, Surface, UV_CORNERS};
 
 /// When a piece of a patch is small enough to be a BVH leaf.
@@ -69,8 +69,13 @@ pub struct Leaf {
     /// Stored in f32: corners are dyadic fractions from repeated halving, exact in f32 up to
     /// depth 23.
     pub uv: [[f32; 2]; 3],
-    /// Surface points at the three corners (f32 is plenty for a start point).
+    /// Surface points at the three corners (f32 is plenty for a start point). They span the
+    /// leaf's affine map `A(s, t) = c0 + (c1 − c0) s + (c2 − c0) t`.
     pub corners: [Vec3; 3],
+    /// Bound, in leaf-local `(s, t)` units, on how far from the ray's meeting point with the
+    /// corner plane a root of the leaf can lie, for a ray perpendicular to that plane (divide
+    /// by the cosine of the ray's angle to the plane normal otherwise); see [`affine_radius`].
+    pub affine_radius: f32,
     /// Oriented box: rows of the frame (first edge, in-plane normal to it, plane normal).
     pub axes: [Vec3; 3],
     /// Oriented box: smallest coordinates of the control points in the frame at `corners[0]`.
@@ -88,20 +93,26 @@ pub struct Leaf {
     pub power: u32,
     /// Degree of the power form; 0 when the leaf has none (the patch is then evaluated whole).
     pub degree: u8,
-    /// Bound on |∂²S/∂δ²| over the leaf for unit leaf-local directions δ
-    /// ([`second_derivative_bound`] of the sub-net); infinite when unknown.
-    pub second_bound: f64,
+    /// Bounds `[tangential, normal]` on |∂²S/∂δ²| over the leaf for unit leaf-local directions
+    /// δ, split against the corner plane's normal ([`second_derivative_bounds`] of a Bézier
+    /// sub-net, [`sampled_second_bounds`] of a blend); infinite when unknown.
+    pub second_bound: [f32; 2],
 }
 
 impl Leaf {
-    /// A leaf of `patch` over the sub-triangle `tri` whose sub-patch has control points
-    /// `points` and corner points `corners`.
+    /// A leaf of `patch` over the sub-triangle `tri` whose sub-patch lies in the convex hull of
+    /// the control nets `nets` (one for a Bézier patch, the three sub-surfaces of a blend) and
+    /// has corner points `corners`.
     ///
     /// The oriented box is computed with the frame exactly as stored (f32 origin and axes,
     /// used in f64), so it contains every control point — hence, by the convex-hull property,
     /// the sub-patch — whatever the rounding of the frame; a relative 1e-9 pad covers the f64
-    /// arithmetic.
-    pub fn new(patch: u32, tri: [DVec2; 3], corners: [DVec3; 3], points: &[DVec3]) -> Leaf {
+    /// arithmetic. The affine radius is measured against the stored (f32) corners, the plane
+    /// Newton starts from.
+    pub fn new(patch: u32, tri: [DVec2; 3], corners: [DVec3; 3], nets: &[&TriangleBezier]) -> Leaf {
+        let points: Vec<DVec3> = nets.iter().flat_map(|n| n.points().iter().copied()).collect();
+        let stored = corners.map(|p| p.as_vec3());
+        let affine_radius = f32_up(affine_radius(stored.map(|p| p.as_dvec3()), nets));
         let origin = corners[0].as_vec3().as_dvec3();
         let x = (corners[1] - corners[0]).normalize_or_zero();
         let plane = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
@@ -152,7 +163,8 @@ impl Leaf {
         Leaf {
             patch,
             uv: tri.map(|c| [c.x as f32, c.y as f32]),
-            corners: corners.map(|p| p.as_vec3()),
+            corners: stored,
+            affine_radius,
             axes,
             lo: down(lo),
             hi: up(hi),
@@ -160,8 +172,15 @@ impl Leaf {
             edge_hi,
             power: 0,
             degree: 0,
-            second_bound: f64::INFINITY,
+            second_bound: [f32::INFINITY; 2],
         }
+    }
+
+    /// Unit normal of the plane of the stored corners (zero when they are collinear): the
+    /// direction against which [`Leaf::second_bound`] is split.
+    pub fn normal(&self) -> DVec3 {
+        let [a, b, c] = self.corners.map(|p| p.as_dvec3());
+        (b - a).cross(c - a).normalize_or_zero()
     }
 
     /// Maps leaf-local barycentrics `(s, t)` (weights of the second and third corner) to the
@@ -426,10 +445,10 @@ fn subdivide_patch(
         if done {
             let d = piece.degree();
             let corners = [piece.point(d, 0), piece.point(0, d), piece.point(0, 0)];
-            let mut leaf = Leaf::new(patch, tri, corners, piece.points());
+            let mut leaf = Leaf::new(patch, tri, corners, &[&piece]);
+            leaf.second_bound = second_derivative_bounds(&piece, leaf.normal()).map(f32_up);
             let form = if (1..=MAX_POWER_DEGREE).contains(&d) {
                 leaf.degree = d as u8;
-                leaf.second_bound = second_derivative_bound(&piece);
                 power_coefficients(&piece)
             } else {
                 Vec::new()
@@ -464,19 +483,13 @@ fn subdivide_blend(
             || (depth >= criterion.min_depth && nets.iter().all(|n| is_leaf(n, criterion)));
         if done {
             let corners = tri.map(|c| patch.eval(c.x, c.y));
-            let points: Vec<DVec3> = nets
-                .iter()
-                .flat_map(|n| n.points().iter().copied())
-                .collect();
             let bounds = nets
                 .iter()
                 .fold(Aabb::EMPTY, |b, n| b.union(n.control_bounds()));
+            let mut leaf = Leaf::new(patch_index, tri, corners, &nets.each_ref());
+            leaf.second_bound = sampled_second_bounds(blend, tri, leaf.normal()).map(f32_up);
             // No power form: Newton evaluates the blend itself.
-            out.push((
-                Leaf::new(patch_index, tri, corners, &points),
-                bounds,
-                Vec::new(),
-            ));
+            out.push((leaf, bounds, Vec::new()));
             continue;
         }
         let child_tris = split4(tri);
@@ -487,6 +500,89 @@ fn subdivide_blend(
     }
     out
 }
+/// How far, in leaf-local `(s, t)` units, a piece's root can lie from the point where a ray
+/// perpendicular to the corner plane meets that plane: `δ / σ_min(J_A)`.
+///
+/// `A(s, t) = c0 + (c1 − c0) s + (c2 − c0) t` is the affine map of the corners; degree-elevated
+/// to degree d its control point `(i, j, k)` is `A(j/d, k/d)`, so `S − A` is a Bézier triangle
+/// with control points `b(i,j,k) − A(j/d, k/d)` and `|S − A| ≤ δ`, the largest of them, over the
+/// piece (convex hull; for a blend, a convex combination of sub-surfaces, the largest over the
+/// three nets). A root `x*` puts `A(x*)` within `δ` of the ray, hence within `δ / cos θ` of the
+/// ray's meeting point with the corner plane (θ: angle between ray and plane normal), and the
+/// preimage under `A` shrinks distances by at most `1 / σ_min(J_A)`. Infinite for a degenerate
+/// corner triangle.
+pub fn affine_radius(corners: [DVec3; 3], nets: &[&TriangleBezier]) -> f64 {
+    let (e1, e2) = (corners[1] - corners[0], corners[2] - corners[0]);
+    let sigma = smallest_singular_value(e1, e2);
+    if !(sigma > 0.0) {
+        return f64::INFINITY;
+    }
+    let mut deviation = 0.0_f64;
+    for net in nets {
+        let d = net.degree().max(1);
+        for i in 0..=d {
+            for j in 0..=d - i {
+                let k = d - i - j;
+                let affine = corners[0] + e1 * (j as f64 / d as f64) + e2 * (k as f64 / d as f64);
+                deviation = deviation.max((net.point(i, j) - affine).length());
+            }
+        }
+    }
+    // A few ulps of the largest coordinate for the rounding of the differences above.
+    let magnitude = corners.iter().map(|c| c.abs().max_element()).fold(0.0, f64::max);
+    (deviation + 8.0 * f64::EPSILON * magnitude) / sigma
+}
+
+/// The smallest singular value of the 3×2 matrix `[a b]`: `|a × b| / σ_max`, with `σ_max²` the
+/// larger eigenvalue of the Gram matrix (the product form avoids cancellation on slivers).
+pub fn smallest_singular_value(a: DVec3, b: DVec3) -> f64 {
+    let (aa, ab, bb) = (a.length_squared(), a.dot(b), b.length_squared());
+    let largest = 0.5 * (aa + bb + ((aa - bb).powi(2) + 4.0 * ab * ab).sqrt());
+    if largest > 0.0 {
+        a.cross(b).length() / largest.sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// An estimate of the bounds of [`second_derivative_bounds`] for a blended patch over the
+/// sub-triangle `tri`, in its leaf-local `(s, t)` units: the rational weights admit no
+/// control-net bound, so the exact second derivatives are sampled at the corners, edge
+/// midpoints and interior points of the piece and the largest `|S_ss| + |S_st| + |S_tt|` of
+/// each part is doubled. Not a proof: the blend is the one patch kind whose misses are not
+/// certified.
+pub fn sampled_second_bounds(blend: &BlendPatch, tri: [DVec2; 3], normal: DVec3) -> [f64; 2] {
+    let (e1, e2) = (tri[1] - tri[0], tri[2] - tri[0]);
+    const SAMPLES: [(f64, f64); 10] = [
+        (0.0, 0.0),
+        (1.0, 0.0),
+        (0.0, 1.0),
+        (0.5, 0.0),
+        (0.5, 0.5),
+        (0.0, 0.5),
+        (1.0 / 3.0, 1.0 / 3.0),
+        (2.0 / 3.0, 1.0 / 6.0),
+        (1.0 / 6.0, 2.0 / 3.0),
+        (1.0 / 6.0, 1.0 / 6.0),
+    ];
+    let mut bound = [0.0_f64; 2];
+    for (s, t) in SAMPLES {
+        let uv = tri[0] + e1 * s + e2 * t;
+        let jet = blend.jet(uv.x, uv.y);
+        let second = |a: DVec2, b: DVec2| {
+            jet.duu * (a.x * b.x) + jet.duv * (a.x * b.y + a.y * b.x) + jet.dvv * (a.y * b.y)
+        };
+        for q in [second(e1, e1), second(e1, e2), second(e2, e2)] {
+            let along = q.dot(normal);
+            bound = [
+                bound[0].max((q - normal * along).length()),
+                bound[1].max(along.abs()),
+            ];
+        }
+    }
+    bound.map(|b| if b.is_finite() { 6.0 * b } else { f64::INFINITY })
+}
+
 /// Growth of the edge prism beyond the control points, relative to the leaf's box size. Roots
 /// are accepted up to [`crate::render::NewtonSettings::domain_tolerance`] (1e-7) outside the
 /// leaf, where the polynomial runs at most ~4 × degree × tolerance × size outside the hull; 1e-5

@@ -151,15 +151,28 @@ pub fn local_point_and_tangents<const D: usize>(
 }
 
 /// A bound on the second derivative of a Bézier triangle in any unit `(u, v)` direction over
-/// its domain. With δ = δu (e1 − e0) + δv (e2 − e0), `D²S(δ, δ) = d(d−1) Σ B^{d−2}_{ijk}
-/// (δu² Q11 + 2 δu δv Q12 + δv² Q22)` where Q are second differences of the control net, so
-/// `d(d−1) (max|Q11| + max|Q12| + max|Q22|)` bounds it (2|δu δv| ≤ 1).
+/// its domain: [`second_derivative_bounds`] with no normal direction singled out.
 pub fn second_derivative_bound(net: &TriangleBezier) -> f64 {
+    second_derivative_bounds(net, DVec3::ZERO)[0]
+}
+
+/// Bounds `[tangential, normal]` on the second derivative of a Bézier triangle in any unit
+/// `(u, v)` direction over its domain, split against the unit vector `normal`: the part
+/// perpendicular to `normal` and the component along it. For a ray at angle θ to `normal`, the
+/// projection onto the plane perpendicular to the ray of a second derivative is at most
+/// `tangential + sin θ · normal`.
+///
+/// With δ = δu (e1 − e0) + δv (e2 − e0), `D²S(δ, δ) = d(d−1) Σ B^{d−2}_{ijk} (δu² Q11 +
+/// 2 δu δv Q12 + δv² Q22)` where Q are second differences of the control net [Farin, CAGD
+/// §17.3]; for a unit δ each term is at most `max(|Q11|, |Q22|) + |Q12|` (δu² + δv² = 1,
+/// 2|δu δv| ≤ 1), and the Bernstein weights sum to one, so `d(d−1)` times the largest of these
+/// over the net bounds it — for each part of the split separately.
+pub fn second_derivative_bounds(net: &TriangleBezier, normal: DVec3) -> [f64; 2] {
     let d = net.degree();
     if d < 2 {
-        return 0.0;
+        return [0.0; 2];
     }
-    let (mut q11, mut q12, mut q22) = (0.0_f64, 0.0_f64, 0.0_f64);
+    let mut largest = [0.0_f64; 2];
     for i in 0..=d - 2 {
         for j in 0..=d - 2 - i {
             // b(i+a, j+b, k+c) with (a, b, c) one of the six second-order offsets.
@@ -169,12 +182,14 @@ pub fn second_derivative_bound(net: &TriangleBezier) -> f64 {
             let b11 = net.point(i, j + 2);
             let b12 = net.point(i, j + 1);
             let b22 = net.point(i, j);
-            q11 = q11.max((b11 - 2.0 * b01 + b00).length());
-            q12 = q12.max((b12 - b01 - b02 + b00).length());
-            q22 = q22.max((b22 - 2.0 * b02 + b00).length());
+            let q = [b11 - 2.0 * b01 + b00, b12 - b01 - b02 + b00, b22 - 2.0 * b02 + b00];
+            let along = q.map(|v| v.dot(normal));
+            let across = [0, 1, 2].map(|m| (q[m] - normal * along[m]).length());
+            largest[0] = largest[0].max(across[0].max(across[2]) + across[1]);
+            largest[1] = largest[1].max(along[0].abs().max(along[2].abs()) + along[1].abs());
         }
     }
-    (d * (d - 1)) as f64 * (q11 + q12 + q22)
+    largest.map(|m| (d * (d - 1)) as f64 * m)
 }
 
 #[cfg(test)]

@@ -19,6 +19,7 @@ pub mod gallery;
 pub mod intersect;
 pub mod job;
 pub mod modes;
+pub mod newton;
 pub mod output;
 pub mod ray;
 pub mod sampler;

@@ -33,9 +33,12 @@ pub struct RenderStats {
     pub newton_runs: u64,
     /// Roots found by the fallback subdivision after a failed Newton run.
     pub fallback_roots: u64,
-    /// Newton runs that neither converged nor left their leaf (the fallback searched the leaf;
-    /// most find nothing: the ray misses that leaf).
+    /// Newton runs that could neither find a root in their leaf nor prove there is none (the
+    /// fallback searched the leaf; most find nothing: the ray misses that leaf).
     pub newton_unconverged: u64,
+    /// Pieces the fallback left undecided at its deepest level: rays there may have missed a
+    /// root. 0 unless rays graze the surface along a tangency.
+    pub newton_undecided: u64,
     /// Number of patches.
     pub patches: u64,
     /// Half-range of the curvature colour map, when in curvature mode.
@@ -56,6 +59,7 @@ impl RenderStats {
         self.newton_runs = c.newton_runs;
         self.fallback_roots = c.fallback_roots;
         self.newton_unconverged = c.newton_unconverged;
+        self.newton_undecided = c.undecided;
     }
 
     /// Writes the statistics as pretty JSON to `path`.

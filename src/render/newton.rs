@@ -1,0 +1,387 @@
+//! Certified Newton on one piece of a patch: the ray–piece root is found, or its absence is
+//! proved, or the run says it cannot tell.
+//!
+//! A piece is a sub-triangle of a patch's domain in its own barycentrics `(s, t)` (the unit
+//! triangle `T`), with three bounds computed from its control nets ([`PieceBounds`]). The ray
+//! `o + t d` is the intersection of two planes ([`RayPlanes`]), so a hit is a root of
+//! `F(s, t) = P (S(s, t) − o) = 0` (`P`: the projection onto the planes' normals).
+//!
+//! Two facts decide that a piece holds no root, so that a ray reported as a miss is a real miss:
+//! - **Affine start** ([`planar_start`]). `|S − A| ≤ δ` on `T` for the affine map `A` of the
+//!   corners, so a root `x*` satisfies `|x* − x₀| ≤ r_A / cos θ` where `x₀` is the ray's meeting
+//!   point with the corner plane and `r_A` = [`Leaf::affine_radius`](crate::render::bvh::Leaf):
+//!   a ray meeting the plane further than that outside `T` cannot meet the piece.
+//! - **Newton's error bound** ([`newton`]). With `M` bounding `|D²S(a, b)|` for unit directions on
+//!   `T` (polarisation of the bound on `|D²S(δ, δ)|`), `F(x) − F(x*) = J̄ (x − x*)` with
+//!   `|J(x) − J̄| ≤ M |x − x*| / 2`, so the Newton target `x_N = x − J(x)⁻¹ F(x)` satisfies
+//!   `|x_N − x*| ≤ M |x − x*|² / (2 σ)`, `σ ≥ |det J| / ‖J‖_F` the smallest singular value of
+//!   `J(x)`. `|x − x*|` is at most the distance from `x` to the farthest corner of `T` and at
+//!   most `|x − x₀| + r_A / cos θ`; a target further than the bound outside `T` proves that `T`
+//!   holds no root.
+//!
+//! Otherwise the iterate is projected back onto `T` (projection onto a convex set containing
+//! the root never increases the distance to it), so iterates stay where the bounds hold and
+//! converge to a root inside `T` whenever `M |x − x*| / (2σ) < 1`. A run that reaches the
+//! iteration cap (or stalls on the boundary of `T`) without either outcome is
+//! [`Newton::Failed`]. Most such runs belong to rays that pass just outside the piece, close to
+//! a root of the polynomial's extension beyond `T`; [`search`] then applies the same error bound
+//! to sub-triangles of `T` (from each one's centroid, where `|x − x*|` is at most the
+//! sub-triangle's size, so the bound shrinks four-fold per level) until every sub-triangle is
+//! excluded or holds a root. It evaluates the same piece, so it needs no allocation.
+
+use glam::{DVec2, DVec3};
+
+use crate::render::ray::{Ray64, RayPlanes};
+
+/// Tunables of the per-piece Newton solve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonSettings {
+    /// Iteration cap of one Newton run; beyond it a run goes on (up to twice the cap) only
+    /// while every step at least halves the residual, then counts as undecided.
+    pub max_iterations: u32,
+    /// Distance from the ray (relative to the scene's bounding-box diagonal) at which a root
+    /// is accepted; [`crate::render::Tracer::root_tolerance`] adds a few hundred ulps of the
+    /// coordinates. 1e-10 is ten times below the 1e-9 hit-accuracy contract and well above f64
+    /// evaluation noise, so Newton never stalls on rounding.
+    pub residual_tolerance: f64,
+    /// Levels of 4-splitting of the piece's domain searched after an undecided run (see
+    /// [`search`]).
+    pub fallback_depth: u32,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        NewtonSettings {
+            max_iterations: 8,
+            residual_tolerance: 1e-10,
+            fallback_depth: 8,
+        }
+    }
+}
+
+/// The bounds of one piece that certify its misses (see the module documentation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PieceBounds {
+    /// Surface points at the piece's corners `(s, t) = (0, 0), (1, 0), (0, 1)`.
+    pub corners: [DVec3; 3],
+    /// `δ / σ_min(J_A)`: see [`crate::render::bvh::affine_radius`].
+    pub affine_radius: f64,
+    /// Bounds `[tangential, normal]` on `|D²S(δ, δ)|` over the piece for unit `(s, t)`
+    /// directions δ, split against the corner plane's normal (see
+    /// [`crate::render::evaluate::second_derivative_bounds`]).
+    pub second_bound: [f64; 2],
+}
+
+/// Outcome of one Newton run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Newton {
+    /// A root at `(s, t)` in the piece after `iterations` steps, with surface point `p`.
+    Root(DVec2, u32, DVec3),
+    /// Proved: the piece holds no root.
+    NoRoot,
+    /// Neither within the iteration budget (singular Jacobian, slow convergence near a
+    /// tangency): the caller splits the piece.
+    Failed,
+}
+
+/// Where a Newton run starts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Start {
+    /// The ray meets the corner plane at `at` (`(s, t)`, possibly outside `T`); a root lies
+    /// within `radius` of it.
+    At {
+        /// The meeting point.
+        at: DVec2,
+        /// `affine_radius / cos θ`.
+        radius: f64,
+        /// `sin θ`: the share of the normal part of the second derivative that the ray sees.
+        sin: f64,
+    },
+    /// Proved by the affine bound: the ray cannot meet the piece.
+    Outside,
+    /// The ray is parallel to the corner plane (or the plane is degenerate): no start point and
+    /// no bound; Newton starts at the centroid.
+    Unbounded,
+}
+
+impl Start {
+    /// Where the roots can lie and how curved the piece looks along the ray: the start point,
+    /// the radius about it that holds every root, and half the bound on the second derivative
+    /// of the projected residual (`(tangential + sin θ · normal) / 2`); None when the start
+    /// proves there is no root.
+    fn region(&self, bounds: &PieceBounds) -> Option<(DVec2, f64, f64)> {
+        let [tangential, normal] = bounds.second_bound;
+        match *self {
+            Start::Outside => None,
+            Start::At { at, radius, sin } => Some((at, radius, 0.5 * (tangential + sin * normal))),
+            Start::Unbounded => Some((
+                DVec2::splat(1.0 / 3.0),
+                f64::INFINITY,
+                0.5 * (tangential + normal),
+            )),
+        }
+    }
+}
+
+/// The start of Newton for `ray` on a piece with corners `corners` and affine radius
+/// `affine_radius` (see [`Start`]). Möller–Trumbore barycentrics of the ray–plane point.
+pub fn planar_start(corners: [DVec3; 3], affine_radius: f64, ray: &Ray64) -> Start {
+    let [a, b, c] = corners;
+    let (e1, e2) = (b - a, c - a);
+    let pvec = ray.dir.cross(e2);
+    let det = e1.dot(pvec);
+    let area = e1.cross(e2).length();
+    // det = −d · (e1 × e2), so |det| / |e1 × e2| is the cosine of the ray's angle to the normal.
+    let cos = det.abs() / area;
+    if !(cos > 0.0) || !cos.is_finite() {
+        return Start::Unbounded;
+    }
+    let tvec = ray.origin - a;
+    let s = tvec.dot(pvec) / det;
+    let t = ray.dir.dot(tvec.cross(e1)) / det;
+    let at = DVec2::new(s, t);
+    let radius = affine_radius / cos;
+    if !at.is_finite() || !radius.is_finite() {
+        return Start::Unbounded;
+    }
+    if distance_to_unit_triangle(at) > radius * (1.0 + 1e-9) + 1e-12 {
+        return Start::Outside;
+    }
+    let sin = (1.0 - cos.min(1.0).powi(2)).sqrt();
+    Start::At { at, radius, sin }
+}
+
+/// Certified Newton on a piece: `eval(s, t)` gives `S`, `∂S/∂s`, `∂S/∂t`; `tolerance` is the
+/// accepted distance of a root from the ray. See the module documentation for why
+/// [`Newton::NoRoot`] is a proof and iterates stay in `T`.
+pub fn newton(
+    eval: &impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
+    bounds: &PieceBounds,
+    start: Start,
+    planes: &RayPlanes,
+    tolerance: f64,
+    settings: &NewtonSettings,
+) -> Newton {
+    let Some((from, radius, half_m)) = start.region(bounds) else {
+        return Newton::NoRoot;
+    };
+    let mut x = project_to_unit_triangle(from);
+    let mut iterations = 0;
+    let mut previous = f64::INFINITY;
+    loop {
+        let (p, ss, tt) = eval(x);
+        let f = planes.residual(p);
+        if !f.is_finite() {
+            return Newton::Failed;
+        }
+        let residual = f.length_squared();
+        if residual <= tolerance * tolerance {
+            return Newton::Root(x, iterations, p);
+        }
+        // Past the cap a run goes on (up to twice the cap) only while every step at least
+        // halves the residual: near an almost double root (a silhouette) Newton converges
+        // linearly, steadily but slower than quadratically.
+        if iterations >= settings.max_iterations
+            && (iterations >= 2 * settings.max_iterations || residual > 0.25 * previous)
+        {
+            return Newton::Failed;
+        }
+        previous = residual;
+        let (ju, jv) = (planes.project(ss), planes.project(tt));
+        let Some(step) = planes.newton_step(f, ss, tt) else {
+            return Newton::Failed;
+        };
+        let target = x - step;
+        iterations += 1;
+        let outside = distance_to_unit_triangle(target);
+        // Taylor: after an exact Newton step the residual, and the error of the linearised
+        // point, are at most ½ M |Δ|²; below tolerance no further evaluation is needed.
+        if outside == 0.0 && half_m * step.length_squared() <= tolerance {
+            return Newton::Root(target, iterations, p - ss * step.x - tt * step.y);
+        }
+        if outside > 0.0 {
+            let sigma = ju.perp_dot(jv).abs() / (ju.length_squared() + jv.length_squared()).sqrt();
+            let reach = farthest_corner_distance(x).min((x - from).length() + radius);
+            let error = half_m * reach * reach / sigma;
+            if outside > error * (1.0 + 1e-9) + 1e-12 {
+                return Newton::NoRoot;
+            }
+        }
+        let next = project_to_unit_triangle(target);
+        if outside > 0.0 && (next - x).length_squared() < 1e-4 * step.length_squared() {
+            // Stalled on the boundary: the target lies outside, in about the same place again.
+            return Newton::Failed;
+        }
+        x = next;
+    }
+}
+
+/// The search of a piece whose Newton run was undecided: the unit triangle is split into four
+/// recursively (`depth` levels); a sub-triangle Δ is excluded when the Newton target `x_N` from
+/// its centroid `y` lies further outside Δ than `M ρ² / (2σ)`, `ρ` the distance from `y` to
+/// Δ's farthest corner (a root in Δ is within that of `x_N`, see the module documentation);
+/// otherwise, if that target lies in Δ, Newton runs from `y` over the whole piece, and a
+/// sub-triangle still open is split. Every root found goes to `visit(s, t, p)`. Returns the number of sub-triangles left
+/// undecided at the last level (0: every root of the piece was visited), or `None` when a run
+/// proved that the piece holds no root.
+pub fn search(
+    eval: impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
+    bounds: &PieceBounds,
+    start: Start,
+    planes: &RayPlanes,
+    tolerance: f64,
+    settings: &NewtonSettings,
+    mut visit: impl FnMut(DVec2, DVec3),
+) -> Option<u64> {
+    // Every root lies within `radius` of `from` (the affine bound of the start).
+    let (from, radius, half_m) = start.region(bounds)?;
+    let mut undecided = 0;
+    let mut stack: Vec<([DVec2; 3], u32)> = Vec::new();
+    let unit = [DVec2::ZERO, DVec2::X, DVec2::Y];
+    stack.push((unit, 0));
+    while let Some((tri, level)) = stack.pop() {
+        let y = (tri[0] + tri[1] + tri[2]) / 3.0;
+        let size = tri
+            .iter()
+            .map(|c| (*c - y).length_squared())
+            .fold(0.0, f64::max)
+            .sqrt();
+        // The sub-triangle lies in the disk of radius `size` about `y`.
+        if (from - y).length() - size > radius * (1.0 + 1e-9) + 1e-12 {
+            continue;
+        }
+        let (p, ss, tt) = eval(y);
+        let f = planes.residual(p);
+        if f.length_squared() <= tolerance * tolerance {
+            visit(y, p);
+            continue;
+        }
+        // Newton over the whole piece from `y` only where the target from `y` stays in Δ.
+        let mut promising = false;
+        if level > 0 {
+            let (ju, jv) = (planes.project(ss), planes.project(tt));
+            if let Some(step) = planes.newton_step(f, ss, tt) {
+                let sigma =
+                    ju.perp_dot(jv).abs() / (ju.length_squared() + jv.length_squared()).sqrt();
+                let error = half_m * size * size / sigma;
+                let outside = distance_to_triangle(y - step, tri);
+                if outside > error * (1.0 + 1e-9) + 1e-12 {
+                    continue;
+                }
+                promising = outside == 0.0;
+            }
+        }
+        if promising {
+            let start = Start::At {
+                at: y,
+                radius: f64::INFINITY,
+                sin: match start {
+                    Start::At { sin, .. } => sin,
+                    _ => 1.0,
+                },
+            };
+            match newton(&eval, bounds, start, planes, tolerance, settings) {
+                Newton::Root(st, _, p) => {
+                    visit(st, p);
+                    continue;
+                }
+                Newton::NoRoot => return None,
+                Newton::Failed => {}
+            }
+        }
+        if level == settings.fallback_depth {
+            undecided += 1;
+            continue;
+        }
+        let m01 = 0.5 * (tri[0] + tri[1]);
+        let m12 = 0.5 * (tri[1] + tri[2]);
+        let m20 = 0.5 * (tri[2] + tri[0]);
+        for child in [
+            [tri[0], m01, m20],
+            [m01, tri[1], m12],
+            [m20, m12, tri[2]],
+            [m12, m20, m01],
+        ] {
+            stack.push((child, level + 1));
+        }
+    }
+    Some(undecided)
+}
+
+/// Distance from `x` to the triangle `tri` (0 inside): through the affine map onto the unit
+/// triangle only for the inside test, measured in `x`'s own units.
+fn distance_to_triangle(x: DVec2, tri: [DVec2; 3]) -> f64 {
+    let (e1, e2) = (tri[1] - tri[0], tri[2] - tri[0]);
+    let q = x - tri[0];
+    let det = e1.perp_dot(e2);
+    let (a, b) = (q.perp_dot(e2) / det, e1.perp_dot(q) / det);
+    if a >= 0.0 && b >= 0.0 && a + b <= 1.0 {
+        return 0.0;
+    }
+    let to_segment = |p: DVec2, r: DVec2| {
+        let pr = r - p;
+        let h = ((x - p).dot(pr) / pr.length_squared()).clamp(0.0, 1.0);
+        (p + pr * h - x).length()
+    };
+    to_segment(tri[0], tri[1])
+        .min(to_segment(tri[1], tri[2]))
+        .min(to_segment(tri[2], tri[0]))
+}
+
+/// Distance from `x` to the farthest corner of the unit triangle `T`: the largest distance
+/// from `x` to any point of `T`.
+fn farthest_corner_distance(x: DVec2) -> f64 {
+    x.length_squared()
+        .max((x - DVec2::X).length_squared())
+        .max((x - DVec2::Y).length_squared())
+        .sqrt()
+}
+
+/// The point of the unit triangle `T = {s, t ≥ 0, s + t ≤ 1}` closest to `x`.
+pub fn project_to_unit_triangle(x: DVec2) -> DVec2 {
+    if x.x >= 0.0 && x.y >= 0.0 && x.x + x.y <= 1.0 {
+        return x;
+    }
+    let on_segment = |a: DVec2, b: DVec2| {
+        let ab = b - a;
+        let h = ((x - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+        a + ab * h
+    };
+    [
+        on_segment(DVec2::ZERO, DVec2::X),
+        on_segment(DVec2::X, DVec2::Y),
+        on_segment(DVec2::Y, DVec2::ZERO),
+    ]
+    .into_iter()
+    .min_by(|a, b| (*a - x).length_squared().total_cmp(&(*b - x).length_squared()))
+    .unwrap_or(DVec2::splat(1.0 / 3.0))
+}
+
+/// Distance from `x` to the unit triangle `T` (0 inside).
+pub fn distance_to_unit_triangle(x: DVec2) -> f64 {
+    (project_to_unit_triangle(x) - x).length()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn projection_onto_the_unit_triangle() {
+        let cases = [
+            (DVec2::new(0.2, 0.3), DVec2::new(0.2, 0.3)),
+            (DVec2::new(-1.0, 0.5), DVec2::new(0.0, 0.5)),
+            (DVec2::new(0.5, -2.0), DVec2::new(0.5, 0.0)),
+            (DVec2::new(1.0, 1.0), DVec2::new(0.5, 0.5)),
+            (DVec2::new(-1.0, -1.0), DVec2::ZERO),
+            (DVec2::new(3.0, -1.0), DVec2::X),
+            (DVec2::new(-1.0, 3.0), DVec2::Y),
+        ];
+        for (x, expected) in cases {
+            let p = project_to_unit_triangle(x);
+            assert!((p - expected).length() < 1e-15, "{x} → {p}, not {expected}");
+        }
+        assert_eq!(distance_to_unit_triangle(DVec2::new(0.1, 0.1)), 0.0);
+        assert!((distance_to_unit_triangle(DVec2::new(-0.25, 0.5)) - 0.25).abs() < 1e-15);
+    }
+}
