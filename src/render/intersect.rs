@@ -275,40 +275,51 @@ impl<'s> Tracer<'s> {
     ) -> Option<Hit> {
         let tri = leaf.tri();
         counters.newton_runs += 1;
-        match newton(&eval, bounds, start, query.planes, self.tolerance, &self.newton) {
+        let first = match newton(&eval, bounds, start, query.planes, self.tolerance, &self.newton) {
+            Newton::NoRoot => return None,
             Newton::Root(st, iterations, p) => {
-                let hit = self.accept(leaf.patch, tri, st, p, query, t_max)?;
-                counters.roots_accepted += 1;
-                counters.accepted_iterations += u64::from(iterations);
-                counters.accepted_iterations_max = counters.accepted_iterations_max.max(iterations);
-                Some(hit)
+                let hit = self.accept(leaf.patch, tri, st, p, query, t_max);
+                if hit.is_some() {
+                    counters.roots_accepted += 1;
+                    counters.accepted_iterations += u64::from(iterations);
+                    counters.accepted_iterations_max =
+                        counters.accepted_iterations_max.max(iterations);
+                    // A steep ray meets the leaf once: this is the root.
+                    if !start.may_meet_twice() {
+                        return hit;
+                    }
+                }
+                hit
             }
-            Newton::NoRoot => None,
             Newton::Failed => {
                 counters.newton_unconverged += 1;
-                let mut best: Option<Hit> = None;
-                let undecided = search(
-                    &eval,
-                    bounds,
-                    start,
-                    query.planes,
-                    self.tolerance,
-                    &self.newton,
-                    |st, p| {
-                        let limit = best.map_or(t_max, |h| h.t);
-                        if let Some(hit) = self.accept(leaf.patch, tri, st, p, query, limit) {
-                            best = Some(hit);
-                        }
-                    },
-                );
-                counters.undecided += undecided.unwrap_or(0);
-                if best.is_some() {
-                    counters.newton_failures += 1;
-                    counters.fallback_roots += 1;
-                }
-                best
+                None
             }
+        };
+        // Undecided, or a root outside the ray's interval (the line meets the leaf behind the
+        // origin or beyond the closest hit so far), or a grazing ray that may meet the leaf
+        // again closer: search the whole leaf for its roots.
+        let mut best = first;
+        let undecided = search(
+            &eval,
+            bounds,
+            start,
+            query.planes,
+            self.tolerance,
+            &self.newton,
+            |st, p| {
+                let limit = best.map_or(t_max, |h| h.t);
+                if let Some(hit) = self.accept(leaf.patch, tri, st, p, query, limit) {
+                    best = Some(hit);
+                }
+            },
+        );
+        counters.undecided += undecided.unwrap_or(0);
+        if first.is_none() && best.is_some() {
+            counters.newton_failures += 1;
+            counters.fallback_roots += 1;
         }
+        best
     }
 
     /// A root at leaf-local `(s, t)` of the sub-triangle `tri` of patch `patch` as a hit, if

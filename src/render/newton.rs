@@ -105,6 +105,16 @@ pub enum Start {
 }
 
 impl Start {
+    /// True when the ray may meet the piece more than once: it runs within 30° of the corner
+    /// plane (leaves have normal cones of at most 25°, so a steeper ray meets a leaf once).
+    pub fn may_meet_twice(&self) -> bool {
+        match *self {
+            Start::At { sin, .. } => sin > 30f64.to_radians().cos(),
+            Start::Outside => false,
+            Start::Unbounded => true,
+        }
+    }
+
     /// Where the roots can lie and how curved the piece looks along the ray: the start point,
     /// the radius about it that holds every root, and half the bound on the second derivative
     /// of the projected residual (`(tangential + sin θ · normal) / 2`); None when the start
@@ -283,7 +293,10 @@ pub fn search(
             match newton(&eval, bounds, start, planes, tolerance, settings) {
                 Newton::Root(st, _, p) => {
                     visit(st, p);
-                    continue;
+                    // A root elsewhere in the piece settles nothing about Δ.
+                    if distance_to_triangle(st, tri) == 0.0 {
+                        continue;
+                    }
                 }
                 Newton::NoRoot => return None,
                 Newton::Failed => {}
