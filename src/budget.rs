@@ -34,7 +34,7 @@ fn mem_available(meminfo: &str) -> Option<f64> {
 /// [`memory_limit`]; `remedy` says how to need less.
 pub fn check_memory(what: &str, bytes: f64, remedy: &str) -> Result<()> {
     match memory_limit()? {
-        Some((limit, source)) if !(bytes <= limit) => Err(Error::TooLarge {
+        Some((limit, source)) if bytes > limit => Err(Error::TooLarge {
             what: what.to_string(),
             estimate: format_bytes(bytes),
             limit: format!("{} ({source})", format_bytes(limit)),

@@ -117,7 +117,7 @@ fn relative_flatness(net: &TriangleBezier) -> f64 {
     let [a, b, c] = [net.point(d, 0), net.point(0, d), net.point(0, 0)];
     let normal = (b - a).cross(c - a).normalize_or_zero();
     let size = net.control_bounds().diagonal();
-    if normal == DVec3::ZERO || !(size > 0.0) {
+    if normal == DVec3::ZERO || size <= 0.0 {
         return 1.0;
     }
     let far = net

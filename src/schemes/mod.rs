@@ -139,7 +139,7 @@ pub fn check_surface(surface: &Surface, mesh: &Mesh, user: &[(String, String)]) 
         .enumerate()
         .max_by(|a, b| a.1.total_cmp(&b.1));
     match farthest {
-        Some((patch, r)) if !(r <= MAX_SURFACE_REACH) => Err(unusable(
+        Some((patch, r)) if r > MAX_SURFACE_REACH => Err(unusable(
             patch,
             format!(
                 "reaches {r:.3e} mesh diagonals beyond the mesh's bounding box \
