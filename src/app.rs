@@ -117,7 +117,11 @@ pub fn measure_schemes(
     let mut warnings = Vec::new();
     for run in select_schemes(selection, params)? {
         match build_timed(run.scheme, mesh, &run.params) {
-            Ok((surface, ms)) => results.push(Metrics::measure(&surface, mesh, ms)),
+            Ok((surface, ms)) => {
+                let metrics = Metrics::measure(&surface, mesh, ms);
+                metrics.check_finite()?;
+                results.push(metrics);
+            }
             Err(e @ Error::OpenMesh { .. }) if selection == ALL_SCHEMES => {
                 warnings.push(format!("skipped: {e}"));
             }

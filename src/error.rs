@@ -159,6 +159,37 @@ pub enum Error {
         /// Why.
         reason: String,
     },
+    /// A scheme built a surface that cannot be used: a control point is NaN or infinite, or
+    /// the surface reaches absurdly far beyond the mesh (typically an extreme parameter).
+    #[error("scheme '{scheme}' {params} built an unusable surface: {reason}")]
+    UnusableSurface {
+        /// The scheme.
+        scheme: String,
+        /// The parameters the user set, as `with a=1, b=2`, or `with default parameters`.
+        params: String,
+        /// What is wrong, naming the patch and its face.
+        reason: String,
+    },
+    /// A result (metric, exported value) came out NaN or infinite.
+    #[error("{what} is not finite ({value})")]
+    NonFiniteResult {
+        /// The figure or value, e.g. `metric g1_mean_rad of scheme 'hb'`.
+        what: String,
+        /// Its value.
+        value: f64,
+    },
+    /// A size or resource estimate exceeds its limit.
+    #[error("{what} needs about {estimate}, above the limit of {limit}; {remedy}")]
+    TooLarge {
+        /// What would be built (e.g. `the BVH of scheme 'hb'`).
+        what: String,
+        /// The estimate, with its unit.
+        estimate: String,
+        /// The limit, with its unit and where it comes from.
+        limit: String,
+        /// How to get below the limit or raise it.
+        remedy: String,
+    },
     /// A scene file or command-line option is invalid.
     #[error("{0}")]
     Invalid(String),

@@ -7,6 +7,7 @@
 pub mod app;
 pub mod bezier;
 pub mod blend;
+pub mod budget;
 pub mod error;
 pub mod export;
 pub mod geom;

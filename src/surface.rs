@@ -79,6 +79,30 @@ impl Patch {
         }
     }
 
+    /// Every control point of the patch (of all sub-surfaces for a blend).
+    pub fn control_points(&self) -> impl Iterator<Item = &DVec3> {
+        let nets: &[TriangleBezier] = match &self.geometry {
+            PatchGeometry::Bezier(b) => std::slice::from_ref(b),
+            PatchGeometry::Blend(b) => b.sub_surfaces(),
+        };
+        nets.iter().flat_map(|n| n.points())
+    }
+
+    /// The patch with every control point multiplied by `factor` (the surface scaled about
+    /// the origin; domain and parametrisation unchanged).
+    pub fn scaled(&self, factor: f64) -> Patch {
+        let geometry = match &self.geometry {
+            PatchGeometry::Bezier(b) => PatchGeometry::Bezier(b.map_points(|p| p * factor)),
+            PatchGeometry::Blend(b) => PatchGeometry::Blend(BlendPatch::new(
+                b.family(),
+                b.sub_surfaces()
+                    .clone()
+                    .map(|n| n.map_points(|p| p * factor)),
+            )),
+        };
+        Patch { geometry, ..*self }
+    }
+
     /// Bounds of the whole patch.
     pub fn full_bounds(&self) -> Aabb {
         match &self.geometry {
@@ -225,6 +249,22 @@ impl Surface {
         self.patches
             .iter()
             .fold(Aabb::EMPTY, |b, p| b.union(p.full_bounds()))
+    }
+
+    /// The index of the first patch with a NaN or infinite control point.
+    pub fn first_non_finite_patch(&self) -> Option<usize> {
+        self.patches
+            .iter()
+            .position(|p| !p.control_points().all(|q| q.is_finite()))
+    }
+
+    /// The surface scaled about the origin by `factor` (see [`Patch::scaled`]).
+    pub fn scaled(&self, factor: f64) -> Surface {
+        Surface {
+            scheme: self.scheme.clone(),
+            params: self.params.clone(),
+            patches: self.patches.iter().map(|p| p.scaled(factor)).collect(),
+        }
     }
 
     /// Every pair of patch edges that cover the same domain curve, found from the patch

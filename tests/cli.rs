@@ -607,3 +607,301 @@ fn piper_works_on_an_open_mesh_with_file_normals_and_thesis_scaling() {
     );
     assert_fails_naming(&out, &["scaling", "cubic"]);
 }
+
+/// `scenes/octahedron.obj` with every coordinate multiplied by `scale`, written into `dir`.
+fn scaled_octahedron(dir: &Path, scale: f64) -> PathBuf {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/octahedron.obj"),
+    )
+    .expect("octahedron");
+    let scaled: String = text
+        .lines()
+        .map(|line| match line.strip_prefix("v ") {
+            Some(rest) => {
+                let xyz: Vec<String> = rest
+                    .split_whitespace()
+                    .map(|x| (x.parse::<f64>().expect("number") * scale).to_string())
+                    .collect();
+                format!("v {}\n", xyz.join(" "))
+            }
+            None => format!("{line}\n"),
+        })
+        .collect();
+    write(dir, &format!("octahedron-{scale:e}.obj"), &scaled)
+}
+
+fn path_str(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+/// Absurd scheme parameters make huge or non-finite surfaces: refused right after the
+/// construction, naming the scheme and the parameters, by every command.
+#[test]
+fn absurd_parameters_are_refused_naming_them() {
+    let dir = scratch("absurd_parameters");
+    let mesh = scaled_octahedron(&dir, 1.0);
+    let cases: [(&str, &[&str], &str); 4] = [
+        ("hb", &["alpha=1e300"], "alpha=1e300"),
+        (
+            "hb",
+            &["gamma0=1e150", "gamma1=-1e150"],
+            "gamma0=1e150, gamma1=-1e150",
+        ),
+        (
+            "hb",
+            &["gamma0=1e300", "gamma1=-1e300"],
+            "gamma0=1e300, gamma1=-1e300",
+        ),
+        ("loop94", &["beta=1e300"], "beta=1e300"),
+    ];
+    let obj = dir.join("out.obj");
+    let image = dir.join("img");
+    for (scheme, params, named) in cases {
+        let mut tail = vec!["--scheme", scheme];
+        for p in params {
+            tail.extend(["--param", p]);
+        }
+        let commands: [Vec<&str>; 3] = [
+            vec!["metrics", path_str(&mesh)],
+            vec![
+                "export",
+                path_str(&mesh),
+                "--format",
+                "obj",
+                "-o",
+                path_str(&obj),
+            ],
+            vec![
+                "render",
+                path_str(&mesh),
+                "--mode",
+                "curvature",
+                "--size",
+                "8x8",
+                "-o",
+                path_str(&image),
+            ],
+        ];
+        for mut args in commands {
+            args.extend(&tail);
+            let out = smoothlab(&args);
+            assert_fails_naming(
+                &out,
+                &[
+                    &format!("scheme '{scheme}' with {named}"),
+                    "unusable surface",
+                    "mesh diagonals",
+                ],
+            );
+        }
+        assert!(!obj.exists(), "no OBJ written for {named}");
+    }
+    // A large but sane value still builds.
+    let out = smoothlab(&[
+        "metrics",
+        path_str(&mesh),
+        "--scheme",
+        "hb",
+        "--param",
+        "alpha=2",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}
+
+/// The metrics JSON of `mesh` for every scheme, parsed.
+fn metrics_json(dir: &Path, mesh: &Path) -> Vec<serde_json::Value> {
+    let json = dir.join(format!(
+        "{}.json",
+        mesh.file_stem().unwrap().to_string_lossy()
+    ));
+    let out = smoothlab(&[
+        "metrics",
+        path_str(mesh),
+        "--scheme",
+        "all",
+        "--json",
+        path_str(&json),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&json).expect("metrics JSON");
+    serde_json::from_str(&text).expect("JSON")
+}
+
+/// Metrics are scale-free: the octahedron scaled by 1e±20 and 1e±50 measures like the
+/// unscaled one in every scheme (angles and relative lengths equal up to the rounding of the
+/// scaled coordinates, continuity orders equal).
+#[test]
+fn metrics_do_not_depend_on_scale() {
+    let dir = scratch("metrics_scale");
+    let reference = metrics_json(&dir, &scaled_octahedron(&dir, 1.0));
+    for scale in [1e20, 1e-20, 1e50, 1e-50] {
+        let scaled = metrics_json(&dir, &scaled_octahedron(&dir, scale));
+        assert_eq!(scaled.len(), reference.len());
+        for (a, b) in reference.iter().zip(&scaled) {
+            let scheme = &a["scheme"];
+            for key in [
+                "g1_max_rad",
+                "g1_mean_rad",
+                "g1_between_faces_max_rad",
+                "interp_max_rel",
+                "g0_max_rel",
+                "min_regularity_rel",
+                "network_undulation_max_rad",
+            ] {
+                let (x, y) = (a[key].as_f64().expect(key), b[key].as_f64().expect(key));
+                assert!(
+                    (x - y).abs() <= 1e-13 + 1e-9 * x.abs(),
+                    "{scheme} ×{scale:e} {key}: {y} vs {x}"
+                );
+            }
+            assert_eq!(
+                a["continuity_order_between_faces"], b["continuity_order_between_faces"],
+                "{scheme} ×{scale:e}"
+            );
+        }
+    }
+}
+
+/// `export --tess` is capped, and the size of the OBJ is estimated against the memory
+/// limit before anything is evaluated.
+#[test]
+fn export_tessellation_is_bounded() {
+    let dir = scratch("export_tess");
+    let mesh = scaled_octahedron(&dir, 1.0);
+    let obj = dir.join("t.obj");
+    let args = |tess: &'static str| {
+        vec![
+            "export",
+            path_str(&mesh),
+            "--scheme",
+            "hb",
+            "--format",
+            "obj",
+            "-o",
+            path_str(&obj),
+            "--tess",
+            tess,
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>()
+    };
+    let run = |tess, env: &[(&str, &str)]| {
+        let a = args(tess);
+        common::smoothlab_with_env(&a.iter().map(String::as_str).collect::<Vec<_>>(), env)
+    };
+    assert_fails_naming(&run("100000", &[]), &["--tess 100000", "1..=4096"]);
+    let out = run("1000", &[("SMOOTHLAB_MEMORY_LIMIT", "1e8")]);
+    assert_fails_naming(
+        &out,
+        &[
+            "32 patches at --tess 1000",
+            "GB",
+            "SMOOTHLAB_MEMORY_LIMIT",
+            "lower --tess",
+        ],
+    );
+    assert!(!obj.exists());
+    let out = run("4", &[]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&obj).expect("obj");
+    assert!(!text.contains("vn 0 0 0"));
+}
+
+/// A bipyramid with two apexes of valence `n`.
+fn bipyramid(n: usize) -> String {
+    let mut text = String::from("v 0 0 1\nv 0 0 -1\n");
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        text += &format!("v {} {} 0\n", a.cos(), a.sin());
+    }
+    for i in 0..n {
+        let (a, b) = (3 + i, 3 + (i + 1) % n);
+        text += &format!("f 1 {a} {b}\nf 2 {b} {a}\n");
+    }
+    text
+}
+
+/// gk refuses a vertex above its documented valence limit at once, naming it.
+#[test]
+fn gk_refuses_huge_valences_by_vertex() {
+    let dir = scratch("gk_valence");
+    let mesh = write(&dir, "bipyramid-200.obj", &bipyramid(200));
+    let start = std::time::Instant::now();
+    for (k, max) in [("1", 64), ("4", 16)] {
+        let out = smoothlab(&[
+            "metrics",
+            path_str(&mesh),
+            "--scheme",
+            "gk",
+            "--param",
+            &format!("k={k}"),
+        ]);
+        assert_fails_naming(
+            &out,
+            &[
+                &format!("k={k}"),
+                &format!("up to {max}"),
+                "vertex 0 has valence 200",
+            ],
+        );
+    }
+    assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
+    let mesh = write(&dir, "bipyramid-17.obj", &bipyramid(17));
+    let out = smoothlab(&[
+        "metrics",
+        path_str(&mesh),
+        "--scheme",
+        "gk",
+        "--param",
+        "k=1",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}
+
+/// Scene `[bvh]` keys outside their ranges are refused by name; settings within the ranges
+/// that would still make an absurd number of leaves are refused by the leaf estimate before
+/// the subdivision, and a BVH beyond the memory limit by the memory estimate.
+#[test]
+fn bvh_settings_and_size_are_bounded() {
+    let dir = scratch("bvh_bounds");
+    let mesh = scaled_octahedron(&dir, 1.0);
+    let scene = |name: &str, bvh: &str| {
+        let text = format!(
+            "mesh = {:?}\n[scheme]\nname = \"hb\"\n[render]\nmode = \"normals\"\nsize = [8, 8]\nspp = 1\n[bvh]\n{bvh}\n",
+            path_str(&mesh)
+        );
+        write(&dir, &format!("{name}.toml"), &text)
+    };
+    let render = |scene: &Path, env: &[(&str, &str)]| {
+        let image = dir.join("img");
+        common::smoothlab_with_env(&["render", path_str(scene), "-o", path_str(&image)], env)
+    };
+    let bad = scene("flat", "max_depth = 16\nflatness = 1e-300");
+    assert_fails_naming(
+        &render(&bad, &[]),
+        &["bvh.flatness = 1e-300", "[1e-4, 1e0]"],
+    );
+    let bad = scene("cone", "cone_deg = 0.001");
+    assert_fails_naming(&render(&bad, &[]), &["bvh.cone_deg = 1e-3"]);
+    let start = std::time::Instant::now();
+    let deep = scene("deep", "max_depth = 16\nflatness = 1e-4");
+    assert_fails_naming(
+        &render(&deep, &[]),
+        &[
+            "BVH of scheme 'hb'",
+            "leaves",
+            "bvh.max_leaves",
+            "raise bvh.flatness",
+        ],
+    );
+    assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
+    let fine = scene("fine", "max_leaves = 100000");
+    let out = render(&fine, &[("SMOOTHLAB_MEMORY_LIMIT", "1000")]);
+    assert_fails_naming(
+        &out,
+        &["BVH of scheme 'hb'", "MB", "SMOOTHLAB_MEMORY_LIMIT"],
+    );
+    let out = render(&fine, &[]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}

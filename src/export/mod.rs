@@ -39,7 +39,22 @@ impl Format {
 
 /// The text of `surface` in `format`; `tess` is the number of subdivisions per patch edge
 /// for [`Format::Obj`] and is ignored otherwise.
+///
+/// A surface with a NaN or infinite control point is refused, naming the patch.
 pub fn export(surface: &Surface, format: Format, tess: usize) -> Result<String> {
+    if let Some(index) = surface.first_non_finite_patch() {
+        return Err(Error::NonFiniteResult {
+            what: format!(
+                "a control point of patch {index} (face {})",
+                surface.patches[index].face
+            ),
+            value: surface.patches[index]
+                .control_points()
+                .map(|p| p.length())
+                .find(|x| !x.is_finite())
+                .unwrap_or(f64::NAN),
+        });
+    }
     match format {
         Format::Json => json::to_json(surface),
         Format::BezierView => bezierview::to_bv(surface),

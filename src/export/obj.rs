@@ -41,13 +41,35 @@ pub fn exact_normal(patch: &Patch, uv: DVec2) -> DVec3 {
     DVec3::ZERO
 }
 
-/// The OBJ text of `surface` tessellated with `tess ≥ 1` subdivisions per patch edge.
+/// The largest `--tess` (the same cap as the renderer's `--tessellate`).
+pub const MAX_TESS: usize = 4096;
+
+/// Bytes of the OBJ text of `patches` patches at `tess` subdivisions per edge, estimated
+/// from the records' typical lengths (a `v` and a `vn` line of about 60 bytes each per
+/// vertex, an `f` line of about 40 bytes per triangle).
+pub fn estimated_bytes(patches: usize, tess: usize) -> f64 {
+    let (vertices, triangles) = (grid_vertex_count(tess) as f64, (tess * tess) as f64);
+    patches as f64 * (120.0 * vertices + 40.0 * triangles)
+}
+
+/// The OBJ text of `surface` tessellated with `1 ≤ tess ≤` [`MAX_TESS`] subdivisions per
+/// patch edge. The size of the text is estimated first and refused when it exceeds the
+/// available memory ([`crate::budget::check_memory`]); a position or normal that is not
+/// finite, or a patch without a normal, is an error naming the patch.
 pub fn to_obj(surface: &Surface, tess: usize) -> Result<String> {
-    if tess == 0 {
-        return Err(Error::Invalid(
-            "--tess must be at least 1 (subdivisions per patch edge)".to_string(),
-        ));
+    if !(1..=MAX_TESS).contains(&tess) {
+        return Err(Error::Invalid(format!(
+            "--tess {tess} must be in 1..={MAX_TESS} (subdivisions per patch edge)"
+        )));
     }
+    crate::budget::check_memory(
+        &format!(
+            "the OBJ of {} patches at --tess {tess}",
+            surface.patches.len()
+        ),
+        estimated_bytes(surface.patches.len(), tess),
+        "lower --tess",
+    )?;
     let mut out = String::new();
     // Writing into a String cannot fail.
     let _ = writeln!(
@@ -68,6 +90,19 @@ pub fn to_obj(surface: &Surface, tess: usize) -> Result<String> {
                 let uv = DVec2::new(i as f64, j as f64) / tess as f64;
                 let p = patch.eval(uv.x, uv.y);
                 let n = exact_normal(patch, uv);
+                if !p.is_finite() || !n.is_finite() || n == DVec3::ZERO {
+                    return Err(Error::NonFiniteResult {
+                        what: format!(
+                            "the normal of patch {index} (face {}) at (u, v) = ({}, {})",
+                            patch.face, uv.x, uv.y
+                        ),
+                        value: if p.is_finite() {
+                            n.length()
+                        } else {
+                            p.length()
+                        },
+                    });
+                }
                 let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
                 let _ = writeln!(out, "vn {} {} {}", n.x, n.y, n.z);
             }

@@ -228,6 +228,15 @@ impl Mesh {
     pub fn bounds(&self) -> Aabb {
         Aabb::from_points(&self.positions)
     }
+
+    /// The mesh with every position multiplied by `factor` (topology and file normals
+    /// unchanged). With a power of two as `factor` the scaling is exact.
+    pub fn scaled(&self, factor: f64) -> Mesh {
+        Mesh {
+            positions: self.positions.iter().map(|&p| p * factor).collect(),
+            ..self.clone()
+        }
+    }
     /// The mesh as OBJ text: `header` as comment lines, then `v` and `f` records. Coordinates
     /// are written in Rust's shortest round-trip form, so parsing the text gives back the
     /// identical mesh.

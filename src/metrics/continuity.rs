@@ -76,15 +76,26 @@ impl Series {
         Series(std::array::from_fn(|i| self.0[i] + k * other.0[i]))
     }
 
+    /// The highest total order with a non-zero coefficient (0 for a constant or zero series).
+    fn top_order(&self) -> usize {
+        (0..=MAX_ORDER)
+            .rev()
+            .find(|&m| (0..=m).any(|i| self.0[term(i, m - i)] != 0.0))
+            .unwrap_or(0)
+    }
+
+    /// The product, truncated at `MAX_ORDER`. Terms beyond either factor's [`Series::top_order`]
+    /// are zero and skipped (flat and low-degree patches cost almost nothing).
     fn mul(&self, other: &Series) -> Series {
         let mut out = Series::ZERO;
-        for m1 in 0..=MAX_ORDER {
+        let other_top = other.top_order();
+        for m1 in 0..=self.top_order() {
             for i1 in 0..=m1 {
                 let a = self.0[term(i1, m1 - i1)];
                 if a == 0.0 {
                     continue;
                 }
-                for m2 in 0..=MAX_ORDER - m1 {
+                for m2 in 0..=(MAX_ORDER - m1).min(other_top) {
                     for i2 in 0..=m2 {
                         out.0[term(i1 + i2, m1 - i1 + m2 - i2)] += a * other.0[term(i2, m2 - i2)];
                     }
@@ -96,14 +107,16 @@ impl Series {
 
     /// `self(s(x,y), t(x,y))` for series `s`, `t` without constant term.
     fn compose(&self, s: &Series, t: &Series) -> Series {
+        // Powers beyond the order of `self` are never used.
+        let top = self.top_order();
         let mut s_pow = [Series::one(); MAX_ORDER + 1];
         let mut t_pow = [Series::one(); MAX_ORDER + 1];
-        for k in 1..=MAX_ORDER {
+        for k in 1..=top {
             s_pow[k] = s_pow[k - 1].mul(s);
             t_pow[k] = t_pow[k - 1].mul(t);
         }
         let mut out = Series::ZERO;
-        for m in 0..=MAX_ORDER {
+        for m in 0..=top {
             for i in 0..=m {
                 let c = self.0[term(i, m - i)];
                 if c != 0.0 {

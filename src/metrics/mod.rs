@@ -26,6 +26,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::surface::Surface;
 
@@ -120,14 +121,16 @@ pub struct Metrics {
 impl Metrics {
     /// Measures `surface`, built from `mesh` in `construct_ms` milliseconds.
     pub fn measure(surface: &Surface, mesh: &Mesh, construct_ms: f64) -> Metrics {
-        let network = network::network_undulation(surface, mesh);
+        let factor = unit_scale(mesh.positions());
+        let (surface, mesh) = (surface.scaled(factor), mesh.scaled(factor));
+        let network = network::network_undulation(&surface, &mesh);
         Metrics {
             network_undulation_max_rad: network.undulation_max_rad,
             network_undulation_total_rad: network.undulation_total_rad,
             network_inflections_max: network.inflections_max,
             network_curves_with_inflections: network.curves_with_inflections,
             network_chord_deviation_max_rel: network.chord_deviation_max_rel,
-            ..Self::measure_faces(surface, mesh.faces(), mesh.positions(), construct_ms)
+            ..Self::measure_normalised(&surface, mesh.faces(), mesh.positions(), construct_ms)
         }
     }
 
@@ -135,6 +138,18 @@ impl Metrics {
     /// by [`Metrics::measure`]; hand-made surfaces in tests use it directly). The curve-network
     /// figures need the mesh topology and are left at zero here.
     pub fn measure_faces(
+        surface: &Surface,
+        faces: &[[u32; 3]],
+        positions: &[DVec3],
+        construct_ms: f64,
+    ) -> Metrics {
+        let factor = unit_scale(positions);
+        let positions: Vec<DVec3> = positions.iter().map(|&p| p * factor).collect();
+        Self::measure_normalised(&surface.scaled(factor), faces, &positions, construct_ms)
+    }
+
+    /// [`Metrics::measure_faces`] on a surface and mesh already scaled by [`unit_scale`].
+    fn measure_normalised(
         surface: &Surface,
         faces: &[[u32; 3]],
         positions: &[DVec3],
@@ -197,9 +212,71 @@ impl Metrics {
 
 /// Bounding-box diagonal of the vertices; 1 for a degenerate (single-point) set so that
 /// relative figures stay finite (a validated mesh never has one).
+/// The power of two that brings the bounding-box diagonal of `positions` into `[1, 2)`.
+///
+/// Every figure is measured on the surface and mesh scaled by it, so that no product of
+/// derivatives over- or underflows and every tolerance of the measurements is relative: a
+/// mesh scaled by 1e50 or 1e-50 measures like the unscaled one. Scaling by a power of two is
+/// exact, so the figures of a mesh of ordinary size do not change at all.
+pub fn unit_scale(positions: &[DVec3]) -> f64 {
+    let d = crate::geom::Aabb::from_points(positions).diagonal();
+    if d > 0.0 && d.is_finite() {
+        (-d.log2().floor()).exp2()
+    } else {
+        1.0
+    }
+}
+
 fn diagonal(positions: &[DVec3]) -> f64 {
     let d = crate::geom::Aabb::from_points(positions).diagonal();
     if d > 0.0 && d.is_finite() { d } else { 1.0 }
+}
+
+impl Metrics {
+    /// Every real-valued figure with its JSON key.
+    fn figures(&self) -> [(&'static str, Option<f64>); 14] {
+        [
+            ("construct_ms", Some(self.construct_ms)),
+            ("interp_max_rel", self.interp_max_rel),
+            ("g0_max_rel", self.g0_max_rel),
+            ("g1_max_rad", self.g1_max_rad),
+            ("g1_mean_rad", self.g1_mean_rad),
+            ("g1_between_faces_max_rad", self.g1_between_faces_max_rad),
+            ("g1_inside_faces_max_rad", self.g1_inside_faces_max_rad),
+            ("curvature_jump_max_rel", self.curvature_jump_max_rel),
+            ("gaussian_jump_max_rel", self.gaussian_jump_max_rel),
+            ("mean_jump_max_rel", self.mean_jump_max_rel),
+            ("min_regularity_rel", self.min_regularity_rel),
+            (
+                "network_undulation_max_rad",
+                Some(self.network_undulation_max_rad),
+            ),
+            (
+                "network_undulation_total_rad",
+                Some(self.network_undulation_total_rad),
+            ),
+            (
+                "network_chord_deviation_max_rel",
+                Some(self.network_chord_deviation_max_rel),
+            ),
+        ]
+    }
+
+    /// An error naming the first figure that is NaN or infinite (a table must never show
+    /// NaN, nor the JSON `null` for a figure that was measured).
+    pub fn check_finite(&self) -> Result<()> {
+        match self
+            .figures()
+            .into_iter()
+            .find_map(|(name, x)| x.filter(|x| !x.is_finite()).map(|x| (name, x)))
+        {
+            Some((name, value)) => Err(Error::NonFiniteResult {
+                what: format!("metric {name} of scheme '{}'", self.scheme),
+                value,
+            }),
+            None => Ok(()),
+        }
+    }
 }
 
 /// The most common order (the lower one on ties).

@@ -3,16 +3,18 @@
 
 use glam::DVec3;
 
+use crate::bezier::TriangleBezier;
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
 use crate::mesh::Mesh;
+use crate::render::bvh::{Leaf, SubdivisionCriterion};
 use crate::render::camera::{Camera, Projection};
 use crate::render::film::{Frame, RenderSettings, render};
 use crate::render::intersect::{NewtonSettings, Tracer};
 use crate::render::scene::SceneFile;
 use crate::render::stats::RenderStats;
 use crate::render::tessellate::TessellatedTracer;
-use crate::surface::Surface;
+use crate::surface::{PatchGeometry, Surface};
 
 /// Default vertical field of view, degrees.
 pub const DEFAULT_FOV: f64 = 35.0;
@@ -108,6 +110,96 @@ pub fn scene_settings(scene: &SceneFile) -> Result<RenderSettings> {
     Ok(settings)
 }
 
+/// The largest distance of a control point of `net` from the plane through its three corners,
+/// relative to the diagonal of its box (1 when the corners span no plane).
+fn relative_flatness(net: &TriangleBezier) -> f64 {
+    let d = net.degree();
+    let [a, b, c] = [net.point(d, 0), net.point(0, d), net.point(0, 0)];
+    let normal = (b - a).cross(c - a).normalize_or_zero();
+    let size = net.control_bounds().diagonal();
+    if normal == DVec3::ZERO || size <= 0.0 {
+        return 1.0;
+    }
+    let far = net
+        .points()
+        .iter()
+        .map(|p| (*p - a).dot(normal).abs())
+        .fold(0.0, f64::max);
+    far / size
+}
+
+/// An estimate of the BVH leaves `criterion` makes of `surface`, before subdividing anything.
+///
+/// One 4-split halves a piece and quarters the distance of its net from the corner plane, so
+/// the relative flatness halves per level: a patch whose net is `r` from flat reaches
+/// `criterion.flatness` after about `log2(r / flatness)` levels (clamped to the criterion's
+/// depth range), i.e. `4^depth` leaves. The normal-cone test is not estimated, so this is a
+/// lower bound for strongly curved patches.
+pub fn estimate_leaves(surface: &Surface, criterion: &SubdivisionCriterion) -> f64 {
+    surface
+        .patches
+        .iter()
+        .map(|patch| {
+            let r = match &patch.geometry {
+                PatchGeometry::Bezier(net) => relative_flatness(net),
+                PatchGeometry::Blend(blend) => blend
+                    .sub_surfaces()
+                    .iter()
+                    .map(relative_flatness)
+                    .fold(0.0, f64::max),
+            };
+            let depth = (r / criterion.flatness).log2().ceil().clamp(
+                f64::from(criterion.min_depth),
+                f64::from(criterion.max_depth),
+            );
+            4f64.powf(depth)
+        })
+        .sum()
+}
+
+/// Bytes per BVH leaf of a patch with `points` control points: the leaf record, its
+/// power-form coefficients (as many as control points), its share of the wide BVH's nodes
+/// and indices and the build's temporary box.
+fn leaf_bytes(points: usize) -> f64 {
+    (std::mem::size_of::<Leaf>() + 24 * points + 64) as f64
+}
+
+/// Refuses a BVH that would have more than `max_leaves` leaves or need more memory than is
+/// available, by [`estimate_leaves`], before the subdivision allocates anything.
+pub fn check_bvh_size(
+    surface: &Surface,
+    criterion: &SubdivisionCriterion,
+    max_leaves: u64,
+) -> Result<()> {
+    let leaves = estimate_leaves(surface, criterion);
+    let what = format!(
+        "the BVH of scheme '{}' ({} patches, bvh.flatness {:e}, bvh.max_depth {})",
+        surface.scheme,
+        surface.patches.len(),
+        criterion.flatness,
+        criterion.max_depth
+    );
+    if leaves > max_leaves as f64 {
+        return Err(Error::TooLarge {
+            what,
+            estimate: format!("{leaves:.3e} leaves"),
+            limit: format!("{max_leaves} leaves (bvh.max_leaves)"),
+            remedy: "raise bvh.flatness, lower bvh.max_depth or raise bvh.max_leaves".into(),
+        });
+    }
+    let points = surface
+        .patches
+        .iter()
+        .map(|p| p.control_points().count())
+        .max()
+        .unwrap_or(0);
+    crate::budget::check_memory(
+        &what,
+        leaves * leaf_bytes(points),
+        "use a coarser mesh or raise bvh.flatness",
+    )
+}
+
 /// Renders `surface` (built on `mesh`) as `scene` describes (exact patches, or a tessellation
 /// when `render.tessellate` is set), with the curve-network tubes it asks for.
 pub fn render_scene(
@@ -126,7 +218,9 @@ pub fn render_scene(
             render(&tracer, &camera, &settings)
         }
         None => {
-            let tracer = Tracer::new(surface, &scene.criterion()?, NewtonSettings::default())?;
+            let criterion = scene.criterion()?;
+            check_bvh_size(surface, &criterion, scene.max_leaves()?)?;
+            let tracer = Tracer::new(surface, &criterion, NewtonSettings::default())?;
             render(&tracer, &camera, &settings)
         }
     }

@@ -154,7 +154,19 @@ pub struct BvhSection {
     pub cone_deg: Option<f64>,
     /// See [`SubdivisionCriterion::max_depth`].
     pub max_depth: Option<u32>,
+    /// Largest number of BVH leaves (estimated before the build); default
+    /// [`DEFAULT_MAX_LEAVES`].
+    pub max_leaves: Option<u64>,
 }
+
+/// Allowed range of `bvh.flatness`.
+pub const FLATNESS_RANGE: (f64, f64) = (1e-4, 1.0);
+/// Allowed range of `bvh.cone_deg`.
+pub const CONE_DEG_RANGE: (f64, f64) = (1.0, 90.0);
+/// Largest `bvh.max_depth` (a piece then covers 4^-16 of its patch).
+pub const MAX_DEPTH_LIMIT: u32 = 16;
+/// Default of `bvh.max_leaves`: 2^24 leaves, a few GB of BVH.
+pub const DEFAULT_MAX_LEAVES: u64 = 1 << 24;
 
 /// `[zebra]`
 #[derive(Clone, Debug, Default, Deserialize)]
@@ -268,18 +280,31 @@ impl SceneFile {
     pub fn criterion(&self) -> Result<SubdivisionCriterion> {
         let mut c = SubdivisionCriterion::default();
         if let Some(f) = self.bvh.flatness {
-            c.flatness = positive("bvh.flatness", f)?;
+            c.flatness = in_range("bvh.flatness", f, FLATNESS_RANGE)?;
         }
         if let Some(a) = self.bvh.cone_deg {
-            c.max_cone_deg = positive("bvh.cone_deg", a)?;
+            c.max_cone_deg = in_range("bvh.cone_deg", a, CONE_DEG_RANGE)?;
         }
         if let Some(d) = self.bvh.max_depth {
-            if d > 16 {
-                return Err(Error::Invalid(format!("bvh.max_depth {d} is above 16")));
+            if d > MAX_DEPTH_LIMIT {
+                return Err(Error::Invalid(format!(
+                    "bvh.max_depth = {d} must be in 0..={MAX_DEPTH_LIMIT}"
+                )));
             }
             c.max_depth = d;
         }
         Ok(c)
+    }
+
+    /// The largest number of BVH leaves `bvh.max_leaves` allows (at least 1).
+    pub fn max_leaves(&self) -> Result<u64> {
+        match self.bvh.max_leaves {
+            Some(0) => Err(Error::Invalid(
+                "bvh.max_leaves = 0 must be at least 1".to_string(),
+            )),
+            Some(n) => Ok(n),
+            None => Ok(DEFAULT_MAX_LEAVES),
+        }
     }
 
     /// The boundary overlay.
@@ -445,6 +470,16 @@ impl SceneFile {
                 Environment::Map(std::sync::Arc::new(LatLongMap::load(Path::new(env))?));
         }
         Ok(())
+    }
+}
+
+fn in_range(name: &str, x: f64, (lo, hi): (f64, f64)) -> Result<f64> {
+    if (lo..=hi).contains(&x) {
+        Ok(x)
+    } else {
+        Err(Error::Invalid(format!(
+            "{name} = {x:e} must be in [{lo:e}, {hi:e}]"
+        )))
     }
 }
 

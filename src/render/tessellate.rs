@@ -59,9 +59,10 @@ fn grid_index(n: u32, i: u32, j: u32) -> u32 {
 impl<'s> TessellatedTracer<'s> {
     /// Tessellates every patch of `surface` with `n` segments per edge and builds the BVH.
     pub fn new(surface: &'s Surface, n: u32) -> Result<TessellatedTracer<'s>> {
-        if n == 0 || n > 4096 {
+        let max = crate::export::obj::MAX_TESS;
+        if n == 0 || n as usize > max {
             return Err(Error::Invalid(format!(
-                "tessellation level {n} must be in 1..=4096"
+                "tessellation level {n} must be in 1..={max}"
             )));
         }
         if surface.patches.is_empty() {

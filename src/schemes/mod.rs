@@ -93,7 +93,61 @@ pub fn build(scheme: &str, mesh: &Mesh, user: &[(String, String)]) -> Result<Sur
             b: b as usize,
         });
     }
-    (spec.build)(mesh, &params)
+    let surface = (spec.build)(mesh, &params)?;
+    check_surface(&surface, mesh, user)?;
+    Ok(surface)
+}
+
+/// How far (in mesh bounding-box diagonals) a built surface may reach beyond the mesh's
+/// bounding box. Every scheme with sane parameters stays within a fraction of a diagonal; a
+/// surface beyond this comes from an absurd parameter and would break the BVH (f32 boxes),
+/// the metrics and the exports.
+pub const MAX_SURFACE_REACH: f64 = 1e3;
+
+/// Checks a freshly built surface once, before anything uses it: every control point
+/// finite, and the control net within [`MAX_SURFACE_REACH`] diagonals of the mesh's bounding
+/// box. The error names the scheme, the parameters the user set (`user`) and the patch.
+pub fn check_surface(surface: &Surface, mesh: &Mesh, user: &[(String, String)]) -> Result<()> {
+    let unusable = |patch: usize, what: String| {
+        let set: Vec<String> = user.iter().map(|(n, v)| format!("{n}={v}")).collect();
+        Error::UnusableSurface {
+            scheme: surface.scheme.clone(),
+            params: if set.is_empty() {
+                "with default parameters".to_string()
+            } else {
+                format!("with {}", set.join(", "))
+            },
+            reason: format!(
+                "patch {patch} (face {}) {what}",
+                surface.patches[patch].face
+            ),
+        }
+    };
+    if let Some(patch) = surface.first_non_finite_patch() {
+        return Err(unusable(patch, "has a non-finite control point".into()));
+    }
+    let region = mesh.bounds();
+    let diag = region.diagonal();
+    let reach = |p: &Patch| {
+        let b = p.full_bounds();
+        (region.min - b.min).max(b.max - region.max).max_element() / diag
+    };
+    let farthest = surface
+        .patches
+        .iter()
+        .map(reach)
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    match farthest {
+        Some((patch, r)) if r > MAX_SURFACE_REACH => Err(unusable(
+            patch,
+            format!(
+                "reaches {r:.3e} mesh diagonals beyond the mesh's bounding box \
+                 (limit {MAX_SURFACE_REACH:e})"
+            ),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// A scheme's parameters with defaults filled in.

@@ -23,3 +23,12 @@ pub fn smoothlab(args: &[&str]) -> Output {
         .output()
         .expect("run smoothlab")
 }
+
+/// Runs the `smoothlab` binary with `args` and the environment variables `env` set.
+pub fn smoothlab_with_env(args: &[&str], env: &[(&str, &str)]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+        .args(args)
+        .envs(env.iter().copied())
+        .output()
+        .expect("run smoothlab")
+}

@@ -126,8 +126,30 @@ pub fn surface_patches(
     Ok(faces)
 }
 
+/// The largest vertex valence `gk` takes, per order k = 1..=4. The hole filling of a
+/// valence-n vertex solves a dense constrained system with O(n·k²) conditions (built once per
+/// valence and order in O((n·k²)³) time and O((n·k²)²) memory): valence 32 costs about 3 s at
+/// k = 2 and a minute at k = 4, valence 200 hours and gigabytes. The limits keep every build
+/// within seconds.
+pub const MAX_VALENCE: [usize; 4] = [64, 32, 24, 16];
+
+/// Refuses a mesh with a vertex above the [`MAX_VALENCE`] of order `k`, naming the vertex and
+/// its valence.
+fn check_valences(mesh: &Mesh, k: usize) -> Result<()> {
+    let max = MAX_VALENCE[k - 1];
+    match (0..mesh.vertex_count() as u32).find(|&v| mesh.valence(v) > max) {
+        Some(v) => Err(Error::Invalid(format!(
+            "scheme 'gk' with k={k} takes vertices of valence up to {max}, but vertex {v} has \
+             valence {}",
+            mesh.valence(v)
+        ))),
+        None => Ok(()),
+    }
+}
+
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let k = order(params)?;
+    check_valences(mesh, k)?;
     let net = refine::prepare(mesh, k)?;
     let patches = surface_patches(&net, k, true)?
         .into_par_iter()

@@ -1,0 +1,72 @@
+//! Resource limits checked before big allocations: an estimate of the memory a step needs
+//! is compared with the memory the system has available, so that an input too large for the
+//! machine stops with one clear error instead of being killed by the operating system.
+
+use crate::error::{Error, Result};
+
+/// Environment variable that sets the memory limit in bytes (instead of the system's
+/// available memory); it can raise the limit as well as lower it.
+pub const MEMORY_LIMIT_VAR: &str = "SMOOTHLAB_MEMORY_LIMIT";
+
+/// The memory limit in bytes and where it comes from: [`MEMORY_LIMIT_VAR`] when set,
+/// otherwise `MemAvailable` of `/proc/meminfo` (Linux); `None` where neither is known.
+pub fn memory_limit() -> Result<Option<(f64, &'static str)>> {
+    if let Ok(text) = std::env::var(MEMORY_LIMIT_VAR) {
+        return match text.trim().parse::<f64>() {
+            Ok(bytes) if bytes > 0.0 => Ok(Some((bytes, MEMORY_LIMIT_VAR))),
+            _ => Err(Error::Invalid(format!(
+                "{MEMORY_LIMIT_VAR}='{text}' is not a positive number of bytes"
+            ))),
+        };
+    }
+    let meminfo = std::fs::read_to_string("/proc/meminfo").unwrap_or_default();
+    Ok(mem_available(&meminfo).map(|bytes| (bytes, "available memory (MemAvailable)")))
+}
+
+/// `MemAvailable` of a `/proc/meminfo` text, in bytes.
+fn mem_available(meminfo: &str) -> Option<f64> {
+    let line = meminfo.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
+/// Fails with [`Error::TooLarge`] when `bytes` (the estimate for `what`) exceeds the
+/// [`memory_limit`]; `remedy` says how to need less.
+pub fn check_memory(what: &str, bytes: f64, remedy: &str) -> Result<()> {
+    match memory_limit()? {
+        Some((limit, source)) if bytes > limit => Err(Error::TooLarge {
+            what: what.to_string(),
+            estimate: format_bytes(bytes),
+            limit: format!("{} ({source})", format_bytes(limit)),
+            remedy: format!("{remedy}, or set {MEMORY_LIMIT_VAR} (bytes) to raise the limit"),
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// `bytes` in GB or MB with three significant digits.
+pub fn format_bytes(bytes: f64) -> String {
+    if bytes >= 1e9 {
+        format!("{:.3} GB", bytes / 1e9)
+    } else {
+        format!("{:.3} MB", bytes / 1e6)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_mem_available_in_bytes() {
+        let text = "MemTotal:       32000000 kB\nMemFree:  100 kB\nMemAvailable:   2000000 kB\n";
+        assert_eq!(mem_available(text), Some(2_048_000_000.0));
+        assert_eq!(mem_available("MemTotal: 5 kB\n"), None);
+    }
+
+    #[test]
+    fn bytes_are_formatted_with_their_unit() {
+        assert_eq!(format_bytes(2.5e10), "25.000 GB");
+        assert_eq!(format_bytes(3.2e6), "3.200 MB");
+    }
+}
