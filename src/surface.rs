@@ -208,6 +208,32 @@ pub struct Surface {
     pub patches: Vec<Patch>,
 }
 
+impl Surface {
+    /// The same surface with every control point mapped by `f` (an affine map keeps every
+    /// patch kind exact: Bézier nets and blended sub-surfaces transform point by point).
+    pub fn mapped(&self, f: impl Fn(DVec3) -> DVec3) -> Surface {
+        let net = |n: &TriangleBezier| TriangleBezier::new(n.degree(), n.points().iter().map(|&p| f(p)).collect());
+        Surface {
+            scheme: self.scheme.clone(),
+            params: self.params.clone(),
+            patches: self
+                .patches
+                .iter()
+                .map(|patch| Patch {
+                    geometry: match &patch.geometry {
+                        PatchGeometry::Bezier(n) => PatchGeometry::Bezier(net(n)),
+                        PatchGeometry::Blend(b) => PatchGeometry::Blend(BlendPatch::new(
+                            b.family(),
+                            b.sub_surfaces().each_ref().map(net),
+                        )),
+                    },
+                    ..patch.clone()
+                })
+                .collect(),
+        }
+    }
+}
+
 /// A point of a mesh's domain, independent of the face it is written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum DomainKey {

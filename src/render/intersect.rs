@@ -87,16 +87,28 @@ impl IntersectCounters {
 }
 
 /// A surface ready for ray queries: the patches and their BVH.
+///
+/// Rays are traced in the surface's **unit frame**: centred on its bounding box and scaled by
+/// the power of two that brings the box diagonal into `[1, 2)`, so that the f32 BVH, the
+/// tolerances and Newton see the same numbers whether the mesh is given in nanometres or
+/// light years. Hits come back in world units (`t` scaled back); `(patch, u, v)` are the same
+/// in both frames.
 pub struct Tracer<'s> {
-    /// The surface.
+    /// The surface (world frame).
     pub surface: &'s Surface,
-    /// Its BVH.
+    /// The surface in the unit frame, which the BVH holds and Newton evaluates.
+    pub unit: Surface,
+    /// Unit frame: world point `p` is `(p − centre) × scale` there.
+    pub centre: DVec3,
+    /// Unit frame scale (a power of two).
+    pub scale: f64,
+    /// The BVH of [`Tracer::unit`].
     pub bvh: PatchBvh,
     /// Newton tunables.
     pub newton: NewtonSettings,
-    /// Absolute root tolerance: see [`Tracer::root_tolerance`].
+    /// Absolute root tolerance in the unit frame: see [`Tracer::root_tolerance`].
     pub tolerance: f64,
-    /// Bounding box of the surface.
+    /// Bounding box of the surface (world frame).
     pub bounds: Aabb,
     /// Per patch, which edges lie on mesh-face edges (for the boundary overlay).
     pub face_edges: Vec<u8>,
@@ -109,17 +121,30 @@ impl<'s> Tracer<'s> {
         criterion: &SubdivisionCriterion,
         newton: NewtonSettings,
     ) -> crate::Result<Tracer<'s>> {
-        let bvh = PatchBvh::build(surface, criterion)?;
-        let bounds = surface.bounds();
-        let magnitude = bounds.min.abs().max(bounds.max.abs()).max_element();
-        let tolerance =
-            newton.residual_tolerance * bounds.diagonal() + 256.0 * f64::EPSILON * magnitude;
+        let world = surface.bounds();
+        let centre = world.center();
+        let scale = unit_scale(world.diagonal());
+        if !centre.is_finite() || !(scale > 0.0 && scale.is_finite()) {
+            return Err(crate::Error::Invalid(format!(
+                "surface of scheme '{}' has a non-finite or empty bounding box",
+                surface.scheme
+            )));
+        }
+        let unit = surface.mapped(|p| (p - centre) * scale);
+        let bvh = PatchBvh::build(&unit, criterion)?;
+        let unit_bounds = unit.bounds();
+        let magnitude = unit_bounds.min.abs().max(unit_bounds.max.abs()).max_element();
+        let tolerance = newton.residual_tolerance * unit_bounds.diagonal()
+            + 256.0 * f64::EPSILON * magnitude;
         Ok(Tracer {
             surface,
+            unit,
+            centre,
+            scale,
             bvh,
             newton,
             tolerance,
-            bounds,
+            bounds: world,
             face_edges: surface.patches.iter().map(face_edge_mask).collect(),
         })
     }
@@ -134,14 +159,44 @@ impl<'s> Tracer<'s> {
         )
     }
 
-    /// Largest distance of an accepted root from its ray:
-    /// `residual_tolerance × diagonal + 256 ε × max |coordinate|`.
+    /// Largest distance (world units) of an accepted root from its ray:
+    /// `residual_tolerance × diagonal + 256 ε × max |coordinate|` in the unit frame.
     pub fn root_tolerance(&self) -> f64 {
-        self.tolerance
+        self.tolerance / self.scale
     }
 
     /// The closest hit with `t ∈ (t_min, t_max)`, or None.
     pub fn closest_hit(
+        &self,
+        ray: &Ray64,
+        t_min: f64,
+        t_max: f64,
+        counters: &mut IntersectCounters,
+    ) -> Option<Hit> {
+        let (ray, t_min, t_max) = self.to_unit(ray, t_min, t_max);
+        self.closest_hit_unit(&ray, t_min, t_max, counters)
+            .map(|hit| self.to_world(hit))
+    }
+
+    /// A world ray and interval in the unit frame.
+    fn to_unit(&self, ray: &Ray64, t_min: f64, t_max: f64) -> (Ray64, f64, f64) {
+        let unit = Ray64 {
+            origin: (ray.origin - self.centre) * self.scale,
+            dir: ray.dir,
+        };
+        (unit, t_min * self.scale, t_max * self.scale)
+    }
+
+    /// A unit-frame hit in world units.
+    fn to_world(&self, hit: Hit) -> Hit {
+        Hit {
+            t: hit.t / self.scale,
+            ..hit
+        }
+    }
+
+    /// [`Tracer::closest_hit`] in the unit frame.
+    fn closest_hit_unit(
         &self,
         ray: &Ray64,
         t_min: f64,
@@ -169,6 +224,8 @@ impl<'s> Tracer<'s> {
         t_max: f64,
         counters: &mut IntersectCounters,
     ) -> Option<Hit> {
+        let (ray, t_min, t_max) = self.to_unit(ray, t_min, t_max);
+        let ray = &ray;
         let planes = RayPlanes::new(ray);
         let mut best: Option<Hit> = None;
         let mut best_t = t_max;
@@ -178,10 +235,11 @@ impl<'s> Tracer<'s> {
                 best = Some(hit);
             }
         }
-        best
+        best.map(|hit| self.to_world(hit))
     }
 
-    /// The hit of `ray` with one leaf, if it lies in `(t_min, t_max)`.
+    /// The hit of `ray` (unit frame, like `t_min`, `t_max` and the result) with one leaf, if it
+    /// lies in `(t_min, t_max)`.
     pub fn intersect_leaf(
         &self,
         leaf: &Leaf,
@@ -246,7 +304,7 @@ impl<'s> Tracer<'s> {
             5 => on_power_form!(5),
             6 => on_power_form!(6),
             _ => {
-                let patch = &self.surface.patches[leaf.patch as usize];
+                let patch = &self.unit.patches[leaf.patch as usize];
                 let tri = leaf.tri();
                 self.solve_piece(
                     |x| local_jet(patch, tri, x),
@@ -345,6 +403,16 @@ impl<'s> Tracer<'s> {
             v: uv.y,
         })
     }
+}
+
+/// The power of two that brings a box diagonal `diagonal` into `[1, 2)`: exact to apply.
+pub fn unit_scale(diagonal: f64) -> f64 {
+    if !(diagonal > 0.0 && diagonal.is_finite()) {
+        return f64::NAN;
+    }
+    let exponent = diagonal.log2().floor() as i32;
+    // Two steps so that neither factor over- or underflows for diagonals near the limits.
+    2f64.powi(-exponent / 2) * 2f64.powi(-exponent + exponent / 2)
 }
 
 /// One ray query: the ray, its planes and the near end of its interval.
