@@ -18,7 +18,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::normals::CornerNormals;
-use super::{LoadReport, Mesh, validate};
+use super::{LoadOptions, LoadReport, Mesh, validate};
 use crate::error::{Error, Result};
 
 /// Statements that group or decorate geometry; they do not change the surface.
@@ -159,7 +159,11 @@ fn resolve_index(index: i64, count: usize) -> Option<i64> {
 
 /// Parses OBJ text; `origin` names the file in errors. A leading UTF-8 byte-order mark is
 /// skipped.
-pub(super) fn parse(text: &str, origin: &Path) -> Result<(Mesh, LoadReport)> {
+pub(super) fn parse(
+    text: &str,
+    origin: &Path,
+    options: &LoadOptions,
+) -> Result<(Mesh, LoadReport)> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let scan = scan(text, origin)?;
     let tobj_options = tobj::LoadOptions {
@@ -559,6 +563,25 @@ f 4 6 5
                 plain.vertex_normals(NormalSource::Obj).unwrap()
             );
         }
+    }
+
+    #[test]
+    fn signed_zero_and_one_ulp_copies_in_a_file_weld() {
+        // The octahedron as two objects, upper and lower half, each with its own copies of
+        // the four equator vertices: the lower half writes 0 as -0 and 1 one ulp off.
+        let upper = "o upper\nv 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n\
+                     f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\n";
+        let lower = "o lower\nv 1.0000000000000002 -0 -0\nv -1 -0.0 0\nv -0 1 0\nv 0 -1 -0\n\
+                     v 0 0 -1\nf 8 6 10\nf 7 8 10\nf 9 7 10\nf 6 9 10\n";
+        let (mesh, report) = Mesh::parse_obj(&format!("{upper}{lower}")).unwrap();
+        assert!(mesh.is_closed());
+        assert_eq!(mesh.vertex_count(), 6);
+        assert_eq!((report.welded, report.welded_near), (4, 1));
+        assert_eq!(report.weld_max_distance, f64::EPSILON);
+        assert!(
+            crate::schemes::build("hb", &mesh, &[]).is_ok(),
+            "hb refuses the welded octahedron"
+        );
     }
 
     fn obj_normals_error(text: &str) -> String {
