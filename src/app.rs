@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::export::{self, Format};
-use crate::mesh::Mesh;
+use crate::mesh::{LoadOptions, Mesh};
 use crate::metrics::Metrics;
 use crate::schemes::{self, SCHEMES};
 use crate::surface::Surface;
@@ -29,11 +29,20 @@ pub struct Output {
     pub failed: bool,
 }
 
-/// Loads an OBJ mesh; the loader's report (welded vertices, re-oriented faces, …) becomes
-/// warnings.
-pub fn load_mesh(path: &Path) -> Result<(Mesh, Vec<String>)> {
-    let (mesh, report) = Mesh::load_obj(path)?;
+/// Loads an OBJ mesh with `options`; the loader's report (welded vertices, re-oriented faces,
+/// …) becomes warnings.
+pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(Mesh, Vec<String>)> {
+    let (mesh, report) = Mesh::load_obj_with(path, options)?;
     Ok((mesh, report.warnings))
+}
+
+/// Parses a relative weld tolerance (`--weld-tolerance REL`), see [`crate::mesh::check_weld_tolerance`].
+pub fn parse_weld_tolerance(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    crate::mesh::check_weld_tolerance(value)
 }
 
 /// Parses every `--param name=value`.
@@ -246,6 +255,7 @@ fn write_file(path: &Path, text: &str) -> Result<()> {
 /// `smoothlab metrics MESH --scheme S|all [--param k=v]… [--json F]`.
 pub fn run_metrics(
     mesh_path: &Path,
+    load: &LoadOptions,
     selection: &str,
     raw_params: &[String],
     json: Option<&Path>,
@@ -253,7 +263,7 @@ pub fn run_metrics(
     let params = parse_params(raw_params)?;
     // Check the scheme and parameters before the (possibly slow) mesh load.
     select_schemes(selection, &params)?;
-    let (mesh, mut warnings) = load_mesh(mesh_path)?;
+    let (mesh, mut warnings) = load_mesh(mesh_path, load)?;
     let (metrics, skipped) = measure_schemes(&mesh, selection, &params)?;
     warnings.extend(skipped);
     if let Some(path) = json {
@@ -267,17 +277,18 @@ pub fn run_metrics(
     })
 }
 
-/// Builds `scheme` with the raw `--param` values on the mesh file at `mesh_path`; the scheme
-/// name and the parameter syntax are checked before the (possibly slow) mesh load. Returns the
-/// mesh, the surface and the loading warnings.
+/// Builds `scheme` with the raw `--param` values on the mesh file at `mesh_path` (loaded with
+/// `load`); the scheme name and the parameter syntax are checked before the (possibly slow)
+/// mesh load. Returns the mesh, the surface and the loading warnings.
 fn build_on_file(
     mesh_path: &Path,
+    load: &LoadOptions,
     scheme: &str,
     raw_params: &[String],
 ) -> Result<(Mesh, Surface, Vec<String>)> {
     let params = parse_params(raw_params)?;
     schemes::find(scheme)?;
-    let (mesh, warnings) = load_mesh(mesh_path)?;
+    let (mesh, warnings) = load_mesh(mesh_path, load)?;
     let (surface, _) = build_timed(scheme, &mesh, &params)?;
     Ok((mesh, surface, warnings))
 }
@@ -285,13 +296,14 @@ fn build_on_file(
 /// `smoothlab export MESH --scheme S --format json|bv|obj -o F [--tess N] [--param k=v]…`.
 pub fn run_export(
     mesh_path: &Path,
+    load: &LoadOptions,
     scheme: &str,
     format: Format,
     out_path: &Path,
     tess: usize,
     raw_params: &[String],
 ) -> Result<Output> {
-    let (_, surface, warnings) = build_on_file(mesh_path, scheme, raw_params)?;
+    let (_, surface, warnings) = build_on_file(mesh_path, load, scheme, raw_params)?;
     write_file(out_path, &export::export(&surface, format, tess)?)?;
     Ok(Output {
         stdout: format!(
@@ -308,11 +320,12 @@ pub fn run_export(
 /// `smoothlab sample MESH --scheme S [--param k=v]… --json F`.
 pub fn run_sample(
     mesh_path: &Path,
+    load: &LoadOptions,
     scheme: &str,
     raw_params: &[String],
     json: &Path,
 ) -> Result<Output> {
-    let (mesh, surface, warnings) = build_on_file(mesh_path, scheme, raw_params)?;
+    let (mesh, surface, warnings) = build_on_file(mesh_path, load, scheme, raw_params)?;
     let samples = export::samples::edge_samples(&surface, &mesh)?;
     let text = serde_json::to_string(&samples)
         .map_err(|e| Error::Invalid(format!("edge samples JSON: {e}")))?;

@@ -55,6 +55,41 @@ pub enum Error {
         /// Face index.
         face: usize,
     },
+    /// Welding vertices closer than the weld tolerance merged two corners of a face.
+    #[error(
+        "welding collapses face {face}: its corners {a} and {b} are {distance:.3e} apart, within \
+         the weld tolerance {tolerance:.3e}; use a smaller --weld-tolerance"
+    )]
+    WeldCollapsesFace {
+        /// Face index.
+        face: usize,
+        /// One of the merged corners (vertex as numbered by the input).
+        a: usize,
+        /// The other merged corner.
+        b: usize,
+        /// Distance between the two corners.
+        distance: f64,
+        /// The weld tolerance as a distance (relative tolerance × bounding-box diagonal).
+        tolerance: f64,
+    },
+    /// The coordinates are too large or span too small a box for f64 geometry.
+    #[error(
+        "coordinates span {span:.1e} (bounding-box diagonal), largest magnitude {largest:.1e} at \
+         vertex {vertex}; smoothlab supports meshes spanning at least {min_span:.0e} with \
+         coordinates up to {max_magnitude:.0e} in magnitude: rescale the mesh"
+    )]
+    CoordinateRange {
+        /// Bounding-box diagonal of the used vertices.
+        span: f64,
+        /// Largest coordinate magnitude.
+        largest: f64,
+        /// The vertex with the largest coordinate magnitude.
+        vertex: usize,
+        /// Smallest supported span.
+        min_span: f64,
+        /// Largest supported coordinate magnitude.
+        max_magnitude: f64,
+    },
     /// Two faces use the same three vertices.
     #[error("face {face} repeats face {first} (same three vertices)")]
     DuplicateFace {

@@ -92,6 +92,25 @@ struct SchemeOnMesh {
     /// Scheme parameter `name=value` (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
+    /// Weld vertices closer than this fraction of the bounding-box diagonal (0: identical
+    /// positions only).
+    #[arg(
+        long,
+        value_name = "REL",
+        default_value_t = smoothlab::mesh::DEFAULT_WELD_TOLERANCE,
+        value_parser = app::parse_weld_tolerance,
+        allow_hyphen_values = true
+    )]
+    weld_tolerance: f64,
+}
+
+impl SchemeOnMesh {
+    /// How the mesh is loaded.
+    fn load_options(&self) -> smoothlab::mesh::LoadOptions {
+        smoothlab::mesh::LoadOptions {
+            weld_tolerance: self.weld_tolerance,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -121,13 +140,14 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             output.stdout += &smoothlab::render::cli::run_gallery(Path::new("out/gallery"))?;
             Ok(output)
         }
-        Some(Command::Render(args)) => Ok(Output {
-            stdout: smoothlab::render::cli::render_summary(
-                &smoothlab::render::cli::render_command(&args)?,
-            ),
-            warnings: Vec::new(),
-            failed: false,
-        }),
+        Some(Command::Render(args)) => {
+            let (stats, warnings) = smoothlab::render::cli::render_command(&args)?;
+            Ok(Output {
+                stdout: smoothlab::render::cli::render_summary(&stats),
+                warnings,
+                failed: false,
+            })
+        }
         Some(Command::Figure { specs }) => {
             let mut stdout = String::new();
             for spec in &specs {
@@ -140,9 +160,13 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                 failed: false,
             })
         }
-        Some(Command::Metrics { input, json }) => {
-            app::run_metrics(&input.mesh, &input.scheme, &input.params, json.as_deref())
-        }
+        Some(Command::Metrics { input, json }) => app::run_metrics(
+            &input.mesh,
+            &input.load_options(),
+            &input.scheme,
+            &input.params,
+            json.as_deref(),
+        ),
         Some(Command::Export {
             input,
             format,
@@ -150,15 +174,20 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             tess,
         }) => app::run_export(
             &input.mesh,
+            &input.load_options(),
             &input.scheme,
             format.into(),
             &output,
             tess,
             &input.params,
         ),
-        Some(Command::Sample { input, json }) => {
-            app::run_sample(&input.mesh, &input.scheme, &input.params, &json)
-        }
+        Some(Command::Sample { input, json }) => app::run_sample(
+            &input.mesh,
+            &input.load_options(),
+            &input.scheme,
+            &input.params,
+            &json,
+        ),
         Some(Command::Schemes) => Ok(app::run_schemes()),
         Some(Command::Report { out }) => app::run_report(&out),
         Some(Command::Compare {

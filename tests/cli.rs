@@ -904,4 +904,246 @@ fn bvh_settings_and_size_are_bounded() {
     );
     let out = render(&fine, &[]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+/// OBJ text of unwelded triangles, coordinates in Rust's shortest round-trip form.
+fn obj_text((positions, faces): smoothlab::mesh::generate::Triangles) -> String {
+    let vertices = positions
+        .iter()
+        .map(|p| format!("v {} {} {}\n", p.x, p.y, p.z));
+    let faces = faces
+        .iter()
+        .map(|[a, b, c]| format!("f {} {} {}\n", a + 1, b + 1, c + 1));
+    vertices.chain(faces).collect()
+}
+
+/// The 12 × 8 torus with both seams written twice, the copies differing by rounding.
+fn seamed_torus_obj() -> String {
+    obj_text(smoothlab::mesh::generate::bad::seamed_torus(12, 8))
+}
+
+/// Asserts success with exactly one stderr line, the welding warning.
+fn assert_welds_with_one_warning(out: &Output, what: &str) {
+    let err = stderr(out);
+    assert!(out.status.success(), "{what}: {err}");
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "{what}: {err}");
+    assert!(
+        lines[0].starts_with("warning: welded 21 vertices")
+            && lines[0].contains("largest distance merged 3.566e-16"),
+        "{what}: {err}"
+    );
+}
+
+#[test]
+fn rounding_seams_are_welded_with_a_warning_by_every_command() {
+    let dir = scratch("weld-seams");
+    let mesh = write(&dir, "torus.obj", &seamed_torus_obj());
+    let mesh = mesh.to_str().expect("utf-8");
+    let out = smoothlab(&["metrics", mesh, "--scheme", "hb"]);
+    assert_welds_with_one_warning(&out, "metrics");
+    let json = dir.join("p.json");
+    let json = json.to_str().expect("utf-8");
+    let out = smoothlab(&[
+        "export", mesh, "--scheme", "hb", "--format", "json", "-o", json,
+    ]);
+    assert_welds_with_one_warning(&out, "export");
+    let out = smoothlab(&["sample", mesh, "--scheme", "hb", "--json", json]);
+    assert_welds_with_one_warning(&out, "sample");
+    let image = dir.join("torus");
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            mesh,
+            "--scheme",
+            "hb",
+            "--mode",
+            "normals",
+            "--size",
+            "8x8",
+            "--spp",
+            "1",
+            "-o",
+            image.to_str().expect("utf-8"),
+        ];
+        args.extend_from_slice(extra);
+        smoothlab(&args)
+    };
+    assert_welds_with_one_warning(&render(&[]), "render");
+    assert!(dir.join("torus.png").is_file());
+
+    // Tolerance 0 welds identical positions only: every command then sees the open seams.
+    let boundary = ["needs a closed mesh", "boundary edge"];
+    let zero = ["--weld-tolerance", "0"];
+    assert_fails_naming(
+        &smoothlab(&[&["metrics", mesh, "--scheme", "hb"][..], &zero].concat()),
+        &boundary,
+    );
+    assert_fails_naming(
+        &smoothlab(
+            &[
+                &[
+                    "export", mesh, "--scheme", "hb", "--format", "bv", "-o", json,
+                ][..],
+                &zero,
+            ]
+            .concat(),
+        ),
+        &boundary,
+    );
+    assert_fails_naming(
+        &smoothlab(
+            &[
+                &["sample", mesh, "--scheme", "hb", "--json", json][..],
+                &zero,
+            ]
+            .concat(),
+        ),
+        &boundary,
+    );
+    assert_fails_naming(&render(&zero), &boundary);
+}
+
+#[test]
+fn scene_key_weld_tolerance_and_the_flag_that_overrides_it() {
+    let dir = scratch("weld-scene");
+    write(&dir, "torus.obj", &seamed_torus_obj());
+    let scene = write(
+        &dir,
+        "torus.toml",
+        "mesh = \"torus.obj\"\nweld_tolerance = 0.0\n[scheme]\nname = \"hb\"\n\
+         [render]\nmode = \"normals\"\nsize = [8, 8]\nspp = 1\n",
+    );
+    let image = dir.join("torus");
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            scene.to_str().expect("utf-8"),
+            "-o",
+            image.to_str().expect("utf-8"),
+        ];
+        args.extend_from_slice(extra);
+        smoothlab(&args)
+    };
+    assert_fails_naming(&render(&[]), &["boundary edge"]);
+    assert_welds_with_one_warning(&render(&["--weld-tolerance", "1e-10"]), "flag over key");
+    let bad = write(
+        &dir,
+        "bad.toml",
+        "mesh = \"torus.obj\"\nweld_tolerance = -1\n",
+    );
+    assert_fails_naming(
+        &smoothlab(&["render", bad.to_str().expect("utf-8")]),
+        &["weld_tolerance", "-1"],
+    );
+}
+
+#[test]
+fn weld_tolerance_that_collapses_an_edge_names_the_face() {
+    let dir = scratch("weld-collapse");
+    let out = metrics_of(
+        &dir,
+        "torus.obj",
+        &seamed_torus_obj(),
+        &["--scheme", "hb", "--weld-tolerance", "0.2"],
+    );
+    assert_fails_naming(
+        &out,
+        &[
+            "welding collapses face 0",
+            "corners 0 and 9",
+            "--weld-tolerance",
+        ],
+    );
+    for bad in ["-1e-9", "1", "nan", "tiny"] {
+        let out = metrics_of(
+            &dir,
+            "torus.obj",
+            &seamed_torus_obj(),
+            &["--scheme", "hb", "--weld-tolerance", bad],
+        );
+        assert_fails_naming(&out, &["--weld-tolerance", bad]);
+    }
+}
+
+/// The octahedron of scenes/ (comments, 6 `v`, 8 `f` records).
+fn octahedron_obj() -> String {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/octahedron.obj"))
+        .expect("scenes/octahedron.obj")
+}
+
+/// Runs `sample --scheme hb` on `obj` (written as `name`) and returns the samples JSON.
+fn hb_samples(dir: &Path, name: &str, obj: &str) -> String {
+    let mesh = write(dir, name, obj);
+    let json = dir.join(format!("{name}.json"));
+    let out = smoothlab(&[
+        "sample",
+        mesh.to_str().expect("utf-8"),
+        "--scheme",
+        "hb",
+        "--json",
+        json.to_str().expect("utf-8"),
+    ]);
+    assert!(out.status.success(), "{name}: {}", stderr(&out));
+    assert!(out.stderr.is_empty(), "{name}: {}", stderr(&out));
+    std::fs::read_to_string(json).expect("samples written")
+}
+
+#[test]
+fn byte_order_mark_and_old_line_ends_are_read() {
+    let dir = scratch("bom-line-ends");
+    let octahedron = octahedron_obj();
+    let expected = hb_samples(&dir, "lf.obj", &octahedron);
+    // The mark directly before the first `v` record, and before the comments.
+    let records: String = octahedron
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    for (name, text) in [
+        ("bom.obj", format!("\u{feff}{records}")),
+        ("bom-comments.obj", format!("\u{feff}{octahedron}")),
+        ("cr.obj", octahedron.replace('\n', "\r")),
+        ("crlf.obj", octahedron.replace('\n', "\r\n")),
+    ] {
+        assert_eq!(hb_samples(&dir, name, &text), expected, "{name}");
+    }
+}
+
+#[test]
+fn signed_zero_copies_are_welded_silently() {
+    let dir = scratch("signed-zero");
+    // Face `f 2 3 6` written with its own copies of vertices 3 and 6 (1-based), their zeros
+    // written as -0: welded by bit pattern, the copies would leave the face hanging by one
+    // vertex.
+    let octahedron = octahedron_obj();
+    assert!(octahedron.contains("v 0 1 0\n") && octahedron.contains("v 0 0 -1\n"));
+    let text = octahedron.replace("f 2 3 6\n", "f 2 7 8\n") + "v -0 1 -0\nv -0 -0 -1\n";
+    let out = metrics_of(&dir, "signed-zero.obj", &text, &["--scheme", "hb"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stderr(&out).is_empty(), "{}", stderr(&out));
+}
+
+#[test]
+fn coordinates_out_of_range_name_the_range() {
+    let dir = scratch("coordinate-range");
+    let octahedron = octahedron_obj();
+    for scale in ["1e-100", "1e100", "1e154"] {
+        let text: String = octahedron
+            .lines()
+            .map(|l| match l.strip_prefix("v ") {
+                Some(rest) => {
+                    let scaled: Vec<String> = rest
+                        .split_whitespace()
+                        .map(|c| format!("{c}{}", &scale[1..]))
+                        .collect();
+                    format!("v {}\n", scaled.join(" "))
+                }
+                None => format!("{l}\n"),
+            })
+            .collect();
+        let out = metrics_of(&dir, "scaled.obj", &text, &["--scheme", "hb"]);
+        assert_fails_naming(
+            &out,
+            &["coordinates span", "smoothlab supports", "1e-60", "1e60"],
+        );
+    }
 }

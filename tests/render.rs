@@ -90,7 +90,7 @@ fn render_command_writes_png_exr_and_stats() {
         stats: Some(stats_path.clone()),
         ..RenderArgs::default()
     };
-    let stats = render_command(&args).expect("render");
+    let (stats, _) = render_command(&args).expect("render");
     assert!(stats.hits > 0 && stats.misses > 0, "{stats:?}");
     let png = image::open(stem.with_extension("png")).expect("PNG readable");
     assert_eq!((png.width(), png.height()), (40, 30));

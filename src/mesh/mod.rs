@@ -3,9 +3,13 @@
 //!
 //! Loading runs one pipeline for every source ([`Mesh::from_triangles`], [`Mesh::parse_obj`],
 //! [`Mesh::load_obj`]):
-//! 1. reject an empty mesh, out-of-range indices and non-finite coordinates;
-//! 2. drop vertices used by no face and weld vertices with bit-identical positions;
-//! 3. reject degenerate and duplicate faces, non-manifold edges;
+//! 1. reject an empty mesh, out-of-range indices, non-finite coordinates and coordinates out
+//!    of the supported range ([`MAX_COORDINATE_MAGNITUDE`], [`MIN_COORDINATE_SPAN`]);
+//! 2. drop vertices used by no face and weld vertices closer than the weld tolerance
+//!    ([`LoadOptions::weld_tolerance`], by default [`DEFAULT_WELD_TOLERANCE`] of the
+//!    bounding-box diagonal), rejecting a face two of whose corners welding would merge;
+//! 3. reject degenerate and duplicate faces, non-manifold edges (areas are measured on
+//!    coordinates normalised to unit size, so the verdict does not depend on the scale);
 //! 4. orient every connected component consistently (or report a non-orientable one);
 //! 5. build the half-edge topology and the ordered one-rings, rejecting bow-tie vertices.
 //!
@@ -29,7 +33,8 @@ use crate::error::{Error, Result};
 use crate::geom::Aabb;
 
 pub use normals::OBJ_NORMAL_ANGLE_TOLERANCE;
-pub use validate::DEGENERATE_AREA_RATIO;
+pub use validate::{DEGENERATE_AREA_RATIO, MAX_COORDINATE_MAGNITUDE, MIN_COORDINATE_SPAN};
+pub use weld::{DEFAULT_WELD_TOLERANCE, check_weld_tolerance};
 
 use normals::ObjNormals;
 use topology::{NO_TWIN, Topology};
@@ -44,11 +49,35 @@ pub enum NormalSource {
     Obj,
 }
 
+/// How a mesh is loaded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoadOptions {
+    /// Vertices closer than this fraction of the bounding-box diagonal are welded into one
+    /// (default [`DEFAULT_WELD_TOLERANCE`]; 0 welds identical positions only). Must be in
+    /// [0, 1), see [`check_weld_tolerance`].
+    pub weld_tolerance: f64,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions {
+            weld_tolerance: DEFAULT_WELD_TOLERANCE,
+        }
+    }
+}
+
 /// What loading did to the input besides parsing: welded vertices, re-oriented faces, warnings.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LoadReport {
-    /// Vertices merged into an earlier vertex with the identical position.
+    /// Vertices merged into an earlier vertex at the same position or within the weld
+    /// tolerance.
     pub welded: usize,
+    /// Of the welded vertices, those at a different position from the vertex they were
+    /// merged into (closer than the tolerance, not identical; −0.0 and 0.0 are identical).
+    /// Loading warns when there are any.
+    pub welded_near: usize,
+    /// The largest distance between a welded vertex and the vertex it was merged into.
+    pub weld_max_distance: f64,
     /// Faces whose orientation was flipped to agree with their neighbours.
     pub reoriented_faces: usize,
     /// Human-readable warnings (one line each).
@@ -76,22 +105,33 @@ pub struct Mesh {
 }
 
 impl Mesh {
-    /// Builds and validates a mesh (weld, checks, orientation, topology).
+    /// Builds and validates a mesh (weld, checks, orientation, topology) with the default
+    /// [`LoadOptions`].
     ///
-    /// Vertices used by no face are dropped (one warning line) and vertices with bit-identical
-    /// positions are welded into the first of them; the remaining vertices keep their input
-    /// order, so a clean input keeps its numbering. Faces keep their input order; a face is
-    /// only ever re-oriented by swapping its last two corners, so `faces()[f][0]` is always the
-    /// first corner given for face `f`.
+    /// Vertices used by no face are dropped (one warning line) and vertices closer than the
+    /// weld tolerance are welded into the nearest earlier survivor; the remaining vertices keep
+    /// their input order, so a clean input keeps its numbering. Faces keep their input order; a
+    /// face is only ever re-oriented by swapping its last two corners, so `faces()[f][0]` is
+    /// always the first corner given for face `f`.
     pub fn from_triangles(
         positions: Vec<DVec3>,
         faces: Vec<[u32; 3]>,
+    ) -> Result<(Mesh, LoadReport)> {
+        Mesh::from_triangles_with(positions, faces, &LoadOptions::default())
+    }
+
+    /// [`Mesh::from_triangles`] with the given options.
+    pub fn from_triangles_with(
+        positions: Vec<DVec3>,
+        faces: Vec<[u32; 3]>,
+        options: &LoadOptions,
     ) -> Result<(Mesh, LoadReport)> {
         validate::assemble(
             positions,
             faces,
             None,
             Err("the mesh was not read from an OBJ file".to_string()),
+            options,
         )
     }
 
@@ -100,12 +140,17 @@ impl Mesh {
     /// See [`Mesh::parse_obj`] for what is read; a missing or unreadable file is
     /// [`Error::Io`] naming the path.
     pub fn load_obj(path: &Path) -> Result<(Mesh, LoadReport)> {
+        Mesh::load_obj_with(path, &LoadOptions::default())
+    }
+
+    /// [`Mesh::load_obj`] with the given options.
+    pub fn load_obj_with(path: &Path, options: &LoadOptions) -> Result<(Mesh, LoadReport)> {
         let bytes = std::fs::read(path).map_err(|source| Error::io(path, source))?;
         let text = String::from_utf8(bytes).map_err(|e| Error::MalformedObj {
             path: path.to_path_buf(),
             message: format!("not UTF-8 text ({e})"),
         })?;
-        obj::parse(&text, path)
+        obj::parse(&text, path, options)
     }
 
     /// Parses OBJ text (for embedded meshes and tests).
@@ -115,11 +160,18 @@ impl Mesh {
     /// vertex. The mesh keeps the file's vertex order, less unused and welded vertices, and
     /// errors name vertices by their 0-based position among the file's `v` records. The file's
     /// normals are kept for [`NormalSource::Obj`] when every face corner names one and each
-    /// vertex gets one direction (within [`OBJ_NORMAL_ANGLE_TOLERANCE`]). Polygons with more than three corners are rejected ([`Error::NotATriangle`])
-    /// rather than triangulated: how a polygon is split changes every surface built on it, so
-    /// that choice stays with the modeller that made the file.
+    /// vertex gets one direction (within [`OBJ_NORMAL_ANGLE_TOLERANCE`]). Polygons with more
+    /// than three corners are rejected ([`Error::NotATriangle`]) rather than triangulated: how
+    /// a polygon is split changes every surface built on it, so that choice stays with the
+    /// modeller that made the file. A UTF-8 byte-order mark is skipped, and lines may end in
+    /// LF, CR LF or CR alone (old Mac files).
     pub fn parse_obj(text: &str) -> Result<(Mesh, LoadReport)> {
-        obj::parse(text, Path::new("<OBJ text>"))
+        Mesh::parse_obj_with(text, &LoadOptions::default())
+    }
+
+    /// [`Mesh::parse_obj`] with the given options.
+    pub fn parse_obj_with(text: &str, options: &LoadOptions) -> Result<(Mesh, LoadReport)> {
+        obj::parse(text, Path::new("<OBJ text>"), options)
     }
 
     /// Vertex positions.

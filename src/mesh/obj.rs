@@ -18,7 +18,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::normals::CornerNormals;
-use super::{LoadReport, Mesh, validate};
+use super::{LoadOptions, LoadReport, Mesh, validate};
 use crate::error::{Error, Result};
 
 /// Statements that group or decorate geometry; they do not change the surface.
@@ -64,7 +64,9 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
     let mut corner_normals: Vec<(usize, i64)> = Vec::new();
     let mut normal_count = 0;
     let mut face = 0;
-    for line in text.lines() {
+    // Any of LF, CR LF and CR (old Mac files) ends a line; the empty "line" between CR and LF
+    // is a blank line, which OBJ ignores.
+    for line in text.split(['\n', '\r']) {
         let mut words = line.split_whitespace();
         let keyword = words.next().unwrap_or("");
         if DROPPED_STATEMENTS.contains(&keyword) {
@@ -155,20 +157,27 @@ fn resolve_index(index: i64, count: usize) -> Option<i64> {
     }
 }
 
-/// Parses OBJ text; `origin` names the file in errors.
-pub(super) fn parse(text: &str, origin: &Path) -> Result<(Mesh, LoadReport)> {
+/// Parses OBJ text; `origin` names the file in errors. A leading UTF-8 byte-order mark is
+/// skipped.
+pub(super) fn parse(
+    text: &str,
+    origin: &Path,
+    options: &LoadOptions,
+) -> Result<(Mesh, LoadReport)> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let scan = scan(text, origin)?;
-    let options = tobj::LoadOptions {
+    let tobj_options = tobj::LoadOptions {
         single_index: false,
         triangulate: false,
         ignore_points: false,
         ignore_lines: false,
     };
     // Materials were dropped with their statements, so the loader is never asked for one.
-    let (models, _materials) = tobj::load_obj_buf(&mut scan.geometry.as_bytes(), &options, |_| {
-        Ok(Default::default())
-    })
-    .map_err(|e| malformed(origin, e.to_string()))?;
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut scan.geometry.as_bytes(), &tobj_options, |_| {
+            Ok(Default::default())
+        })
+        .map_err(|e| malformed(origin, e.to_string()))?;
 
     let mut positions: Vec<DVec3> = Vec::new();
     let mut corners: Vec<u32> = Vec::new();
@@ -244,7 +253,8 @@ pub(super) fn parse(text: &str, origin: &Path) -> Result<(Mesh, LoadReport)> {
         .map(|c| [c[0], c[1], c[2]])
         .collect();
     let used_in_file = positions.len();
-    let (mesh, mut report) = validate::assemble(positions, faces, Some(&labels), corner_normals)?;
+    let (mesh, mut report) =
+        validate::assemble(positions, faces, Some(&labels), corner_normals, options)?;
     let unused = scan.vertex_count.saturating_sub(used_in_file);
     if unused > 0 {
         report
@@ -509,6 +519,69 @@ f 4 6 5
         let (mesh, report) = Mesh::parse_obj(text).unwrap();
         assert_eq!(mesh.face_count(), 1);
         assert_eq!(report.warnings, vec!["ignored 1 polyline (l) records"]);
+    }
+
+    #[test]
+    fn a_byte_order_mark_does_not_hide_the_first_vertex() {
+        let plain = Mesh::parse_obj(OCTAHEDRON_WITH_NORMALS_AND_UVS).unwrap().0;
+        // The mark right before the first `v` record, and before a comment line.
+        let bare = OCTAHEDRON_WITH_NORMALS_AND_UVS
+            .lines()
+            .skip(1)
+            .map(|l| format!("{l}\n"))
+            .collect::<String>();
+        for text in [
+            format!("\u{feff}{bare}"),
+            format!("\u{feff}{OCTAHEDRON_WITH_NORMALS_AND_UVS}"),
+        ] {
+            assert!(text.starts_with("\u{feff}"));
+            let (mesh, report) = Mesh::parse_obj(&text).unwrap();
+            assert_eq!(mesh.positions(), plain.positions());
+            assert_eq!(mesh.faces(), plain.faces());
+            assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+        }
+        // Through a file, as the command line reads it.
+        let path = std::env::temp_dir().join(format!("smoothlab-bom-{}.obj", std::process::id()));
+        std::fs::write(&path, format!("\u{feff}{bare}")).unwrap();
+        let loaded = Mesh::load_obj(&path);
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(loaded.unwrap().0.positions(), plain.positions());
+    }
+
+    #[test]
+    fn cr_and_crlf_line_ends_parse_like_lf() {
+        let plain = Mesh::parse_obj(OCTAHEDRON_WITH_NORMALS_AND_UVS).unwrap().0;
+        for end in ["\r", "\r\n"] {
+            let text = OCTAHEDRON_WITH_NORMALS_AND_UVS.replace('\n', end);
+            let (mesh, report) = Mesh::parse_obj(&text).unwrap();
+            assert_eq!(mesh.positions(), plain.positions(), "{end:?}");
+            assert_eq!(mesh.faces(), plain.faces(), "{end:?}");
+            assert!(report.warnings.is_empty(), "{end:?}: {:?}", report.warnings);
+            // The file's normals survive too.
+            assert_eq!(
+                mesh.vertex_normals(NormalSource::Obj).unwrap(),
+                plain.vertex_normals(NormalSource::Obj).unwrap()
+            );
+        }
+    }
+
+    #[test]
+    fn signed_zero_and_one_ulp_copies_in_a_file_weld() {
+        // The octahedron as two objects, upper and lower half, each with its own copies of
+        // the four equator vertices: the lower half writes 0 as -0 and 1 one ulp off.
+        let upper = "o upper\nv 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n\
+                     f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\n";
+        let lower = "o lower\nv 1.0000000000000002 -0 -0\nv -1 -0.0 0\nv -0 1 0\nv 0 -1 -0\n\
+                     v 0 0 -1\nf 8 6 10\nf 7 8 10\nf 9 7 10\nf 6 9 10\n";
+        let (mesh, report) = Mesh::parse_obj(&format!("{upper}{lower}")).unwrap();
+        assert!(mesh.is_closed());
+        assert_eq!(mesh.vertex_count(), 6);
+        assert_eq!((report.welded, report.welded_near), (4, 1));
+        assert_eq!(report.weld_max_distance, f64::EPSILON);
+        assert!(
+            crate::schemes::build("hb", &mesh, &[]).is_ok(),
+            "hb refuses the welded octahedron"
+        );
     }
 
     fn obj_normals_error(text: &str) -> String {

@@ -6,9 +6,10 @@ use glam::DVec3;
 
 use super::normals::{self, CornerNormals};
 use super::topology::{NO_TWIN, Topology};
-use super::weld::weld;
-use super::{LoadReport, Mesh};
+use super::weld::{check_weld_tolerance, weld};
+use super::{LoadOptions, LoadReport, Mesh};
 use crate::error::{Error, Result};
+use crate::geom::Aabb;
 
 /// A face is degenerate when `|(b−a)×(c−a)| <= DEGENERATE_AREA_RATIO · (longest edge)²`.
 ///
@@ -16,6 +17,18 @@ use crate::error::{Error, Result};
 /// angle, so faces with an angle below ~1e-14 rad (a few ulps of a unit-size coordinate) are
 /// rejected. Such faces have no usable normal or tangent plane and break every scheme.
 pub const DEGENERATE_AREA_RATIO: f64 = 1e-14;
+
+/// The smallest supported bounding-box diagonal of a mesh.
+///
+/// Validation itself is scale-free (it works on coordinates normalised by a power of two near
+/// the diagonal), but the schemes, metrics and renderer compute with the mesh's own
+/// coordinates, where squared normals and fundamental-form determinants are fourth powers of
+/// lengths: at spans down to 1e-60 they stay above 1e-240, far from f64's underflow (1e-308).
+pub const MIN_COORDINATE_SPAN: f64 = 1e-60;
+
+/// The largest supported coordinate magnitude (fourth powers of lengths stay below 1e241, far
+/// from f64's overflow at 1.8e308; see [`MIN_COORDINATE_SPAN`]).
+pub const MAX_COORDINATE_MAGNITUDE: f64 = 1e60;
 
 /// How loading names a vertex in errors: as the input numbered it.
 struct VertexNames<'a> {
@@ -44,7 +57,10 @@ pub(super) fn assemble(
     faces: Vec<[u32; 3]>,
     labels: Option<&[u32]>,
     corner_normals: std::result::Result<CornerNormals, String>,
+    options: &LoadOptions,
 ) -> Result<(Mesh, LoadReport)> {
+    let relative_tolerance =
+        check_weld_tolerance(options.weld_tolerance).map_err(Error::Invalid)?;
     if faces.is_empty() {
         return Err(Error::EmptyMesh);
     }
@@ -68,9 +84,25 @@ pub(super) fn assemble(
         });
     }
 
-    let welding = weld(&positions, faces);
+    let mut used = vec![false; positions.len()];
+    for &v in faces.iter().flatten() {
+        used[v as usize] = true;
+    }
+    let bounds = check_range(&positions, &used, &names_in)?;
+    let welding = weld(&positions, &used, bounds, faces, relative_tolerance, &|v| {
+        names_in.input(v)
+    })?;
     let mut faces = welding.faces;
     report.welded = welding.welded;
+    report.welded_near = welding.welded_near;
+    report.weld_max_distance = welding.max_distance;
+    if welding.welded_near > 0 {
+        report.warnings.push(format!(
+            "welded {} vertices to a vertex less than the weld tolerance {:.1e} away ({:e} of \
+             the bounding-box diagonal); largest distance merged {:.3e}",
+            welding.welded_near, welding.tolerance, relative_tolerance, welding.max_distance
+        ));
+    }
     if welding.unused > 0 {
         report.warnings.push(format!(
             "dropped {} vertices used by no face",
@@ -83,7 +115,7 @@ pub(super) fn assemble(
     };
     let positions = welding.positions;
 
-    check_degenerate(&positions, &faces)?;
+    check_degenerate(&positions, &faces, normalising_scale(&bounds))?;
     check_duplicates(&faces)?;
     let (twin, same_direction) = link_half_edges(&faces, &names)?;
     // The file's normals are matched to vertices before any face is flipped, while faces
@@ -127,18 +159,73 @@ fn check_indices(positions: &[DVec3], faces: &[[u32; 3]]) -> Result<()> {
     Ok(())
 }
 
+/// The bounding box of the used vertices, after checking that their coordinates are within
+/// [`MAX_COORDINATE_MAGNITUDE`] and span at least [`MIN_COORDINATE_SPAN`] (a zero span, all
+/// vertices at one point, is left to the degenerate check, which names a face).
+fn check_range(positions: &[DVec3], used: &[bool], names: &VertexNames) -> Result<Aabb> {
+    let used_positions = || {
+        positions
+            .iter()
+            .zip(used)
+            .filter(|(_, u)| **u)
+            .map(|(p, _)| p)
+    };
+    let bounds = Aabb::from_points(used_positions());
+    let (vertex, largest) = used_positions()
+        .map(|p| p.abs().max_element())
+        .enumerate()
+        .fold(
+            (0, 0.0),
+            |best, (i, m)| if m > best.1 { (i, m) } else { best },
+        );
+    // Measured in units of the largest magnitude, so that huge coordinates do not overflow.
+    let span = if largest > 0.0 {
+        let half_extent = (0.5 / largest) * bounds.max - (0.5 / largest) * bounds.min;
+        2.0 * largest * half_extent.length()
+    } else {
+        0.0
+    };
+    if largest > MAX_COORDINATE_MAGNITUDE || (span > 0.0 && span < MIN_COORDINATE_SPAN) {
+        let input = (0..positions.len())
+            .filter(|&v| used[v])
+            .nth(vertex)
+            .unwrap_or(0);
+        return Err(Error::CoordinateRange {
+            span,
+            largest,
+            vertex: names.input(input),
+            min_span: MIN_COORDINATE_SPAN,
+            max_magnitude: MAX_COORDINATE_MAGNITUDE,
+        });
+    }
+    Ok(bounds)
+}
+
+/// The power of two nearest to 1 / (diagonal of `bounds`), or 1 for an empty diagonal:
+/// multiplying by it maps the mesh to unit size exactly (no rounding), so geometric checks
+/// on the scaled coordinates neither overflow nor underflow and give the same verdict for the
+/// mesh scaled by any power of two.
+fn normalising_scale(bounds: &Aabb) -> f64 {
+    let span = (bounds.max - bounds.min).length();
+    if span > 0.0 {
+        2f64.powi(-(span.log2().round() as i32))
+    } else {
+        1.0
+    }
+}
+
 /// Rejects faces with a repeated corner or (numerically) zero area, see
-/// [`DEGENERATE_AREA_RATIO`].
-fn check_degenerate(positions: &[DVec3], faces: &[[u32; 3]]) -> Result<()> {
+/// [`DEGENERATE_AREA_RATIO`]. Areas are computed on the coordinates times `scale` (see
+/// [`normalising_scale`]).
+fn check_degenerate(positions: &[DVec3], faces: &[[u32; 3]], scale: f64) -> Result<()> {
     for (f, &[a, b, c]) in faces.iter().enumerate() {
         let repeated = a == b || b == c || c == a;
-        let [pa, pb, pc] = [a, b, c].map(|v| positions[v as usize]);
+        let [pa, pb, pc] = [a, b, c].map(|v| positions[v as usize] * scale);
         let longest_squared = (pb - pa)
             .length_squared()
             .max((pc - pb).length_squared())
             .max((pa - pc).length_squared());
         let twice_area = (pb - pa).cross(pc - pa).length();
-        // Written so that a NaN from overflowing coordinates also counts as degenerate.
         let has_area = twice_area > DEGENERATE_AREA_RATIO * longest_squared;
         if repeated || !has_area {
             return Err(Error::DegenerateFace { face: f });
@@ -376,21 +463,98 @@ mod tests {
     #[test]
     fn degenerate_threshold_is_relative_to_the_longest_edge() {
         // |cross| / longest² is 2e-14 and 0.5e-14: just above and just below the threshold,
-        // at a scale (1e6) where an absolute threshold would misjudge both.
-        let scale = 1e6;
-        for (height, degenerate) in [(2e-14, false), (0.5e-14, true)] {
-            let positions = vec![
-                DVec3::ZERO,
-                DVec3::X * scale,
-                DVec3::new(0.5, height, 0.0) * scale,
-            ];
-            let result = load((positions, vec![[0, 1, 2]]));
-            assert_eq!(
-                matches!(result, Err(Error::DegenerateFace { face: 0 })),
-                degenerate,
-                "height {height}"
+        // at scales where an absolute threshold would misjudge both, down to and up to the
+        // ends of the supported range.
+        for scale in [1e6, 1e-20, 1e20, 1e-59, 1e59] {
+            for (height, degenerate) in [(2e-14, false), (0.5e-14, true)] {
+                let positions = vec![
+                    DVec3::ZERO,
+                    DVec3::X * scale,
+                    DVec3::new(0.5, height, 0.0) * scale,
+                ];
+                let result = load((positions, vec![[0, 1, 2]]));
+                assert_eq!(
+                    matches!(result, Err(Error::DegenerateFace { face: 0 })),
+                    degenerate,
+                    "height {height} at scale {scale}"
+                );
+            }
+        }
+    }
+
+    fn scaled((positions, faces): generate::Triangles, scale: f64) -> generate::Triangles {
+        (positions.iter().map(|&p| p * scale).collect(), faces)
+    }
+
+    #[test]
+    fn scaled_meshes_validate_like_the_unscaled_ones() {
+        for (name, triangles) in [
+            ("octahedron", generate::octahedron()),
+            ("deformed icosahedron", generate::deformed_icosahedron()),
+            ("genus2", generate::genus2()),
+            ("seamed torus", bad::seamed_torus(12, 8)),
+        ] {
+            let (mesh, report) = load(triangles.clone()).unwrap();
+            let normals = mesh
+                .vertex_normals(crate::mesh::NormalSource::Estimate)
+                .unwrap();
+            for scale in [1e-20, 1e20, 1e-50, 1e50, 2f64.powi(-190), 2f64.powi(190)] {
+                let (scaled_mesh, scaled_report) = load(scaled(triangles.clone(), scale)).unwrap();
+                let label = format!("{name} x {scale:e}");
+                assert_eq!(scaled_mesh.faces(), mesh.faces(), "{label}");
+                assert_eq!(scaled_report.welded, report.welded, "{label}");
+                assert_eq!(scaled_report.welded_near, report.welded_near, "{label}");
+                let scaled_normals = scaled_mesh
+                    .vertex_normals(crate::mesh::NormalSource::Estimate)
+                    .unwrap();
+                for (a, b) in normals.iter().zip(&scaled_normals) {
+                    assert!(a.distance(*b) < 1e-15, "{label}: {a} vs {b}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn coordinates_out_of_range_name_the_range() {
+        for scale in [1e-100, 1e-61, 1e61, 1e100, 1e154, 1e300] {
+            let error = load(scaled(generate::octahedron(), scale)).unwrap_err();
+            let Error::CoordinateRange {
+                span,
+                largest,
+                vertex,
+                ..
+            } = error
+            else {
+                panic!("x {scale:e}: expected CoordinateRange, got {error}");
+            };
+            assert_eq!((largest, vertex), (scale, 0), "x {scale:e}");
+            // The diagonal of the octahedron's box is 2√3, computed without overflow.
+            assert!(
+                (span / (2.0 * 3f64.sqrt() * scale) - 1.0).abs() < 1e-15,
+                "x {scale:e}: span {span:e}"
+            );
+            let message = error.to_string();
+            assert!(
+                message.starts_with("coordinates span ")
+                    && message.contains("at least 1e-60")
+                    && message.contains("up to 1e60"),
+                "{message}"
             );
         }
+        // Coordinates far from the origin are refused even when the mesh itself is small.
+        let (positions, faces) = generate::tetrahedron();
+        let far: Vec<DVec3> = positions.iter().map(|&p| p + DVec3::Z * 1e70).collect();
+        let error = load((far, faces)).unwrap_err();
+        assert!(matches!(error, Error::CoordinateRange { .. }), "{error}");
+    }
+
+    #[test]
+    fn unused_vertices_do_not_count_towards_the_range() {
+        let (mut positions, faces) = generate::octahedron();
+        positions.push(DVec3::splat(1e200));
+        let (mesh, report) = load((positions, faces)).unwrap();
+        assert_eq!(mesh.vertex_count(), 6);
+        assert_eq!(report.warnings, ["dropped 1 vertices used by no face"]);
     }
 
     #[test]

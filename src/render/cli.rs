@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use crate::app::parse_weld_tolerance;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::render::job::render_scene;
@@ -61,6 +62,15 @@ pub struct RenderArgs {
     /// Sample seed.
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Weld vertices closer than this fraction of the bounding-box diagonal (0: identical
+    /// positions only; default: the scene's `weld_tolerance`, else 1e-10).
+    #[arg(
+        long,
+        value_name = "REL",
+        value_parser = parse_weld_tolerance,
+        allow_hyphen_values = true
+    )]
+    pub weld_tolerance: Option<f64>,
 }
 
 /// Parses `X,Y,Z`.
@@ -110,6 +120,9 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
             ..SceneFile::default()
         }
     };
+    if args.weld_tolerance.is_some() {
+        scene.weld_tolerance = args.weld_tolerance;
+    }
     if let Some(s) = &args.scheme {
         scene.scheme.name = Some(s.clone());
     }
@@ -159,14 +172,15 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
 }
 
 /// Runs `smoothlab render`: loads the mesh, builds the scheme, renders, writes `NAME.png`,
-/// `NAME.exr` and the statistics. Returns the statistics.
-pub fn render_command(args: &RenderArgs) -> Result<RenderStats> {
+/// `NAME.exr` and the statistics. Returns the statistics and the loading warnings (one line
+/// each, without the `warning:` prefix).
+pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     let scene = scene_of(args)?;
     let mesh_path = scene
         .mesh
         .clone()
         .ok_or_else(|| Error::Invalid(format!("{}: no mesh given", args.input.display())))?;
-    let (mesh, _report) = Mesh::load_obj(&mesh_path)?;
+    let (mesh, report) = Mesh::load_obj_with(&mesh_path, &scene.load_options()?)?;
     let scheme = scene
         .scheme
         .name
@@ -185,7 +199,7 @@ pub fn render_command(args: &RenderArgs) -> Result<RenderStats> {
     if let Some(path) = &args.stats {
         stats.write_json(path)?;
     }
-    Ok(stats)
+    Ok((stats, report.warnings))
 }
 
 /// One line about a finished render, for the terminal.
@@ -225,6 +239,11 @@ mod tests {
         assert_eq!(parse_size("640x480"), Ok([640, 480]));
         assert!(parse_size("640x0").is_err());
         assert!(parse_size("640").is_err());
+        assert_eq!(parse_weld_tolerance("1e-8"), Ok(1e-8));
+        assert_eq!(parse_weld_tolerance("0"), Ok(0.0));
+        for bad in ["-1e-9", "1", "inf", "nan", "x"] {
+            assert!(parse_weld_tolerance(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]
@@ -242,6 +261,13 @@ mod tests {
         assert_eq!(scene.render.mode.as_deref(), Some("isophote"));
         assert_eq!(scene.render.size, Some([32, 16]));
         assert_eq!(scene.camera.ortho, Some(true));
+        assert_eq!(scene.weld_tolerance, None);
+        let welded = scene_of(&RenderArgs {
+            weld_tolerance: Some(0.0),
+            ..args.clone()
+        })
+        .expect("scene");
+        assert_eq!(welded.load_options().expect("valid").weld_tolerance, 0.0);
         assert_eq!(
             scene.scheme_params(),
             vec![("normals".to_string(), "obj".to_string())]

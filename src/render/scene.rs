@@ -3,6 +3,7 @@
 //!
 //! ```toml
 //! mesh = "ico.obj"            # relative to the scene file
+//! weld_tolerance = 1e-10      # weld vertices closer than this fraction of the diagonal
 //! [scheme]
 //! name = "hb"
 //! params = { normals = "estimate" }
@@ -40,6 +41,7 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::error::{Error, Result};
+use crate::mesh::{LoadOptions, check_weld_tolerance};
 use crate::render::bvh::SubdivisionCriterion;
 use crate::render::curves::CurveOverlay;
 use crate::render::modes::{
@@ -54,6 +56,9 @@ use crate::render::shaded::{Environment, LatLongMap, ShadedParams};
 pub struct SceneFile {
     /// Mesh file (OBJ), relative to the scene file.
     pub mesh: Option<PathBuf>,
+    /// Weld tolerance of the mesh, relative to its bounding-box diagonal (see
+    /// [`LoadOptions::weld_tolerance`]).
+    pub weld_tolerance: Option<f64>,
     /// Surface construction.
     #[serde(default)]
     pub scheme: SchemeSection,
@@ -259,6 +264,16 @@ impl SceneFile {
     /// Parses scene text.
     pub fn parse(text: &str) -> Result<SceneFile> {
         toml::from_str(text).map_err(|e| Error::Invalid(format!("scene file: {e}")))
+    }
+
+    /// How the mesh is loaded (defaults where unset).
+    pub fn load_options(&self) -> Result<LoadOptions> {
+        let mut options = LoadOptions::default();
+        if let Some(tolerance) = self.weld_tolerance {
+            options.weld_tolerance = check_weld_tolerance(tolerance)
+                .map_err(|e| Error::Invalid(format!("weld_tolerance: {e}")))?;
+        }
+        Ok(options)
     }
 
     /// Scheme parameters as `name = value` text pairs.
@@ -557,6 +572,22 @@ mod tests {
         assert!(c.legend);
         let o = scene.overlay().expect("overlay");
         assert!(o.face_edges && o.patch_edges);
+    }
+
+    #[test]
+    fn weld_tolerance_key_sets_the_load_options() {
+        let default = SceneFile::parse("mesh = \"a.obj\"").expect("parses");
+        assert_eq!(
+            default.load_options().expect("valid"),
+            LoadOptions::default()
+        );
+        let scene = SceneFile::parse("mesh = \"a.obj\"\nweld_tolerance = 1e-6").expect("parses");
+        assert_eq!(scene.load_options().expect("valid").weld_tolerance, 1e-6);
+        for bad in ["-1e-9", "1.5", "nan"] {
+            let scene = SceneFile::parse(&format!("weld_tolerance = {bad}")).expect("parses");
+            let err = scene.load_options().expect_err("out of range");
+            assert!(err.to_string().starts_with("weld_tolerance: "), "{err}");
+        }
     }
 
     #[test]

@@ -102,3 +102,80 @@ pub fn octahedron_with_duplicate_vertices() -> Triangles {
     }
     (positions, faces)
 }
+
+/// A closed surface sampled the way many exporters write one: on a (columns + 1) × (rows + 1)
+/// grid of parameters u = 2π·i/columns, t = j/rows, with `point(u, t)` evaluated at every grid
+/// point, so the copies of a seam vertex (u = 0 and u = 2π, or a pole written once per column)
+/// differ by rounding (sin 2π ≈ −2.4e-16). Each grid quad gives the triangles (i, j),
+/// (i+1, j), (i+1, j+1) and (i, j), (i+1, j+1), (i, j+1); a triangle whose corners coincide
+/// up to rounding (at a pole) is left out. Vertex `i·(rows + 1) + j` is grid point (i, j).
+pub fn seamed_grid(columns: u32, rows: u32, point: impl Fn(f64, f64) -> DVec3) -> Triangles {
+    let vertex = |i: u32, j: u32| i * (rows + 1) + j;
+    let positions: Vec<DVec3> = (0..=columns)
+        .flat_map(|i| (0..=rows).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            point(
+                TAU * f64::from(i) / f64::from(columns),
+                f64::from(j) / f64::from(rows),
+            )
+        })
+        .collect();
+    let mut faces = Vec::with_capacity(2 * (columns * rows) as usize);
+    for i in 0..columns {
+        for j in 0..rows {
+            let (p00, p10, p11, p01) = (
+                vertex(i, j),
+                vertex(i + 1, j),
+                vertex(i + 1, j + 1),
+                vertex(i, j + 1),
+            );
+            for face in [[p00, p10, p11], [p00, p11, p01]] {
+                let [a, b, c] = face.map(|v| positions[v as usize]);
+                let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+                if (b - a).cross(c - a).length() > 1e-9 * longest * longest {
+                    faces.push(face);
+                }
+            }
+        }
+    }
+    (positions, faces)
+}
+
+/// The torus of major radius 1 and minor radius 0.4 as a [`seamed_grid`] (u around the axis,
+/// t around the tube): both seams are written twice, e.g. `1.4 0 0` and
+/// `1.4 -3.4e-16 -9.8e-17`. Welded, it is the columns × rows torus, every vertex of valence 6.
+pub fn seamed_torus(columns: u32, rows: u32) -> Triangles {
+    seamed_grid(columns, rows, |u, t| {
+        let v = TAU * t;
+        let ring = 1.0 + 0.4 * v.cos();
+        DVec3::new(ring * u.cos(), ring * u.sin(), 0.4 * v.sin())
+    })
+}
+
+/// The unit sphere as a [`seamed_grid`] in longitude u and latitude (south pole at t = 0):
+/// the u seam is written twice and each pole once per column (the south pole copies differ by
+/// rounding, sin π ≈ 1.2e-16). Welded: columns · (rows − 1) + 2 vertices.
+pub fn seamed_sphere(columns: u32, rows: u32) -> Triangles {
+    seamed_grid(columns, rows, |u, t| {
+        let polar = PI * (1.0 - t);
+        DVec3::new(polar.sin() * u.cos(), polar.sin() * u.sin(), polar.cos())
+    })
+}
+
+/// The closed cylinder of radius 1 about the z axis from z = −1 to 1: its side as a
+/// [`seamed_grid`] (the u seam written twice) and two caps, each a fan from its centre (the
+/// last two vertices) over the rim vertices, seam copies included. Welded:
+/// columns · (rows + 1) + 2 vertices.
+pub fn seamed_cylinder(columns: u32, rows: u32) -> Triangles {
+    let (mut positions, mut faces) = seamed_grid(columns, rows, |u, t| {
+        DVec3::new(u.cos(), u.sin(), 2.0 * t - 1.0)
+    });
+    let rim = |i: u32, j: u32| i * (rows + 1) + j;
+    let (bottom, top) = (positions.len() as u32, positions.len() as u32 + 1);
+    positions.extend([DVec3::NEG_Z, DVec3::Z]);
+    for i in 0..columns {
+        faces.push([bottom, rim(i + 1, 0), rim(i, 0)]);
+        faces.push([top, rim(i, rows), rim(i + 1, rows)]);
+    }
+    (positions, faces)
+}
