@@ -373,6 +373,7 @@ pub fn run_compare(
     new: &Path,
     thresholds: crate::report::compare::Thresholds,
 ) -> Result<Output> {
+    thresholds.check()?;
     let (old, new) = (crate::report::read(old)?, crate::report::read(new)?);
     let changes = crate::report::compare::compare(&old, &new, thresholds);
     Ok(Output {

@@ -64,11 +64,11 @@ enum Command {
         old: PathBuf,
         /// The later report.
         new: PathBuf,
-        /// Relative tolerance of quality figures.
-        #[arg(long, default_value_t = 0.05)]
+        /// Relative tolerance of quality figures (finite, ≥ 0).
+        #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
         quality_rel: f64,
-        /// Largest accepted new/old timing ratio.
-        #[arg(long, default_value_t = 1.5)]
+        /// Largest accepted new/old timing ratio (finite, ≥ 1).
+        #[arg(long, default_value_t = 1.5, allow_negative_numbers = true)]
         time_ratio: f64,
     },
     /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).

@@ -22,6 +22,9 @@ use crate::metrics::energy::bending_energy;
 use crate::schemes::{self, SCHEMES};
 use analytic::{Analytic, surface_error};
 
+/// The format version of `metrics.json` that this build writes and reads.
+pub const REPORT_VERSION: u32 = 1;
+
 /// A mesh the report measures every scheme on.
 pub struct BenchmarkMesh {
     /// Name in the report.
@@ -131,7 +134,7 @@ pub fn run() -> Result<Report> {
     }
     Ok(Report {
         format: "smoothlab-report".into(),
-        version: 1,
+        version: REPORT_VERSION,
         commit: git_commit(),
         date: utc_now(),
         records,
@@ -259,14 +262,34 @@ pub fn read(path: &Path) -> Result<Report> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let report: Report = serde_json::from_str(&text)
         .map_err(|e| Error::Invalid(format!("{}: not a smoothlab report: {e}", path.display())))?;
+    check(&report).map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
+    Ok(report)
+}
+
+/// Checks the format, the version and the uniqueness of the records of a parsed report.
+fn check(report: &Report) -> Result<()> {
     if report.format != "smoothlab-report" {
         return Err(Error::Invalid(format!(
-            "{}: format '{}' is not smoothlab-report",
-            path.display(),
+            "format '{}' is not smoothlab-report",
             report.format
         )));
     }
-    Ok(report)
+    if report.version != REPORT_VERSION {
+        return Err(Error::Invalid(format!(
+            "report version {} is not supported (this build reads version {REPORT_VERSION})",
+            report.version
+        )));
+    }
+    let mut seen = std::collections::HashMap::new();
+    for (k, r) in report.records.iter().enumerate() {
+        if let Some(first) = seen.insert((&r.mesh, &r.scheme), k) {
+            return Err(Error::Invalid(format!(
+                "records {first} and {k} are both {} / {}",
+                r.mesh, r.scheme
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Names of the schemes a report covers, for checks that every registered scheme is in it.
@@ -279,6 +302,41 @@ pub fn schemes_covered(report: &Report) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn record(mesh: &str, scheme: &str) -> Record {
+        Record {
+            mesh: mesh.into(),
+            scheme: scheme.into(),
+            figures: serde_json::Map::new(),
+        }
+    }
+
+    #[test]
+    fn unknown_versions_and_duplicate_records_are_refused() {
+        let mut report = Report {
+            format: "smoothlab-report".into(),
+            version: REPORT_VERSION,
+            commit: "x".into(),
+            date: "d".into(),
+            records: vec![
+                record("torus", "hb"),
+                record("torus", "pn"),
+                record("cube", "hb"),
+            ],
+        };
+        check(&report).expect("valid report");
+        report.version = 2;
+        let err = check(&report).expect_err("version 2");
+        assert!(err.to_string().contains("version 2"), "{err}");
+        report.version = REPORT_VERSION;
+        report.records.push(record("torus", "pn"));
+        let err = check(&report).expect_err("duplicate");
+        assert!(
+            err.to_string()
+                .contains("records 1 and 3 are both torus / pn"),
+            "{err}"
+        );
+    }
 
     #[test]
     fn utc_date_is_well_formed() {
