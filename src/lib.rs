@@ -9,6 +9,7 @@ pub mod bezier;
 pub mod blend;
 pub mod error;
 pub mod export;
+pub mod files;
 pub mod geom;
 pub mod linalg;
 pub mod mesh;

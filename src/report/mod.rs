@@ -16,6 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::app::build_timed;
 use crate::error::{Error, Result};
+use crate::files::{check_writable, create_folder, write_atomic};
 use crate::mesh::{Mesh, generate};
 use crate::metrics::Metrics;
 use crate::metrics::energy::bending_energy;
@@ -238,26 +239,35 @@ pub fn to_markdown(report: &Report) -> String {
     out
 }
 
+/// The tables [`write`] writes into its folder.
+const TABLES: [&str; 3] = ["metrics.json", "metrics.csv", "metrics.md"];
+
 /// Runs the report and writes `metrics.{json,csv,md}` into `out_dir` and the SVG plots of
-/// [`plots`] into `out_dir/figures/`.
+/// [`plots`] into `out_dir/figures/` (folders created if missing). Every output path is
+/// checked before the measurements start, and every file is written atomically.
 pub fn write(out_dir: &Path) -> Result<Report> {
+    let figures = out_dir.join("figures");
+    create_folder(&figures)?;
+    let tables = TABLES.map(|name| out_dir.join(name));
+    for path in tables.iter().chain(&plots::plot_paths(&figures)) {
+        check_writable(path)?;
+    }
     let report = run()?;
-    plots::write_plots(&report, &out_dir.join("figures"))?;
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    plots::write_plots(&report, &figures)?;
     let json = serde_json::to_string_pretty(&report)
         .map_err(|e| Error::Invalid(format!("report JSON: {e}")))?;
-    for (name, text) in [
-        ("metrics.json", json),
-        ("metrics.csv", to_csv(&report)),
-        ("metrics.md", to_markdown(&report)),
-    ] {
-        let path = out_dir.join(name);
-        std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
+    for (path, text) in tables
+        .iter()
+        .zip([json, to_csv(&report), to_markdown(&report)])
+    {
+        write_atomic(path, text.as_bytes())?;
     }
     Ok(report)
 }
 
-/// Reads a `metrics.json` written by [`write`].
+/// Reads a `metrics.json` written by [`write`]: the format must be `smoothlab-report` of
+/// version [`REPORT_VERSION`], and no mesh × scheme may have two records (a comparison would
+/// silently judge only the first).
 pub fn read(path: &Path) -> Result<Report> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let report: Report = serde_json::from_str(&text)
