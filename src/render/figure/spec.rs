@@ -465,7 +465,10 @@ mod tests {
                 .to_string()
         };
         let top = err(&format!("colour = 3\n{SPEC}"));
-        assert!(top.contains("line 1") && top.contains("colour"), "{top}");
+        assert!(
+            top.starts_with("figure spec:1:1: ") && top.contains("colour") && !top.contains('\n'),
+            "{top}"
+        );
         assert!(err(&SPEC.replace("curves = true", "curvez = true")).contains("curvez"));
         assert!(err(&SPEC.replace("stripes = 8", "stripez = 8")).contains("stripez"));
         assert!(err(&SPEC.replace("\"loop94\"", "\"loop95\"")).contains("loop95"));
