@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::export::{self, Format};
+use crate::files::{check_writable, write_atomic};
 use crate::mesh::{LoadOptions, Mesh};
 use crate::metrics::Metrics;
 use crate::schemes::{self, SCHEMES};
@@ -248,10 +249,6 @@ pub fn schemes_listing() -> String {
     out
 }
 
-fn write_file(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
-}
-
 /// `smoothlab metrics MESH --scheme S|all [--param k=v]… [--json F]`.
 pub fn run_metrics(
     mesh_path: &Path,
@@ -261,13 +258,16 @@ pub fn run_metrics(
     json: Option<&Path>,
 ) -> Result<Output> {
     let params = parse_params(raw_params)?;
-    // Check the scheme and parameters before the (possibly slow) mesh load.
+    // Check the scheme, the parameters and the output path before the (possibly slow) work.
     select_schemes(selection, &params)?;
+    if let Some(path) = json {
+        check_writable(path)?;
+    }
     let (mesh, mut warnings) = load_mesh(mesh_path, load)?;
     let (metrics, skipped) = measure_schemes(&mesh, selection, &params)?;
     warnings.extend(skipped);
     if let Some(path) = json {
-        write_file(path, &metrics_json(&metrics)?)?;
+        write_atomic(path, metrics_json(&metrics)?.as_bytes())?;
     }
     Ok(Output {
         stdout: metrics_table(&metrics),
@@ -278,16 +278,18 @@ pub fn run_metrics(
 }
 
 /// Builds `scheme` with the raw `--param` values on the mesh file at `mesh_path` (loaded with
-/// `load`); the scheme name and the parameter syntax are checked before the (possibly slow)
-/// mesh load. Returns the mesh, the surface and the loading warnings.
+/// `load`); the scheme name, the parameter syntax and the output path `out_path` are checked
+/// before the (possibly slow) mesh load. Returns the mesh, the surface and the loading warnings.
 fn build_on_file(
     mesh_path: &Path,
     load: &LoadOptions,
     scheme: &str,
     raw_params: &[String],
+    out_path: &Path,
 ) -> Result<(Mesh, Surface, Vec<String>)> {
     let params = parse_params(raw_params)?;
     schemes::find(scheme)?;
+    check_writable(out_path)?;
     let (mesh, warnings) = load_mesh(mesh_path, load)?;
     let (surface, _) = build_timed(scheme, &mesh, &params)?;
     Ok((mesh, surface, warnings))
@@ -303,8 +305,8 @@ pub fn run_export(
     tess: usize,
     raw_params: &[String],
 ) -> Result<Output> {
-    let (_, surface, warnings) = build_on_file(mesh_path, load, scheme, raw_params)?;
-    write_file(out_path, &export::export(&surface, format, tess)?)?;
+    let (_, surface, warnings) = build_on_file(mesh_path, load, scheme, raw_params, out_path)?;
+    write_atomic(out_path, export::export(&surface, format, tess)?.as_bytes())?;
     Ok(Output {
         stdout: format!(
             "wrote {} patches of '{scheme}' to {}\n",
@@ -325,11 +327,11 @@ pub fn run_sample(
     raw_params: &[String],
     json: &Path,
 ) -> Result<Output> {
-    let (mesh, surface, warnings) = build_on_file(mesh_path, load, scheme, raw_params)?;
+    let (mesh, surface, warnings) = build_on_file(mesh_path, load, scheme, raw_params, json)?;
     let samples = export::samples::edge_samples(&surface, &mesh)?;
     let text = serde_json::to_string(&samples)
         .map_err(|e| Error::Invalid(format!("edge samples JSON: {e}")))?;
-    write_file(json, &text)?;
+    write_atomic(json, text.as_bytes())?;
     Ok(Output {
         stdout: format!(
             "wrote samples of {} edges of '{scheme}' to {}\n",
@@ -390,6 +392,7 @@ pub fn run_compare(
     new: &Path,
     thresholds: crate::report::compare::Thresholds,
 ) -> Result<Output> {
+    thresholds.check()?;
     let (old, new) = (crate::report::read(old)?, crate::report::read(new)?);
     let changes = crate::report::compare::compare(&old, &new, thresholds);
     Ok(Output {

@@ -10,6 +10,7 @@ pub mod blend;
 pub mod budget;
 pub mod error;
 pub mod export;
+pub mod files;
 pub mod geom;
 pub mod linalg;
 pub mod mesh;

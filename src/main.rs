@@ -1,6 +1,7 @@
 //! The smoothlab command line: argument parsing and printing only; the work is done by
 //! [`smoothlab::app`].
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -64,11 +65,11 @@ enum Command {
         old: PathBuf,
         /// The later report.
         new: PathBuf,
-        /// Relative tolerance of quality figures.
-        #[arg(long, default_value_t = 0.05)]
+        /// Relative tolerance of quality figures (finite, ≥ 0).
+        #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
         quality_rel: f64,
-        /// Largest accepted new/old timing ratio.
-        #[arg(long, default_value_t = 1.5)]
+        /// Largest accepted new/old timing ratio (finite, ≥ 1).
+        #[arg(long, default_value_t = 1.5, allow_negative_numbers = true)]
         time_ratio: f64,
     },
     /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
@@ -206,13 +207,34 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
     }
 }
 
+/// Writes `text` to standard error. Nothing useful can be done when that fails (e.g. standard
+/// error is closed), so a failure is ignored rather than turned into a panic.
+fn to_stderr(text: &str) {
+    let _ = std::io::stderr().lock().write_all(text.as_bytes());
+}
+
+/// Writes `text` to standard output and returns the exit code: `status` when it was written or
+/// when the reader closed the pipe (`smoothlab schemes | head -1`: the rest of the output is
+/// not wanted, which is no error); 1 with an `error:` line for any other failure (e.g. a full
+/// device).
+fn to_stdout(text: &str, status: ExitCode) -> ExitCode {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => status,
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => status,
+        Err(e) => {
+            to_stderr(&format!("error: standard output: {e}\n"));
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if !e.use_stderr() => {
             // --help and --version.
-            print!("{e}");
-            return ExitCode::SUCCESS;
+            return to_stdout(&e.to_string(), ExitCode::SUCCESS);
         }
         Err(e) => {
             // clap's message is a paragraph (e.g. "required arguments were not provided:"
@@ -223,27 +245,27 @@ fn main() -> ExitCode {
                 .take_while(|l| !l.trim().is_empty())
                 .map(str::trim)
                 .collect();
-            eprintln!(
-                "error: {}",
+            to_stderr(&format!(
+                "error: {}\n",
                 paragraph.join(" ").trim_start_matches("error: ")
-            );
+            ));
             return ExitCode::FAILURE;
         }
     };
     match run(cli) {
         Ok(output) => {
             for w in &output.warnings {
-                eprintln!("warning: {w}");
+                to_stderr(&format!("warning: {w}\n"));
             }
-            print!("{}", output.stdout);
-            if output.failed {
+            let status = if output.failed {
                 ExitCode::FAILURE
             } else {
                 ExitCode::SUCCESS
-            }
+            };
+            to_stdout(&output.stdout, status)
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            to_stderr(&format!("error: {e}\n"));
             ExitCode::FAILURE
         }
     }

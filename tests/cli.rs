@@ -904,6 +904,8 @@ fn bvh_settings_and_size_are_bounded() {
     );
     let out = render(&fine, &[]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}
+
 /// OBJ text of unwelded triangles, coordinates in Rust's shortest round-trip form.
 fn obj_text((positions, faces): smoothlab::mesh::generate::Triangles) -> String {
     let vertices = positions
@@ -1146,4 +1148,339 @@ fn coordinates_out_of_range_name_the_range() {
             &["coordinates span", "smoothlab supports", "1e-60", "1e60"],
         );
     }
+}
+
+// Hostile but plausible input (issue 12): closed standard output, output names and paths,
+// scene-file errors, cameras, compare gates, concurrent writers.
+
+/// Arguments of a small, fast render of the tetrahedron written to `dir`.
+fn small_render(dir: &Path, extra: &[&str]) -> Output {
+    let mesh = write(dir, "tet.obj", TETRAHEDRON);
+    let mut args = vec![
+        "render",
+        mesh.to_str().expect("utf-8"),
+        "--scheme",
+        "pn",
+        "--mode",
+        "normals",
+        "--size",
+        "24x16",
+        "--spp",
+        "1",
+    ];
+    args.extend_from_slice(extra);
+    smoothlab(&args)
+}
+
+fn path_arg(path: &Path) -> &str {
+    path.to_str().expect("utf-8 path")
+}
+
+/// The names in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("list folder")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// A reader that closes its end at once: writing to standard output fails with a broken
+/// pipe. That is no error (`smoothlab schemes | head -1`): nothing on stderr, the command's
+/// own exit code.
+#[test]
+fn closed_stdout_pipe_exits_quietly() {
+    let dir = scratch("closed-pipe");
+    let mesh = write(&dir, "tet.obj", TETRAHEDRON);
+    let stem = dir.join("r");
+    let runs: [&[&str]; 3] = [
+        &["schemes"],
+        &["metrics", path_arg(&mesh), "--scheme", "flat"],
+        &[
+            "render",
+            path_arg(&mesh),
+            "--scheme",
+            "flat",
+            "--size",
+            "8x8",
+            "--spp",
+            "1",
+            "-o",
+            path_arg(&stem),
+        ],
+    ];
+    for args in runs {
+        let (reader, writer) = std::io::pipe().expect("pipe");
+        drop(reader);
+        let out = common::smoothlab_with_stdout(args, writer.into());
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {}", stderr(&out));
+        assert_eq!(stderr(&out), "", "{args:?}");
+    }
+}
+
+/// A full device is an error: one line, exit code 1.
+#[test]
+fn full_stdout_is_one_error_line() {
+    let dir = scratch("full-stdout");
+    let mesh = write(&dir, "tet.obj", TETRAHEDRON);
+    let runs: [&[&str]; 2] = [
+        &["schemes"],
+        &["metrics", path_arg(&mesh), "--scheme", "flat"],
+    ];
+    for args in runs {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .expect("/dev/full");
+        let out = common::smoothlab_with_stdout(args, full.into());
+        assert_fails_naming(&out, &["standard output", "No space left"]);
+    }
+}
+
+/// `-o NAME` drops only a `.png` or `.exr` ending; a folder or a device is no output name.
+#[test]
+fn output_names_keep_their_dots_and_refuse_folders_and_devices() {
+    let dir = scratch("output-names");
+    let out = small_render(&dir, &["-o", path_arg(&dir.join("o/run.v2"))]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(listing(&dir.join("o")), ["run.v2.exr", "run.v2.png"]);
+
+    let out = small_render(&dir, &["-o", path_arg(&dir.join("o/plain.png"))]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.join("o/plain.png").is_file() && dir.join("o/plain.exr").is_file());
+
+    let folder = format!("{}/", dir.join("new").display());
+    let out = small_render(&dir, &["-o", &folder]);
+    assert_fails_naming(&out, &[&folder, "is a folder"]);
+    let out = small_render(&dir, &["-o", path_arg(&dir.join("o"))]);
+    assert_fails_naming(&out, &["is a folder"]);
+    assert!(!dir.join("o.png").exists() && !dir.join("new").exists());
+
+    let out = small_render(&dir, &["-o", "/dev/null"]);
+    assert_fails_naming(&out, &["/dev/null", "not a regular file"]);
+    assert!(!Path::new("/dev/null.png").exists());
+}
+
+/// Every output path is checked before the work: nothing is written when one of them is bad.
+#[test]
+fn bad_output_paths_fail_before_any_file_is_written() {
+    let dir = scratch("output-paths");
+    let stem = dir.join("x");
+    let stats = dir.join("missing").join("s.json");
+    let out = small_render(&dir, &["-o", path_arg(&stem), "--stats", path_arg(&stats)]);
+    assert_fails_naming(&out, &["missing", "folder does not exist"]);
+    assert_eq!(listing(&dir), ["tet.obj"], "no PNG or EXR written");
+
+    std::fs::create_dir(dir.join("y.exr")).expect("folder named like the EXR");
+    let out = small_render(&dir, &["-o", path_arg(&dir.join("y"))]);
+    assert_fails_naming(&out, &["y.exr", "is a folder"]);
+    assert!(
+        !dir.join("y.png").exists(),
+        "PNG written before the EXR failed"
+    );
+
+    let mesh = dir.join("tet.obj");
+    let json = dir.join("missing").join("m.json");
+    let out = smoothlab(&[
+        "metrics",
+        path_arg(&mesh),
+        "--scheme",
+        "flat",
+        "--json",
+        path_arg(&json),
+    ]);
+    assert_fails_naming(&out, &["missing", "folder does not exist"]);
+    assert_eq!(out.stdout, b"", "no table printed after a failure");
+
+    let start = std::time::Instant::now();
+    let out = smoothlab(&["report", "--out", "/proc/smoothlab-report"]);
+    assert_fails_naming(&out, &["/proc/smoothlab-report"]);
+    assert!(
+        start.elapsed().as_secs_f64() < 5.0,
+        "report measured before failing: {:?}",
+        start.elapsed()
+    );
+}
+
+/// Two renders to the same `-o` at once: each file is written to a temporary name and renamed,
+/// so the files are always complete and no temporary file is left behind.
+#[test]
+fn concurrent_renders_to_one_name_leave_readable_files() {
+    let dir = scratch("concurrent");
+    let mesh = write(&dir, "tet.obj", TETRAHEDRON);
+    let stem = dir.join("out").join("same");
+    let args = [
+        "render",
+        path_arg(&mesh),
+        "--scheme",
+        "pn",
+        "--mode",
+        "normals",
+        "--size",
+        "320x320",
+        "--spp",
+        "1",
+        "-o",
+        path_arg(&stem),
+    ];
+    for round in 0..3 {
+        let writers: Vec<std::process::Child> = (0..3)
+            .map(|_| {
+                std::process::Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+                    .args(args)
+                    .stdout(std::process::Stdio::null())
+                    .spawn()
+                    .expect("spawn smoothlab")
+            })
+            .collect();
+        for mut w in writers {
+            assert!(w.wait().expect("wait").success(), "round {round}");
+        }
+        exr::prelude::read_all_flat_layers_from_file(stem.with_extension("exr"))
+            .unwrap_or_else(|e| panic!("round {round}: EXR unreadable: {e}"));
+        image::open(stem.with_extension("png"))
+            .unwrap_or_else(|e| panic!("round {round}: PNG unreadable: {e}"));
+        assert_eq!(listing(&dir.join("out")), ["same.exr", "same.png"]);
+    }
+}
+
+/// A scene file error is one line `FILE:LINE:COLUMN: KEY: message`.
+#[test]
+fn scene_file_errors_are_one_line_with_file_line_and_key() {
+    let dir = scratch("scene-errors");
+    let mesh = write(&dir, "tet.obj", TETRAHEDRON);
+    // Line 1 of every file is the mesh.
+    let cases = [
+        (
+            "unknown.toml",
+            "[render]\nspp = 1\nsparkle = 3\n",
+            "4:1: render: unknown field `sparkle`",
+        ),
+        ("syntax.toml", "[render]\nmode = \"zebra\n", "3:14: "),
+        (
+            "type.toml",
+            "[render]\nspp = \"many\"\n",
+            "3:7: render.spp: invalid type",
+        ),
+        (
+            "size.toml",
+            "[render]\nsize = [48, 32, 999]\n",
+            "3:8: render.size: invalid length 3, expected 2 elements",
+        ),
+        (
+            "up.toml",
+            "[camera]\nup = [0, 1, 0, 7]\n",
+            "3:6: camera.up: invalid length 4, expected 3 elements",
+        ),
+    ];
+    for (name, body, expected) in cases {
+        let scene = write(
+            &dir,
+            name,
+            &format!("mesh = \"{}\"\n{body}", path_arg(&mesh)),
+        );
+        let out = smoothlab(&["render", path_arg(&scene), "-o", path_arg(&dir.join("x"))]);
+        assert_fails_naming(&out, &[&format!("error: {}:{expected}", scene.display())]);
+    }
+}
+
+/// A camera far away or with a tiny field of view: no false "eye and target coincide".
+#[test]
+fn far_cameras_render_or_name_the_value() {
+    let dir = scratch("far-camera");
+    for eye in ["1e300,0,0", "-1e300,1e300,3"] {
+        let out = small_render(&dir, &["--eye", eye, "-o", path_arg(&dir.join("far"))]);
+        assert!(out.status.success(), "eye {eye}: {}", stderr(&out));
+    }
+    let out = small_render(&dir, &["--fov", "1e-300", "-o", path_arg(&dir.join("f"))]);
+    assert_fails_naming(&out, &["field of view 1e-300°", "at least"]);
+    let out = small_render(&dir, &["--eye", "1,2,3", "--target", "1,2,3"]);
+    assert_fails_naming(&out, &["coincide"]);
+}
+
+/// `--up` without `--eye` turns the automatically framed view.
+#[test]
+fn up_applies_to_automatic_framing() {
+    let dir = scratch("up");
+    let png = |name: &str, extra: &[&str]| {
+        let stem = dir.join(name);
+        let mut args = vec!["-o", path_arg(&stem)];
+        args.extend_from_slice(extra);
+        let out = small_render(&dir, &args);
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        std::fs::read(stem.with_extension("png")).expect("PNG")
+    };
+    let default = png("default", &[]);
+    assert_eq!(
+        default,
+        png("y-up", &["--up", "0,1,0"]),
+        "+y is the default up"
+    );
+    assert_ne!(
+        default,
+        png("x-up", &["--up", "1,0,0"]),
+        "--up 1,0,0 ignored"
+    );
+    assert_ne!(
+        png("target", &["--target", "0.1,0,0"]),
+        png("target-x-up", &["--target", "0.1,0,0", "--up", "1,0,0"]),
+        "--up ignored with --target"
+    );
+    let out = small_render(&dir, &["--up", "0.55,0.45,1"]);
+    assert_fails_naming(&out, &["camera up", "parallel"]);
+}
+
+/// `compare` refuses thresholds and reports with which no comparison can fail.
+#[test]
+fn compare_gates_that_cannot_fail_are_errors() {
+    let dir = scratch("compare-gates");
+    let report = |name: &str, version: u32, records: &[(&str, f64)]| {
+        let records: Vec<serde_json::Value> = records
+            .iter()
+            .map(|(scheme, g1)| {
+                serde_json::json!({
+                    "mesh": "cube",
+                    "scheme": scheme,
+                    "figures": { "g1_max_rad": g1, "construct_ms": 10.0 * g1 + 10.0 },
+                })
+            })
+            .collect();
+        let json = serde_json::json!({
+            "format": "smoothlab-report",
+            "version": version,
+            "commit": "x",
+            "date": "d",
+            "records": records,
+        });
+        write(&dir, name, &json.to_string())
+    };
+    let old = report("old.json", 1, &[("hb", 0.0), ("pn", 0.1)]);
+    let worse = report("worse.json", 1, &[("hb", 1.0), ("pn", 0.1)]);
+    let out = smoothlab(&["compare", path_arg(&old), path_arg(&worse)]);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "a regression fails: {}",
+        stderr(&out)
+    );
+
+    for (flag, value) in [
+        ("--quality-rel", "NaN"),
+        ("--quality-rel", "-0.5"),
+        ("--time-ratio", "NaN"),
+        ("--time-ratio", "inf"),
+        ("--time-ratio", "0"),
+        ("--time-ratio", "-1"),
+    ] {
+        let out = smoothlab(&["compare", path_arg(&old), path_arg(&worse), flag, value]);
+        assert_fails_naming(&out, &[&format!("{flag} {value}")]);
+    }
+
+    let duplicate = report("dup.json", 1, &[("hb", 0.0), ("pn", 0.1), ("hb", 0.0)]);
+    let out = smoothlab(&["compare", path_arg(&old), path_arg(&duplicate)]);
+    assert_fails_naming(&out, &["dup.json", "records 0 and 2 are both cube / hb"]);
+    let v2 = report("v2.json", 2, &[("hb", 0.0), ("pn", 0.1)]);
+    let out = smoothlab(&["compare", path_arg(&v2), path_arg(&old)]);
+    assert_fails_naming(&out, &["v2.json", "version 2"]);
 }

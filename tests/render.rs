@@ -188,6 +188,48 @@ fn render_command_errors_name_the_problem() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The EXR is the same bytes for any number of render threads and from run to run: its chunks
+/// are written in increasing-y order, not in the order the compressing threads finish.
+#[test]
+fn exr_bytes_do_not_depend_on_threads() {
+    let dir = common::scratch("render", "exr-bytes");
+    let obj = write_obj(&dir, icosahedron());
+    let render_with = |threads: usize| {
+        let stem = dir.join(format!("threads-{threads}"));
+        let args = RenderArgs {
+            input: obj.clone(),
+            scheme: Some("pn".into()),
+            mode: Some("shaded".into()),
+            size: Some([384, 320]),
+            spp: Some(1),
+            output: Some(stem.clone()),
+            ..RenderArgs::default()
+        };
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool")
+            .install(|| render_command(&args))
+            .expect("render");
+        std::fs::read(stem.with_extension("exr")).expect("EXR")
+    };
+    let one = render_with(1);
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(&one), false)
+        .expect("EXR header");
+    assert_eq!(
+        meta.headers[0].line_order,
+        exr::meta::attribute::LineOrder::Increasing
+    );
+    assert!(meta.headers[0].chunk_count > 4, "several chunks to order");
+    for threads in [2, 3, 1] {
+        assert!(
+            render_with(threads) == one,
+            "EXR bytes differ with {threads} threads"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// The acceptance figure: 10^6 rays from inside each closed hb surface (run with `--ignored`;
 /// prints the Newton statistics).
 #[test]

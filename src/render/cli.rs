@@ -5,9 +5,10 @@ use std::path::PathBuf;
 
 use crate::app::parse_weld_tolerance;
 use crate::error::{Error, Result};
+use crate::files::check_writable;
 use crate::mesh::Mesh;
 use crate::render::job::render_scene;
-use crate::render::output::write_outputs;
+use crate::render::output::{prepare_outputs, write_outputs};
 use crate::render::scene::SceneFile;
 use crate::render::stats::RenderStats;
 use crate::schemes;
@@ -171,31 +172,36 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     Ok(scene)
 }
 
-/// Runs `smoothlab render`: loads the mesh, builds the scheme, renders, writes `NAME.png`,
-/// `NAME.exr` and the statistics. Returns the statistics and the loading warnings (one line
-/// each, without the `warning:` prefix).
+/// Runs `smoothlab render`: checks the output paths, loads the mesh, builds the scheme,
+/// renders, writes `NAME.png`, `NAME.exr` and the statistics. Returns the statistics and the
+/// loading warnings (one line each, without the `warning:` prefix).
 pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     let scene = scene_of(args)?;
     let mesh_path = scene
         .mesh
         .clone()
         .ok_or_else(|| Error::Invalid(format!("{}: no mesh given", args.input.display())))?;
-    let (mesh, report) = Mesh::load_obj_with(&mesh_path, &scene.load_options()?)?;
     let scheme = scene
         .scheme
         .name
         .clone()
         .unwrap_or_else(|| schemes::names().first().map_or("hb", |s| s).to_string());
-    let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
-    let (frame, stats) = render_scene(&surface, &mesh, &scene)?;
-    let stem = scene.render.output.clone().unwrap_or_else(|| {
+    let name = scene.render.output.clone().unwrap_or_else(|| {
         let mode = scene.render.mode.as_deref().unwrap_or("zebra");
-        let name = mesh_path
+        let mesh = mesh_path
             .file_stem()
             .map_or("render".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from(format!("{name}-{scheme}-{mode}"))
+        PathBuf::from(format!("{mesh}-{scheme}-{mode}"))
     });
-    write_outputs(&frame, &stem)?;
+    // Every output path is checked before the (possibly long) work.
+    let outputs = prepare_outputs(&name)?;
+    if let Some(path) = &args.stats {
+        check_writable(path)?;
+    }
+    let (mesh, report) = Mesh::load_obj_with(&mesh_path, &scene.load_options()?)?;
+    let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
+    let (frame, stats) = render_scene(&surface, &mesh, &scene)?;
+    write_outputs(&frame, &outputs)?;
     if let Some(path) = &args.stats {
         stats.write_json(path)?;
     }

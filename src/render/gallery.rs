@@ -5,7 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::error::{Error, Result};
+use crate::error::Result;
+use crate::files::{check_writable, create_folder};
 use crate::mesh::Mesh;
 use crate::mesh::generate::deformed_icosahedron;
 use crate::render::curves::CurveOverlay;
@@ -13,7 +14,7 @@ use crate::render::figure::{
     CurvatureChoice, FigureJob, FigureMode, FigureSurface, View, framing_camera, render_figure,
 };
 use crate::render::modes::{CurvatureParams, Mode};
-use crate::render::output::write_png;
+use crate::render::output::{write_png, write_rgb_png};
 use crate::render::stats::RenderStats;
 use crate::schemes::{self, SCHEMES};
 
@@ -64,7 +65,15 @@ pub const GALLERY_MODES: [&str; 3] = ["zebra", "isophote", "curvature"];
 
 /// Renders the gallery into `out_dir` with `options`.
 pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<Gallery> {
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    create_folder(out_dir)?;
+    let image_path = |scheme: &str, mode: &str| out_dir.join(format!("{scheme}-{mode}.png"));
+    let sheet = out_dir.join("gallery.png");
+    for spec in SCHEMES {
+        for mode in GALLERY_MODES {
+            check_writable(&image_path(spec.name, mode))?;
+        }
+    }
+    check_writable(&sheet)?;
     let (positions, faces) = deformed_icosahedron();
     let (mesh, _) = Mesh::from_triangles(positions, faces)?;
     let surfaces = SCHEMES
@@ -110,7 +119,7 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
     for cell in figure.cells {
         let scheme = job.surfaces[cell.surface].surface.scheme.clone();
         let mode = GALLERY_MODES[cell.mode];
-        let path = out_dir.join(format!("{scheme}-{mode}.png"));
+        let path = image_path(&scheme, mode);
         write_png(&cell.frame, &path)?;
         images.push(GalleryImage {
             scheme,
@@ -119,11 +128,7 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
             stats: cell.stats,
         });
     }
-    let sheet = out_dir.join("gallery.png");
-    figure
-        .sheet
-        .save_with_format(&sheet, image::ImageFormat::Png)
-        .map_err(|e| Error::Invalid(format!("{}: {e}", sheet.display())))?;
+    write_rgb_png(&figure.sheet, &sheet)?;
     Ok(Gallery { images, sheet })
 }
 

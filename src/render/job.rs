@@ -39,7 +39,8 @@ pub fn surface_samples(surface: &Surface) -> Vec<DVec3> {
 
 /// The camera of `scene` for `surface` and an image of aspect `aspect`: the scene's
 /// eye/target/up when an eye is given (target defaults to the surface's centre), automatic
-/// framing of points sampled on the surface otherwise.
+/// framing of points sampled on the surface otherwise (with the scene's up, if given, pointing
+/// up in the image; around the scene's target, if given).
 pub fn scene_camera(scene: &SceneFile, surface: &Surface, aspect: f64) -> Result<Camera> {
     let samples = surface_samples(surface);
     let bounds = &Aabb::from_points(&samples);
@@ -53,14 +54,24 @@ pub fn scene_camera(scene: &SceneFile, surface: &Surface, aspect: f64) -> Result
             Projection::Perspective { fov_deg: fov },
         )?,
         None => {
-            let framed = Camera::frame_points(&samples, Camera::DEFAULT_VIEW, fov, aspect)?;
+            let framed = match c.up {
+                Some(up) => Camera::frame_points_with_up(
+                    &samples,
+                    Camera::DEFAULT_VIEW,
+                    DVec3::from_array(up),
+                    fov,
+                    aspect,
+                )?,
+                None => Camera::frame_points(&samples, Camera::DEFAULT_VIEW, fov, aspect)?,
+            };
             if let Some(target) = c.target {
-                // Same view direction and distance as the automatic framing, around `target`.
+                // Same view direction, distance and up as the automatic framing, around
+                // `target`.
                 let target = DVec3::from_array(target);
                 Camera::look_at(
                     framed.eye - bounds.center() + target,
                     target,
-                    c.up.map_or(DVec3::Y, DVec3::from_array),
+                    framed.up(),
                     Projection::Perspective { fov_deg: fov },
                 )?
             } else {

@@ -27,6 +27,7 @@ pub mod scene;
 pub mod shaded;
 pub mod stats;
 pub mod tessellate;
+pub mod toml_input;
 pub mod trace;
 pub mod tubes;
 

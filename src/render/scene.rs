@@ -49,6 +49,7 @@ use crate::render::modes::{
     Overlay, ZebraParams,
 };
 use crate::render::shaded::{Environment, LatLongMap, ShadedParams};
+use crate::render::toml_input::{self, exact};
 
 /// A scene file as written (every key optional).
 #[derive(Clone, Debug, Default, Deserialize)]
@@ -104,10 +105,13 @@ pub struct SchemeSection {
 #[serde(deny_unknown_fields)]
 pub struct CameraSection {
     /// Eye position (omitted: automatic framing).
+    #[serde(default, deserialize_with = "exact")]
     pub eye: Option<[f64; 3]>,
     /// Point looked at (omitted: centre of the surface's bounds).
+    #[serde(default, deserialize_with = "exact")]
     pub target: Option<[f64; 3]>,
     /// Up direction.
+    #[serde(default, deserialize_with = "exact")]
     pub up: Option<[f64; 3]>,
     /// Vertical field of view in degrees.
     pub fov: Option<f64>,
@@ -122,6 +126,7 @@ pub struct RenderSection {
     /// Mode name.
     pub mode: Option<String>,
     /// Width and height in pixels.
+    #[serde(default, deserialize_with = "exact")]
     pub size: Option<[u32; 2]>,
     /// Samples per pixel.
     pub spp: Option<u32>,
@@ -134,6 +139,7 @@ pub struct RenderSection {
     /// Sample seed.
     pub seed: Option<u64>,
     /// Background colour (linear RGB).
+    #[serde(default, deserialize_with = "exact")]
     pub background: Option<[f64; 3]>,
     /// Render a tessellation with this many segments per patch edge instead of the patches.
     pub tessellate: Option<u32>,
@@ -178,6 +184,7 @@ pub const DEFAULT_MAX_LEAVES: u64 = 1 << 24;
 #[serde(deny_unknown_fields)]
 pub struct ZebraSection {
     /// Direction of the light tubes.
+    #[serde(default, deserialize_with = "exact")]
     pub axis: Option<[f64; 3]>,
     /// Bright stripes per full turn.
     pub stripes: Option<f64>,
@@ -190,10 +197,13 @@ pub struct ZebraSection {
 #[serde(deny_unknown_fields)]
 pub struct HighlightSection {
     /// A point of the light plane.
+    #[serde(default, deserialize_with = "exact")]
     pub origin: Option<[f64; 3]>,
     /// Light plane normal.
+    #[serde(default, deserialize_with = "exact")]
     pub plane_normal: Option<[f64; 3]>,
     /// Direction of the line lights.
+    #[serde(default, deserialize_with = "exact")]
     pub direction: Option<[f64; 3]>,
     /// Distance between lights.
     pub spacing: Option<f64>,
@@ -206,6 +216,7 @@ pub struct HighlightSection {
 #[serde(deny_unknown_fields)]
 pub struct IsophoteSection {
     /// Direction towards the light.
+    #[serde(default, deserialize_with = "exact")]
     pub light: Option<[f64; 3]>,
     /// Number of bands.
     pub bands: Option<u32>,
@@ -230,6 +241,7 @@ pub struct CurvatureSection {
 #[serde(deny_unknown_fields)]
 pub struct ShadedSection {
     /// Base albedo (linear RGB).
+    #[serde(default, deserialize_with = "exact")]
     pub base_colour: Option<[f64; 3]>,
     /// Clear-coat gloss cone half-angle, degrees.
     pub coat_roughness_deg: Option<f64>,
@@ -244,8 +256,7 @@ impl SceneFile {
     /// the file's directory.
     pub fn load(path: &Path) -> Result<SceneFile> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let mut scene = SceneFile::parse(&text)
-            .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
+        let mut scene: SceneFile = toml_input::parse(&text, &path.display().to_string())?;
         let dir = path.parent().unwrap_or(Path::new(""));
         if let Some(mesh) = &scene.mesh
             && mesh.is_relative()
@@ -261,9 +272,9 @@ impl SceneFile {
         Ok(scene)
     }
 
-    /// Parses scene text.
+    /// Parses scene text (errors are one line, see [`toml_input::one_line`]).
     pub fn parse(text: &str) -> Result<SceneFile> {
-        toml::from_str(text).map_err(|e| Error::Invalid(format!("scene file: {e}")))
+        toml_input::parse(text, "scene file")
     }
 
     /// How the mesh is loaded (defaults where unset).

@@ -62,10 +62,11 @@ impl RenderStats {
         self.newton_undecided = c.undecided;
     }
 
-    /// Writes the statistics as pretty JSON to `path`.
+    /// Writes the statistics as pretty JSON to `path` (atomically, see
+    /// [`crate::files::write_atomic`]).
     pub fn write_json(&self, path: &std::path::Path) -> Result<()> {
         let text = serde_json::to_string_pretty(self)
             .map_err(|e| Error::Invalid(format!("statistics to JSON: {e}")))?;
-        std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))
+        crate::files::write_atomic(path, (text + "\n").as_bytes())
     }
 }

@@ -9,6 +9,7 @@
 //! OLD that NEW lacks is a regression too.
 
 use super::{Record, Report};
+use crate::error::{Error, Result};
 
 /// Which way is better.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -43,6 +44,29 @@ pub struct Thresholds {
     pub quality_rel: f64,
     /// Largest accepted `new / old` timing ratio.
     pub time_ratio: f64,
+}
+
+impl Thresholds {
+    /// Checks that the thresholds can fail a comparison: `quality_rel` finite and ≥ 0,
+    /// `time_ratio` finite and ≥ 1. NaN or infinity would let every change pass, and a ratio
+    /// below 1 would flag unchanged timings. The error names the command-line flag.
+    pub fn check(&self) -> Result<()> {
+        if !(self.quality_rel.is_finite() && self.quality_rel >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "--quality-rel {} must be a finite number >= 0 (relative tolerance of quality \
+                 figures)",
+                self.quality_rel
+            )));
+        }
+        if !(self.time_ratio.is_finite() && self.time_ratio >= 1.0) {
+            return Err(Error::Invalid(format!(
+                "--time-ratio {} must be a finite number >= 1 (largest accepted new/old timing \
+                 ratio)",
+                self.time_ratio
+            )));
+        }
+        Ok(())
+    }
 }
 
 impl Default for Thresholds {
@@ -208,6 +232,33 @@ mod tests {
             .map(|c| c.key.as_str())
             .collect();
         assert_eq!(flagged, ["g1_max_rad", "continuity_order", "construct_ms"]);
+    }
+
+    #[test]
+    fn thresholds_that_cannot_fail_are_refused() {
+        assert!(Thresholds::default().check().is_ok());
+        let exact = Thresholds {
+            quality_rel: 0.0,
+            time_ratio: 1.0,
+        };
+        assert!(exact.check().is_ok(), "zero tolerance is a strict gate");
+        for (quality_rel, time_ratio, flag) in [
+            (f64::NAN, 1.5, "--quality-rel NaN"),
+            (-0.1, 1.5, "--quality-rel -0.1"),
+            (f64::INFINITY, 1.5, "--quality-rel inf"),
+            (0.05, f64::NAN, "--time-ratio NaN"),
+            (0.05, f64::INFINITY, "--time-ratio inf"),
+            (0.05, 0.0, "--time-ratio 0"),
+            (0.05, -1.0, "--time-ratio -1"),
+            (0.05, 0.9, "--time-ratio 0.9"),
+        ] {
+            let t = Thresholds {
+                quality_rel,
+                time_ratio,
+            };
+            let err = t.check().expect_err(flag);
+            assert!(err.to_string().starts_with(flag), "{err}");
+        }
     }
 
     #[test]

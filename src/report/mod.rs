@@ -16,11 +16,15 @@ use serde::{Deserialize, Serialize};
 
 use crate::app::build_timed;
 use crate::error::{Error, Result};
+use crate::files::{check_writable, create_folder, write_atomic};
 use crate::mesh::{Mesh, generate};
 use crate::metrics::Metrics;
 use crate::metrics::energy::bending_energy;
 use crate::schemes::{self, SCHEMES};
 use analytic::{Analytic, surface_error};
+
+/// The format version of `metrics.json` that this build writes and reads.
+pub const REPORT_VERSION: u32 = 1;
 
 /// A mesh the report measures every scheme on.
 pub struct BenchmarkMesh {
@@ -131,7 +135,7 @@ pub fn run() -> Result<Report> {
     }
     Ok(Report {
         format: "smoothlab-report".into(),
-        version: 1,
+        version: REPORT_VERSION,
         commit: git_commit(),
         date: utc_now(),
         records,
@@ -235,38 +239,67 @@ pub fn to_markdown(report: &Report) -> String {
     out
 }
 
+/// The tables [`write`] writes into its folder.
+const TABLES: [&str; 3] = ["metrics.json", "metrics.csv", "metrics.md"];
+
 /// Runs the report and writes `metrics.{json,csv,md}` into `out_dir` and the SVG plots of
-/// [`plots`] into `out_dir/figures/`.
+/// [`plots`] into `out_dir/figures/` (folders created if missing). Every output path is
+/// checked before the measurements start, and every file is written atomically.
 pub fn write(out_dir: &Path) -> Result<Report> {
+    let figures = out_dir.join("figures");
+    create_folder(&figures)?;
+    let tables = TABLES.map(|name| out_dir.join(name));
+    for path in tables.iter().chain(&plots::plot_paths(&figures)) {
+        check_writable(path)?;
+    }
     let report = run()?;
-    plots::write_plots(&report, &out_dir.join("figures"))?;
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    plots::write_plots(&report, &figures)?;
     let json = serde_json::to_string_pretty(&report)
         .map_err(|e| Error::Invalid(format!("report JSON: {e}")))?;
-    for (name, text) in [
-        ("metrics.json", json),
-        ("metrics.csv", to_csv(&report)),
-        ("metrics.md", to_markdown(&report)),
-    ] {
-        let path = out_dir.join(name);
-        std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
+    for (path, text) in tables
+        .iter()
+        .zip([json, to_csv(&report), to_markdown(&report)])
+    {
+        write_atomic(path, text.as_bytes())?;
     }
     Ok(report)
 }
 
-/// Reads a `metrics.json` written by [`write`].
+/// Reads a `metrics.json` written by [`write`]: the format must be `smoothlab-report` of
+/// version [`REPORT_VERSION`], and no mesh × scheme may have two records (a comparison would
+/// silently judge only the first).
 pub fn read(path: &Path) -> Result<Report> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let report: Report = serde_json::from_str(&text)
         .map_err(|e| Error::Invalid(format!("{}: not a smoothlab report: {e}", path.display())))?;
+    check(&report).map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
+    Ok(report)
+}
+
+/// Checks the format, the version and the uniqueness of the records of a parsed report.
+fn check(report: &Report) -> Result<()> {
     if report.format != "smoothlab-report" {
         return Err(Error::Invalid(format!(
-            "{}: format '{}' is not smoothlab-report",
-            path.display(),
+            "format '{}' is not smoothlab-report",
             report.format
         )));
     }
-    Ok(report)
+    if report.version != REPORT_VERSION {
+        return Err(Error::Invalid(format!(
+            "report version {} is not supported (this build reads version {REPORT_VERSION})",
+            report.version
+        )));
+    }
+    let mut seen = std::collections::HashMap::new();
+    for (k, r) in report.records.iter().enumerate() {
+        if let Some(first) = seen.insert((&r.mesh, &r.scheme), k) {
+            return Err(Error::Invalid(format!(
+                "records {first} and {k} are both {} / {}",
+                r.mesh, r.scheme
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Names of the schemes a report covers, for checks that every registered scheme is in it.
@@ -279,6 +312,41 @@ pub fn schemes_covered(report: &Report) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn record(mesh: &str, scheme: &str) -> Record {
+        Record {
+            mesh: mesh.into(),
+            scheme: scheme.into(),
+            figures: serde_json::Map::new(),
+        }
+    }
+
+    #[test]
+    fn unknown_versions_and_duplicate_records_are_refused() {
+        let mut report = Report {
+            format: "smoothlab-report".into(),
+            version: REPORT_VERSION,
+            commit: "x".into(),
+            date: "d".into(),
+            records: vec![
+                record("torus", "hb"),
+                record("torus", "pn"),
+                record("cube", "hb"),
+            ],
+        };
+        check(&report).expect("valid report");
+        report.version = 2;
+        let err = check(&report).expect_err("version 2");
+        assert!(err.to_string().contains("version 2"), "{err}");
+        report.version = REPORT_VERSION;
+        report.records.push(record("torus", "pn"));
+        let err = check(&report).expect_err("duplicate");
+        assert!(
+            err.to_string()
+                .contains("records 1 and 3 are both torus / pn"),
+            "{err}"
+        );
+    }
 
     #[test]
     fn utc_date_is_well_formed() {

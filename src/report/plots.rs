@@ -8,6 +8,7 @@ use plotters::prelude::*;
 
 use super::Report;
 use crate::error::{Error, Result};
+use crate::files::{create_folder, write_atomic};
 
 /// The plotted figures: key, title, log scale.
 pub const PLOTS: &[(&str, &str, bool)] = &[
@@ -37,9 +38,18 @@ pub const PLOTS: &[(&str, &str, bool)] = &[
 /// Values below this are drawn at this floor on log charts (exact zeros have no logarithm).
 const LOG_FLOOR: f64 = 1e-17;
 
-/// Writes one SVG per entry of [`PLOTS`] into `dir`; returns the paths.
+/// The SVG files [`write_plots`] writes into `dir`, one per entry of [`PLOTS`].
+pub fn plot_paths(dir: &Path) -> Vec<PathBuf> {
+    PLOTS
+        .iter()
+        .map(|(key, _, _)| dir.join(format!("{key}.svg")))
+        .collect()
+}
+
+/// Writes one SVG per entry of [`PLOTS`] into `dir` (created if missing; each file written
+/// atomically); returns the paths.
 pub fn write_plots(report: &Report, dir: &Path) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    create_folder(dir)?;
     let mut schemes: Vec<&str> = Vec::new();
     let mut meshes: Vec<&str> = Vec::new();
     for r in &report.records {
@@ -50,14 +60,14 @@ pub fn write_plots(report: &Report, dir: &Path) -> Result<Vec<PathBuf>> {
             meshes.push(&r.mesh);
         }
     }
-    let mut written = Vec::new();
-    for &(key, title, log) in PLOTS {
-        let path = dir.join(format!("{key}.svg"));
-        plot_one(report, key, title, log, &schemes, &meshes, &path)
+    let paths = plot_paths(dir);
+    for (&(key, title, log), path) in PLOTS.iter().zip(&paths) {
+        let mut svg = String::new();
+        plot_one(report, key, title, log, &schemes, &meshes, &mut svg)
             .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
-        written.push(path);
+        write_atomic(path, svg.as_bytes())?;
     }
-    Ok(written)
+    Ok(paths)
 }
 
 fn plot_one(
@@ -67,7 +77,7 @@ fn plot_one(
     log: bool,
     schemes: &[&str],
     meshes: &[&str],
-    path: &Path,
+    svg: &mut String,
 ) -> std::result::Result<(), Box<dyn std::error::Error>> {
     let value = |mesh: &str, scheme: &str| -> Option<f64> {
         report
@@ -93,7 +103,7 @@ fn plot_one(
     } else {
         (0.0, 1.0)
     };
-    let root = SVGBackend::new(path, (900, 520)).into_drawing_area();
+    let root = SVGBackend::with_string(svg, (900, 520)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 20))

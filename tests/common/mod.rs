@@ -32,3 +32,14 @@ pub fn smoothlab_with_env(args: &[&str], env: &[(&str, &str)]) -> Output {
         .output()
         .expect("run smoothlab")
 }
+
+/// Runs the `smoothlab` binary with `args` and its standard output going to `stdout` (a
+/// closed pipe, `/dev/full`, …); standard error is captured.
+pub fn smoothlab_with_stdout(args: &[&str], stdout: std::process::Stdio) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+        .args(args)
+        .stdout(stdout)
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .expect("run smoothlab")
+}

@@ -34,6 +34,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::error::{Error, Result};
+use crate::files::{check_writable, create_folder};
 use crate::mesh::Mesh;
 use crate::mesh::generate::SCENES;
 use crate::render::camera::Projection;
@@ -43,8 +44,9 @@ use crate::render::figure::{
     render_figure,
 };
 use crate::render::job::DEFAULT_FOV;
-use crate::render::output::write_exr;
+use crate::render::output::{output_stem, with_suffix, write_exr, write_rgb_png};
 use crate::render::scene::{CameraSection, SceneFile};
+use crate::render::toml_input::{self, exact};
 use crate::schemes;
 
 /// A figure spec as written.
@@ -55,9 +57,11 @@ pub struct FigureSpec {
     pub title: Option<String>,
     /// A scenes/ mesh name or an OBJ path relative to the spec file.
     pub mesh: String,
-    /// Output stem (`.png` appended), relative to the working directory.
+    /// Output stem (`.png` appended; a `.png` or `.exr` ending is dropped first), relative to
+    /// the working directory.
     pub output: PathBuf,
     /// Cell size in pixels.
+    #[serde(default, deserialize_with = "exact")]
     pub size: Option<[u32; 2]>,
     /// Samples per pixel.
     pub spp: Option<u32>,
@@ -123,29 +127,16 @@ fn param_text(value: &toml::Value) -> String {
 }
 
 impl FigureSpec {
-    /// Parses spec text; unknown keys are errors that name the key.
+    /// Parses spec text; errors are one line naming the line, column and key (see
+    /// [`toml_input::one_line`]).
     pub fn parse(text: &str) -> Result<FigureSpec> {
-        toml::from_str(text).map_err(|e: toml::de::Error| {
-            // One line: the message with the line it points at (TOML's own text draws a
-            // multi-line excerpt).
-            let line = e.span().map(|s| {
-                1 + text.as_bytes()[..s.start.min(text.len())]
-                    .iter()
-                    .filter(|&&b| b == b'\n')
-                    .count()
-            });
-            let message = e.message().replace('\n', " ");
-            Error::Invalid(match line {
-                Some(l) => format!("figure spec line {l}: {message}"),
-                None => format!("figure spec: {message}"),
-            })
-        })
+        toml_input::parse(text, "figure spec")
     }
 
-    /// Reads a spec file.
+    /// Reads a spec file; errors name the file, line, column and key.
     pub fn load(path: &Path) -> Result<FigureSpec> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        FigureSpec::parse(&text).map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))
+        toml_input::parse(&text, &path.display().to_string())
     }
 
     /// The mesh: a scenes/ name, else an OBJ path relative to `dir`.
@@ -192,7 +183,7 @@ impl FigureSpec {
                 .map_err(|e: toml::de::Error| {
                     context(Error::Invalid(format!(
                         "params: {}",
-                        e.message().replace('\n', " ")
+                        toml_input::describe(&e)
                     )))
                 })?;
         let mode = scene.mode().map_err(context)?;
@@ -349,46 +340,64 @@ fn slug(text: &str) -> String {
         .collect()
 }
 
-/// Renders the spec at `path` and writes its files.
+impl FigureSpec {
+    /// The files of the spec: the sheet `STEM.png` and, unless `exr = false`, one
+    /// `STEM-<row>-<column>-<scheme>-<mode>.exr` per cell in sheet order (row-major). The stem
+    /// is [`output_stem`] of `output`.
+    pub fn output_files(&self) -> (PathBuf, Vec<PathBuf>) {
+        let stem = output_stem(&self.output);
+        let png = with_suffix(&stem, "png");
+        if !self.exr.unwrap_or(true) {
+            return (png, Vec::new());
+        }
+        let transpose = self.transpose.unwrap_or(false);
+        let (rows, columns) = if transpose {
+            (self.modes.len(), self.schemes.len())
+        } else {
+            (self.schemes.len(), self.modes.len())
+        };
+        let base = stem
+            .file_name()
+            .map_or("figure".into(), |s| s.to_string_lossy());
+        let exrs = (0..rows)
+            .flat_map(|row| (0..columns).map(move |column| (row, column)))
+            .map(|(row, column)| {
+                let (scheme, mode) = if transpose {
+                    (column, row)
+                } else {
+                    (row, column)
+                };
+                stem.with_file_name(format!(
+                    "{base}-{row}-{column}-{}-{}.exr",
+                    slug(&self.schemes[scheme].name),
+                    slug(&self.modes[mode].name)
+                ))
+            })
+            .collect();
+        (png, exrs)
+    }
+}
+
+/// Renders the spec at `path` and writes its files; every output path is checked (its folder
+/// created if missing) before rendering.
 pub fn run_figure_spec(path: &Path) -> Result<FigureFiles> {
     let spec = FigureSpec::load(path)?;
+    let (png, exrs) = spec.output_files();
+    if let Some(folder) = png.parent() {
+        create_folder(folder)?;
+    }
+    for file in std::iter::once(&png).chain(&exrs) {
+        check_writable(file)?;
+    }
     let dir = path.parent().unwrap_or(Path::new(""));
     let job = spec
         .job(dir)
         .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
     let figure = render_figure(&job)?;
-    let stem = &spec.output;
-    if let Some(parent) = stem.parent()
-        && !parent.as_os_str().is_empty()
-    {
-        std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
-    }
-    let png = stem.with_extension("png");
-    figure
-        .sheet
-        .save_with_format(&png, image::ImageFormat::Png)
-        .map_err(|e| Error::Invalid(format!("{}: {e}", png.display())))?;
-    let mut exrs = Vec::new();
-    if spec.exr.unwrap_or(true) {
-        let cols = if job.transpose {
-            job.surfaces.len()
-        } else {
-            job.modes.len()
-        };
-        for (k, cell) in figure.cells.iter().enumerate() {
-            let name = format!(
-                "{}-{}-{}-{}-{}.exr",
-                stem.file_name()
-                    .map_or("figure".into(), |s| s.to_string_lossy()),
-                k / cols,
-                k % cols,
-                slug(&spec.schemes[cell.surface].name),
-                slug(&spec.modes[cell.mode].name)
-            );
-            let exr = stem.with_file_name(name);
-            write_exr(&cell.frame, &exr)?;
-            exrs.push(exr);
-        }
+    write_rgb_png(&figure.sheet, &png)?;
+    // Cells come in sheet order, as the names do.
+    for (cell, exr) in figure.cells.iter().zip(&exrs) {
+        write_exr(&cell.frame, exr)?;
     }
     Ok(FigureFiles { png, exrs, figure })
 }
@@ -456,7 +465,10 @@ mod tests {
                 .to_string()
         };
         let top = err(&format!("colour = 3\n{SPEC}"));
-        assert!(top.contains("line 1") && top.contains("colour"), "{top}");
+        assert!(
+            top.starts_with("figure spec:1:1: ") && top.contains("colour") && !top.contains('\n'),
+            "{top}"
+        );
         assert!(err(&SPEC.replace("curves = true", "curvez = true")).contains("curvez"));
         assert!(err(&SPEC.replace("stripes = 8", "stripez = 8")).contains("stripez"));
         assert!(err(&SPEC.replace("\"loop94\"", "\"loop95\"")).contains("loop95"));
