@@ -212,7 +212,9 @@ impl Surface {
     /// The same surface with every control point mapped by `f` (an affine map keeps every
     /// patch kind exact: Bézier nets and blended sub-surfaces transform point by point).
     pub fn mapped(&self, f: impl Fn(DVec3) -> DVec3) -> Surface {
-        let net = |n: &TriangleBezier| TriangleBezier::new(n.degree(), n.points().iter().map(|&p| f(p)).collect());
+        let net = |n: &TriangleBezier| {
+            TriangleBezier::new(n.degree(), n.points().iter().map(|&p| f(p)).collect())
+        };
         Surface {
             scheme: self.scheme.clone(),
             params: self.params.clone(),

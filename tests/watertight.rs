@@ -104,8 +104,19 @@ fn deepest_interior_points(mesh: &Mesh) -> Vec<(DVec3, f64)> {
 /// Rays from `eye`: six 150° axis views of `side`² pixels and `random` uniform directions.
 fn rays_from(eye: DVec3, side: u32, random: u64, seed: u64) -> Vec<Ray64> {
     let mut rays = Vec::new();
-    for axis in [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z] {
-        let up = if axis.y.abs() > 0.5 { DVec3::Z } else { DVec3::Y };
+    for axis in [
+        DVec3::X,
+        -DVec3::X,
+        DVec3::Y,
+        -DVec3::Y,
+        DVec3::Z,
+        -DVec3::Z,
+    ] {
+        let up = if axis.y.abs() > 0.5 {
+            DVec3::Z
+        } else {
+            DVec3::Y
+        };
         let camera = Camera::look_at(
             eye,
             eye + axis,
@@ -197,7 +208,10 @@ fn outward_near(mesh: &Mesh, p: DVec3) -> DVec3 {
         .iter()
         .map(|f| {
             let [a, b, c] = f.map(|v| pos[v as usize]);
-            ((closest_on_triangle(p, a, b, c) - p).length(), (b - a).cross(c - a))
+            (
+                (closest_on_triangle(p, a, b, c) - p).length(),
+                (b - a).cross(c - a),
+            )
         })
         .min_by(|x, y| x.0.total_cmp(&y.0))
         .expect("faces");
@@ -288,5 +302,10 @@ fn grazing_rays_along_seams_hit_where_they_enter() {
         );
         report.extend(grazing.into_iter().map(|f| format!("{scheme}: {f}")));
     }
-    assert!(report.is_empty(), "{} rays:\n{}", report.len(), report.join("\n"));
+    assert!(
+        report.is_empty(),
+        "{} rays:\n{}",
+        report.len(),
+        report.join("\n")
+    );
 }

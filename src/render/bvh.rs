@@ -110,7 +110,10 @@ impl Leaf {
     /// arithmetic. The affine radius is measured against the stored (f32) corners, the plane
     /// Newton starts from.
     pub fn new(patch: u32, tri: [DVec2; 3], corners: [DVec3; 3], nets: &[&TriangleBezier]) -> Leaf {
-        let points: Vec<DVec3> = nets.iter().flat_map(|n| n.points().iter().copied()).collect();
+        let points: Vec<DVec3> = nets
+            .iter()
+            .flat_map(|n| n.points().iter().copied())
+            .collect();
         let stored = corners.map(|p| p.as_vec3());
         let affine_radius = f32_up(affine_radius(stored.map(|p| p.as_dvec3()), nets));
         let origin = corners[0].as_vec3().as_dvec3();
@@ -514,7 +517,7 @@ fn subdivide_blend(
 pub fn affine_radius(corners: [DVec3; 3], nets: &[&TriangleBezier]) -> f64 {
     let (e1, e2) = (corners[1] - corners[0], corners[2] - corners[0]);
     let sigma = smallest_singular_value(e1, e2);
-    if !(sigma > 0.0) {
+    if sigma.is_nan() || sigma <= 0.0 {
         return f64::INFINITY;
     }
     let mut deviation = 0.0_f64;
@@ -529,7 +532,10 @@ pub fn affine_radius(corners: [DVec3; 3], nets: &[&TriangleBezier]) -> f64 {
         }
     }
     // A few ulps of the largest coordinate for the rounding of the differences above.
-    let magnitude = corners.iter().map(|c| c.abs().max_element()).fold(0.0, f64::max);
+    let magnitude = corners
+        .iter()
+        .map(|c| c.abs().max_element())
+        .fold(0.0, f64::max);
     (deviation + 8.0 * f64::EPSILON * magnitude) / sigma
 }
 
@@ -580,7 +586,13 @@ pub fn sampled_second_bounds(blend: &BlendPatch, tri: [DVec2; 3], normal: DVec3)
             ];
         }
     }
-    bound.map(|b| if b.is_finite() { 6.0 * b } else { f64::INFINITY })
+    bound.map(|b| {
+        if b.is_finite() {
+            6.0 * b
+        } else {
+            f64::INFINITY
+        }
+    })
 }
 
 /// Growth of the edge prism beyond the control points, relative to the leaf's box size. Roots

@@ -182,7 +182,11 @@ pub fn second_derivative_bounds(net: &TriangleBezier, normal: DVec3) -> [f64; 2]
             let b11 = net.point(i, j + 2);
             let b12 = net.point(i, j + 1);
             let b22 = net.point(i, j);
-            let q = [b11 - 2.0 * b01 + b00, b12 - b01 - b02 + b00, b22 - 2.0 * b02 + b00];
+            let q = [
+                b11 - 2.0 * b01 + b00,
+                b12 - b01 - b02 + b00,
+                b22 - 2.0 * b02 + b00,
+            ];
             let along = q.map(|v| v.dot(normal));
             let across = [0, 1, 2].map(|m| (q[m] - normal * along[m]).length());
             largest[0] = largest[0].max(across[0].max(across[2]) + across[1]);

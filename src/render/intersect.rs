@@ -124,7 +124,7 @@ impl<'s> Tracer<'s> {
         let world = surface.bounds();
         let centre = world.center();
         let scale = unit_scale(world.diagonal());
-        if !centre.is_finite() || !(scale > 0.0 && scale.is_finite()) {
+        if !(centre.is_finite() && scale > 0.0 && scale.is_finite()) {
             return Err(crate::Error::Invalid(format!(
                 "surface of scheme '{}' has a non-finite or empty bounding box",
                 surface.scheme
@@ -133,9 +133,13 @@ impl<'s> Tracer<'s> {
         let unit = surface.mapped(|p| (p - centre) * scale);
         let bvh = PatchBvh::build(&unit, criterion)?;
         let unit_bounds = unit.bounds();
-        let magnitude = unit_bounds.min.abs().max(unit_bounds.max.abs()).max_element();
-        let tolerance = newton.residual_tolerance * unit_bounds.diagonal()
-            + 256.0 * f64::EPSILON * magnitude;
+        let magnitude = unit_bounds
+            .min
+            .abs()
+            .max(unit_bounds.max.abs())
+            .max_element();
+        let tolerance =
+            newton.residual_tolerance * unit_bounds.diagonal() + 256.0 * f64::EPSILON * magnitude;
         Ok(Tracer {
             surface,
             unit,
@@ -261,11 +265,7 @@ impl<'s> Tracer<'s> {
         if start == Start::Outside {
             return None;
         }
-        let query = Query {
-            ray,
-            planes,
-            t_min,
-        };
+        let query = Query { ray, planes, t_min };
         self.solve_leaf(leaf, &bounds, start, &query, t_max, counters)
     }
 
@@ -333,7 +333,14 @@ impl<'s> Tracer<'s> {
     ) -> Option<Hit> {
         let tri = leaf.tri();
         counters.newton_runs += 1;
-        let first = match newton(&eval, bounds, start, query.planes, self.tolerance, &self.newton) {
+        let first = match newton(
+            &eval,
+            bounds,
+            start,
+            query.planes,
+            self.tolerance,
+            &self.newton,
+        ) {
             Newton::NoRoot => return None,
             Newton::Root(st, iterations, p) => {
                 let hit = self.accept(leaf.patch, tri, st, p, query, t_max);
@@ -407,7 +414,7 @@ impl<'s> Tracer<'s> {
 
 /// The power of two that brings a box diagonal `diagonal` into `[1, 2)`: exact to apply.
 pub fn unit_scale(diagonal: f64) -> f64 {
-    if !(diagonal > 0.0 && diagonal.is_finite()) {
+    if diagonal.is_nan() || diagonal <= 0.0 || diagonal.is_infinite() {
         return f64::NAN;
     }
     let exponent = diagonal.log2().floor() as i32;
@@ -472,7 +479,6 @@ pub(crate) fn closest_in_bvh(
     best
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -484,8 +490,9 @@ mod tests {
     fn oriented_boxes_contain_their_sub_patches() {
         let surface = octahedron_sphere(4, 1.0, 1);
         let tracer = Tracer::with_default_settings(&surface).expect("tracer");
+        // Leaves live in the tracer's unit frame.
         for leaf in &tracer.bvh.leaves {
-            let patch = &surface.patches[leaf.patch as usize];
+            let patch = &tracer.unit.patches[leaf.patch as usize];
             let tri = leaf.tri();
             for k in 0..30u64 {
                 let a = uniform(5, k, 0, 0);

@@ -143,7 +143,7 @@ pub fn planar_start(corners: [DVec3; 3], affine_radius: f64, ray: &Ray64) -> Sta
     let area = e1.cross(e2).length();
     // det = −d · (e1 × e2), so |det| / |e1 × e2| is the cosine of the ray's angle to the normal.
     let cos = det.abs() / area;
-    if !(cos > 0.0) || !cos.is_finite() {
+    if cos.is_nan() || cos <= 0.0 || cos.is_infinite() {
         return Start::Unbounded;
     }
     let tvec = ray.origin - a;
@@ -366,7 +366,11 @@ pub fn project_to_unit_triangle(x: DVec2) -> DVec2 {
         on_segment(DVec2::Y, DVec2::ZERO),
     ]
     .into_iter()
-    .min_by(|a, b| (*a - x).length_squared().total_cmp(&(*b - x).length_squared()))
+    .min_by(|a, b| {
+        (*a - x)
+            .length_squared()
+            .total_cmp(&(*b - x).length_squared())
+    })
     .unwrap_or(DVec2::splat(1.0 / 3.0))
 }
 
