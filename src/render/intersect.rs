@@ -260,6 +260,7 @@ impl<'s> Tracer<'s> {
             corners: leaf.corners.map(|p| p.as_dvec3()),
             affine_radius: f64::from(leaf.affine_radius),
             second_bound: leaf.second_bound.map(f64::from),
+            proved: leaf.degree > 0 || self.unit.patches[leaf.patch as usize].as_blend().is_none(),
         };
         let start = planar_start(bounds.corners, bounds.affine_radius, ray);
         if start == Start::Outside {

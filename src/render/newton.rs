@@ -70,6 +70,9 @@ pub struct PieceBounds {
     /// directions δ, split against the corner plane's normal (see
     /// [`crate::render::evaluate::second_derivative_bounds`]).
     pub second_bound: [f64; 2],
+    /// True when `second_bound` is a proof (control-net bound), false when it is sampled
+    /// (blends): only a proved bound lets a root be accepted from the Taylor estimate alone.
+    pub proved: bool,
 }
 
 /// Outcome of one Newton run.
@@ -206,7 +209,7 @@ pub fn newton(
         let outside = distance_to_unit_triangle(target);
         // Taylor: after an exact Newton step the residual, and the error of the linearised
         // point, are at most ½ M |Δ|²; below tolerance no further evaluation is needed.
-        if outside == 0.0 && half_m * step.length_squared() <= tolerance {
+        if bounds.proved && outside == 0.0 && half_m * step.length_squared() <= tolerance {
             return Newton::Root(target, iterations, p - ss * step.x - tt * step.y);
         }
         if outside > 0.0 {
