@@ -4,6 +4,10 @@
 
 use crate::error::{Error, Result};
 
+/// The most subdivisions per patch edge of a tessellation (`export --tess` and the renderer's
+/// `--tessellate`): 4096² triangles per patch is already far beyond any display.
+pub const MAX_TESS: usize = 4096;
+
 /// Environment variable that sets the memory limit in bytes (instead of the system's
 /// available memory); it can raise the limit as well as lower it.
 pub const MEMORY_LIMIT_VAR: &str = "SMOOTHLAB_MEMORY_LIMIT";

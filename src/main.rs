@@ -73,7 +73,7 @@ enum Command {
         time_ratio: f64,
     },
     /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
-    Render(Box<smoothlab::render::cli::RenderArgs>),
+    Render(Box<smoothlab::app::render::RenderArgs>),
     /// Render a labelled grid (schemes x modes) from a figure spec to PNG + one EXR per cell.
     Figure {
         /// Figure spec files (.toml), rendered in turn.
@@ -138,13 +138,13 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
     match cli.command {
         None => {
             let mut output = app::run_default()?;
-            output.stdout += &smoothlab::render::cli::run_gallery(Path::new("out/gallery"))?;
+            output.stdout += &smoothlab::app::render::run_gallery(Path::new("out/gallery"))?;
             Ok(output)
         }
         Some(Command::Render(args)) => {
-            let (stats, warnings) = smoothlab::render::cli::render_command(&args)?;
+            let (stats, warnings) = smoothlab::app::render::render_command(&args)?;
             Ok(Output {
-                stdout: smoothlab::render::cli::render_summary(&stats),
+                stdout: smoothlab::app::render::render_summary(&stats),
                 warnings,
                 failed: false,
             })
@@ -152,8 +152,8 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
         Some(Command::Figure { specs }) => {
             let mut stdout = String::new();
             for spec in &specs {
-                let files = smoothlab::render::figure::spec::run_figure_spec(spec)?;
-                stdout += &smoothlab::render::figure::spec::figure_summary(&files);
+                let files = smoothlab::app::figure::spec::run_figure_spec(spec)?;
+                stdout += &smoothlab::app::figure::spec::figure_summary(&files);
             }
             Ok(Output {
                 stdout,

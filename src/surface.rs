@@ -43,6 +43,19 @@ pub struct Patch {
 }
 
 impl Patch {
+    /// Bit `e` set when edge `e` of the patch (corner e → e+1) lies on an edge of its mesh
+    /// face: both corners' face-barycentric coordinates share a zero.
+    pub fn face_edge_mask(&self) -> u8 {
+        let mut mask = 0;
+        for e in 0..3 {
+            let (a, b) = (self.domain[e], self.domain[(e + 1) % 3]);
+            if (0..3).any(|c| a[c].abs() < 1e-12 && b[c].abs() < 1e-12) {
+                mask |= 1 << e;
+            }
+        }
+        mask
+    }
+
     /// Point at `(u, v)`.
     pub fn eval(&self, u: f64, v: f64) -> DVec3 {
         match &self.geometry {
@@ -154,6 +167,10 @@ impl Patch {
     }
 }
 
+/// The domain of a patch that covers its whole mesh face, corners on the face's corners
+/// (face-barycentric coordinates, see [`Patch::domain`]).
+pub const WHOLE_FACE: [DVec3; 3] = [DVec3::X, DVec3::Y, DVec3::Z];
+
 /// The corners of the unit `(u, v)` triangle, in corner order.
 pub const UV_CORNERS: [DVec2; 3] = [DVec2::ZERO, DVec2::X, DVec2::Y];
 
@@ -162,6 +179,31 @@ pub const UV_CORNERS: [DVec2; 3] = [DVec2::ZERO, DVec2::X, DVec2::Y];
 pub fn edge_uv(edge: usize, s: f64) -> DVec2 {
     let (a, b) = (UV_CORNERS[edge % 3], UV_CORNERS[(edge + 1) % 3]);
     a + (b - a) * s
+}
+
+/// Number of samples taken along every joint by the metrics and the edge-samples export.
+///
+/// They sit at fractions `s = i/16` for `i = 1..15` plus `s = 1/1024` and `s = 1 − 1/1024`
+/// near (not at) the two ends: a corner where several patches meet is where a
+/// parametrisation may be singular (`Su × Sv = 0`), and there the normal is undefined rather
+/// than discontinuous. All fractions are dyadic, so `s` and `1 − s` are exact and both sides
+/// of a joint are evaluated at exactly the same domain point.
+pub const JOINT_SAMPLES: usize = 17;
+
+/// Distance (as a fraction of the edge) of the first and last sample from the edge's ends.
+pub const END_OFFSET: f64 = 1.0 / 1024.0;
+
+/// The fractions along an edge at which a joint is sampled, in increasing order.
+pub fn joint_fractions() -> [f64; JOINT_SAMPLES] {
+    let mut s = [0.0; JOINT_SAMPLES];
+    for (i, slot) in s.iter_mut().enumerate() {
+        *slot = match i {
+            0 => END_OFFSET,
+            i if i == JOINT_SAMPLES - 1 => 1.0 - END_OFFSET,
+            i => i as f64 / (JOINT_SAMPLES - 1) as f64,
+        };
+    }
+    s
 }
 
 /// One edge of one patch.
@@ -208,34 +250,6 @@ pub struct Surface {
     pub patches: Vec<Patch>,
 }
 
-impl Surface {
-    /// The same surface with every control point mapped by `f` (an affine map keeps every
-    /// patch kind exact: Bézier nets and blended sub-surfaces transform point by point).
-    pub fn mapped(&self, f: impl Fn(DVec3) -> DVec3) -> Surface {
-        let net = |n: &TriangleBezier| {
-            TriangleBezier::new(n.degree(), n.points().iter().map(|&p| f(p)).collect())
-        };
-        Surface {
-            scheme: self.scheme.clone(),
-            params: self.params.clone(),
-            patches: self
-                .patches
-                .iter()
-                .map(|patch| Patch {
-                    geometry: match &patch.geometry {
-                        PatchGeometry::Bezier(n) => PatchGeometry::Bezier(net(n)),
-                        PatchGeometry::Blend(b) => PatchGeometry::Blend(BlendPatch::new(
-                            b.family(),
-                            b.sub_surfaces().each_ref().map(net),
-                        )),
-                    },
-                    ..patch.clone()
-                })
-                .collect(),
-        }
-    }
-}
-
 /// A point of a mesh's domain, independent of the face it is written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum DomainKey {
@@ -272,6 +286,32 @@ fn domain_key(face_vertices: [u32; 3], face: u32, bary: DVec3) -> DomainKey {
 }
 
 impl Surface {
+    /// The same surface with every control point mapped by `f` (an affine map keeps every
+    /// patch kind exact: Bézier nets and blended sub-surfaces transform point by point).
+    pub fn mapped(&self, f: impl Fn(DVec3) -> DVec3) -> Surface {
+        let net = |n: &TriangleBezier| {
+            TriangleBezier::new(n.degree(), n.points().iter().map(|&p| f(p)).collect())
+        };
+        Surface {
+            scheme: self.scheme.clone(),
+            params: self.params.clone(),
+            patches: self
+                .patches
+                .iter()
+                .map(|patch| Patch {
+                    geometry: match &patch.geometry {
+                        PatchGeometry::Bezier(n) => PatchGeometry::Bezier(net(n)),
+                        PatchGeometry::Blend(b) => PatchGeometry::Blend(BlendPatch::new(
+                            b.family(),
+                            b.sub_surfaces().each_ref().map(net),
+                        )),
+                    },
+                    ..patch.clone()
+                })
+                .collect(),
+        }
+    }
+
     /// Bounding box of all patches (control-net bounds: contains the surface).
     pub fn bounds(&self) -> Aabb {
         self.patches

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use glam::DVec3;
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::{Triangles, icosahedron, mixed_valence};
-use smoothlab::render::cli::{RenderArgs, render_command};
+use smoothlab::app::render::{RenderArgs, render_command};
 use smoothlab::render::intersect::IntersectCounters;
 use smoothlab::render::output::EXR_CHANNELS;
 use smoothlab::render::sampler::{sphere_direction, uniform};

@@ -92,7 +92,7 @@ mod tests {
         let patch = |b| Patch {
             face: 0,
             piece: 0,
-            domain: [DVec3::X, DVec3::Y, DVec3::Z],
+            domain: crate::surface::WHOLE_FACE,
             geometry: PatchGeometry::Bezier(b),
         };
         let linear = TriangleBezier::new(1, vec![DVec3::ZERO, DVec3::X, DVec3::Y]);

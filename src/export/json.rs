@@ -219,13 +219,13 @@ mod tests {
         let patch = |face, piece, b| Patch {
             face,
             piece,
-            domain: [DVec3::X, DVec3::Y, DVec3::Z],
+            domain: crate::surface::WHOLE_FACE,
             geometry: PatchGeometry::Bezier(b),
         };
         let blend = |family| Patch {
             face: 9,
             piece: 0,
-            domain: [DVec3::X, DVec3::Y, DVec3::Z],
+            domain: crate::surface::WHOLE_FACE,
             geometry: PatchGeometry::Blend(BlendPatch::new(
                 family,
                 [

@@ -41,8 +41,7 @@ pub fn exact_normal(patch: &Patch, uv: DVec2) -> DVec3 {
     DVec3::ZERO
 }
 
-/// The largest `--tess` (the same cap as the renderer's `--tessellate`).
-pub const MAX_TESS: usize = 4096;
+pub use crate::budget::MAX_TESS;
 
 /// Bytes of the OBJ text of `patches` patches at `tess` subdivisions per edge, estimated
 /// from the records' typical lengths (a `v` and a `vn` line of about 60 bytes each per
@@ -154,7 +153,7 @@ mod tests {
             patches: vec![Patch {
                 face: 0,
                 piece: 0,
-                domain: [DVec3::X, DVec3::Y, DVec3::Z],
+                domain: crate::surface::WHOLE_FACE,
                 geometry: PatchGeometry::Bezier(b),
             }],
         }

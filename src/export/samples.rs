@@ -7,7 +7,7 @@
 //! {"edges":[{"faces":[f0,f1],"side0":[{"point":[x,y,z],"normal":[x,y,z]},...],"side1":[...]}]}
 //! ```
 //!
-//! The points are at the fractions of [`crate::metrics::joints::joint_fractions`] along the
+//! The points are at the fractions of [`crate::surface::joint_fractions`] along the
 //! edge from its smaller to its larger vertex (near, not at, the ends, where a parametrisation
 //! may be singular). On each side, the patch of that face whose domain contains the point is
 //! found by inverting the patch's domain map.
@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::metrics::joints::joint_fractions;
+use crate::surface::joint_fractions;
 use crate::surface::{Patch, Surface};
 
 /// One sample: a surface point and its unit normal (zero where the patch is singular).

@@ -440,7 +440,7 @@ mod tests {
         let patch = |face: u32, b: TriangleBezier| Patch {
             face,
             piece: 0,
-            domain: [DVec3::X, DVec3::Y, DVec3::Z],
+            domain: crate::surface::WHOLE_FACE,
             geometry: PatchGeometry::Bezier(b),
         };
         let surface = Surface {

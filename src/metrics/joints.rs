@@ -14,24 +14,7 @@ use glam::DVec3;
 use crate::geom::Jet;
 use crate::surface::{Joint, Surface, edge_uv};
 
-/// Number of samples taken along every joint.
-pub const JOINT_SAMPLES: usize = 17;
-
-/// Distance (as a fraction of the edge) of the first and last sample from the edge's ends.
-pub const END_OFFSET: f64 = 1.0 / 1024.0;
-
-/// The fractions along an edge at which a joint is sampled, in increasing order.
-pub fn joint_fractions() -> [f64; JOINT_SAMPLES] {
-    let mut s = [0.0; JOINT_SAMPLES];
-    for (i, slot) in s.iter_mut().enumerate() {
-        *slot = match i {
-            0 => END_OFFSET,
-            i if i == JOINT_SAMPLES - 1 => 1.0 - END_OFFSET,
-            i => i as f64 / (JOINT_SAMPLES - 1) as f64,
-        };
-    }
-    s
-}
+pub use crate::surface::{JOINT_SAMPLES, joint_fractions};
 
 /// The angle between two (not necessarily unit) normals, `atan2(|n0 × n1|, n0 · n1)`:
 /// accurate to machine precision near 0 and near π, where `acos` of the dot product loses

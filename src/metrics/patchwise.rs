@@ -62,7 +62,7 @@ mod tests {
         Patch {
             face: 0,
             piece: 0,
-            domain: [DVec3::X, DVec3::Y, DVec3::Z],
+            domain: crate::surface::WHOLE_FACE,
             geometry: PatchGeometry::Bezier(TriangleBezier::new(degree, points)),
         }
     }

@@ -14,6 +14,7 @@ use glam::DVec3;
 
 use crate::bezier::triangle::index;
 use crate::mesh::{Mesh, MeshEdge};
+use crate::render::tubes::{CurveKind, Polyline};
 use crate::surface::{Patch, Surface};
 
 /// Dense samples per boundary curve (segments of its polyline).
@@ -72,26 +73,6 @@ impl CurveOverlay {
             &lines, radius,
         )?)))
     }
-}
-
-/// What a polyline shows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CurveKind {
-    /// A boundary curve sampled densely.
-    Network,
-    /// A Bézier control polygon.
-    ControlPolygon,
-}
-
-/// A polyline of the overlay.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Polyline {
-    /// Which mesh edge it belongs to (index into [`Mesh::edges`]).
-    pub edge: usize,
-    /// Network curve or control polygon.
-    pub kind: CurveKind,
-    /// Its points, in order.
-    pub points: Vec<DVec3>,
 }
 
 /// Unit barycentric vector of face corner `c`.

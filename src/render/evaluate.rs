@@ -221,7 +221,7 @@ mod tests {
             let patch = Patch {
                 face: 0,
                 piece: 0,
-                domain: [DVec3::X, DVec3::Y, DVec3::Z],
+                domain: crate::surface::WHOLE_FACE,
                 geometry: PatchGeometry::Bezier(net),
             };
             for (u, v) in [(0.0, 0.0), (0.2, 0.3), (0.7, 0.1), (0.0, 1.0), (0.33, 0.33)] {

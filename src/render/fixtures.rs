@@ -38,7 +38,7 @@ pub fn octahedron_sphere(degree: usize, radius: f64, split_levels: u32) -> Surfa
         let net = TriangleBezier::from_fn(degree, |i, j, k| {
             (a * i as f64 + b * j as f64 + c * k as f64).normalize() * radius
         });
-        let mut pieces = vec![(net, [DVec3::X, DVec3::Y, DVec3::Z])];
+        let mut pieces = vec![(net, crate::surface::WHOLE_FACE)];
         for _ in 0..split_levels {
             pieces = pieces
                 .into_iter()
@@ -99,7 +99,7 @@ pub fn height_field_patch() -> Surface {
         patches: vec![Patch {
             face: 0,
             piece: 0,
-            domain: [DVec3::X, DVec3::Y, DVec3::Z],
+            domain: crate::surface::WHOLE_FACE,
             geometry: PatchGeometry::Bezier(net),
         }],
     }

@@ -27,7 +27,6 @@ use obvhs::ray::{Ray, RayHit};
 use crate::geom::Aabb;
 use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion};
 use crate::render::evaluate::{local_point_and_tangents, point_and_tangents};
-use crate::render::modes::overlay::face_edge_mask;
 pub use crate::render::newton::NewtonSettings;
 use crate::render::newton::{Newton, PieceBounds, Start, newton, planar_start, search};
 pub use crate::render::ray::{Ray64, RayPlanes, ray_enters_box};
@@ -149,7 +148,7 @@ impl<'s> Tracer<'s> {
             newton,
             tolerance,
             bounds: world,
-            face_edges: surface.patches.iter().map(face_edge_mask).collect(),
+            face_edges: surface.patches.iter().map(Patch::face_edge_mask).collect(),
         })
     }
 

@@ -1,5 +1,7 @@
-//! One render job from a parsed scene: camera resolution, tracer construction (exact or
-//! tessellated), rendering. Shared by the `render` command and the gallery.
+//! One render job as a value: what to render ([`RenderSettings`]), from where ([`CameraSpec`]),
+//! which curves to draw and which tracer to use ([`Geometry`]). The command layer validates a
+//! scene once into a [`RenderJob`]; [`RenderJob::render`] then needs only the surface (and
+//! the mesh it was built on, for the curve network).
 
 use glam::DVec3;
 
@@ -11,17 +13,13 @@ use crate::render::bvh::{Leaf, SubdivisionCriterion};
 use crate::render::camera::{Camera, Projection};
 use crate::render::film::{Frame, RenderSettings, render};
 use crate::render::intersect::{NewtonSettings, Tracer};
-use crate::render::scene::SceneFile;
+use crate::render::curves::CurveOverlay;
 use crate::render::stats::RenderStats;
 use crate::render::tessellate::TessellatedTracer;
 use crate::surface::{PatchGeometry, Surface};
 
 /// Default vertical field of view, degrees.
 pub const DEFAULT_FOV: f64 = 35.0;
-/// Default image size.
-pub const DEFAULT_SIZE: [u32; 2] = [640, 480];
-/// Default samples per pixel.
-pub const DEFAULT_SPP: u32 = 4;
 
 /// Points on `surface` (each patch on a 7×7 grid of its domain) for tight framing.
 pub fn surface_samples(surface: &Surface) -> Vec<DVec3> {
@@ -37,88 +35,132 @@ pub fn surface_samples(surface: &Surface) -> Vec<DVec3> {
     points
 }
 
-/// The camera of `scene` for `surface` and an image of aspect `aspect`: the scene's
-/// eye/target/up when an eye is given (target defaults to the surface's centre), automatic
-/// framing of points sampled on the surface otherwise (with the scene's up, if given, pointing
-/// up in the image; around the scene's target, if given).
-pub fn scene_camera(scene: &SceneFile, surface: &Surface, aspect: f64) -> Result<Camera> {
-    let samples = surface_samples(surface);
-    let bounds = &Aabb::from_points(&samples);
-    let c = &scene.camera;
-    let fov = c.fov.unwrap_or(DEFAULT_FOV);
-    let camera = match c.eye {
-        Some(eye) => Camera::look_at(
-            DVec3::from_array(eye),
-            c.target.map_or(bounds.center(), DVec3::from_array),
-            c.up.map_or(DVec3::Y, DVec3::from_array),
-            Projection::Perspective { fov_deg: fov },
-        )?,
-        None => {
-            let framed = match c.up {
-                Some(up) => Camera::frame_points_with_up(
-                    &samples,
-                    Camera::DEFAULT_VIEW,
-                    DVec3::from_array(up),
-                    fov,
-                    aspect,
-                )?,
-                None => Camera::frame_points(&samples, Camera::DEFAULT_VIEW, fov, aspect)?,
-            };
-            if let Some(target) = c.target {
-                // Same view direction, distance and up as the automatic framing, around
-                // `target`.
-                let target = DVec3::from_array(target);
-                Camera::look_at(
-                    framed.eye - bounds.center() + target,
-                    target,
-                    framed.up(),
-                    Projection::Perspective { fov_deg: fov },
-                )?
-            } else {
-                framed
-            }
+/// Where the camera of a job is: given by eye (and target, up), or framed automatically.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraSpec {
+    /// Eye position; `None` frames points sampled on the surface automatically.
+    pub eye: Option<DVec3>,
+    /// Point looked at (default: the centre of the surface's samples).
+    pub target: Option<DVec3>,
+    /// Up direction (default: +Y with an eye; the framing's own up without one).
+    pub up: Option<DVec3>,
+    /// Vertical field of view in degrees (perspective) or of the framing (orthographic).
+    pub fov_deg: f64,
+    /// Orthographic projection.
+    pub orthographic: bool,
+}
+
+impl Default for CameraSpec {
+    fn default() -> Self {
+        CameraSpec {
+            eye: None,
+            target: None,
+            up: None,
+            fov_deg: DEFAULT_FOV,
+            orthographic: false,
         }
-    };
-    if c.ortho.unwrap_or(false) {
-        camera.orthographic_of(fov)
-    } else {
-        Ok(camera)
     }
 }
 
-/// The render settings of `scene`.
-pub fn scene_settings(scene: &SceneFile) -> Result<RenderSettings> {
-    let r = &scene.render;
-    let [width, height] = r.size.unwrap_or(DEFAULT_SIZE);
-    if width == 0 || height == 0 || width > 16384 || height > 16384 {
-        return Err(Error::Invalid(format!(
-            "render.size {width}x{height} must be between 1 and 16384 per side"
-        )));
-    }
-    let spp = r.spp.unwrap_or(DEFAULT_SPP);
-    if spp == 0 || spp > 65536 {
-        return Err(Error::Invalid(format!(
-            "render.spp {spp} must be in 1..=65536"
-        )));
-    }
-    let mut settings = RenderSettings {
-        width,
-        height,
-        spp,
-        mode: scene.mode()?,
-        overlay: scene.overlay()?,
-        seed: r.seed.unwrap_or(0),
-        ..RenderSettings::default()
-    };
-    if let Some(bg) = r.background {
-        if bg.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
-            return Err(Error::Invalid(format!(
-                "render.background {bg:?} must be non-negative"
-            )));
+impl CameraSpec {
+    /// The camera for `surface` and an image of aspect `aspect`: the given eye/target/up when
+    /// an eye is given (target defaults to the surface's centre), automatic framing of points
+    /// sampled on the surface otherwise (with the given up, if any, pointing up in the image;
+    /// around the given target, if any).
+    pub fn camera(&self, surface: &Surface, aspect: f64) -> Result<Camera> {
+        let samples = surface_samples(surface);
+        let bounds = &Aabb::from_points(&samples);
+        let fov = self.fov_deg;
+        let camera = match self.eye {
+            Some(eye) => Camera::look_at(
+                eye,
+                self.target.unwrap_or(bounds.center()),
+                self.up.unwrap_or(DVec3::Y),
+                Projection::Perspective { fov_deg: fov },
+            )?,
+            None => {
+                let framed = match self.up {
+                    Some(up) => Camera::frame_points_with_up(
+                        &samples,
+                        Camera::DEFAULT_VIEW,
+                        up,
+                        fov,
+                        aspect,
+                    )?,
+                    None => Camera::frame_points(&samples, Camera::DEFAULT_VIEW, fov, aspect)?,
+                };
+                if let Some(target) = self.target {
+                    // Same view direction, distance and up as the automatic framing, around
+                    // `target`.
+                    Camera::look_at(
+                        framed.eye - bounds.center() + target,
+                        target,
+                        framed.up(),
+                        Projection::Perspective { fov_deg: fov },
+                    )?
+                } else {
+                    framed
+                }
+            }
+        };
+        if self.orthographic {
+            camera.orthographic_of(fov)
+        } else {
+            Ok(camera)
         }
-        settings.background = DVec3::from_array(bg);
     }
-    Ok(settings)
+}
+
+/// What the rays meet: the exact patches (through a BVH of subdivided patch bounds) or a
+/// tessellation of them.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
+    /// The exact patches.
+    Exact {
+        /// When a BVH leaf is fine enough.
+        criterion: SubdivisionCriterion,
+        /// The most leaves the BVH may have (checked by [`check_bvh_size`] before building).
+        max_leaves: u64,
+    },
+    /// A tessellation with this many subdivisions per patch edge.
+    Tessellated(u32),
+}
+
+/// A validated render job: everything but the surface.
+#[derive(Clone, Debug)]
+pub struct RenderJob {
+    /// Image, mode, overlay, samples (its `curves` are filled in by [`RenderJob::render`]).
+    pub settings: RenderSettings,
+    /// The camera.
+    pub camera: CameraSpec,
+    /// The curve-network overlay, built from the mesh's edges.
+    pub curves: CurveOverlay,
+    /// Exact or tessellated.
+    pub geometry: Geometry,
+}
+
+impl RenderJob {
+    /// Renders `surface` (built on `mesh`) with this job's camera, settings and curves.
+    pub fn render(&self, surface: &Surface, mesh: &Mesh) -> Result<(Frame, RenderStats)> {
+        let mut settings = self.settings.clone();
+        settings.curves = self.curves.tubes(surface, mesh)?;
+        let aspect = f64::from(settings.width) / f64::from(settings.height);
+        let camera = self.camera.camera(surface, aspect)?;
+        match &self.geometry {
+            Geometry::Tessellated(n) => {
+                let tracer = TessellatedTracer::new(surface, *n)?;
+                render(&tracer, &camera, &settings)
+            }
+            Geometry::Exact {
+                criterion,
+                max_leaves,
+            } => {
+                check_bvh_size(surface, criterion, *max_leaves)?;
+                let tracer = Tracer::new(surface, criterion, NewtonSettings::default())?;
+                render(&tracer, &camera, &settings)
+            }
+        }
+    }
 }
 
 /// The largest distance of a control point of `net` from the plane through its three corners,
@@ -209,30 +251,4 @@ pub fn check_bvh_size(
         leaves * leaf_bytes(points),
         "use a coarser mesh or raise bvh.flatness",
     )
-}
-
-/// Renders `surface` (built on `mesh`) as `scene` describes (exact patches, or a tessellation
-/// when `render.tessellate` is set), with the curve-network tubes it asks for.
-pub fn render_scene(
-    surface: &Surface,
-    mesh: &Mesh,
-    scene: &SceneFile,
-) -> Result<(Frame, RenderStats)> {
-    let mut settings = scene_settings(scene)?;
-    settings.curves = scene.curve_overlay()?.tubes(surface, mesh)?;
-    settings.surface = scene.render.surface.unwrap_or(true);
-    let aspect = f64::from(settings.width) / f64::from(settings.height);
-    let camera = scene_camera(scene, surface, aspect)?;
-    match scene.render.tessellate {
-        Some(n) => {
-            let tracer = TessellatedTracer::new(surface, n)?;
-            render(&tracer, &camera, &settings)
-        }
-        None => {
-            let criterion = scene.criterion()?;
-            check_bvh_size(surface, &criterion, scene.max_leaves()?)?;
-            let tracer = Tracer::new(surface, &criterion, NewtonSettings::default())?;
-            render(&tracer, &camera, &settings)
-        }
-    }
 }

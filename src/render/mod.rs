@@ -8,14 +8,11 @@
 
 pub mod bvh;
 pub mod camera;
-pub mod cli;
 pub mod curves;
 pub mod evaluate;
-pub mod figure;
 pub mod film;
 pub mod fixtures;
-pub mod font;
-pub mod gallery;
+pub mod interaction;
 pub mod intersect;
 pub mod job;
 pub mod modes;
@@ -23,11 +20,9 @@ pub mod newton;
 pub mod output;
 pub mod ray;
 pub mod sampler;
-pub mod scene;
 pub mod shaded;
 pub mod stats;
 pub mod tessellate;
-pub mod toml_input;
 pub mod trace;
 pub mod tubes;
 

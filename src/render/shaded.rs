@@ -12,7 +12,7 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::render::intersect::{IntersectCounters, Ray64};
-use crate::render::modes::ShadingPoint;
+use crate::render::interaction::ShadingPoint;
 use crate::render::sampler::uniform;
 use crate::render::trace::SurfaceTracer;
 

@@ -19,10 +19,9 @@ use crate::error::{Error, Result};
 use crate::geom::{Aabb, Jet};
 use crate::render::bvh::{box_padding, build_params, outward_f32};
 use crate::render::intersect::{Hit, IntersectCounters, Ray64, closest_in_bvh};
-use crate::render::modes::ShadingPoint;
-use crate::render::modes::overlay::face_edge_mask;
+use crate::render::interaction::ShadingPoint;
 use crate::render::trace::SurfaceTracer;
-use crate::surface::Surface;
+use crate::surface::{Patch, Surface};
 
 /// One grid vertex: position, unit normal and patch parameters, in f32.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -59,7 +58,7 @@ fn grid_index(n: u32, i: u32, j: u32) -> u32 {
 impl<'s> TessellatedTracer<'s> {
     /// Tessellates every patch of `surface` with `n` segments per edge and builds the BVH.
     pub fn new(surface: &'s Surface, n: u32) -> Result<TessellatedTracer<'s>> {
-        let max = crate::export::obj::MAX_TESS;
+        let max = crate::budget::MAX_TESS;
         if n == 0 || n as usize > max {
             return Err(Error::Invalid(format!(
                 "tessellation level {n} must be in 1..={max}"
@@ -134,7 +133,7 @@ impl<'s> TessellatedTracer<'s> {
             build_time: start.elapsed(),
             padding,
             bounds,
-            face_edges: surface.patches.iter().map(face_edge_mask).collect(),
+            face_edges: surface.patches.iter().map(Patch::face_edge_mask).collect(),
             level: n,
         })
     }

@@ -4,7 +4,7 @@
 
 use crate::geom::Aabb;
 use crate::render::intersect::{Hit, IntersectCounters, Ray64, Tracer};
-use crate::render::modes::ShadingPoint;
+use crate::render::interaction::ShadingPoint;
 use crate::surface::Surface;
 
 /// A surface that rays can be shot at.

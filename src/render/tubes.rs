@@ -13,8 +13,27 @@
 use glam::DVec3;
 
 use crate::geom::Aabb;
-use crate::render::curves::{CurveKind, Polyline};
 use crate::render::intersect::Ray64;
+
+/// What a polyline shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurveKind {
+    /// A boundary curve sampled densely.
+    Network,
+    /// A Bézier control polygon.
+    ControlPolygon,
+}
+
+/// A polyline of the overlay.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polyline {
+    /// Which mesh edge it belongs to (index into [`crate::mesh::Mesh::edges`]).
+    pub edge: usize,
+    /// Network curve or control polygon.
+    pub kind: CurveKind,
+    /// Its points, in order.
+    pub points: Vec<DVec3>,
+}
 
 /// Segments per run (one box test guards this many capsule tests).
 pub const CHUNK: usize = 8;

@@ -14,7 +14,6 @@ use std::time::{SystemTime, UNIX_EPOCH};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::app::build_timed;
 use crate::error::{Error, Result};
 use crate::files::{check_writable, create_folder, write_atomic};
 use crate::mesh::{Mesh, generate};
@@ -112,7 +111,7 @@ pub fn run() -> Result<Report> {
             if spec.needs_closed_mesh && !bench.mesh.is_closed() {
                 continue;
             }
-            let (surface, ms) = build_timed(spec.name, &bench.mesh, &[])?;
+            let (surface, ms) = schemes::build_timed(spec.name, &bench.mesh, &[])?;
             let metrics = Metrics::measure(&surface, &bench.mesh, ms);
             let mut figures = match serde_json::to_value(&metrics) {
                 Ok(serde_json::Value::Object(map)) => map,

@@ -3,13 +3,12 @@
 //! It is C⁰ and interpolates the vertices; its normal jumps across every edge by the dihedral
 //! angle of the mesh, which is what every smooth scheme is compared against.
 
-use glam::DVec3;
 
 use crate::bezier::TriangleBezier;
 use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::schemes::{Params, SchemeSpec};
-use crate::surface::{Patch, PatchGeometry, Surface};
+use crate::surface::{Patch, PatchGeometry, Surface, WHOLE_FACE};
 
 /// Registry entry.
 pub const SPEC: SchemeSpec = SchemeSpec {
@@ -20,9 +19,6 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     build,
 };
 
-/// The face's own corners, in the face's order, as the domain of its single patch.
-pub(crate) const FULL_FACE: [DVec3; 3] = [DVec3::X, DVec3::Y, DVec3::Z];
-
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let positions = mesh.positions();
     let patches = mesh
@@ -32,7 +28,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
         .map(|(f, corners)| Patch {
             face: f as u32,
             piece: 0,
-            domain: FULL_FACE,
+            domain: WHOLE_FACE,
             // Degree 1: b(1,0,0), b(0,1,0), b(0,0,1) are the three corners in face order.
             geometry: PatchGeometry::Bezier(TriangleBezier::new(
                 1,

@@ -2,7 +2,7 @@
 //! [`SCHEMES`]. `build` checks the parameter names, fills in defaults and refuses meshes a
 //! scheme cannot take (by name), so scheme code only sees valid input.
 
-pub mod blend;
+pub mod boundary_blend;
 pub mod flat;
 pub mod gk;
 pub mod hb;
@@ -58,8 +58,8 @@ pub const SCHEMES: &[SchemeSpec] = &[
     hb::SPEC,
     loop94::SPEC,
     piper::SPEC,
-    blend::nielson::SPEC,
-    blend::fang_mann::SPEC,
+    boundary_blend::nielson::SPEC,
+    boundary_blend::fang_mann::SPEC,
     gk::SPEC,
 ];
 
@@ -96,6 +96,17 @@ pub fn build(scheme: &str, mesh: &Mesh, user: &[(String, String)]) -> Result<Sur
     let surface = (spec.build)(mesh, &params)?;
     check_surface(&surface, mesh, user)?;
     Ok(surface)
+}
+
+/// Builds `scheme` on `mesh` and returns the surface with the construction time in ms.
+pub fn build_timed(
+    scheme: &str,
+    mesh: &Mesh,
+    params: &[(String, String)],
+) -> Result<(Surface, f64)> {
+    let start = std::time::Instant::now();
+    let surface = build(scheme, mesh, params)?;
+    Ok((surface, start.elapsed().as_secs_f64() * 1e3))
 }
 
 /// How far (in mesh bounding-box diagonals) a built surface may reach beyond the mesh's

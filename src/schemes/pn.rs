@@ -37,7 +37,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
             Patch {
                 face: f as u32,
                 piece: 0,
-                domain: crate::schemes::flat::FULL_FACE,
+                domain: crate::surface::WHOLE_FACE,
                 geometry: PatchGeometry::Bezier(pn_triangle(p, n)),
             }
         })

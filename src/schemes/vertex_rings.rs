@@ -10,6 +10,16 @@ use rayon::prelude::*;
 
 use crate::mesh::Mesh;
 
+/// `Φ_i(0) = cos(2π/n)` [HB00 eq. 6].
+pub fn phi0(n: usize) -> f64 {
+    (2.0 * PI / n as f64).cos()
+}
+
+/// `Ψ_i(0) = sin(2π/n)` [HB00 eq. 20].
+pub fn psi0(n: usize) -> f64 {
+    (2.0 * PI / n as f64).sin()
+}
+
 /// Discrete Fourier sums of a one-ring `p_0..p_{n−1}` with `θ = 2π/n`:
 /// `C = Σ cos(θj) p_j`, `S = Σ sin(θj) p_j`, so that every rotated sum is O(1).
 #[derive(Clone, Copy, Debug)]

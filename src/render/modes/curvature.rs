@@ -5,7 +5,8 @@
 use glam::DVec3;
 
 use crate::geom::Curvature;
-use crate::render::modes::{ShadingPoint, palette};
+use crate::render::interaction::ShadingPoint;
+use crate::render::modes::palette;
 
 /// Which curvature to show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::render::modes::ShadingPoint;
+use crate::render::interaction::ShadingPoint;
 
 /// Parameters of the isophote mode.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -5,8 +5,7 @@
 
 use glam::DVec3;
 
-use crate::render::modes::ShadingPoint;
-use crate::surface::Patch;
+use crate::render::interaction::ShadingPoint;
 
 /// Which boundaries to draw and how wide.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,19 +26,6 @@ impl Default for Overlay {
             width_px: 1.2,
         }
     }
-}
-
-/// Bit `e` set when edge `e` of the patch (corner e → e+1) lies on an edge of its mesh face:
-/// both corners' face-barycentric coordinates share a zero.
-pub fn face_edge_mask(patch: &Patch) -> u8 {
-    let mut mask = 0;
-    for e in 0..3 {
-        let (a, b) = (patch.domain[e], patch.domain[(e + 1) % 3]);
-        if (0..3).any(|c| a[c].abs() < 1e-12 && b[c].abs() < 1e-12) {
-            mask |= 1 << e;
-        }
-    }
-    mask
 }
 
 impl Overlay {

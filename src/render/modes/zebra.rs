@@ -11,7 +11,8 @@
 
 use glam::DVec3;
 
-use crate::render::modes::{ShadingPoint, fract};
+use crate::render::interaction::ShadingPoint;
+use crate::render::modes::fract;
 
 /// Linear-light brightness of a bright stripe and of a dark one.
 const BRIGHT: f64 = 0.9;

@@ -135,7 +135,7 @@ pub fn irregular_separation(mesh: &Mesh) -> Option<(usize, u32)> {
 /// cannot happen for a valid closed mesh (distances double each step), but a refined net that
 /// fails validation is reported with the input vertex count it came from.
 pub fn prepare(mesh: &Mesh, k: usize) -> Result<RefinedNet> {
-    let whole = [DVec3::X, DVec3::Y, DVec3::Z];
+    let whole = crate::surface::WHOLE_FACE;
     let mut net = RefinedNet {
         mesh: mesh.clone(),
         origin: (0..mesh.face_count() as u32).collect(),

@@ -8,23 +8,27 @@
 
 use glam::{DVec2, DVec3};
 
-use super::macro_patch::{QUINTIC, free_point_columns, piece_domains};
 use crate::bezier::gram::thin_plate_matrix;
 use crate::linalg::invert;
 
 const DEGREE: usize = 5;
-const NETS: usize = 4 * QUINTIC;
+/// Control points of one quintic piece.
+const QUINTIC: usize = (DEGREE + 1) * (DEGREE + 2) / 2;
+/// Control points of the four pieces, piece by piece.
+pub(super) const NETS: usize = 4 * QUINTIC;
 
 /// The constant 6 × 84 map `L = −(GᵀQG)⁻¹ GᵀQ` from the nets completed with zero free points to
-/// the energy-minimising free points (three middle twists, then the three points `D_k`).
-pub(super) fn free_point_map() -> [[f64; NETS]; 6] {
+/// the energy-minimising free points (three middle twists, then the three points `D_k`), for
+/// the columns `g` of `G` (the nets each free point alone produces) and the pieces'
+/// face-barycentric `domains`.
+pub(super) fn free_point_map(g: &[[f64; NETS]; 6], domains: &[[DVec3; 3]; 4]) -> [[f64; NETS]; 6] {
     let equilateral = [
         DVec2::new(0.0, 0.0),
         DVec2::new(1.0, 0.0),
         DVec2::new(0.5, 3f64.sqrt() / 2.0),
     ];
     let to_2d = |b: DVec3| b.x * equilateral[0] + b.y * equilateral[1] + b.z * equilateral[2];
-    let pieces: Vec<Vec<Vec<f64>>> = piece_domains()
+    let pieces: Vec<Vec<Vec<f64>>> = domains
         .iter()
         .map(|d| thin_plate_matrix(DEGREE, d.map(to_2d)))
         .collect();
@@ -36,7 +40,6 @@ pub(super) fn free_point_map() -> [[f64; NETS]; 6] {
                 .sum()
         })
     };
-    let g = free_point_columns();
     let qg: Vec<[f64; NETS]> = g.iter().map(q_times).collect();
     // H = GᵀQG (6 × 6, symmetric positive definite).
     let mut h = [[0.0; 6]; 6];

@@ -58,7 +58,7 @@ pub enum FreeRule {
 
 /// The face-barycentric corners of the four pieces (see the module doc).
 pub fn piece_domains() -> [[DVec3; 3]; 4] {
-    let a = [DVec3::X, DVec3::Y, DVec3::Z];
+    let a = crate::surface::WHOLE_FACE;
     let m = |k: usize, l: usize| 0.5 * (a[k] + a[l]);
     [
         [a[0], m(0, 1), m(2, 0)],
@@ -251,7 +251,7 @@ fn energy_free_points(trial: &MacroNets) -> ([DVec3; 3], [DVec3; 3]) {
 /// The constant map `L` of [`energy_free_points`], computed once.
 fn energy_map() -> &'static [[f64; 4 * QUINTIC]; 6] {
     static MAP: OnceLock<[[f64; 4 * QUINTIC]; 6]> = OnceLock::new();
-    MAP.get_or_init(super::energy::free_point_map)
+    MAP.get_or_init(|| super::energy::free_point_map(&free_point_columns(), &piece_domains()))
 }
 
 /// `G`: column r is the (x component of the) net produced by free point r = unit x and

@@ -20,7 +20,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use crate::schemes::vertex_rings::RingFourier;
+use crate::schemes::vertex_rings::{RingFourier, psi0};
 
 /// The shape parameters of HB00: α (eq. 9), β (eq. 12), γ0, γ1, γ2 (eq. 15, γ0+γ1+γ2 = 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,16 +46,6 @@ pub struct HalfEdgeData {
     pub phi0: f64,
     /// `Ψ_i(0) = sin(2π/n)` (eq. 20).
     pub psi0: f64,
-}
-
-/// `Φ_i(0) = cos(2π/n)` [HB00 eq. 6].
-pub fn phi0(n: usize) -> f64 {
-    (2.0 * PI / n as f64).cos()
-}
-
-/// `Ψ_i(0) = sin(2π/n)` [HB00 eq. 20].
-pub fn psi0(n: usize) -> f64 {
-    (2.0 * PI / n as f64).sin()
 }
 
 /// Fills `out[i]` with the data of edge `v → ring[i]` for every neighbour (eqs. 9–23).
@@ -120,6 +110,7 @@ pub fn half_edges(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::schemes::vertex_rings::phi0;
 
     /// A deterministic, irregular one-ring: neighbours roughly around v, with noise.
     fn ring(n: usize, seed: u64) -> Vec<DVec3> {

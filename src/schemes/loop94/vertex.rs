@@ -16,7 +16,7 @@
 
 use glam::DVec3;
 
-use crate::schemes::hb::vertex::{phi0, psi0};
+use crate::schemes::vertex_rings::{phi0, psi0};
 use crate::schemes::vertex_rings::RingFourier;
 
 /// Loop's shape parameters α and β (eq. 2).

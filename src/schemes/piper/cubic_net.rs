@@ -123,7 +123,7 @@ pub fn candidate_net(
 /// (`faces[f][k] → faces[f][k+1]`, the edge [`crate::mesh::Mesh::neighbor`] numbers `k`);
 /// its edge 1 runs from corner `k+1` to the centroid, its edge 2 from the centroid to corner `k`.
 pub fn piece_domain(k: usize) -> [DVec3; 3] {
-    let unit = [DVec3::X, DVec3::Y, DVec3::Z];
+    let unit = crate::surface::WHOLE_FACE;
     [unit[k], unit[(k + 1) % 3], DVec3::splat(1.0 / 3.0)]
 }
 

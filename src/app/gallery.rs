@@ -1,7 +1,7 @@
 //! The built-in gallery (what `smoothlab` renders with no arguments): every registered scheme on
 //! the deformed icosahedron, in zebra, isophote and curvature mode, from one shared camera, plus
 //! one labelled sheet (rows = schemes, columns = modes) made by the figure grid
-//! ([`crate::render::figure`]), with its common curvature range.
+//! ([`crate::app::figure`]), with its common curvature range.
 
 use std::path::{Path, PathBuf};
 
@@ -10,7 +10,7 @@ use crate::files::{check_writable, create_folder};
 use crate::mesh::Mesh;
 use crate::mesh::generate::deformed_icosahedron;
 use crate::render::curves::CurveOverlay;
-use crate::render::figure::{
+use crate::app::figure::{
     CurvatureChoice, FigureJob, FigureMode, FigureSurface, View, framing_camera, render_figure,
 };
 use crate::render::modes::{CurvatureParams, Mode};

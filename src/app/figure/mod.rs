@@ -7,6 +7,7 @@
 //! in view): one fixed range for all cells so colours compare, and a scheme with sharp creases
 //! saturates instead of washing out the others.
 
+pub mod font;
 pub mod sheet;
 pub mod spec;
 

@@ -7,9 +7,8 @@ use crate::app::parse_weld_tolerance;
 use crate::error::{Error, Result};
 use crate::files::check_writable;
 use crate::mesh::Mesh;
-use crate::render::job::render_scene;
 use crate::render::output::{prepare_outputs, write_outputs};
-use crate::render::scene::SceneFile;
+use crate::app::scene::SceneFile;
 use crate::render::stats::RenderStats;
 use crate::schemes;
 
@@ -177,6 +176,7 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
 /// loading warnings (one line each, without the `warning:` prefix).
 pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     let scene = scene_of(args)?;
+    let job = scene.job()?;
     let mesh_path = scene
         .mesh
         .clone()
@@ -200,7 +200,7 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     }
     let (mesh, report) = Mesh::load_obj_with(&mesh_path, &scene.load_options()?)?;
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
-    let (frame, stats) = render_scene(&surface, &mesh, &scene)?;
+    let (frame, stats) = job.render(&surface, &mesh)?;
     write_outputs(&frame, &outputs)?;
     if let Some(path) = &args.stats {
         stats.write_json(path)?;
@@ -225,10 +225,10 @@ pub fn render_summary(stats: &RenderStats) -> String {
 
 /// Renders the gallery into `out_dir` and returns its table and where the sheet went.
 pub fn run_gallery(out_dir: &std::path::Path) -> Result<String> {
-    let gallery = crate::render::gallery::render_gallery(out_dir)?;
+    let gallery = crate::app::gallery::render_gallery(out_dir)?;
     Ok(format!(
         "\ngallery renders:\n{}wrote {}\n",
-        crate::render::gallery::gallery_table(&gallery),
+        crate::app::gallery::gallery_table(&gallery),
         gallery.sheet.display()
     ))
 }

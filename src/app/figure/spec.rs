@@ -39,14 +39,14 @@ use crate::mesh::Mesh;
 use crate::mesh::generate::SCENES;
 use crate::render::camera::Projection;
 use crate::render::curves::CurveOverlay;
-use crate::render::figure::{
+use crate::app::figure::{
     CurvatureChoice, Figure, FigureJob, FigureMode, FigureSurface, View, framing_camera,
     render_figure,
 };
 use crate::render::job::DEFAULT_FOV;
 use crate::render::output::{output_stem, with_suffix, write_exr, write_rgb_png};
-use crate::render::scene::{CameraSection, SceneFile};
-use crate::render::toml_input::{self, exact};
+use crate::app::scene::{CameraSection, SceneFile};
+use crate::app::toml_input::{self, exact};
 use crate::schemes;
 
 /// A figure spec as written.

@@ -2,16 +2,26 @@
 //! warnings, building schemes with timing, measuring, exporting, and formatting tables. Each
 //! command returns an [`Output`] (text for stdout plus warnings) so that it can be tested
 //! without running the binary.
+//!
+//! This is the command layer: it alone turns files and flags into values for the library
+//! below (a mesh, a scheme run, a [`crate::render::RenderJob`]) and writes results. The
+//! `render` and `figure` commands and the built-in gallery live in [`render`], [`scene`],
+//! [`gallery`] and [`figure`].
+
+pub mod figure;
+pub mod gallery;
+pub mod render;
+pub mod scene;
+pub mod toml_input;
 
 use std::path::Path;
-use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::export::{self, Format};
 use crate::files::{check_writable, write_atomic};
 use crate::mesh::{LoadOptions, Mesh};
 use crate::metrics::Metrics;
-use crate::schemes::{self, SCHEMES};
+use crate::schemes::{self, SCHEMES, build_timed};
 use crate::surface::Surface;
 
 /// The `--scheme` value that selects every registered scheme.
@@ -49,17 +59,6 @@ pub fn parse_weld_tolerance(text: &str) -> std::result::Result<f64, String> {
 /// Parses every `--param name=value`.
 pub fn parse_params(raw: &[String]) -> Result<Vec<(String, String)>> {
     raw.iter().map(|p| schemes::parse_param(p)).collect()
-}
-
-/// Builds `scheme` on `mesh` and returns the surface with the construction time in ms.
-pub fn build_timed(
-    scheme: &str,
-    mesh: &Mesh,
-    params: &[(String, String)],
-) -> Result<(Surface, f64)> {
-    let start = Instant::now();
-    let surface = schemes::build(scheme, mesh, params)?;
-    Ok((surface, start.elapsed().as_secs_f64() * 1e3))
 }
 
 /// One scheme to run, with the parameters meant for it.

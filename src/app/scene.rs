@@ -43,13 +43,20 @@ use serde::Deserialize;
 use crate::error::{Error, Result};
 use crate::mesh::{LoadOptions, check_weld_tolerance};
 use crate::render::bvh::SubdivisionCriterion;
+use crate::render::film::RenderSettings;
+use crate::render::job::{CameraSpec, DEFAULT_FOV, Geometry, RenderJob};
 use crate::render::curves::CurveOverlay;
 use crate::render::modes::{
     CurvatureParams, CurvatureQuantity, CurvatureRange, HighlightParams, IsophoteParams, Mode,
     Overlay, ZebraParams,
 };
 use crate::render::shaded::{Environment, LatLongMap, ShadedParams};
-use crate::render::toml_input::{self, exact};
+use crate::app::toml_input::{self, exact};
+
+/// Default image size.
+pub const DEFAULT_SIZE: [u32; 2] = [640, 480];
+/// Default samples per pixel.
+pub const DEFAULT_SPP: u32 = 4;
 
 /// A scene file as written (every key optional).
 #[derive(Clone, Debug, Default, Deserialize)]
@@ -300,6 +307,62 @@ impl SceneFile {
                 (k.clone(), text)
             })
             .collect()
+    }
+
+    /// The validated render job of this scene: every key checked once, defaults filled in.
+    pub fn job(&self) -> Result<RenderJob> {
+        let r = &self.render;
+        let [width, height] = r.size.unwrap_or(DEFAULT_SIZE);
+        if width == 0 || height == 0 || width > 16384 || height > 16384 {
+            return Err(Error::Invalid(format!(
+                "render.size {width}x{height} must be between 1 and 16384 per side"
+            )));
+        }
+        let spp = r.spp.unwrap_or(DEFAULT_SPP);
+        if spp == 0 || spp > 65536 {
+            return Err(Error::Invalid(format!(
+                "render.spp {spp} must be in 1..=65536"
+            )));
+        }
+        let mut settings = RenderSettings {
+            width,
+            height,
+            spp,
+            mode: self.mode()?,
+            overlay: self.overlay()?,
+            seed: r.seed.unwrap_or(0),
+            surface: r.surface.unwrap_or(true),
+            ..RenderSettings::default()
+        };
+        if let Some(bg) = r.background {
+            if bg.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+                return Err(Error::Invalid(format!(
+                    "render.background {bg:?} must be non-negative"
+                )));
+            }
+            settings.background = DVec3::from_array(bg);
+        }
+        let c = &self.camera;
+        let camera = CameraSpec {
+            eye: c.eye.map(DVec3::from_array),
+            target: c.target.map(DVec3::from_array),
+            up: c.up.map(DVec3::from_array),
+            fov_deg: c.fov.unwrap_or(DEFAULT_FOV),
+            orthographic: c.ortho.unwrap_or(false),
+        };
+        let geometry = match r.tessellate {
+            Some(n) => Geometry::Tessellated(n),
+            None => Geometry::Exact {
+                criterion: self.criterion()?,
+                max_leaves: self.max_leaves()?,
+            },
+        };
+        Ok(RenderJob {
+            settings,
+            camera,
+            curves: self.curve_overlay()?,
+            geometry,
+        })
     }
 
     /// The subdivision criterion (defaults where unset).

@@ -267,7 +267,7 @@ pub fn build_blend(
             Ok(Patch {
                 face: f as u32,
                 piece: 0,
-                domain: crate::schemes::flat::FULL_FACE,
+                domain: crate::surface::WHOLE_FACE,
                 geometry: PatchGeometry::Blend(BlendPatch::new(family, subs)),
             })
         })

@@ -52,7 +52,7 @@ use crate::bezier::TriangleBezier;
 use crate::blend::WeightFamily;
 use crate::error::Result;
 use crate::mesh::Mesh;
-use crate::schemes::blend::{EdgeFrame, EdgeFrames, blend_params, build_blend};
+use crate::schemes::boundary_blend::{EdgeFrame, EdgeFrames, blend_params, build_blend};
 use crate::schemes::{Params, SchemeSpec};
 use crate::surface::Surface;
 

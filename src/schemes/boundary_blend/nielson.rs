@@ -38,7 +38,7 @@ use crate::bezier::{CurveBezier, TriangleBezier};
 use crate::blend::WeightFamily;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::schemes::blend::{EdgeFrames, blend_params, build_blend};
+use crate::schemes::boundary_blend::{EdgeFrames, blend_params, build_blend};
 use crate::schemes::{Params, SchemeSpec};
 use crate::surface::Surface;
 
