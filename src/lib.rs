@@ -19,5 +19,7 @@ pub mod render;
 pub mod report;
 pub mod schemes;
 pub mod surface;
+#[doc(hidden)]
+pub mod testing;
 
 pub use error::{Error, Result};

@@ -135,35 +135,15 @@ fn bow_tie_names_the_vertex() {
     assert_fails_naming(&out, &["vertex 0", "non-manifold"]);
 }
 
-/// A Möbius strip of `n` quads (2n triangles) with its geometry, so no face is degenerate.
-fn moebius(n: usize) -> String {
-    let mut obj = String::new();
-    for i in 0..n {
-        let s = std::f64::consts::TAU * i as f64 / n as f64;
-        for w in [0.3, -0.3] {
-            let r = 1.0 + w * (s / 2.0).cos();
-            obj += &format!(
-                "v {} {} {}\n",
-                r * s.cos(),
-                r * s.sin(),
-                w * (s / 2.0).sin()
-            );
-        }
-    }
-    // Vertex 2i+1 is (i, top), 2i+2 is (i, bottom) in OBJ numbering; the last quad closes the
-    // strip with a half twist (top meets bottom).
-    for i in 0..n {
-        let (t, b) = (2 * i + 1, 2 * i + 2);
-        let (t1, b1) = if i + 1 < n { (t + 2, b + 2) } else { (2, 1) };
-        obj += &format!("f {t} {b} {b1}\nf {t} {b1} {t1}\n");
-    }
-    obj
-}
-
 #[test]
 fn moebius_strip_is_not_orientable() {
     let dir = scratch("moebius");
-    let out = metrics_of(&dir, "moebius.obj", &moebius(8), &["--scheme", "flat"]);
+    let out = metrics_of(
+        &dir,
+        "moebius.obj",
+        &smoothlab::mesh::generate::to_obj(&smoothlab::mesh::generate::bad::mobius_strip(8)),
+        &["--scheme", "flat"],
+    );
     assert_fails_naming(&out, &["not orientable", "edge ("]);
 }
 
@@ -906,20 +886,9 @@ fn bvh_settings_and_size_are_bounded() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
 }
 
-/// OBJ text of unwelded triangles, coordinates in Rust's shortest round-trip form.
-fn obj_text((positions, faces): smoothlab::mesh::generate::Triangles) -> String {
-    let vertices = positions
-        .iter()
-        .map(|p| format!("v {} {} {}\n", p.x, p.y, p.z));
-    let faces = faces
-        .iter()
-        .map(|[a, b, c]| format!("f {} {} {}\n", a + 1, b + 1, c + 1));
-    vertices.chain(faces).collect()
-}
-
 /// The 12 × 8 torus with both seams written twice, the copies differing by rounding.
 fn seamed_torus_obj() -> String {
-    obj_text(smoothlab::mesh::generate::bad::seamed_torus(12, 8))
+    smoothlab::mesh::generate::to_obj(&smoothlab::mesh::generate::bad::seamed_torus(12, 8))
 }
 
 /// Asserts success with exactly one stderr line, the welding warning.
@@ -1172,10 +1141,6 @@ fn small_render(dir: &Path, extra: &[&str]) -> Output {
     smoothlab(&args)
 }
 
-fn path_arg(path: &Path) -> &str {
-    path.to_str().expect("utf-8 path")
-}
-
 /// The names in `dir`, sorted.
 fn listing(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
@@ -1196,10 +1161,10 @@ fn closed_stdout_pipe_exits_quietly() {
     let stem = dir.join("r");
     let runs: [&[&str]; 3] = [
         &["schemes"],
-        &["metrics", path_arg(&mesh), "--scheme", "flat"],
+        &["metrics", path_str(&mesh), "--scheme", "flat"],
         &[
             "render",
-            path_arg(&mesh),
+            path_str(&mesh),
             "--scheme",
             "flat",
             "--size",
@@ -1207,7 +1172,7 @@ fn closed_stdout_pipe_exits_quietly() {
             "--spp",
             "1",
             "-o",
-            path_arg(&stem),
+            path_str(&stem),
         ],
     ];
     for args in runs {
@@ -1226,7 +1191,7 @@ fn full_stdout_is_one_error_line() {
     let mesh = write(&dir, "tet.obj", TETRAHEDRON);
     let runs: [&[&str]; 2] = [
         &["schemes"],
-        &["metrics", path_arg(&mesh), "--scheme", "flat"],
+        &["metrics", path_str(&mesh), "--scheme", "flat"],
     ];
     for args in runs {
         let full = std::fs::OpenOptions::new()
@@ -1242,18 +1207,18 @@ fn full_stdout_is_one_error_line() {
 #[test]
 fn output_names_keep_their_dots_and_refuse_folders_and_devices() {
     let dir = scratch("output-names");
-    let out = small_render(&dir, &["-o", path_arg(&dir.join("o/run.v2"))]);
+    let out = small_render(&dir, &["-o", path_str(&dir.join("o/run.v2"))]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert_eq!(listing(&dir.join("o")), ["run.v2.exr", "run.v2.png"]);
 
-    let out = small_render(&dir, &["-o", path_arg(&dir.join("o/plain.png"))]);
+    let out = small_render(&dir, &["-o", path_str(&dir.join("o/plain.png"))]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(dir.join("o/plain.png").is_file() && dir.join("o/plain.exr").is_file());
 
     let folder = format!("{}/", dir.join("new").display());
     let out = small_render(&dir, &["-o", &folder]);
     assert_fails_naming(&out, &[&folder, "is a folder"]);
-    let out = small_render(&dir, &["-o", path_arg(&dir.join("o"))]);
+    let out = small_render(&dir, &["-o", path_str(&dir.join("o"))]);
     assert_fails_naming(&out, &["is a folder"]);
     assert!(!dir.join("o.png").exists() && !dir.join("new").exists());
 
@@ -1268,12 +1233,12 @@ fn bad_output_paths_fail_before_any_file_is_written() {
     let dir = scratch("output-paths");
     let stem = dir.join("x");
     let stats = dir.join("missing").join("s.json");
-    let out = small_render(&dir, &["-o", path_arg(&stem), "--stats", path_arg(&stats)]);
+    let out = small_render(&dir, &["-o", path_str(&stem), "--stats", path_str(&stats)]);
     assert_fails_naming(&out, &["missing", "folder does not exist"]);
     assert_eq!(listing(&dir), ["tet.obj"], "no PNG or EXR written");
 
     std::fs::create_dir(dir.join("y.exr")).expect("folder named like the EXR");
-    let out = small_render(&dir, &["-o", path_arg(&dir.join("y"))]);
+    let out = small_render(&dir, &["-o", path_str(&dir.join("y"))]);
     assert_fails_naming(&out, &["y.exr", "is a folder"]);
     assert!(
         !dir.join("y.png").exists(),
@@ -1284,11 +1249,11 @@ fn bad_output_paths_fail_before_any_file_is_written() {
     let json = dir.join("missing").join("m.json");
     let out = smoothlab(&[
         "metrics",
-        path_arg(&mesh),
+        path_str(&mesh),
         "--scheme",
         "flat",
         "--json",
-        path_arg(&json),
+        path_str(&json),
     ]);
     assert_fails_naming(&out, &["missing", "folder does not exist"]);
     assert_eq!(out.stdout, b"", "no table printed after a failure");
@@ -1312,7 +1277,7 @@ fn concurrent_renders_to_one_name_leave_readable_files() {
     let stem = dir.join("out").join("same");
     let args = [
         "render",
-        path_arg(&mesh),
+        path_str(&mesh),
         "--scheme",
         "pn",
         "--mode",
@@ -1322,7 +1287,7 @@ fn concurrent_renders_to_one_name_leave_readable_files() {
         "--spp",
         "1",
         "-o",
-        path_arg(&stem),
+        path_str(&stem),
     ];
     for round in 0..3 {
         let writers: Vec<std::process::Child> = (0..3)
@@ -1378,9 +1343,9 @@ fn scene_file_errors_are_one_line_with_file_line_and_key() {
         let scene = write(
             &dir,
             name,
-            &format!("mesh = \"{}\"\n{body}", path_arg(&mesh)),
+            &format!("mesh = \"{}\"\n{body}", path_str(&mesh)),
         );
-        let out = smoothlab(&["render", path_arg(&scene), "-o", path_arg(&dir.join("x"))]);
+        let out = smoothlab(&["render", path_str(&scene), "-o", path_str(&dir.join("x"))]);
         assert_fails_naming(&out, &[&format!("error: {}:{expected}", scene.display())]);
     }
 }
@@ -1390,10 +1355,10 @@ fn scene_file_errors_are_one_line_with_file_line_and_key() {
 fn far_cameras_render_or_name_the_value() {
     let dir = scratch("far-camera");
     for eye in ["1e300,0,0", "-1e300,1e300,3"] {
-        let out = small_render(&dir, &["--eye", eye, "-o", path_arg(&dir.join("far"))]);
+        let out = small_render(&dir, &["--eye", eye, "-o", path_str(&dir.join("far"))]);
         assert!(out.status.success(), "eye {eye}: {}", stderr(&out));
     }
-    let out = small_render(&dir, &["--fov", "1e-300", "-o", path_arg(&dir.join("f"))]);
+    let out = small_render(&dir, &["--fov", "1e-300", "-o", path_str(&dir.join("f"))]);
     assert_fails_naming(&out, &["field of view 1e-300°", "at least"]);
     let out = small_render(&dir, &["--eye", "1,2,3", "--target", "1,2,3"]);
     assert_fails_naming(&out, &["coincide"]);
@@ -1405,7 +1370,7 @@ fn up_applies_to_automatic_framing() {
     let dir = scratch("up");
     let png = |name: &str, extra: &[&str]| {
         let stem = dir.join(name);
-        let mut args = vec!["-o", path_arg(&stem)];
+        let mut args = vec!["-o", path_str(&stem)];
         args.extend_from_slice(extra);
         let out = small_render(&dir, &args);
         assert!(out.status.success(), "{name}: {}", stderr(&out));
@@ -1457,7 +1422,7 @@ fn compare_gates_that_cannot_fail_are_errors() {
     };
     let old = report("old.json", 1, &[("hb", 0.0), ("pn", 0.1)]);
     let worse = report("worse.json", 1, &[("hb", 1.0), ("pn", 0.1)]);
-    let out = smoothlab(&["compare", path_arg(&old), path_arg(&worse)]);
+    let out = smoothlab(&["compare", path_str(&old), path_str(&worse)]);
     assert_eq!(
         out.status.code(),
         Some(1),
@@ -1473,14 +1438,14 @@ fn compare_gates_that_cannot_fail_are_errors() {
         ("--time-ratio", "0"),
         ("--time-ratio", "-1"),
     ] {
-        let out = smoothlab(&["compare", path_arg(&old), path_arg(&worse), flag, value]);
+        let out = smoothlab(&["compare", path_str(&old), path_str(&worse), flag, value]);
         assert_fails_naming(&out, &[&format!("{flag} {value}")]);
     }
 
     let duplicate = report("dup.json", 1, &[("hb", 0.0), ("pn", 0.1), ("hb", 0.0)]);
-    let out = smoothlab(&["compare", path_arg(&old), path_arg(&duplicate)]);
+    let out = smoothlab(&["compare", path_str(&old), path_str(&duplicate)]);
     assert_fails_naming(&out, &["dup.json", "records 0 and 2 are both cube / hb"]);
     let v2 = report("v2.json", 2, &[("hb", 0.0), ("pn", 0.1)]);
-    let out = smoothlab(&["compare", path_arg(&v2), path_arg(&old)]);
+    let out = smoothlab(&["compare", path_str(&v2), path_str(&old)]);
     assert_fails_naming(&out, &["v2.json", "version 2"]);
 }

@@ -5,9 +5,9 @@
 use std::path::PathBuf;
 
 use glam::DVec3;
+use smoothlab::app::render::{RenderArgs, render_command};
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::{Triangles, icosahedron, mixed_valence};
-use smoothlab::app::render::{RenderArgs, render_command};
 use smoothlab::render::intersect::IntersectCounters;
 use smoothlab::render::output::EXR_CHANNELS;
 use smoothlab::render::sampler::{sphere_direction, uniform};
@@ -59,16 +59,9 @@ fn hb_with_valence_16_vertices_is_watertight_from_inside() {
     );
 }
 
-fn write_obj(dir: &std::path::Path, (positions, faces): Triangles) -> PathBuf {
-    let mut text = String::new();
-    for p in positions {
-        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
-    }
-    for f in faces {
-        text += &format!("f {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1);
-    }
+fn write_obj(dir: &std::path::Path, triangles: Triangles) -> PathBuf {
     let path = dir.join("mesh.obj");
-    std::fs::write(&path, text).expect("write obj");
+    std::fs::write(&path, smoothlab::mesh::generate::to_obj(&triangles)).expect("write obj");
     path
 }
 

@@ -5,14 +5,14 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::app::figure::{
+    CurvatureChoice, FigureJob, FigureMode, FigureSurface, View, framing_camera, render_figure,
+};
 use crate::error::Result;
 use crate::files::{check_writable, create_folder};
 use crate::mesh::Mesh;
 use crate::mesh::generate::deformed_icosahedron;
 use crate::render::curves::CurveOverlay;
-use crate::app::figure::{
-    CurvatureChoice, FigureJob, FigureMode, FigureSurface, View, framing_camera, render_figure,
-};
 use crate::render::modes::{CurvatureParams, Mode};
 use crate::render::output::{write_png, write_rgb_png};
 use crate::render::stats::RenderStats;

@@ -4,11 +4,11 @@
 use std::path::PathBuf;
 
 use crate::app::parse_weld_tolerance;
+use crate::app::scene::SceneFile;
 use crate::error::{Error, Result};
 use crate::files::check_writable;
 use crate::mesh::Mesh;
 use crate::render::output::{prepare_outputs, write_outputs};
-use crate::app::scene::SceneFile;
 use crate::render::stats::RenderStats;
 use crate::schemes;
 

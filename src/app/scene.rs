@@ -40,18 +40,18 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use serde::Deserialize;
 
+use crate::app::toml_input::{self, exact};
 use crate::error::{Error, Result};
 use crate::mesh::{LoadOptions, check_weld_tolerance};
 use crate::render::bvh::SubdivisionCriterion;
+use crate::render::curves::CurveOverlay;
 use crate::render::film::RenderSettings;
 use crate::render::job::{CameraSpec, DEFAULT_FOV, Geometry, RenderJob};
-use crate::render::curves::CurveOverlay;
 use crate::render::modes::{
     CurvatureParams, CurvatureQuantity, CurvatureRange, HighlightParams, IsophoteParams, Mode,
     Overlay, ZebraParams,
 };
 use crate::render::shaded::{Environment, LatLongMap, ShadedParams};
-use crate::app::toml_input::{self, exact};
 
 /// Default image size.
 pub const DEFAULT_SIZE: [u32; 2] = [640, 480];

@@ -193,7 +193,8 @@ impl CurveBezier {
 #[cfg(test)]
 mod tests {
     use crate::bezier::CurveBezier;
-    use crate::bezier::test_support::{Rng, curve_bernstein_sum, rel_err, scale_of};
+    use crate::bezier::test_support::{curve_bernstein_sum, rel_err, scale_of};
+    use crate::testing::Rng;
     use glam::DVec3;
 
     /// 1..=7 as specified, plus 0 and degrees on the heap path.

@@ -285,7 +285,8 @@ impl TriangleBezier {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bezier::test_support::{Rng, bernstein_partial, bernstein_sum, rel_err, scale_of};
+    use crate::bezier::test_support::{bernstein_partial, bernstein_sum, rel_err, scale_of};
+    use crate::testing::Rng;
 
     /// Degrees the property tests run over: 1..=7 as specified, plus 0 and the heap path above
     /// [`MAX_STACK_DEGREE`].

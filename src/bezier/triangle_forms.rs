@@ -118,7 +118,8 @@ impl TriangleBezier {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bezier::test_support::{Rng, rel_err, scale_of};
+    use crate::bezier::test_support::{rel_err, scale_of};
+    use crate::testing::Rng;
 
     /// 1..=7 as specified, plus 0 and degrees on the heap path of the evaluator.
     const DEGREES: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 11];

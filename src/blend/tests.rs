@@ -1,7 +1,7 @@
 //! Tests of [`BlendPatch`]: exact derivatives, corners, edges and bounds.
 
 use super::*;
-use crate::schemes::testing::Lcg;
+use crate::testing::Rng;
 use glam::DVec2;
 
 const FAMILIES: [WeightFamily; 5] = [
@@ -12,14 +12,14 @@ const FAMILIES: [WeightFamily; 5] = [
     WeightFamily::FangMann { t: 3 },
 ];
 
-fn random_point(rng: &mut Lcg) -> DVec3 {
+fn random_point(rng: &mut Rng) -> DVec3 {
     DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5
 }
 
 /// Three random cubics; the two sub-surfaces through each corner share that corner point
 /// (as both families require), the third is free there.
 fn random_blend(family: WeightFamily, seed: u64) -> BlendPatch {
-    let mut rng = Lcg(seed);
+    let mut rng = Rng::new(seed);
     let vertices = [DVec3::X, DVec3::Y, DVec3::Z];
     let subs = std::array::from_fn(|owner| {
         TriangleBezier::from_fn(3, |i, j, k| {
@@ -37,7 +37,7 @@ fn random_blend(family: WeightFamily, seed: u64) -> BlendPatch {
     BlendPatch::new(family, subs)
 }
 
-fn random_uv(rng: &mut Lcg) -> (f64, f64) {
+fn random_uv(rng: &mut Rng) -> (f64, f64) {
     let (u, v) = (rng.next_f64(), rng.next_f64());
     if u + v > 1.0 {
         (1.0 - u, 1.0 - v)
@@ -58,7 +58,7 @@ fn derivative(f: impl Fn(f64) -> DVec3, h: f64) -> DVec3 {
 fn jet_matches_differences_of_eval() {
     for (n, family) in FAMILIES.into_iter().enumerate() {
         let patch = random_blend(family, 17 + n as u64);
-        let mut rng = Lcg(3);
+        let mut rng = Rng::new(3);
         for _ in 0..50 {
             let (u, v) = random_uv(&mut rng);
             if u < 0.05 || v < 0.05 || u + v > 0.95 {
@@ -186,7 +186,7 @@ fn corners_are_the_vertices_and_finite() {
 /// The blend over random sub-triangles stays inside the bounds.
 #[test]
 fn bounds_contain_the_blend() {
-    let mut rng = Lcg(11);
+    let mut rng = Rng::new(11);
     for (n, family) in FAMILIES.into_iter().enumerate() {
         let patch = random_blend(family, 90 + n as u64);
         let full = patch.control_bounds();
@@ -214,7 +214,7 @@ fn bounds_contain_the_blend() {
 /// The Newton fast path gives the jet's position and tangents.
 #[test]
 fn point_and_tangents_match_the_jet() {
-    let mut rng = Lcg(8);
+    let mut rng = Rng::new(8);
     for (n, family) in FAMILIES.into_iter().enumerate() {
         let patch = random_blend(family, 120 + n as u64);
         for _ in 0..100 {
@@ -237,7 +237,7 @@ fn point_and_tangents_match_the_jet() {
 /// with differences of the jet's second derivatives.
 #[test]
 fn partials_match_the_jet() {
-    let mut rng = Lcg(21);
+    let mut rng = Rng::new(21);
     for (n, family) in FAMILIES.into_iter().enumerate() {
         let patch = random_blend(family, 150 + n as u64);
         for _ in 0..30 {

@@ -73,7 +73,7 @@ pub fn weights<S: Scalar>(family: WeightFamily, b: [S; 3]) -> [S; 3] {
 mod tests {
     use super::*;
     use crate::blend::scalar_jet::ScalarJet;
-    use crate::schemes::testing::Lcg;
+    use crate::testing::Rng;
 
     const FAMILIES: [WeightFamily; 6] = [
         WeightFamily::Nielson { power: 1 },
@@ -114,7 +114,7 @@ mod tests {
 
     #[test]
     fn match_the_poster_and_sum_to_one() {
-        let mut rng = Lcg(5);
+        let mut rng = Rng::new(5);
         for family in FAMILIES {
             for _ in 0..200 {
                 let (u, v) = (rng.next_f64(), rng.next_f64());

@@ -128,7 +128,7 @@ pub fn to_json(surface: &Surface, mesh: &Mesh) -> Result<String> {
 mod tests {
     use super::*;
     use crate::metrics::{Metrics, normal_angle};
-    use crate::schemes::testing::mesh;
+    use crate::testing::mesh;
 
     /// For every scheme with one patch per face, the largest normal angle in the samples is
     /// the metrics' G1 figure (same points, same evaluation); for hb (four patches per face)

@@ -383,7 +383,7 @@ mod tests {
         let (mesh, _) = load(bad::seamed_torus(12, 8)).unwrap();
         let surface = crate::schemes::build("hb", &mesh, &[]).expect("hb on the welded torus");
         let metrics = crate::metrics::Metrics::measure(&surface, &mesh, 0.0);
-        let figures = crate::schemes::testing::assert_g1_joints(&metrics, "seamed torus");
+        let figures = crate::testing::assert_g1_joints(&metrics, "seamed torus");
         eprintln!("seamed torus, hb: {figures:?}");
     }
 
@@ -442,7 +442,7 @@ mod tests {
     fn grid_welding_matches_brute_force() {
         // Points in the unit cube, each followed by copies at distances up to twice the
         // tolerance in random directions, welded by the grid and by comparing every pair.
-        let mut random = crate::schemes::testing::Lcg(3);
+        let mut random = crate::testing::Rng::new(3);
         let mut unit = || random.next_f64();
         for tolerance in [0.0, 1e-15, 1e-9, 1e-3, 3e-2] {
             let mut positions: Vec<DVec3> = Vec::new();
@@ -508,7 +508,7 @@ mod tests {
         let sphere = generate::analytic::sphere(7);
         let mut positions = Vec::with_capacity(3 * sphere.faces.len());
         let mut faces = Vec::with_capacity(sphere.faces.len());
-        let mut jitter = crate::schemes::testing::Lcg(7);
+        let mut jitter = crate::testing::Rng::new(7);
         for face in &sphere.faces {
             let base = positions.len() as u32;
             for &v in face {

@@ -278,7 +278,7 @@ mod tests {
     /// The second-derivative bound holds at sampled points in sampled directions.
     #[test]
     fn second_derivative_bound_holds() {
-        let surface = crate::render::fixtures::octahedron_sphere(5, 1.7, 0);
+        let surface = crate::testing::surfaces::octahedron_sphere(5, 1.7, 0);
         for patch in &surface.patches {
             let net = patch.as_bezier().expect("Bézier patch");
             let bound = second_derivative_bound(net);

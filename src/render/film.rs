@@ -390,9 +390,9 @@ fn render_tile<T: SurfaceTracer>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::fixtures::octahedron_sphere;
     use crate::render::intersect::Tracer;
     use crate::render::modes::ZebraParams;
+    use crate::testing::surfaces::octahedron_sphere;
 
     fn small_settings(mode: Mode) -> RenderSettings {
         RenderSettings {

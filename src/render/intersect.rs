@@ -482,8 +482,8 @@ pub(crate) fn closest_in_bvh(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::fixtures::{height_field_patch, octahedron_sphere};
     use crate::render::sampler::{sphere_direction, uniform};
+    use crate::testing::surfaces::{height_field_patch, octahedron_sphere};
 
     /// Every sampled point of a leaf's sub-patch lies in its oriented box.
     #[test]
@@ -556,7 +556,7 @@ mod tests {
         }
         assert_eq!(misses, 0, "{misses} of {rays} rays escaped; {counters:?}");
         // Rays aimed exactly at patch corners and edge midpoints (the seams themselves).
-        for face in crate::render::fixtures::octahedron_faces() {
+        for face in crate::testing::surfaces::octahedron_faces() {
             for target in [
                 face[0],
                 0.5 * (face[0] + face[1]),

@@ -11,7 +11,6 @@ pub mod camera;
 pub mod curves;
 pub mod evaluate;
 pub mod film;
-pub mod fixtures;
 pub mod interaction;
 pub mod intersect;
 pub mod job;

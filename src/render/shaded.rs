@@ -11,8 +11,8 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::render::intersect::{IntersectCounters, Ray64};
 use crate::render::interaction::ShadingPoint;
+use crate::render::intersect::{IntersectCounters, Ray64};
 use crate::render::sampler::uniform;
 use crate::render::trace::SurfaceTracer;
 

@@ -18,8 +18,8 @@ use rayon::prelude::*;
 use crate::error::{Error, Result};
 use crate::geom::{Aabb, Jet};
 use crate::render::bvh::{box_padding, build_params, outward_f32};
-use crate::render::intersect::{Hit, IntersectCounters, Ray64, closest_in_bvh};
 use crate::render::interaction::ShadingPoint;
+use crate::render::intersect::{Hit, IntersectCounters, Ray64, closest_in_bvh};
 use crate::render::trace::SurfaceTracer;
 use crate::surface::{Patch, Surface};
 
@@ -301,7 +301,7 @@ impl TessellatedTracer<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::fixtures::octahedron_sphere;
+    use crate::testing::surfaces::octahedron_sphere;
 
     #[test]
     fn grid_indices_are_dense() {

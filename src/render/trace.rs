@@ -3,8 +3,8 @@
 //! render loop is generic over it.
 
 use crate::geom::Aabb;
-use crate::render::intersect::{Hit, IntersectCounters, Ray64, Tracer};
 use crate::render::interaction::ShadingPoint;
+use crate::render::intersect::{Hit, IntersectCounters, Ray64, Tracer};
 use crate::surface::Surface;
 
 /// A surface that rays can be shot at.

@@ -3,7 +3,6 @@
 //! It is C⁰ and interpolates the vertices; its normal jumps across every edge by the dihedral
 //! angle of the mesh, which is what every smooth scheme is compared against.
 
-
 use crate::bezier::TriangleBezier;
 use crate::error::Result;
 use crate::mesh::Mesh;
@@ -41,6 +40,8 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
 
 #[cfg(test)]
 mod tests {
+    use glam::DVec3;
+
     use super::*;
 
     /// Regular tetrahedron, written out so that the test does not depend on the generators.

@@ -9,8 +9,7 @@ pub mod hb;
 pub mod loop94;
 pub mod piper;
 pub mod pn;
-#[cfg(test)]
-pub(crate) mod testing;
+
 pub mod vertex_rings;
 
 use crate::error::{Error, Result};

@@ -4,8 +4,8 @@
 
 use image::{Rgb, RgbImage};
 
-use crate::render::film::Frame;
 use crate::app::figure::font::{ADVANCE, draw_text, text_height, text_width};
+use crate::render::film::Frame;
 use crate::render::output::srgb8;
 
 /// Background of the sheet (sRGB).

@@ -33,20 +33,20 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use crate::app::figure::{
+    CurvatureChoice, Figure, FigureJob, FigureMode, FigureSurface, View, framing_camera,
+    render_figure,
+};
+use crate::app::scene::{CameraSection, SceneFile};
+use crate::app::toml_input::{self, exact};
 use crate::error::{Error, Result};
 use crate::files::{check_writable, create_folder};
 use crate::mesh::Mesh;
 use crate::mesh::generate::SCENES;
 use crate::render::camera::Projection;
 use crate::render::curves::CurveOverlay;
-use crate::app::figure::{
-    CurvatureChoice, Figure, FigureJob, FigureMode, FigureSurface, View, framing_camera,
-    render_figure,
-};
 use crate::render::job::DEFAULT_FOV;
 use crate::render::output::{output_stem, with_suffix, write_exr, write_rgb_png};
-use crate::app::scene::{CameraSection, SceneFile};
-use crate::app::toml_input::{self, exact};
 use crate::schemes;
 
 /// A figure spec as written.

@@ -29,6 +29,12 @@ use crate::error::{Error, Result};
 /// Vertex positions and counter-clockwise faces (outward normals for closed meshes).
 pub type Triangles = (Vec<DVec3>, Vec<[u32; 3]>);
 
+/// OBJ text of generated triangles as they are (unwelded, unvalidated), coordinates in
+/// Rust's shortest round-trip form, so a test can hand any of them to the command line.
+pub fn to_obj((positions, faces): &Triangles) -> String {
+    super::obj::write("", positions, faces)
+}
+
 /// The golden ratio, which places the icosahedron's vertices.
 const PHI: f64 = 1.618_033_988_749_895;
 

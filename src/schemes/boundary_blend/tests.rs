@@ -3,9 +3,9 @@
 
 use crate::mesh::{Mesh, NormalSource};
 use crate::metrics::{Metrics, normal_angle};
-use crate::schemes::testing::{closed_test_meshes, mesh, params};
 use crate::schemes::{SchemeSpec, build as build_scheme};
 use crate::surface::{Surface, UV_CORNERS};
+use crate::testing::{closed_test_meshes, mesh, params};
 
 use super::{fang_mann, nielson};
 

@@ -408,7 +408,7 @@ mod tests {
     use super::*;
     use crate::bezier::TriangleBezier;
     use crate::schemes::gk::jets::lattice_jump;
-    use crate::schemes::testing::Lcg;
+    use crate::testing::Rng;
 
     /// Loop's quartic box-spline patch [issue 8]: the 12-point subnet numbered row by row
     /// 0 1 2 / 3 4 5 6 / 7 8 9 / 10 11, corners b400 = v4, b040 = v8, b004 = v5, ×1/24.
@@ -532,7 +532,7 @@ mod tests {
     #[test]
     fn neighbouring_patches_join_with_exactly_c_k() {
         for k in 1..=4usize {
-            let mut rng = Lcg(17 + k as u64);
+            let mut rng = Rng::new(17 + k as u64);
             let mut values: HashMap<ControlSite, DVec3> = HashMap::new();
             let mut value = |site: ControlSite| {
                 *values

@@ -90,7 +90,7 @@ pub fn face_of(mesh: &Mesh, x: u32, y: u32, z: u32) -> Option<u32> {
 mod tests {
     use super::*;
     use crate::mesh::generate;
-    use crate::schemes::testing::mesh;
+    use crate::testing::mesh;
 
     /// On the all-regular torus every chart of radius 2 is regular and holds the 27 points of
     /// a k = 4 subnet, all distinct; on an icosahedron (valence 5) no chart of radius ≥ 1 is.

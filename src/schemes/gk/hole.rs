@@ -252,7 +252,7 @@ mod tests {
     use super::*;
     use crate::schemes::gk::refine::prepare;
     use crate::schemes::gk::regular::regular_patches;
-    use crate::schemes::testing::closed_test_meshes;
+    use crate::testing::closed_test_meshes;
 
     /// For every irregular vertex of valence 3..=16 and k = 1..4: 4n patches of degree 2d on
     /// distinct faces (the n faces around the vertex and the 3n of ring 2); for k ≤ 2, where

@@ -172,7 +172,7 @@ mod tests {
     use super::*;
     use crate::metrics::{Metrics, continuity};
     use crate::schemes::gk::jets::lattice_jump;
-    use crate::schemes::testing::{closed_test_meshes, params};
+    use crate::testing::{closed_test_meshes, params};
 
     /// Faces without a regular subnet around one irregular vertex of valence n: ring 1 for
     /// k = 1, 2 (n faces), rings 1 and 2 for k = 3, 4 (n + 3n faces).

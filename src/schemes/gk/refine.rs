@@ -178,7 +178,7 @@ pub fn prepare(mesh: &Mesh, k: usize) -> Result<RefinedNet> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::schemes::testing::closed_test_meshes;
+    use crate::testing::closed_test_meshes;
 
     /// Every closed test mesh is refined until its irregular vertices are k + 2 apart, with 4
     /// faces per face per level, domains that tile each input face (areas sum to 1), and the

@@ -245,7 +245,7 @@ fn offset(mesh: &Mesh, x: u32, neighbour: u32, dir_of_neighbour: usize) -> Optio
 mod tests {
     use super::*;
     use crate::schemes::gk::refine::prepare;
-    use crate::schemes::testing::closed_test_meshes;
+    use crate::testing::closed_test_meshes;
 
     #[test]
     fn wedges_name_sectors_and_rings() {

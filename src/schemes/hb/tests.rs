@@ -7,9 +7,7 @@ use glam::{DMat3, DVec3};
 use super::*;
 use crate::mesh::generate;
 use crate::metrics::Metrics;
-use crate::schemes::testing::{
-    JointFigures, Lcg, assert_g1_joints, closed_test_meshes, mesh, params,
-};
+use crate::testing::{JointFigures, Rng, assert_g1_joints, closed_test_meshes, mesh, params};
 
 fn check(mesh_name: &str, mesh: &Mesh, p: &Params, interpolates: bool) {
     let surface = build(mesh, p).expect("hb builds on a closed mesh");
@@ -55,7 +53,7 @@ fn g1_between_faces_c1_inside_and_interpolation_with_default_parameters() {
 
 #[test]
 fn g1_with_random_shape_parameters() {
-    let mut rng = Lcg(0x5eed);
+    let mut rng = Rng::new(0x5eed);
     let mut rnd = move || rng.next_f64();
     for (name, mesh) in closed_test_meshes() {
         for _ in 0..3 {

@@ -114,13 +114,8 @@ mod tests {
 
     /// A deterministic, irregular one-ring: neighbours roughly around v, with noise.
     fn ring(n: usize, seed: u64) -> Vec<DVec3> {
-        let mut state = seed;
-        let mut rnd = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5
-        };
+        let mut rng = crate::testing::Rng::new(seed);
+        let mut rnd = move || rng.next_f64() - 0.5;
         (0..n)
             .map(|j| {
                 let a = 2.0 * PI * j as f64 / n as f64 + 0.3 * rnd();

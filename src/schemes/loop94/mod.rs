@@ -111,7 +111,7 @@ pub fn max_consistency_defect(mesh: &Mesh, params: &Params) -> Result<f64> {
 mod tests {
     use super::*;
     use crate::metrics::Metrics;
-    use crate::schemes::testing::{Lcg, closed_test_meshes, params};
+    use crate::testing::{Rng, closed_test_meshes, params};
 
     fn check(name: &str, mesh: &Mesh, p: &Params, interpolates: bool) {
         let surface = build(mesh, p).expect("loop94 builds on a closed mesh");
@@ -143,7 +143,7 @@ mod tests {
 
     #[test]
     fn g1_with_random_parameters() {
-        let mut rng = Lcg(94);
+        let mut rng = Rng::new(94);
         for (name, mesh) in closed_test_meshes() {
             let alpha = format!("{}", 0.3 + 0.7 * rng.next_f64());
             let beta = format!("{}", 0.05 + 0.6 * rng.next_f64());

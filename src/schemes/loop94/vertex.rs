@@ -16,8 +16,8 @@
 
 use glam::DVec3;
 
-use crate::schemes::vertex_rings::{phi0, psi0};
 use crate::schemes::vertex_rings::RingFourier;
+use crate::schemes::vertex_rings::{phi0, psi0};
 
 /// Loop's shape parameters α and β (eq. 2).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -8,10 +8,8 @@ use glam::DVec3;
 use super::*;
 use crate::mesh::{NormalSource, generate};
 use crate::metrics::{Metrics, normal_angle};
-use crate::schemes::testing::{
-    self, JointFigures, Lcg, assert_g1_joints, closed_test_meshes, mesh,
-};
 use crate::surface::UV_CORNERS;
+use crate::testing::{self, JointFigures, Rng, assert_g1_joints, closed_test_meshes, mesh};
 
 fn params(pairs: &[(&str, &str)]) -> Params {
     testing::params(&SPEC, pairs)
@@ -283,7 +281,7 @@ fn with_obj_normals(mesh: &Mesh, normals: &[DVec3]) -> Mesh {
 /// G¹ defect, so the tilt keeps `n · face normal ≥ 0.25`.
 #[test]
 fn g1_with_tilted_normals() {
-    let mut lcg = Lcg(0x9e37_79b9);
+    let mut lcg = Rng::new(0x9e37_79b9);
     let mut random = move || lcg.next_f64() - 0.5;
     for (name, mesh) in test_meshes() {
         let estimate = mesh

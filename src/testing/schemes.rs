@@ -1,5 +1,5 @@
-//! Test support shared by the scheme modules: the meshes every G¹ scheme is measured on,
-//! parameter helpers and the acceptance bounds of a G¹ surface.
+//! The meshes every scheme is measured on, parameter helpers and the acceptance bounds of a
+//! G¹ surface.
 
 use crate::mesh::{Mesh, generate};
 use crate::metrics::Metrics;
@@ -32,20 +32,6 @@ pub fn params(spec: &SchemeSpec, pairs: &[(&str, &str)]) -> Params {
         .map(|(n, v)| (n.to_string(), v.to_string()))
         .collect();
     Params::resolve(spec, &user).expect("valid parameters")
-}
-
-/// A deterministic uniform number in [0, 1) (LCG), for randomised parameter tests.
-pub struct Lcg(pub u64);
-
-impl Lcg {
-    /// The next number.
-    pub fn next_f64(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
 }
 
 /// The joint figures of a G¹ surface: G0 gap (relative to the diagonal) and the largest normal
