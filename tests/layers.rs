@@ -1,0 +1,267 @@
+//! The layering of ARCHITECTURE.md, checked against the code: every top-level module of
+//! `src/` imports only the modules its layer allows, and no two files import each other,
+//! directly or through others.
+//!
+//! What counts as an import: every `crate::…`, `super::…` and `self::…` path in non-test code
+//! (a file's lines up to its first `#[cfg(test)]`; files named `tests.rs` or `test_support.rs`
+//! are test code), comments left out. Test code may use any module, as may `testing`, the
+//! test support shared by the unit tests, `tests/` and `benches/`.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Each top-level module and the modules it may import (the crate root's re-exports of
+/// `error` — `crate::Result`, `crate::Error` — count as `error`).
+const ALLOWED: &[(&str, &[&str])] = &[
+    ("error", &[]),
+    ("geom", &["error"]),
+    ("linalg", &["error"]),
+    ("files", &["error"]),
+    ("budget", &["error"]),
+    ("bezier", &["error", "geom", "linalg"]),
+    ("mesh", &["error", "geom", "linalg", "files", "budget"]),
+    ("blend", &["error", "geom", "linalg", "bezier"]),
+    ("surface", &["error", "geom", "linalg", "bezier", "blend"]),
+    (
+        "schemes",
+        &["error", "geom", "linalg", "bezier", "blend", "surface", "mesh"],
+    ),
+    (
+        "metrics",
+        &["error", "geom", "linalg", "bezier", "blend", "surface", "mesh"],
+    ),
+    (
+        "export",
+        &[
+            "error", "geom", "linalg", "files", "budget", "bezier", "blend", "surface", "mesh",
+        ],
+    ),
+    (
+        "render",
+        &[
+            "error", "geom", "linalg", "files", "budget", "bezier", "blend", "surface", "mesh",
+        ],
+    ),
+    (
+        "report",
+        &[
+            "error", "geom", "linalg", "files", "budget", "bezier", "blend", "surface", "mesh",
+            "schemes", "metrics", "export", "render",
+        ],
+    ),
+    (
+        "app",
+        &[
+            "error", "geom", "linalg", "files", "budget", "bezier", "blend", "surface", "mesh",
+            "schemes", "metrics", "export", "render", "report",
+        ],
+    ),
+];
+
+/// The test-support module, which may import anything and which only test code imports.
+const TESTING: &str = "testing";
+
+fn src() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).expect("read src") {
+        let path = entry.expect("dir entry").path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// The module path of a file (`src/render/modes/mod.rs` → `["render", "modes"]`).
+fn module_of(file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src()).expect("under src");
+    let mut parts: Vec<String> = rel
+        .iter()
+        .map(|p| p.to_string_lossy().trim_end_matches(".rs").to_string())
+        .collect();
+    if matches!(parts.last().map(String::as_str), Some("mod" | "lib" | "main")) {
+        parts.pop();
+    }
+    parts
+}
+
+/// The file that defines module `path`, if it is a file of its own.
+fn file_of(path: &[String]) -> Option<PathBuf> {
+    if path.is_empty() {
+        return None;
+    }
+    let base = path.iter().fold(src(), |p, part| p.join(part));
+    [base.with_extension("rs"), base.join("mod.rs")]
+        .into_iter()
+        .find(|p| p.is_file())
+}
+
+/// The non-test code of `file`, comments removed.
+fn code_of(file: &Path) -> Option<String> {
+    let name = file.file_name()?.to_string_lossy();
+    if name == "tests.rs" || name == "test_support.rs" {
+        return None;
+    }
+    let text = std::fs::read_to_string(file).expect("read source");
+    let code = text
+        .lines()
+        .take_while(|l| l.trim() != "#[cfg(test)]")
+        .map(|l| match l.find("//") {
+            Some(i) => &l[..i],
+            None => l,
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    Some(code)
+}
+
+/// Every path that starts with `crate::`, `super::` or `self::` in `code`, as module paths
+/// from the crate root (identifier segments only; a `{` ends the path).
+fn imported_paths(code: &str, module: &[String]) -> Vec<Vec<String>> {
+    let bytes = code.as_bytes();
+    let mut out = Vec::new();
+    for start in ["crate::", "super::", "self::"] {
+        let mut from = 0;
+        while let Some(i) = code[from..].find(start) {
+            let at = from + i;
+            from = at + start.len();
+            if at > 0 && (bytes[at - 1].is_ascii_alphanumeric() || bytes[at - 1] == b'_') {
+                continue;
+            }
+            // `self` is the file's own module (a `mod.rs` file is its folder's module).
+            let mut path: Vec<String> = match start {
+                "crate::" => Vec::new(),
+                "super::" => module[..module.len().saturating_sub(1)].to_vec(),
+                _ => module.to_vec(),
+            };
+            let rest = &code[from..];
+            let segment_text: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':')
+                .collect();
+            path.extend(
+                segment_text
+                    .split("::")
+                    .filter(|s| !s.is_empty())
+                    .map(str::to_string),
+            );
+            out.push(path);
+        }
+    }
+    out
+}
+
+/// For each file, the files its non-test code imports (the longest module prefix of each
+/// path that is a file).
+fn file_imports() -> BTreeMap<PathBuf, BTreeSet<PathBuf>> {
+    let mut files = Vec::new();
+    rust_files(&src(), &mut files);
+    let mut graph = BTreeMap::new();
+    for file in files {
+        let Some(code) = code_of(&file) else { continue };
+        let module = module_of(&file);
+        let mut targets = BTreeSet::new();
+        for path in imported_paths(&code, &module) {
+            let target = (1..=path.len()).rev().find_map(|n| file_of(&path[..n]));
+            if let Some(t) = target
+                && t != file
+            {
+                targets.insert(t);
+            }
+        }
+        graph.insert(file, targets);
+    }
+    graph
+}
+
+fn top_module(file: &Path) -> String {
+    module_of(file).first().cloned().unwrap_or_default()
+}
+
+#[test]
+fn every_module_imports_only_the_layers_below_it() {
+    let allowed: BTreeMap<&str, &[&str]> = ALLOWED.iter().copied().collect();
+    let mut violations = Vec::new();
+    for (file, targets) in file_imports() {
+        let from = top_module(&file);
+        if from.is_empty() || from == TESTING {
+            continue;
+        }
+        let Some(may) = allowed.get(from.as_str()) else {
+            violations.push(format!("{}: module '{from}' has no layer", file.display()));
+            continue;
+        };
+        for target in targets {
+            let to = top_module(&target);
+            if to.is_empty() || to == from || may.contains(&to.as_str()) {
+                continue;
+            }
+            violations.push(format!(
+                "{} imports {} ('{from}' may not import '{to}')",
+                file.display(),
+                target.display()
+            ));
+        }
+    }
+    assert!(violations.is_empty(), "{}", violations.join("\n"));
+}
+
+#[test]
+fn no_file_imports_itself_through_others() {
+    let graph = file_imports();
+    // Depth-first search with colours; a grey target is a cycle.
+    #[derive(Clone, Copy, PartialEq)]
+    enum Colour {
+        White,
+        Grey,
+        Black,
+    }
+    let mut colour: BTreeMap<&PathBuf, Colour> = graph.keys().map(|k| (k, Colour::White)).collect();
+    let mut cycles = Vec::new();
+    fn visit<'g>(
+        node: &'g PathBuf,
+        graph: &'g BTreeMap<PathBuf, BTreeSet<PathBuf>>,
+        colour: &mut BTreeMap<&'g PathBuf, Colour>,
+        stack: &mut Vec<&'g PathBuf>,
+        cycles: &mut Vec<String>,
+    ) {
+        colour.insert(node, Colour::Grey);
+        stack.push(node);
+        for next in graph.get(node).into_iter().flatten() {
+            match colour.get(next).copied().unwrap_or(Colour::Black) {
+                Colour::White => visit(next, graph, colour, stack, cycles),
+                Colour::Grey => {
+                    let from = stack.iter().position(|n| *n == next).unwrap_or(0);
+                    let names: Vec<String> = stack[from..]
+                        .iter()
+                        .map(|p| p.strip_prefix(src()).unwrap_or(p).display().to_string())
+                        .collect();
+                    cycles.push(names.join(" -> "));
+                }
+                Colour::Black => {}
+            }
+        }
+        stack.pop();
+        colour.insert(node, Colour::Black);
+    }
+    for node in graph.keys() {
+        if colour[node] == Colour::White {
+            visit(node, &graph, &mut colour, &mut Vec::new(), &mut cycles);
+        }
+    }
+    assert!(cycles.is_empty(), "import cycles:\n{}", cycles.join("\n"));
+}
+
+/// The check itself sees an import: the renderer's tracer imports the surface.
+#[test]
+fn the_import_scan_sees_known_imports() {
+    let graph = file_imports();
+    let intersect = src().join("render/intersect.rs");
+    assert!(graph[&intersect].contains(&src().join("surface.rs")));
+    let macro_patch = src().join("schemes/hb/macro_patch.rs");
+    assert!(graph[&macro_patch].contains(&src().join("schemes/hb/energy.rs")));
+}
