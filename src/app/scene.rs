@@ -46,7 +46,7 @@ use crate::mesh::{LoadOptions, check_weld_tolerance};
 use crate::render::bvh::SubdivisionCriterion;
 use crate::render::curves::CurveOverlay;
 use crate::render::film::RenderSettings;
-use crate::render::job::{CameraSpec, DEFAULT_FOV, Geometry, RenderJob};
+use crate::render::job::{CameraSpec, DEFAULT_FOV, DEFAULT_MAX_LEAVES, Geometry, RenderJob};
 use crate::render::modes::{
     CurvatureParams, CurvatureQuantity, CurvatureRange, HighlightParams, IsophoteParams, Mode,
     Overlay, ZebraParams,
@@ -183,8 +183,6 @@ pub const FLATNESS_RANGE: (f64, f64) = (1e-4, 1.0);
 pub const CONE_DEG_RANGE: (f64, f64) = (1.0, 90.0);
 /// Largest `bvh.max_depth` (a piece then covers 4^-16 of its patch).
 pub const MAX_DEPTH_LIMIT: u32 = 16;
-/// Default of `bvh.max_leaves`: 2^24 leaves, a few GB of BVH.
-pub const DEFAULT_MAX_LEAVES: u64 = 1 << 24;
 
 /// `[zebra]`
 #[derive(Clone, Debug, Default, Deserialize)]

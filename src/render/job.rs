@@ -111,6 +111,9 @@ impl CameraSpec {
     }
 }
 
+/// Default of the most BVH leaves a job may build: 2^24 leaves, a few GB of BVH.
+pub const DEFAULT_MAX_LEAVES: u64 = 1 << 24;
+
 /// What the rays meet: the exact patches (through a BVH of subdivided patch bounds) or a
 /// tessellation of them.
 #[derive(Clone, Debug, PartialEq)]
@@ -126,8 +129,17 @@ pub enum Geometry {
     Tessellated(u32),
 }
 
+impl Default for Geometry {
+    fn default() -> Self {
+        Geometry::Exact {
+            criterion: SubdivisionCriterion::default(),
+            max_leaves: DEFAULT_MAX_LEAVES,
+        }
+    }
+}
+
 /// A validated render job: everything but the surface.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct RenderJob {
     /// Image, mode, overlay, samples (its `curves` are filled in by [`RenderJob::render`]).
     pub settings: RenderSettings,
