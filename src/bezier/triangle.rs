@@ -9,7 +9,7 @@
 //! [Piper87 eq. 15].
 //!
 //! Every algorithm works on a control net stored in the module order (see [`index`]) and is
-//! built from one in-place kernel, [`de_casteljau_step`], which lowers a net of degree `m` to
+//! built from one in-place kernel, `de_casteljau_step`, which lowers a net of degree `m` to
 //! degree `m − 1` at one barycentric argument. For degree ≤ [`MAX_STACK_DEGREE`] the working net
 //! lives in a fixed-size stack array, so [`TriangleBezier::eval`], [`TriangleBezier::jet`] and
 //! [`TriangleBezier::blossom`] do not allocate.

@@ -1,7 +1,7 @@
 //! Boundary-blended patches: a non-polynomial patch `S = Σ w_i S_i` that blends three
 //! polynomial sub-surfaces `S_0, S_1, S_2` (Bézier triangles over the same domain) with
 //! rational weights ([`weights`]) — Nielson's side-vertex blend and Fang–Mann's `C^t` blend
-//! [FM]. Sub-surface `i` "owns" the edge opposite corner `i` (where `b_i = 0`): its weight is
+//! \[FM\]. Sub-surface `i` "owns" the edge opposite corner `i` (where `b_i = 0`): its weight is
 //! one there.
 //!
 //! What the rest of smoothlab needs from a patch, a blend provides exactly:

@@ -224,7 +224,7 @@ fn heights(partials: [&[DVec3]; 2], edge_a: usize, order: usize) -> Option<(Seri
 
 /// The rounding floor of the height coefficients of `joint` at fraction `s`, per order: how
 /// far they move when every stored control point of the two patches moves by one ulp of the
-/// largest coordinate (deterministic pseudo-random directions), times [`FLOOR_SAFETY`]. High
+/// largest coordinate (deterministic pseudo-random directions), times `FLOOR_SAFETY`. High
 /// derivatives of small, high-degree patches far from the origin are this uncertain in f64
 /// whatever the measure does (`d!/(d−m)!` times the m-th differences of points known to
 /// `ε |b|`, divided by the speed to the m-th power). Zero for patch kinds without a control

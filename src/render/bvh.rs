@@ -595,10 +595,10 @@ pub fn sampled_second_bounds(blend: &BlendPatch, tri: [DVec2; 3], normal: DVec3)
     })
 }
 
-/// Growth of the edge prism beyond the control points, relative to the leaf's box size. Roots
-/// are accepted up to [`crate::render::NewtonSettings::domain_tolerance`] (1e-7) outside the
-/// leaf, where the polynomial runs at most ~4 × degree × tolerance × size outside the hull; 1e-5
-/// covers that for every degree up to 6 with a wide margin.
+/// Growth of the edge prism beyond the control points, relative to the leaf's box size. The
+/// solver accepts roots only in the leaf's closed domain triangle (it projects its iterates
+/// into it, [`crate::render::newton`]), so the pad covers the rounding of the prism's planes
+/// and of the f32 bounds, with a wide margin for every degree up to 6.
 pub const PRISM_PAD: f64 = 1e-5;
 
 /// Largest degree given a power form (the degrees the intersection code specialises).

@@ -264,7 +264,7 @@ pub fn write(out_dir: &Path) -> Result<Report> {
     Ok(report)
 }
 
-/// Reads a `metrics.json` written by [`write`]: the format must be `smoothlab-report` of
+/// Reads a `metrics.json` written by [`write()`]: the format must be `smoothlab-report` of
 /// version [`REPORT_VERSION`], and no mesh × scheme may have two records (a comparison would
 /// silently judge only the first).
 pub fn read(path: &Path) -> Result<Report> {

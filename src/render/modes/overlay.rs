@@ -35,7 +35,7 @@ impl Overlay {
     }
 
     /// `colour` with the boundary lines painted over it; `footprint` is the world size of a
-    /// pixel at the hit, `face_edges` the patch's [`face_edge_mask`].
+    /// pixel at the hit, `face_edges` the patch's [`crate::surface::Patch::face_edge_mask`].
     pub fn apply(&self, colour: DVec3, sp: &ShadingPoint, footprint: f64, face_edges: u8) -> DVec3 {
         let jet = &sp.jet;
         let (e, f, g) = (jet.du.dot(jet.du), jet.du.dot(jet.dv), jet.dv.dot(jet.dv));

@@ -1,4 +1,4 @@
-//! The boundary-blending schemes [FM]: per face, three sub-surfaces `S_0, S_1, S_2`, `S_i`
+//! The boundary-blending schemes \[FM\]: per face, three sub-surfaces `S_0, S_1, S_2`, `S_i`
 //! owning the edge opposite corner `i`, blended by [`crate::blend::BlendPatch`] —
 //! [`nielson`] (Nielson's side-vertex weights, quartic sub-surfaces that share the face's
 //! boundary curves, G¹) and [`fang_mann`] (Fang–Mann's weights, cubic sub-surfaces cut

@@ -1,4 +1,4 @@
-//! Umlauf–Prautzsch triangular G^k splines [UP], `k = 1..4`: the input mesh is a control net
+//! Umlauf–Prautzsch triangular G^k splines \[UP\], `k = 1..4`: the input mesh is a control net
 //! (the surface approximates it, like a subdivision surface). Stages:
 //!
 //! 1. [`box_spline`]: exact Bézier nets of the symmetric three-directional box spline

@@ -1,4 +1,4 @@
-//! Hahmann–Bonneau 2000, *Triangular G¹ interpolation by 4-splitting domain triangles* [HB00]:
+//! Hahmann–Bonneau 2000, *Triangular G¹ interpolation by 4-splitting domain triangles* \[HB00\]:
 //! a piecewise quintic G¹ surface with one macro-patch of four Bézier triangles per mesh face.
 //!
 //! The construction runs in three local passes, each parallel over its elements:
@@ -7,7 +7,7 @@
 //!    (eqs. 19–23) — from the one-ring alone;
 //! 2. per edge: the curve midpoint `b3 = (b2 + b̃2)/2` (eq. 16) and `v²`, chosen so that `V` is C¹
 //!    at the midpoint (HB00 §7, the choice of §9);
-//! 3. per face ([`macro_patch`]): the four quintic nets (eqs. 24–33 and the fill of Fig. 13).
+//! 3. per face ([`mod@macro_patch`]): the four quintic nets (eqs. 24–33 and the fill of Fig. 13).
 //!
 //! `V` changes sign with the edge direction: seen from the other end `w` of an edge `v → w`,
 //! `Ψ̃(1−u) = Ψ(u)` and `Φ̃(1−u) = 1 − Φ(u)`, so (eq. 18) `Ṽ(1−u) = −V(u)`. Hence, with `v¹` and

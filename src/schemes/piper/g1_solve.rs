@@ -18,7 +18,7 @@
 //!
 //! The thesis's `C2` is garbled in the text (`2_e S1`); expanding `E·I + …` gives
 //! `C2 = ½[(e2 S1 + f2 S2 + g2 R1 + h2 T1) + (e1 S2 + f1 S3 + g1 R2 + h1 T2)]`, which is what
-//! its matrix `A` uses (tested in [`tests`] against the C_i written out).
+//! its matrix `A` uses (tested in the unit tests against the C_i written out).
 //!
 //! The rows of `A` are dependent exactly when the weights at the two ends agree
 //! (`e1 = e2, f1 = f2, g1 = g2, h1 = h2`); then the middle row is the sum of the others and
