@@ -26,13 +26,26 @@ fn main() -> smoothlab::Result<()> {
     let m = Metrics::measure(&surface, &mesh, construct_ms);
     println!("{} on {} faces: {} patches", m.scheme, m.faces, m.patches);
     let show = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.3e}"));
-    println!("  vertex interpolation (rel. to diagonal): {}", show(m.interp_max_rel));
-    println!("  G0 gap (rel. to diagonal):               {}", show(m.g0_max_rel));
-    println!("  G1 normal jump, max (rad):               {}", show(m.g1_max_rad));
-    println!("  curvature jump, max (relative):          {}", show(m.curvature_jump_max_rel));
+    println!(
+        "  vertex interpolation (rel. to diagonal): {}",
+        show(m.interp_max_rel)
+    );
+    println!(
+        "  G0 gap (rel. to diagonal):               {}",
+        show(m.g0_max_rel)
+    );
+    println!(
+        "  G1 normal jump, max (rad):               {}",
+        show(m.g1_max_rad)
+    );
+    println!(
+        "  curvature jump, max (relative):          {}",
+        show(m.curvature_jump_max_rel)
+    );
     println!(
         "  measured continuity order:               {}",
-        m.continuity_order.map_or("-".to_string(), |k| format!("G{k}"))
+        m.continuity_order
+            .map_or("-".to_string(), |k| format!("G{k}"))
     );
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! smoothlab: smooth surfaces from triangle meshes with the classical schemes of the
 //! literature, ray-traced exactly and measured.
 //!
-//! Data flow (see DESIGN.md): [`mesh::Mesh`] → [`schemes::build`] → [`surface::Surface`] →
+//! Data flow (see ARCHITECTURE.md): [`mesh::Mesh`] → [`schemes::build`] → [`surface::Surface`] →
 //! metrics, export, render.
 
 pub mod app;
@@ -21,5 +21,6 @@ pub mod schemes;
 pub mod surface;
 #[doc(hidden)]
 pub mod testing;
+pub mod tolerance;
 
 pub use error::{Error, Result};

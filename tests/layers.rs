@@ -11,49 +11,118 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// Each top-level module and the modules it may import (the crate root's re-exports of
-/// `error` — `crate::Result`, `crate::Error` — count as `error`).
+/// `error` — `crate::Result`, `crate::Error` — count as `error`; everything may name the
+/// rounding bounds of `tolerance`).
 const ALLOWED: &[(&str, &[&str])] = &[
     ("error", &[]),
-    ("geom", &["error"]),
-    ("linalg", &["error"]),
-    ("files", &["error"]),
-    ("budget", &["error"]),
-    ("bezier", &["error", "geom", "linalg"]),
-    ("mesh", &["error", "geom", "linalg", "files", "budget"]),
-    ("blend", &["error", "geom", "linalg", "bezier"]),
-    ("surface", &["error", "geom", "linalg", "bezier", "blend"]),
+    ("tolerance", &[]),
+    ("geom", &["error", "tolerance"]),
+    ("linalg", &["error", "tolerance"]),
+    ("files", &["error", "tolerance"]),
+    ("budget", &["error", "tolerance"]),
+    ("bezier", &["error", "tolerance", "geom", "linalg"]),
+    (
+        "mesh",
+        &["error", "tolerance", "geom", "linalg", "files", "budget"],
+    ),
+    ("blend", &["error", "tolerance", "geom", "linalg", "bezier"]),
+    (
+        "surface",
+        &["error", "tolerance", "geom", "linalg", "bezier", "blend"],
+    ),
     (
         "schemes",
-        &["error", "geom", "linalg", "bezier", "blend", "surface", "mesh"],
+        &[
+            "error",
+            "tolerance",
+            "geom",
+            "linalg",
+            "bezier",
+            "blend",
+            "surface",
+            "mesh",
+        ],
     ),
     (
         "metrics",
-        &["error", "geom", "linalg", "bezier", "blend", "surface", "mesh"],
+        &[
+            "error",
+            "tolerance",
+            "geom",
+            "linalg",
+            "bezier",
+            "blend",
+            "surface",
+            "mesh",
+        ],
     ),
     (
         "export",
         &[
-            "error", "geom", "linalg", "files", "budget", "bezier", "blend", "surface", "mesh",
+            "error",
+            "tolerance",
+            "geom",
+            "linalg",
+            "files",
+            "budget",
+            "bezier",
+            "blend",
+            "surface",
+            "mesh",
         ],
     ),
     (
         "render",
         &[
-            "error", "geom", "linalg", "files", "budget", "bezier", "blend", "surface", "mesh",
+            "error",
+            "tolerance",
+            "geom",
+            "linalg",
+            "files",
+            "budget",
+            "bezier",
+            "blend",
+            "surface",
+            "mesh",
         ],
     ),
     (
         "report",
         &[
-            "error", "geom", "linalg", "files", "budget", "bezier", "blend", "surface", "mesh",
-            "schemes", "metrics", "export", "render",
+            "error",
+            "tolerance",
+            "geom",
+            "linalg",
+            "files",
+            "budget",
+            "bezier",
+            "blend",
+            "surface",
+            "mesh",
+            "schemes",
+            "metrics",
+            "export",
+            "render",
         ],
     ),
     (
         "app",
         &[
-            "error", "geom", "linalg", "files", "budget", "bezier", "blend", "surface", "mesh",
-            "schemes", "metrics", "export", "render", "report",
+            "error",
+            "tolerance",
+            "geom",
+            "linalg",
+            "files",
+            "budget",
+            "bezier",
+            "blend",
+            "surface",
+            "mesh",
+            "schemes",
+            "metrics",
+            "export",
+            "render",
+            "report",
         ],
     ),
 ];
@@ -83,7 +152,10 @@ fn module_of(file: &Path) -> Vec<String> {
         .iter()
         .map(|p| p.to_string_lossy().trim_end_matches(".rs").to_string())
         .collect();
-    if matches!(parts.last().map(String::as_str), Some("mod" | "lib" | "main")) {
+    if matches!(
+        parts.last().map(String::as_str),
+        Some("mod" | "lib" | "main")
+    ) {
         parts.pop();
     }
     parts

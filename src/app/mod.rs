@@ -226,7 +226,7 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
     out
 }
 
-/// The metrics JSON of DESIGN.md: a list with one object per scheme.
+/// The metrics JSON of the README's Contracts: a list with one object per scheme.
 pub fn metrics_json(metrics: &[Metrics]) -> Result<String> {
     serde_json::to_string_pretty(metrics).map_err(|e| Error::Invalid(format!("metrics JSON: {e}")))
 }

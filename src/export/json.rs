@@ -1,4 +1,4 @@
-//! The patch JSON of DESIGN.md:
+//! The patch JSON of the README's Contracts:
 //!
 //! ```text
 //! {"format":"smoothlab-patches","version":1,"scheme":"hb","params":{...},

@@ -10,7 +10,7 @@
 //! * on a grid over every patch: the regularity `min |Su × Sv| / mean |Su × Sv|`.
 //!
 //! Lengths are relative to the bounding-box diagonal of the mesh vertices. The result
-//! serialises to the metrics JSON of DESIGN.md. Joints and patches are measured in parallel;
+//! serialises to the metrics JSON of the README's Contracts. Joints and patches are measured in parallel;
 //! the per-item results are collected in order and reduced sequentially, so every figure
 //! (including the mean) is bit-for-bit the same for any thread count.
 
@@ -32,7 +32,7 @@ use crate::surface::Surface;
 
 pub use joints::{CurvatureFloor, JOINT_SAMPLES, JointStats, normal_angle};
 
-/// The keys every object of the metrics JSON has: the contract of DESIGN.md (`continuity_order`
+/// The keys every object of the metrics JSON has: the contract in the README (`continuity_order`
 /// included) and the regularity figure. Tools reading the JSON may rely on them.
 pub const CONTRACT_KEYS: [&str; 14] = [
     "scheme",
@@ -52,7 +52,7 @@ pub const CONTRACT_KEYS: [&str; 14] = [
 ];
 
 /// The measured figures of one surface (one scheme on one mesh). Field names are the keys of
-/// the metrics JSON contract in DESIGN.md. Figures over an empty set (e.g. joints inside
+/// the metrics JSON contract in the README. Figures over an empty set (e.g. joints inside
 /// faces, for a scheme with one patch per face) are `None`, written as `null`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Metrics {

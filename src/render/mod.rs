@@ -27,8 +27,8 @@ pub mod tubes;
 
 pub use camera::{Camera, Projection};
 pub use film::{Frame, PixelGeometry, RenderSettings, render};
-pub use job::{CameraSpec, Geometry, RenderJob};
 pub use intersect::{Hit, NewtonSettings, Ray64, Tracer};
+pub use job::{CameraSpec, Geometry, RenderJob};
 pub use modes::Mode;
 pub use stats::RenderStats;
 pub use trace::SurfaceTracer;

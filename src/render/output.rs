@@ -1,4 +1,4 @@
-//! Image files: PNG (8-bit, sRGB transfer) and EXR (linear f32) with the channels of DESIGN.md:
+//! Image files: PNG (8-bit, sRGB transfer) and EXR (linear f32) with the channels of the README's Contracts:
 //! `R, G, B, Z, N.X, N.Y, N.Z, P.X, P.Y, P.Z, u, v, patch_id, face_id, K, H`.
 //!
 //! Geometry channels describe the ray through the pixel centre: `Z` is the distance from the
@@ -19,7 +19,7 @@ use crate::files::{check_writable, create_folder, ends_with_separator, write_ato
 use crate::render::film::Frame;
 use crate::render::modes::palette::linear_to_srgb;
 
-/// The EXR channel names, in the order of DESIGN.md (the file stores them sorted by name, as
+/// The EXR channel names, in the order of the README's Contracts (the file stores them sorted by name, as
 /// the format requires).
 pub const EXR_CHANNELS: [&str; 16] = [
     "R", "G", "B", "Z", "N.X", "N.Y", "N.Z", "P.X", "P.Y", "P.Z", "u", "v", "patch_id", "face_id",

@@ -4,6 +4,7 @@
 use crate::mesh::{Mesh, generate};
 use crate::metrics::Metrics;
 use crate::schemes::{Params, SchemeSpec};
+use crate::tolerance::{NORMAL_RAD, POSITION_REL};
 
 /// A validated mesh from generated triangles.
 pub fn mesh((positions, faces): generate::Triangles) -> Mesh {
@@ -47,7 +48,8 @@ pub struct JointFigures {
 }
 
 /// Asserts that the measured surface is G¹ up to round-off, between faces and between the
-/// pieces of each face: G0 gap ≤ 1e-12, normal jumps ≤ 1e-9 rad. Returns the figures.
+/// pieces of each face: G0 gap ≤ [`POSITION_REL`], normal jumps ≤ [`NORMAL_RAD`]. Returns the
+/// figures.
 pub fn assert_g1_joints(m: &Metrics, label: &str) -> JointFigures {
     let figures = JointFigures {
         gap: m.g0_max_rel.expect("joints measured"),
@@ -59,13 +61,13 @@ pub fn assert_g1_joints(m: &Metrics, label: &str) -> JointFigures {
         between,
         inside,
     } = figures;
-    assert!(gap <= 1e-12, "G0 gap {gap} on {label}");
+    assert!(gap <= POSITION_REL, "G0 gap {gap} on {label}");
     assert!(
-        between <= 1e-9,
+        between <= NORMAL_RAD,
         "normal jump between faces {between} rad on {label}"
     );
     assert!(
-        inside <= 1e-9,
+        inside <= NORMAL_RAD,
         "normal jump inside faces {inside} rad on {label}"
     );
     figures

@@ -48,9 +48,15 @@ fn check_g1(spec: &SchemeSpec, pairs: &[(&str, &str)], curvature_continuous: boo
         );
         assert_eq!(m.joints, mesh.edges().len(), "{label}: one joint per edge");
         assert!(gap <= 1e-12, "{label}: G0 gap {gap}");
-        assert!(g1 <= 1e-9, "{label}: normal jump {g1} rad");
+        assert!(
+            g1 <= crate::tolerance::NORMAL_RAD,
+            "{label}: normal jump {g1} rad"
+        );
         assert!(interp <= 1e-12, "{label}: interpolation error {interp}");
-        assert!(normal <= 1e-9, "{label}: vertex normal off by {normal} rad");
+        assert!(
+            normal <= crate::tolerance::NORMAL_RAD,
+            "{label}: vertex normal off by {normal} rad"
+        );
         assert_eq!(m.singular_samples, 0, "{label}");
         assert!(
             m.min_regularity_rel.unwrap() > 0.0,
@@ -152,7 +158,7 @@ fn open_mesh_is_accepted() {
         let surface = build(spec, &mesh, &[("t", t)]);
         let m = Metrics::measure(&surface, &mesh, 0.0);
         assert!(
-            m.g1_between_faces_max_rad.unwrap() <= 1e-9,
+            m.g1_between_faces_max_rad.unwrap() <= crate::tolerance::NORMAL_RAD,
             "{}: {m:?}",
             spec.name
         );

@@ -278,7 +278,10 @@ mod tests {
                 m.g1_inside_faces_max_rad.unwrap_or(0.0),
             );
             assert!(m.g0_max_rel.unwrap() < 1e-12, "{label}");
-            assert!(m.g1_max_rad.unwrap() < 1e-9, "{label}");
+            assert!(
+                m.g1_max_rad.unwrap() < crate::tolerance::NORMAL_RAD,
+                "{label}"
+            );
             assert_eq!(m.singular_samples, 0, "{label}");
         }
         // The geometric order of the metrics module, per kind of joint and sample.

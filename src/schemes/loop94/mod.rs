@@ -123,7 +123,10 @@ mod tests {
         let (gap, g1) = (m.g0_max_rel.unwrap(), m.g1_between_faces_max_rad.unwrap());
         eprintln!("{label}: gap {gap:.1e}, normal jump {g1:.1e} rad");
         assert!(gap <= 1e-12, "G0 gap {gap} on {label}");
-        assert!(g1 <= 1e-9, "normal jump {g1} rad on {label}");
+        assert!(
+            g1 <= crate::tolerance::NORMAL_RAD,
+            "normal jump {g1} rad on {label}"
+        );
         assert_eq!(m.singular_samples, 0, "{label}");
         if interpolates {
             let e = m.interp_max_rel.unwrap();

@@ -103,7 +103,7 @@ fn check(name: &str, mesh: &Mesh, p: &Params) -> Metrics {
     );
     assert!(interp <= 1e-12, "interpolation error {interp} on {label}");
     assert!(
-        normal_error <= 1e-9,
+        normal_error <= crate::tolerance::NORMAL_RAD,
         "vertex normal off by {normal_error} rad on {label}"
     );
     m
