@@ -11,8 +11,8 @@ use std::time::Duration;
 use common::{camera_rays, parameter_spread, ray_throughput_group, trace_all};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
+use smoothlab::mesh::generate;
 use smoothlab::mesh::generate::analytic::torus;
-use smoothlab::mesh::{Mesh, generate};
 use smoothlab::render::{SurfaceTracer, Tracer};
 use smoothlab::surface::Surface;
 
@@ -32,9 +32,7 @@ fn build(
     positions: Vec<DVec3>,
     faces: Vec<[u32; 3]>,
 ) -> Surface {
-    let mesh = Mesh::from_triangles(positions, faces)
-        .expect("valid mesh")
-        .0;
+    let mesh = smoothlab::testing::mesh((positions, faces));
     let params: Vec<(String, String)> = params
         .iter()
         .map(|(n, v)| (n.to_string(), v.to_string()))

@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use common::parameter_spread;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use smoothlab::mesh::{Mesh, generate};
+use smoothlab::mesh::generate;
 use smoothlab::schemes;
 
 mod common;
@@ -15,8 +15,7 @@ mod common;
 const SAMPLES: usize = 4096;
 
 fn evaluate(c: &mut Criterion) {
-    let (p, f) = generate::deformed_icosahedron();
-    let (mesh, _) = Mesh::from_triangles(p, f).expect("valid");
+    let mesh = smoothlab::testing::mesh(generate::deformed_icosahedron());
     let params = parameter_spread(SAMPLES);
     let mut group = c.benchmark_group("evaluate");
     group.sample_size(20);

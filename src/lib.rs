@@ -2,17 +2,37 @@
 //! literature, ray-traced exactly and measured.
 //!
 //! Data flow (see ARCHITECTURE.md): [`mesh::Mesh`] → [`schemes::build`] → [`surface::Surface`] →
-//! metrics, export, render.
+//! [`metrics::Metrics`], [`export`], [`render::RenderJob::render`].
+//!
+//! ```
+//! use smoothlab::mesh::{Mesh, generate};
+//! use smoothlab::metrics::Metrics;
+//!
+//! let (positions, faces) = generate::icosahedron();
+//! let (mesh, _report) = Mesh::from_triangles(positions, faces)?;
+//! let surface = smoothlab::schemes::build("hb", &mesh, &[])?;
+//! let metrics = Metrics::measure(&surface, &mesh, 0.0);
+//! assert!(metrics.g1_max_rad.unwrap() < smoothlab::tolerance::NORMAL_RAD);
+//! # Ok::<(), smoothlab::Error>(())
+//! ```
+//!
+//! The `examples/` folder renders a zebra image from code the same way.
 
+// Module docs describe the internals for maintainers and link to them; `cargo doc
+// --document-private-items` renders those links.
+#![allow(rustdoc::private_intra_doc_links)]
+
+// The command layer of the `smoothlab` binary: public for `main.rs`, not a library interface.
+#[doc(hidden)]
 pub mod app;
 pub mod bezier;
 pub mod blend;
-pub mod budget;
+pub(crate) mod budget;
 pub mod error;
 pub mod export;
-pub mod files;
+pub(crate) mod files;
 pub mod geom;
-pub mod linalg;
+pub(crate) mod linalg;
 pub mod mesh;
 pub mod metrics;
 pub mod render;

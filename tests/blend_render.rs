@@ -9,10 +9,7 @@ use smoothlab::render::{Ray64, Tracer};
 use smoothlab::surface::Surface;
 
 fn mesh() -> Mesh {
-    let (positions, faces) = generate::deformed_icosahedron();
-    Mesh::from_triangles(positions, faces)
-        .expect("valid mesh")
-        .0
+    smoothlab::testing::mesh(generate::deformed_icosahedron())
 }
 
 fn blends(mesh: &Mesh) -> Vec<(String, Surface)> {

@@ -17,8 +17,7 @@ fn measure(mesh: &Mesh, scheme: &str, params: &[(&str, &str)]) -> Metrics {
 }
 
 fn icosahedron() -> Mesh {
-    let (p, f) = generate::icosahedron();
-    Mesh::from_triangles(p, f).expect("valid").0
+    smoothlab::testing::mesh(generate::icosahedron())
 }
 
 #[test]

@@ -117,10 +117,7 @@ fn bad_specs_fail_naming_the_fault() {
 fn render_scene_draws_the_network_alone() {
     let dir = scratch("scene");
     let obj = dir.join("ico.obj");
-    let (positions, faces) = smoothlab::mesh::generate::icosahedron();
-    let mesh = smoothlab::mesh::Mesh::from_triangles(positions, faces)
-        .expect("mesh")
-        .0;
+    let mesh = smoothlab::testing::mesh(smoothlab::mesh::generate::icosahedron());
     std::fs::write(&obj, mesh.to_obj("icosahedron")).expect("obj");
     let render = |surface: bool| {
         let text = format!(

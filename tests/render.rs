@@ -17,8 +17,7 @@ use smoothlab::surface::Surface;
 mod common;
 
 fn hb(mesh: Triangles) -> Surface {
-    let (positions, faces) = mesh;
-    let (mesh, _) = Mesh::from_triangles(positions, faces).expect("valid generated mesh");
+    let mesh = smoothlab::testing::mesh(mesh);
     smoothlab::schemes::build("hb", &mesh, &[]).expect("hb builds on a closed mesh")
 }
 

@@ -90,6 +90,7 @@ pub fn thin_plate_matrix(d: usize, corners: [DVec2; 3]) -> Matrix {
 /// The values of the degree-`d` Bernstein polynomials at the domain points `m/d`: row `i`
 /// holds `B^d_α(m_i/d)` over the multi-indices α, both in storage order. Its inverse maps values
 /// at the domain points to the interpolating Bézier net.
+#[cfg(test)]
 pub fn domain_point_collocation(d: usize) -> Matrix {
     let idx = multi_indices(d);
     idx.iter()

@@ -11,7 +11,7 @@
 //! Farin's 2-D cubic Hermite curves through points with tangents.
 
 pub mod curve;
-pub mod gram;
+pub(crate) mod gram;
 pub mod hermite2d;
 pub mod triangle;
 pub mod triangle_forms;

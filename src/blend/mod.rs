@@ -26,8 +26,8 @@
 //!   parameter and the blend over a sub-triangle lies in the union of the sub-surfaces'
 //!   sub-triangle control-net boxes.
 
-pub mod scalar_jet;
-pub mod taylor;
+pub(crate) mod scalar_jet;
+pub(crate) mod taylor;
 pub mod weights;
 
 use glam::DVec3;

@@ -66,6 +66,7 @@ impl Taylor {
     }
 
     /// Coefficient of `x^i y^j`.
+    #[cfg(test)]
     pub fn coefficient(&self, i: usize, j: usize) -> f64 {
         self.0[term(i, j)]
     }

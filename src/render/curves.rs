@@ -248,8 +248,7 @@ mod tests {
     use crate::schemes;
 
     fn icosahedron_mesh() -> Mesh {
-        let (p, f) = icosahedron();
-        Mesh::from_triangles(p, f).expect("icosahedron").0
+        crate::testing::mesh(icosahedron())
     }
 
     #[test]

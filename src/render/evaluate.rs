@@ -152,6 +152,7 @@ pub fn local_point_and_tangents<const D: usize>(
 
 /// A bound on the second derivative of a Bézier triangle in any unit `(u, v)` direction over
 /// its domain: [`second_derivative_bounds`] with no normal direction singled out.
+#[cfg(test)]
 pub fn second_derivative_bound(net: &TriangleBezier) -> f64 {
     second_derivative_bounds(net, DVec3::ZERO)[0]
 }

@@ -9,13 +9,13 @@
 pub mod bvh;
 pub mod camera;
 pub mod curves;
-pub mod evaluate;
+pub(crate) mod evaluate;
 pub mod film;
 pub mod interaction;
 pub mod intersect;
 pub mod job;
 pub mod modes;
-pub mod newton;
+pub(crate) mod newton;
 pub mod output;
 pub mod ray;
 pub mod sampler;
@@ -23,7 +23,7 @@ pub mod shaded;
 pub mod stats;
 pub mod tessellate;
 pub mod trace;
-pub mod tubes;
+pub(crate) mod tubes;
 
 pub use camera::{Camera, Projection};
 pub use film::{Frame, PixelGeometry, RenderSettings, render};

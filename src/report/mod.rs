@@ -238,7 +238,7 @@ pub fn to_markdown(report: &Report) -> String {
     out
 }
 
-/// The tables [`write`] writes into its folder.
+/// The tables [`write()`] writes into its folder.
 const TABLES: [&str; 3] = ["metrics.json", "metrics.csv", "metrics.md"];
 
 /// Runs the report and writes `metrics.{json,csv,md}` into `out_dir` and the SVG plots of

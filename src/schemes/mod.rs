@@ -10,7 +10,7 @@ pub mod loop94;
 pub mod piper;
 pub mod pn;
 
-pub mod vertex_rings;
+pub(crate) mod vertex_rings;
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, NormalSource};

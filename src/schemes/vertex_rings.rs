@@ -49,11 +49,6 @@ impl RingFourier {
         }
     }
 
-    /// `θ = 2π/n`.
-    pub fn theta(&self) -> f64 {
-        self.theta
-    }
-
     /// Centroid of the ring.
     pub fn mean(&self) -> DVec3 {
         self.mean
@@ -204,8 +199,7 @@ mod tests {
     /// Every corner's directed edges start and end at the right vertices.
     #[test]
     fn corner_edges_connect_the_face_corners() {
-        let (p, f) = generate::mixed_valence();
-        let (mesh, _) = Mesh::from_triangles(p, f).expect("valid");
+        let mesh = crate::testing::mesh(generate::mixed_valence());
         let table = HalfEdgeTable::<(u32, u32)>::build(&mesh, |_, _, _, _| {});
         // Rebuild the (from, to) pairs from the layout of the table.
         let mut ends = Vec::new();

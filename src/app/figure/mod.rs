@@ -305,8 +305,7 @@ mod tests {
 
     #[test]
     fn the_side_camera_looks_across_the_chord() {
-        let (p, f) = crate::mesh::generate::icosahedron();
-        let mesh = Mesh::from_triangles(p, f).expect("mesh").0;
+        let mesh = crate::testing::mesh(crate::mesh::generate::icosahedron());
         let camera = edge_side_camera(&mesh, 0, 1.0).expect("camera");
         let e = mesh.edges()[0];
         let chord = mesh.positions()[e.b as usize] - mesh.positions()[e.a as usize];

@@ -325,19 +325,6 @@ impl Adaptation {
         self.first_free.partition_point(|&f| f <= j) - 1
     }
 
-    /// Number of free points and of conditions (for diagnostics).
-    pub fn size(&self) -> (usize, usize) {
-        (
-            self.free_of.iter().filter(|&&f| f != usize::MAX).count(),
-            self.rows.len(),
-        )
-    }
-
-    /// The role of point `i` of ring triangle `tau`.
-    pub fn role(&self, tau: usize, i: usize) -> PointRole {
-        self.roles[tau][i]
-    }
-
     /// `g − M f` for the kept conditions, prescribed points at their values (`D` inner, 0
     /// outer).
     fn residual(&self, f: &[DVec3], differences: &[Vec<DVec3>]) -> Vec<DVec3> {

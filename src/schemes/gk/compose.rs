@@ -30,6 +30,7 @@ fn monomials(p: DVec2) -> [f64; 6] {
 
 impl Quadratic {
     /// `q(p)`.
+    #[cfg(test)]
     pub fn eval(&self, p: DVec2) -> DVec3 {
         monomials(p).iter().zip(&self.0).map(|(m, c)| *m * *c).sum()
     }

@@ -41,15 +41,15 @@ pub struct HolePatch {
     pub patch: TriangleBezier,
 }
 
-/// Everything the filling of one hole computed (the patches and, for tests, its parts).
+/// Everything the filling of one hole computed: the patches and, for the tests, the surface
+/// ring they were built from.
 #[derive(Clone, Debug)]
 pub struct Filling {
     /// The 4n patches: per sector the inner patch, then the three ring patches.
     pub patches: Vec<HolePatch>,
     /// The surface ring `r`, per sector and ring triangle (degree d).
+    #[cfg(test)]
     pub ring: Vec<[TriangleBezier; 3]>,
-    /// The fitted quadratic.
-    pub q: Quadratic,
 }
 
 /// Rings of the net the charts of ring-2 patches reach.
@@ -209,7 +209,11 @@ pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filli
             });
         }
     }
-    Ok(Filling { patches, ring, q })
+    Ok(Filling {
+        patches,
+        #[cfg(test)]
+        ring,
+    })
 }
 
 /// Barycentric sample points of a ring patch for the fits (a grid of step 1/6).

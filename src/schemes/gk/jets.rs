@@ -1,7 +1,7 @@
-//! Derivatives of any order of Bézier triangles, and the parametric continuity order of two
-//! patches that lie side by side in one lattice chart. The metrics module measures geometric
-//! continuity from second-order jets; the `gk` construction is C^k (k up to 4) in its lattice
-//! parametrisation, which is checked here directly: across an edge `P → Q` shared by patches
+//! Test support of the `gk` construction: derivatives of any order of Bézier triangles, and the
+//! parametric jump of two patches that lie side by side in one lattice chart. The metrics
+//! module measures geometric continuity; the `gk` construction is C^k (k up to 4) in its
+//! lattice parametrisation, which the tests check with this directly: across an edge `P → Q` shared by patches
 //! `A` (third corner `a`) and `B` (third corner `b`) of one chart, `b = P + Q − a`
 //! (parallelogram), so both patches can be differentiated along the same two lattice vectors
 //! `Q − P` and `a − P` (on `B`: `Q − b`), and C^r means that every mixed derivative of order
@@ -10,7 +10,6 @@
 use glam::DVec3;
 
 use crate::bezier::TriangleBezier;
-use crate::bezier::triangle::point_count;
 
 /// The derivative `D_w B` along the barycentric direction `w` (components summing to zero):
 /// `d Σ_α (w0 b_{α+e0} + w1 b_{α+e1} + w2 b_{α+e2}) B^{d−1}_α` (Farin, CAGD §17.5). A
@@ -96,31 +95,6 @@ pub fn lattice_jump(
         }
     }
     worst
-}
-
-/// The highest order `r ≤ max_order` such that the derivatives of every order `≤ r` agree to
-/// `tolerance` (see [`lattice_jump`]); `None` if even the positions differ.
-pub fn lattice_continuity_order(
-    a: &TriangleBezier,
-    a_edge: usize,
-    b: &TriangleBezier,
-    b_edge: usize,
-    max_order: usize,
-    tolerance: f64,
-) -> Option<usize> {
-    let mut reached = None;
-    for order in 0..=max_order {
-        if lattice_jump(a, a_edge, b, b_edge, order) > tolerance {
-            break;
-        }
-        reached = Some(order);
-    }
-    reached
-}
-
-/// Number of control points of a degree-`d` net (re-exported for the stencil code).
-pub fn net_size(degree: usize) -> usize {
-    point_count(degree)
 }
 
 #[cfg(test)]

@@ -25,16 +25,17 @@
 //! input faces as for any other scheme. `piece` is 0 for a (half-)box-spline patch, 1 for an
 //! inner p-patch `q ∘ x_s`, 2 for an adapted ring patch.
 
-pub mod adapt;
-pub mod box_spline;
-pub mod chart;
-pub mod compose;
-pub mod hole;
-pub mod jets;
-pub mod plane;
-pub mod refine;
-pub mod regular;
-pub mod sector;
+pub(crate) mod adapt;
+pub(crate) mod box_spline;
+pub(crate) mod chart;
+pub(crate) mod compose;
+pub(crate) mod hole;
+#[cfg(test)]
+pub(crate) mod jets;
+pub(crate) mod plane;
+pub(crate) mod refine;
+pub(crate) mod regular;
+pub(crate) mod sector;
 
 use rayon::prelude::*;
 

@@ -28,7 +28,7 @@
 use glam::{DMat2, DVec2, DVec3};
 
 use crate::bezier::TriangleBezier;
-use crate::schemes::gk::box_spline::{ControlSite, Family, GridTriangle, grid_distance};
+use crate::schemes::gk::box_spline::{ControlSite, GridTriangle, grid_distance};
 use crate::schemes::gk::sector::{SectorPoint, classify, sector_patch};
 
 /// The ring triangles of a sector chart, in the order `x_{n+3s−2}, x_{n+3s−1}, x_{n+3s}`.
@@ -160,8 +160,9 @@ pub fn rotate(patch: &TriangleBezier, angle: f64) -> TriangleBezier {
 }
 
 /// Polynomial degree of the planar patches for order `k`.
+#[cfg(test)]
 pub fn degree(k: usize) -> usize {
-    Family::for_order(k).degree()
+    crate::schemes::gk::box_spline::Family::for_order(k).degree()
 }
 
 #[cfg(test)]

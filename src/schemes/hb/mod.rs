@@ -27,9 +27,9 @@
 //! thin-plate minimiser (`free=energy`, as in the paper's colour plate); `free=zero-twist` is the
 //! cheap alternative.
 
-pub mod energy;
-pub mod macro_patch;
-pub mod vertex;
+pub(crate) mod energy;
+pub(crate) mod macro_patch;
+pub(crate) mod vertex;
 
 use rayon::prelude::*;
 

@@ -13,8 +13,8 @@
 //! and a regular parametrisation (measured min |Su×Sv| / mean: 0.76 on the icosahedron, against
 //! 0.04 with Fig. 14's β = 0.1, whose short tangents crease the surface along the edges).
 
-pub mod patch;
-pub mod vertex;
+pub(crate) mod patch;
+pub(crate) mod vertex;
 
 use rayon::prelude::*;
 

@@ -183,6 +183,7 @@ fn min_norm_correction(rows: &[([f64; 5], DVec3)], y: &[DVec3; 5]) -> [DVec3; 5]
 }
 
 /// `C0 … C4` of [Piper87 eq. 20] written out, for checking a solved edge.
+#[cfg(test)]
 pub fn bernstein_conditions(net: &EdgeNet, w1: EndWeights, w2: EndWeights) -> [DVec3; 5] {
     let (s, r, t) = (&net.s, &net.r, &net.t);
     let first = |i: usize| w1.e * s[i] + w1.f * s[i + 1] + w1.g * r[i] + w1.h * t[i];

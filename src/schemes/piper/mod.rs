@@ -45,9 +45,9 @@
 //! Parameters: `normals=estimate|obj` (the mesh's vertex normals or the file's),
 //! `scaling=circle|farin|relative|thesis`.
 
-pub mod c1_restore;
-pub mod cubic_net;
-pub mod g1_solve;
+pub(crate) mod c1_restore;
+pub(crate) mod cubic_net;
+pub(crate) mod g1_solve;
 
 use rayon::prelude::*;
 
