@@ -18,6 +18,7 @@ use glam::{DMat3, DVec2, DVec3};
 use crate::bezier::TriangleBezier;
 use crate::blend::BlendPatch;
 use crate::geom::{Aabb, Jet};
+use crate::tolerance::{DIVISION_GUARD, DOMAIN_ZERO};
 
 /// The geometry of one patch. Polynomial patches are Bézier triangles; non-polynomial
 /// (blended) patch kinds are added as further variants.
@@ -49,7 +50,7 @@ impl Patch {
         let mut mask = 0;
         for e in 0..3 {
             let (a, b) = (self.domain[e], self.domain[(e + 1) % 3]);
-            if (0..3).any(|c| a[c].abs() < 1e-12 && b[c].abs() < 1e-12) {
+            if (0..3).any(|c| a[c].abs() < DOMAIN_ZERO && b[c].abs() < DOMAIN_ZERO) {
                 mask |= 1 << e;
             }
         }
@@ -139,7 +140,7 @@ impl Patch {
     /// Inverse of the map from patch barycentric weights to face-barycentric coordinates.
     fn domain_inverse(&self) -> Option<DMat3> {
         let m = DMat3::from_cols(self.domain[0], self.domain[1], self.domain[2]);
-        (m.determinant().abs() > 1e-300).then(|| m.inverse())
+        (m.determinant().abs() > DIVISION_GUARD).then(|| m.inverse())
     }
 
     /// Polynomial degree, if the patch is polynomial.

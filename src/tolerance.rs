@@ -23,6 +23,16 @@ pub const NORMAL_RAD: f64 = 1e-9;
 /// the square root of the normal's in the worst patches measured.
 pub const CURVATURE_REL: f64 = 1e-6;
 
+/// A face-barycentric coordinate of a patch domain that is zero: domain corners are simple
+/// fractions (0, 1/2, 1/3, …) computed in a few operations, so a coordinate on a face edge is
+/// within a few ulps of 0 and any other is at least ~1e-3 away.
+pub const DOMAIN_ZERO: f64 = 1e-12;
+
+/// Guard against dividing by an exact zero or an underflowed value: any quantity a geometric
+/// computation divides by passes it unless it is (numerically) nothing at all. Near-singular
+/// systems are judged by scale-relative bounds beside their solvers, not by this.
+pub const DIVISION_GUARD: f64 = 1e-300;
+
 /// Asserts `|a − b| ≤ tol` (all `f64`), printing both values, the difference and the bound
 /// (and an optional message) when it fails.
 #[macro_export]

@@ -19,6 +19,7 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::surface::joint_fractions;
 use crate::surface::{Patch, Surface};
+use crate::tolerance::DOMAIN_ZERO;
 
 /// One sample: a surface point and its unit normal (zero where the patch is singular).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -47,10 +48,6 @@ pub struct SampleFile {
     pub edges: Vec<EdgeSamples>,
 }
 
-/// Tolerance on the barycentric coordinates when deciding whether a patch's domain contains
-/// a point (domain corners are simple fractions; the point is on a face edge).
-const INSIDE_TOLERANCE: f64 = 1e-12;
-
 /// The `(u, v)` of `patch` at the face-barycentric point `target`, if its domain contains it.
 fn patch_uv(patch: &Patch, target: DVec3) -> Option<(f64, f64)> {
     let [d0, d1, d2] = patch.domain;
@@ -59,7 +56,7 @@ fn patch_uv(patch: &Patch, target: DVec3) -> Option<(f64, f64)> {
         return None;
     }
     let lambda = map.inverse() * target;
-    (lambda.min_element() >= -INSIDE_TOLERANCE).then_some((lambda.y, lambda.z))
+    (lambda.min_element() >= -DOMAIN_ZERO).then_some((lambda.y, lambda.z))
 }
 
 /// The point and normal of `face`'s patches at the face-barycentric point `target`.

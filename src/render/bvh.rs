@@ -613,7 +613,11 @@ pub fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) -> bool {
     let plane = (p1 - p0).cross(p2 - p0);
     let size = net.control_bounds().diagonal();
     let plane_len = plane.length();
-    if plane_len.is_nan() || plane_len <= 1e-300 || size.is_nan() || size <= 0.0 {
+    if plane_len.is_nan()
+        || plane_len <= crate::tolerance::DIVISION_GUARD
+        || size.is_nan()
+        || size <= 0.0
+    {
         // A degenerate corner triangle has no plane to be flat against.
         return d <= 1 && size == 0.0;
     }

@@ -213,7 +213,7 @@ impl Camera {
         let tan_h = tan_v * aspect;
         // A point c (relative to the centre) is in view from distance D when
         // |c·right| ≤ tan_h (D − c·back) and |c·up| ≤ tan_v (D − c·back).
-        let mut distance = 1e-6 * bounds.diagonal().max(1e-300);
+        let mut distance = 1e-6 * bounds.diagonal().max(crate::tolerance::DIVISION_GUARD);
         for p in points {
             let c = *p - center;
             let depth = c.dot(back);

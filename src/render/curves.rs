@@ -16,6 +16,7 @@ use crate::bezier::triangle::index;
 use crate::mesh::{Mesh, MeshEdge};
 use crate::render::tubes::{CurveKind, Polyline};
 use crate::surface::{Patch, Surface};
+use crate::tolerance::DOMAIN_ZERO;
 
 /// Dense samples per boundary curve (segments of its polyline).
 pub const CURVE_SEGMENTS: usize = 48;
@@ -145,7 +146,7 @@ pub fn control_polygons(
         for e in 0..3 {
             let (s, t) = (patch.domain[e], patch.domain[(e + 1) % 3]);
             // On the mesh edge: the weight of the opposite face corner vanishes at both ends.
-            if s[off].abs() > 1e-12 || t[off].abs() > 1e-12 {
+            if s[off].abs() > DOMAIN_ZERO || t[off].abs() > DOMAIN_ZERO {
                 continue;
             }
             let Some(mut points) = patch_edge_points(patch, e) else {

@@ -181,7 +181,11 @@ pub fn trace_path<T: SurfaceTracer>(
     state: &mut PathState,
     counters: &mut IntersectCounters,
 ) -> DVec3 {
-    let epsilon = 1e-7 * tracer.bounds().diagonal().max(1e-300);
+    let epsilon = 1e-7
+        * tracer
+            .bounds()
+            .diagonal()
+            .max(crate::tolerance::DIVISION_GUARD);
     let mut sp = *first;
     let mut throughput = DVec3::ONE;
     for bounce in 0..params.max_bounces {

@@ -145,7 +145,7 @@ impl<'s> TessellatedTracer<'s> {
         let (e1, e2) = (b - a, c - a);
         let pvec = ray.dir.cross(e2);
         let det = e1.dot(pvec);
-        if det.abs() < 1e-300 {
+        if det.abs() < crate::tolerance::DIVISION_GUARD {
             return None;
         }
         let inv = 1.0 / det;

@@ -97,7 +97,9 @@ impl CurvatureParams {
     /// Colour of the hit; singular points (no curvature) are black.
     pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
         match &sp.curvature {
-            Some(c) => palette::diverging(self.quantity.value(c) / self.half_range.max(1e-300)),
+            Some(c) => palette::diverging(
+                self.quantity.value(c) / self.half_range.max(crate::tolerance::DIVISION_GUARD),
+            ),
             None => DVec3::ZERO,
         }
     }
