@@ -265,17 +265,25 @@ pub fn search(
         }
         let (p, ss, tt) = eval(y);
         let f = planes.residual(p);
-        if f.length_squared() <= tolerance * tolerance {
+        let (ju, jv) = (planes.project(ss), planes.project(tt));
+        let sigma = ju.perp_dot(jv).abs() / (ju.length_squared() + jv.length_squared()).sqrt();
+        // Two roots in the disk about `y` would make the mean Jacobian between them singular,
+        // but it differs from `J(y)` by at most `2 half_m · size` there: a root in Δ is the
+        // only one when `σ` exceeds that. Otherwise Δ is searched further, so a ray that meets
+        // the piece twice close together (grazing) finds the nearer root too.
+        let unique = sigma > 2.0 * half_m * size * (1.0 + 1e-9);
+        let root_here = f.length_squared() <= tolerance * tolerance;
+        if root_here {
             visit(y, p);
-            continue;
+            if unique || level == settings.fallback_depth {
+                continue;
+            }
         }
         // Newton over the whole piece from `y` only where the target from `y` stays in Δ.
         let mut promising = false;
-        if level > 0 {
-            let (ju, jv) = (planes.project(ss), planes.project(tt));
+        let mut found_inside = root_here;
+        if level > 0 && !root_here {
             if let Some(step) = planes.newton_step(f, ss, tt) {
-                let sigma =
-                    ju.perp_dot(jv).abs() / (ju.length_squared() + jv.length_squared()).sqrt();
                 let error = half_m * size * size / sigma;
                 let outside = distance_to_triangle(y - step, tri);
                 if outside > error * (1.0 + 1e-9) + 1e-12 {
@@ -296,17 +304,23 @@ pub fn search(
             match newton(&eval, bounds, start, planes, tolerance, settings) {
                 Newton::Root(st, _, p) => {
                     visit(st, p);
-                    // A root elsewhere in the piece settles nothing about Δ.
-                    if distance_to_triangle(st, tri) == 0.0 {
+                    // A root elsewhere in the piece settles nothing about Δ; one inside it
+                    // settles Δ when it is the only one there.
+                    let inside = distance_to_triangle(st, tri) == 0.0;
+                    if inside && unique {
                         continue;
                     }
+                    found_inside = inside;
                 }
                 Newton::NoRoot => return None,
                 Newton::Failed => {}
             }
         }
         if level == settings.fallback_depth {
-            undecided += 1;
+            // A root in Δ at the last level leaves any other within Δ's tiny size.
+            if !found_inside {
+                undecided += 1;
+            }
             continue;
         }
         let m01 = 0.5 * (tri[0] + tri[1]);
