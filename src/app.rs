@@ -30,10 +30,10 @@ pub struct Output {
     pub failed: bool,
 }
 
-/// Loads an OBJ mesh with `options`; the loader's report (welded vertices, re-oriented faces,
-/// …) becomes warnings.
+/// Loads a mesh (OBJ, PLY, OFF or STL by extension) with `options`; the loader's report
+/// (welded vertices, re-oriented faces, …) becomes warnings.
 pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(Mesh, Vec<String>)> {
-    let (mesh, report) = Mesh::load_obj_with(path, options)?;
+    let (mesh, report) = Mesh::load_with(path, options)?;
     Ok((mesh, report.warnings))
 }
 

@@ -85,7 +85,7 @@ enum Command {
 /// The mesh a command builds a surface on, and the scheme with its parameters.
 #[derive(Args)]
 struct SchemeOnMesh {
-    /// The mesh (OBJ).
+    /// The mesh (.obj, .ply, .off or .stl, chosen by extension).
     mesh: PathBuf,
     /// Scheme name (`smoothlab schemes` lists them; `metrics` also takes `all`).
     #[arg(long)]

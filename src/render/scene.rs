@@ -55,7 +55,7 @@ use crate::render::toml_input::{self, exact};
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
-    /// Mesh file (OBJ), relative to the scene file.
+    /// Mesh file (OBJ, PLY, OFF or STL), relative to the scene file.
     pub mesh: Option<PathBuf>,
     /// Weld tolerance of the mesh, relative to its bounding-box diagonal (see
     /// [`LoadOptions::weld_tolerance`]).
