@@ -386,18 +386,22 @@ pub fn run_report(out_dir: &Path) -> Result<Output> {
     })
 }
 
-/// `smoothlab compare OLD NEW`: the changes between two reports; fails on a regression.
+/// `smoothlab compare OLD NEW`: the changes between two reports (or two `metrics --json`
+/// outputs); quality always judged, timings as `timings` says; fails on a regression.
 pub fn run_compare(
     old: &Path,
     new: &Path,
     thresholds: crate::report::compare::Thresholds,
+    timings: crate::report::compare::TimingCheck,
 ) -> Result<Output> {
+    use crate::report::{compare, read_comparable};
     thresholds.check()?;
-    let (old, new) = (crate::report::read(old)?, crate::report::read(new)?);
-    let changes = crate::report::compare::compare(&old, &new, thresholds);
+    let (old, new) = (read_comparable(old)?, read_comparable(new)?);
+    compare::check_comparable(&old, &new)?;
+    let comparison = compare::compare(&old, &new, thresholds, timings);
     Ok(Output {
-        stdout: crate::report::compare::to_text(&changes),
-        failed: changes.iter().any(|c| c.regression),
+        stdout: compare::to_text(&comparison),
+        failed: comparison.failed(),
         ..Default::default()
     })
 }

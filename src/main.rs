@@ -59,7 +59,8 @@ enum Command {
         #[arg(long, default_value = "results")]
         out: PathBuf,
     },
-    /// Compare two reports (metrics.json); exit code 1 if a figure got worse.
+    /// Compare two reports (metrics.json) or two `metrics --json` outputs; exit code 1 if a
+    /// quality figure (or, with --timings, a timing) got worse.
     Compare {
         /// The earlier report.
         old: PathBuf,
@@ -71,6 +72,12 @@ enum Command {
         /// Largest accepted new/old timing ratio (finite, ≥ 1).
         #[arg(long, default_value_t = 1.5, allow_negative_numbers = true)]
         time_ratio: f64,
+        /// Judge timings too, when both reports were measured on the same machine.
+        #[arg(long)]
+        timings: bool,
+        /// Judge timings whatever machines the reports were measured on.
+        #[arg(long)]
+        force_timings: bool,
     },
     /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
     Render(Box<smoothlab::render::cli::RenderArgs>),
@@ -196,12 +203,19 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             new,
             quality_rel,
             time_ratio,
+            timings,
+            force_timings,
         }) => app::run_compare(
             &old,
             &new,
             smoothlab::report::compare::Thresholds {
                 quality_rel,
                 time_ratio,
+            },
+            match (timings, force_timings) {
+                (_, true) => smoothlab::report::compare::TimingCheck::Force,
+                (true, false) => smoothlab::report::compare::TimingCheck::SameMachine,
+                (false, false) => smoothlab::report::compare::TimingCheck::Skip,
             },
         ),
     }
