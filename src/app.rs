@@ -377,11 +377,13 @@ pub fn run_default() -> Result<Output> {
 }
 
 /// `smoothlab report`: measures every scheme on the benchmark meshes and writes
-/// `metrics.{json,csv,md}` into `out_dir`.
+/// `metrics.{json,csv,md}` into `out_dir`, with a progress bar on a terminal's standard error;
+/// standard output gets one summary line.
 pub fn run_report(out_dir: &Path) -> Result<Output> {
-    let report = crate::report::write(out_dir)?;
+    let start = Instant::now();
+    let report = crate::report::write_with_progress(out_dir, &crate::report::terminal_progress())?;
     Ok(Output {
-        stdout: crate::report::to_markdown(&report),
+        stdout: crate::report::summary_line(&report, out_dir, start.elapsed().as_secs_f64()),
         ..Default::default()
     })
 }

@@ -24,6 +24,15 @@ fn report_then_compare() {
     for name in ["metrics.json", "metrics.csv", "metrics.md"] {
         assert!(dir.join(name).exists(), "{name} written");
     }
+    // One summary line on stdout; no progress bar when stderr is not a terminal.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(stdout.lines().count(), 1, "{stdout}");
+    assert!(stdout.starts_with("report: "), "{stdout}");
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let old_path = dir.join("metrics.json");
     let old: Report = report::read(&old_path).expect("readable");
     // Provenance: the machine, the commit with its dirty flag, the tool version.
@@ -35,6 +44,15 @@ fn report_then_compare() {
         (describe != "unknown").then(|| describe.ends_with("-dirty"))
     );
     assert_eq!(old.tool_version.as_deref(), Some(env!("CARGO_PKG_VERSION")));
+    assert!(
+        stdout.starts_with(&format!(
+            "report: {} records ({} meshes, {} schemes) written to ",
+            old.records.len(),
+            report::benchmark_meshes().unwrap().len(),
+            smoothlab::schemes::names().len()
+        )),
+        "{stdout}"
+    );
     // Cheap constructions are timed several times, with their spread.
     let flat = &old.records[0].figures;
     assert_eq!(flat["construct_ms_runs"], report::TIMING_RUNS);

@@ -178,12 +178,31 @@ fn build_median_timed(
 
 /// Measures every registered scheme on every benchmark mesh it accepts.
 pub fn run() -> Result<Report> {
+    run_with_progress(&|_, _, _| {})
+}
+
+/// [`run`], calling `progress(done, total, "mesh / scheme")` before each record is measured
+/// and `progress(total, total, "")` at the end.
+pub fn run_with_progress(progress: &dyn Fn(usize, usize, &str)) -> Result<Report> {
+    let meshes = benchmark_meshes()?;
+    let accepts = |bench: &BenchmarkMesh, spec: &schemes::SchemeSpec| {
+        !spec.needs_closed_mesh || bench.mesh.is_closed()
+    };
+    let total: usize = meshes
+        .iter()
+        .map(|bench| SCHEMES.iter().filter(|spec| accepts(bench, spec)).count())
+        .sum();
     let mut records = Vec::new();
-    for bench in benchmark_meshes()? {
+    for bench in meshes {
         for spec in SCHEMES {
-            if spec.needs_closed_mesh && !bench.mesh.is_closed() {
+            if !accepts(&bench, spec) {
                 continue;
             }
+            progress(
+                records.len(),
+                total,
+                &format!("{} / {}", bench.name, spec.name),
+            );
             let (surface, ms, runs, spread) = build_median_timed(spec.name, &bench.mesh)?;
             let metrics = Metrics::measure(&surface, &bench.mesh, ms);
             let mut figures = match serde_json::to_value(&metrics) {
@@ -209,6 +228,7 @@ pub fn run() -> Result<Report> {
             });
         }
     }
+    progress(total, total, "");
     Ok(Report::stamped(records))
 }
 
@@ -323,13 +343,21 @@ const TABLES: [&str; 3] = ["metrics.json", "metrics.csv", "metrics.md"];
 /// [`plots`] into `out_dir/figures/` (folders created if missing). Every output path is
 /// checked before the measurements start, and every file is written atomically.
 pub fn write(out_dir: &Path) -> Result<Report> {
+    write_with_progress(out_dir, &|_, _, _| {})
+}
+
+/// [`write`], reporting progress as [`run_with_progress`] does.
+pub fn write_with_progress(
+    out_dir: &Path,
+    progress: &dyn Fn(usize, usize, &str),
+) -> Result<Report> {
     let figures = out_dir.join("figures");
     create_folder(&figures)?;
     let tables = TABLES.map(|name| out_dir.join(name));
     for path in tables.iter().chain(&plots::plot_paths(&figures)) {
         check_writable(path)?;
     }
-    let report = run()?;
+    let report = run_with_progress(progress)?;
     plots::write_plots(&report, &figures)?;
     let json = serde_json::to_string_pretty(&report)
         .map_err(|e| Error::Invalid(format!("report JSON: {e}")))?;
@@ -443,6 +471,46 @@ fn check(report: &Report) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// A progress bar for [`write_with_progress`] on standard error, drawn only when standard
+/// error is a terminal (hidden when it is redirected, so logs stay clean). Returns the
+/// callback; the bar clears itself when the run is done.
+pub fn terminal_progress() -> impl Fn(usize, usize, &str) {
+    let bar =
+        indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("report {bar:40} {pos}/{len} {elapsed} {msg}")
+    {
+        bar.set_style(style);
+    }
+    move |done: usize, total: usize, record: &str| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(record.to_string());
+        if done == total {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// One line summing up a written report: records, meshes, schemes, where the files are,
+/// the commit and the run time.
+pub fn summary_line(report: &Report, out_dir: &Path, seconds: f64) -> String {
+    let mut meshes: Vec<&str> = report.records.iter().map(|r| r.mesh.as_str()).collect();
+    meshes.dedup();
+    let mut schemes: Vec<&str> = report.records.iter().map(|r| r.scheme.as_str()).collect();
+    schemes.sort_unstable();
+    schemes.dedup();
+    format!(
+        "report: {} records ({} meshes, {} schemes) written to {}/metrics.{{json,csv,md}} and \
+         figures/ in {seconds:.1} s; commit {}\n",
+        report.records.len(),
+        meshes.len(),
+        schemes.len(),
+        out_dir.display(),
+        report.describe.as_deref().unwrap_or(&report.commit),
+    )
 }
 
 /// Names of the schemes a report covers, for checks that every registered scheme is in it.
