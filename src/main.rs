@@ -168,13 +168,33 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                 failed: false,
             })
         }
-        Some(Command::Metrics { input, json }) => app::run_metrics(
-            &input.mesh,
-            &input.load_options(),
-            &input.scheme,
-            &input.params,
-            json.as_deref(),
-        ),
+        Some(Command::Metrics { input, json }) => {
+            // Rows are printed as the schemes are measured; a closed pipe ends the printing
+            // quietly, any other failure to print is the command's error.
+            let (mut stdout, mut failure) = (std::io::stdout(), None);
+            let output = app::run_metrics_streaming(
+                &input.mesh,
+                &input.load_options(),
+                &input.scheme,
+                &input.params,
+                json.as_deref(),
+                &mut |line| {
+                    if failure.is_none()
+                        && let Err(e) = stdout
+                            .write_all(line.as_bytes())
+                            .and_then(|()| stdout.flush())
+                    {
+                        failure = Some(e);
+                    }
+                },
+            )?;
+            match failure {
+                Some(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(
+                    smoothlab::error::Error::Invalid(format!("standard output: {e}")),
+                ),
+                _ => Ok(output),
+            }
+        }
         Some(Command::Export {
             input,
             format,
