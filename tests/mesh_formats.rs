@@ -302,6 +302,15 @@ fn every_truncated_binary_ply_is_an_error_not_a_panic() {
                 "{endian:?}, {end} bytes: {err:?}"
             );
         }
+        // A list length of 2^31 in a short file is an error, not an allocation.
+        let mut huge = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\n\
+            property float x\nproperty float y\nproperty float z\nelement face 1\n\
+            property list uint int vertex_indices\nend_header\n"
+            .to_vec();
+        huge.extend([0u8; 36]);
+        huge.extend(0x8000_0000u32.to_le_bytes());
+        huge.extend([0u8; 12]);
+        assert!(malformed(&huge, MeshFormat::Ply).starts_with("element 'face'"));
         // The last face cut short names the element and the end of the file.
         let message = malformed(&bytes[..bytes.len() - 2], MeshFormat::Ply);
         assert!(message.contains("element 'face'"), "{message}");

@@ -219,6 +219,10 @@ mod tests {
         assert!(message("OFF\n8\n").contains("line 2: expected the vertex, face"));
         assert!(message("OFF\nx 6 12\n").contains("cannot read the vertex count 'x'"));
         // Truncated: the counts promise more than the file holds.
+        assert_eq!(
+            message("OFF\n4000000000 4000000000 0\n"),
+            "the file ends after 0 of the 4000000000 vertices"
+        );
         let truncated: String = CUBE.lines().take(9).map(|l| format!("{l}\n")).collect();
         assert_eq!(
             message(&truncated),
