@@ -22,13 +22,66 @@ pub enum Error {
         /// What the parser said.
         message: String,
     },
-    /// A face of the input is not a triangle and cannot be used as one.
-    #[error("face {face} has {corners} corners; only triangles are supported")]
+    /// A mesh file (PLY, OFF, STL) is malformed: bad header, truncated data, unreadable
+    /// number, an element the format requires is missing.
+    #[error("{path}: malformed {format}: {message}")]
+    MalformedMesh {
+        /// The file.
+        path: PathBuf,
+        /// The format it was read as (`PLY`, `OFF`, `STL`).
+        format: &'static str,
+        /// What is wrong, naming the element, line or byte offset at fault.
+        message: String,
+    },
+    /// The file's extension names no supported mesh format.
+    #[error("{path}: unknown mesh format {extension}; supported extensions: {supported}")]
+    UnknownMeshFormat {
+        /// The file.
+        path: PathBuf,
+        /// The extension found, quoted, or `(no extension)`.
+        extension: String,
+        /// The supported extensions, comma separated.
+        supported: String,
+    },
+    /// A face has fewer than three corners.
+    #[error("face {face} has {corners} corners; a face needs at least 3")]
     NotATriangle {
         /// Face index in the file.
         face: usize,
         /// Number of corners found.
         corners: usize,
+    },
+    /// A polygon with more than three corners is not planar, so how it is split into
+    /// triangles would change the surface.
+    #[error(
+        "face {face} ({corners} corners) is not planar: a corner lies {deviation:.3e} of its \
+         diameter off its plane, above the tolerance {tolerance:.0e}; split it into triangles \
+         in the modeller"
+    )]
+    NonPlanarFace {
+        /// Face index in the file.
+        face: usize,
+        /// Number of corners.
+        corners: usize,
+        /// The largest distance of a corner from the face's plane, relative to its diameter.
+        deviation: f64,
+        /// The relative tolerance (see `mesh::PLANARITY_TOLERANCE`).
+        tolerance: f64,
+    },
+    /// A polygon with more than three corners is not strictly convex.
+    #[error(
+        "face {face} ({corners} corners) is not convex: it turns the wrong way or not at all at \
+         corner {corner} (vertex {vertex}); split it into triangles in the modeller"
+    )]
+    NonConvexFace {
+        /// Face index in the file.
+        face: usize,
+        /// Number of corners.
+        corners: usize,
+        /// The corner (0-based position in the face) at fault.
+        corner: usize,
+        /// Its vertex, as numbered by the input.
+        vertex: usize,
     },
     /// A face refers to a vertex that does not exist.
     #[error("face {face} refers to vertex {vertex}, but the mesh has only {count} vertices")]

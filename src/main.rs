@@ -59,7 +59,8 @@ enum Command {
         #[arg(long, default_value = "results")]
         out: PathBuf,
     },
-    /// Compare two reports (metrics.json); exit code 1 if a figure got worse.
+    /// Compare two reports (metrics.json) or two `metrics --json` outputs; exit code 1 if a
+    /// quality figure (or, with --timings, a timing) got worse.
     Compare {
         /// The earlier report.
         old: PathBuf,
@@ -71,6 +72,12 @@ enum Command {
         /// Largest accepted new/old timing ratio (finite, ≥ 1).
         #[arg(long, default_value_t = 1.5, allow_negative_numbers = true)]
         time_ratio: f64,
+        /// Judge timings too, when both reports were measured on the same machine.
+        #[arg(long)]
+        timings: bool,
+        /// Judge timings whatever machines the reports were measured on.
+        #[arg(long)]
+        force_timings: bool,
     },
     /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
     Render(Box<smoothlab::app::render::RenderArgs>),
@@ -85,7 +92,7 @@ enum Command {
 /// The mesh a command builds a surface on, and the scheme with its parameters.
 #[derive(Args)]
 struct SchemeOnMesh {
-    /// The mesh (OBJ).
+    /// The mesh (.obj, .ply, .off or .stl, chosen by extension).
     mesh: PathBuf,
     /// Scheme name (`smoothlab schemes` lists them; `metrics` also takes `all`).
     #[arg(long)]
@@ -161,13 +168,33 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                 failed: false,
             })
         }
-        Some(Command::Metrics { input, json }) => app::run_metrics(
-            &input.mesh,
-            &input.load_options(),
-            &input.scheme,
-            &input.params,
-            json.as_deref(),
-        ),
+        Some(Command::Metrics { input, json }) => {
+            // Rows are printed as the schemes are measured; a closed pipe ends the printing
+            // quietly, any other failure to print is the command's error.
+            let (mut stdout, mut failure) = (std::io::stdout(), None);
+            let output = app::run_metrics_streaming(
+                &input.mesh,
+                &input.load_options(),
+                &input.scheme,
+                &input.params,
+                json.as_deref(),
+                &mut |line| {
+                    if failure.is_none()
+                        && let Err(e) = stdout
+                            .write_all(line.as_bytes())
+                            .and_then(|()| stdout.flush())
+                    {
+                        failure = Some(e);
+                    }
+                },
+            )?;
+            match failure {
+                Some(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(
+                    smoothlab::error::Error::Invalid(format!("standard output: {e}")),
+                ),
+                _ => Ok(output),
+            }
+        }
         Some(Command::Export {
             input,
             format,
@@ -196,12 +223,19 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             new,
             quality_rel,
             time_ratio,
+            timings,
+            force_timings,
         }) => app::run_compare(
             &old,
             &new,
             smoothlab::report::compare::Thresholds {
                 quality_rel,
                 time_ratio,
+            },
+            match (timings, force_timings) {
+                (_, true) => smoothlab::report::compare::TimingCheck::Force,
+                (true, false) => smoothlab::report::compare::TimingCheck::SameMachine,
+                (false, false) => smoothlab::report::compare::TimingCheck::Skip,
             },
         ),
     }

@@ -24,8 +24,39 @@ fn report_then_compare() {
     for name in ["metrics.json", "metrics.csv", "metrics.md"] {
         assert!(dir.join(name).exists(), "{name} written");
     }
+    // One summary line on stdout; no progress bar when stderr is not a terminal.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(stdout.lines().count(), 1, "{stdout}");
+    assert!(stdout.starts_with("report: "), "{stdout}");
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let old_path = dir.join("metrics.json");
     let old: Report = report::read(&old_path).expect("readable");
+    // Provenance: the machine, the commit with its dirty flag, the tool version.
+    let machine = old.machine.as_ref().expect("machine fingerprint recorded");
+    assert_eq!(*machine, report::provenance::Machine::current());
+    let describe = old.describe.as_deref().expect("describe recorded");
+    assert_eq!(
+        old.dirty,
+        (describe != "unknown").then(|| describe.ends_with("-dirty"))
+    );
+    assert_eq!(old.tool_version.as_deref(), Some(env!("CARGO_PKG_VERSION")));
+    assert!(
+        stdout.starts_with(&format!(
+            "report: {} records ({} meshes, {} schemes) written to ",
+            old.records.len(),
+            report::benchmark_meshes().unwrap().len(),
+            smoothlab::schemes::names().len()
+        )),
+        "{stdout}"
+    );
+    // Cheap constructions are timed several times, with their spread.
+    let flat = &old.records[0].figures;
+    assert_eq!(flat["construct_ms_runs"], report::TIMING_RUNS);
+    assert!(flat["construct_ms_spread_rel"].as_f64().expect("spread") >= 0.0);
     assert_eq!(
         report::schemes_covered(&old),
         smoothlab::schemes::names(),
@@ -78,5 +109,180 @@ fn compare_rejects_a_file_that_is_not_a_report() {
     let out = smoothlab(&["compare", path.to_str().unwrap(), path.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).starts_with("error: "));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The committed report with a machine fingerprint of CPU `cpu`, as JSON.
+fn committed_report_on(cpu: &str) -> serde_json::Value {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("results/metrics.json");
+    let mut report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).expect("committed report")).unwrap();
+    report["machine"] = serde_json::json!({
+        "cpu": cpu, "logical_cores": 2, "os": "linux", "arch": "x86_64"
+    });
+    report
+}
+
+fn write_json(dir: &std::path::Path, name: &str, value: &serde_json::Value) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, serde_json::to_string_pretty(value).unwrap()).unwrap();
+    path.to_str().expect("utf-8").to_string()
+}
+
+fn run(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = smoothlab(args);
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn compare_judges_timings_only_when_asked_and_on_one_machine() {
+    let dir = scratch("timings");
+    let old = committed_report_on("cpu A");
+    let mut slower = old.clone();
+    let mut timed = 0;
+    for record in slower["records"].as_array_mut().unwrap() {
+        let ms = record["figures"]["construct_ms"].as_f64().unwrap();
+        record["figures"]["construct_ms"] = (3.0 * ms).into();
+        timed += usize::from(ms >= 1.0);
+    }
+    assert!(timed > 0, "some construction takes 1 ms or more");
+    let old_path = write_json(&dir, "old.json", &old);
+    let slower_path = write_json(&dir, "slower.json", &slower);
+
+    // Quality only by default: timings 3x slower pass.
+    let (code, stdout, stderr) = run(&["compare", &old_path, &slower_path]);
+    assert_eq!(code, Some(0), "{stdout}{stderr}");
+    assert!(
+        stdout.starts_with("no changes\nnote: timings not judged"),
+        "{stdout}"
+    );
+    // Same machine, --timings: the slowdown is a regression.
+    let (code, stdout, _) = run(&["compare", "--timings", &old_path, &slower_path]);
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(
+        stdout.contains("construct_ms") && stdout.contains("WORSE"),
+        "{stdout}"
+    );
+    assert_eq!(
+        stdout.lines().filter(|l| l.starts_with("WORSE")).count(),
+        timed,
+        "{stdout}"
+    );
+
+    // Another machine: not judged unless forced.
+    slower["machine"]["cpu"] = "cpu B".into();
+    let other_path = write_json(&dir, "other.json", &slower);
+    let (code, stdout, _) = run(&["compare", "--timings", &old_path, &other_path]);
+    assert_eq!(code, Some(0), "{stdout}");
+    assert!(stdout.contains("note: timings not judged: measured on different machines (cpu A"));
+    let (code, stdout, _) = run(&["compare", "--force-timings", &old_path, &other_path]);
+    assert_eq!(code, Some(1), "{stdout}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn compare_flags_an_injected_quality_regression_whatever_the_timings() {
+    let dir = scratch("quality");
+    let old = committed_report_on("cpu A");
+    let mut broken = old.clone();
+    broken["machine"]["cpu"] = "cpu B".into();
+    let record = broken["records"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|r| r["scheme"] == "hb" && r["mesh"] == "icosahedron")
+        .expect("hb on the icosahedron");
+    record["figures"]["g1_between_faces_max_rad"] = 0.01.into();
+    let old_path = write_json(&dir, "old.json", &old);
+    let broken_path = write_json(&dir, "broken.json", &broken);
+    for extra in [None, Some("--timings")] {
+        let mut args = vec!["compare"];
+        args.extend(extra);
+        args.extend([old_path.as_str(), broken_path.as_str()]);
+        let (code, stdout, _) = run(&args);
+        assert_eq!(code, Some(1), "{stdout}");
+        assert!(
+            stdout.contains("WORSE icosahedron / hb")
+                && stdout.contains("g1_between_faces_max_rad"),
+            "{stdout}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn compare_accepts_metrics_json_output() {
+    let dir = scratch("metrics-json");
+    let mesh = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/octahedron.obj");
+    let mesh = mesh.to_str().unwrap();
+    let (a, b) = (dir.join("a.json"), dir.join("b.json"));
+    for path in [&a, &b] {
+        let (code, _, stderr) = run(&[
+            "metrics",
+            mesh,
+            "--scheme",
+            "all",
+            "--json",
+            path.to_str().unwrap(),
+        ]);
+        assert_eq!(code, Some(0), "{stderr}");
+    }
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    let (code, stdout, stderr) = run(&["compare", a, b]);
+    assert_eq!(code, Some(0), "{stdout}{stderr}");
+    assert!(stdout.starts_with("no changes\n"), "{stdout}");
+
+    // A quality regression in pn.
+    let mut metrics: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(b).unwrap()).unwrap();
+    let pn = metrics
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|m| m["scheme"] == "pn")
+        .expect("pn measured");
+    let g1 = pn["g1_max_rad"].as_f64().unwrap();
+    pn["g1_max_rad"] = (2.0 * g1 + 0.1).into();
+    let broken = write_json(&dir, "broken.json", &metrics);
+    let (code, stdout, _) = run(&["compare", a, &broken]);
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(
+        stdout.contains("WORSE (metrics) / pn") && stdout.contains("g1_max_rad"),
+        "{stdout}"
+    );
+
+    // A report against metrics output, and JSON of neither shape, are errors.
+    let report = write_json(&dir, "report.json", &committed_report_on("cpu A"));
+    let (code, _, stderr) = run(&["compare", &report, a]);
+    assert_eq!(code, Some(1));
+    assert!(
+        stderr.starts_with("error: cannot compare a report with metrics --json output"),
+        "{stderr}"
+    );
+    for (text, fragment) in [
+        ("[1, 2]", "entry 0 of the list is not an object"),
+        (
+            "{\"scheme\": \"pn\"}",
+            "neither a report nor a list of metrics",
+        ),
+        ("[]", "the list is empty"),
+        (
+            "[{\"scheme\": \"pn\"}, {\"scheme\": \"pn\"}]",
+            "records 0 and 1 are both (metrics) / pn",
+        ),
+    ] {
+        let path = dir.join("odd.json");
+        std::fs::write(&path, text).unwrap();
+        let (code, _, stderr) = run(&["compare", path.to_str().unwrap(), a]);
+        assert_eq!(code, Some(1), "{text}");
+        assert!(
+            stderr.starts_with("error: ") && stderr.contains(fragment),
+            "{text}: {stderr}"
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }

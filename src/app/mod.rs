@@ -40,10 +40,10 @@ pub struct Output {
     pub failed: bool,
 }
 
-/// Loads an OBJ mesh with `options`; the loader's report (welded vertices, re-oriented faces,
-/// …) becomes warnings.
+/// Loads a mesh (OBJ, PLY, OFF or STL by extension) with `options`; the loader's report
+/// (welded vertices, re-oriented faces, …) becomes warnings.
 pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(Mesh, Vec<String>)> {
-    let (mesh, report) = Mesh::load_obj_with(path, options)?;
+    let (mesh, report) = Mesh::load_with(path, options)?;
     Ok((mesh, report.warnings))
 }
 
@@ -122,6 +122,16 @@ pub fn measure_schemes(
     selection: &str,
     params: &[(String, String)],
 ) -> Result<(Vec<Metrics>, Vec<String>)> {
+    measure_schemes_each(mesh, selection, params, &mut |_| {})
+}
+
+/// [`measure_schemes`], calling `each` with every scheme's metrics as soon as it is measured.
+pub fn measure_schemes_each(
+    mesh: &Mesh,
+    selection: &str,
+    params: &[(String, String)],
+    each: &mut dyn FnMut(&Metrics),
+) -> Result<(Vec<Metrics>, Vec<String>)> {
     let mut results = Vec::new();
     let mut warnings = Vec::new();
     for run in select_schemes(selection, params)? {
@@ -129,6 +139,7 @@ pub fn measure_schemes(
             Ok((surface, ms)) => {
                 let metrics = Metrics::measure(&surface, mesh, ms);
                 metrics.check_finite()?;
+                each(&metrics);
                 results.push(metrics);
             }
             Err(e @ Error::OpenMesh { .. }) if selection == ALL_SCHEMES => {
@@ -152,78 +163,77 @@ fn cell(x: Option<f64>) -> String {
     x.map_or_else(|| "-".to_string(), |x| format!("{x:.2e}"))
 }
 
+/// The metrics table's columns with the width of their values (the header may be wider;
+/// the scheme column is as wide as the longest registered name). Fixed widths let the table
+/// be printed row by row as schemes are measured.
+const TABLE_COLUMNS: [(&str, usize); 15] = [
+    ("scheme", 0),
+    ("faces", 7),
+    ("patches", 7),
+    ("build_ms", 9),
+    ("interp", 8),
+    ("G0_gap", 8),
+    ("G1_max", 8),
+    ("G1_mean", 8),
+    ("G1_between", 8),
+    ("G1_inside", 8),
+    ("curv_jump", 8),
+    ("regularity", 8),
+    ("undulation", 8),
+    ("inflect", 7),
+    ("G^k", 5),
+];
+
+/// One line of the metrics table: names left-aligned, numbers right-aligned.
+fn table_line(cells: &[String]) -> String {
+    let scheme_width = SCHEMES.iter().map(|s| s.name.len()).max().unwrap_or(0);
+    let padded: Vec<String> = cells
+        .iter()
+        .zip(TABLE_COLUMNS)
+        .enumerate()
+        .map(|(c, (text, (header, width)))| {
+            let w = width.max(header.len());
+            if c == 0 {
+                format!("{text:<w$}", w = w.max(scheme_width))
+            } else {
+                format!("{text:>w$}")
+            }
+        })
+        .collect();
+    padded.join("  ").trim_end().to_string() + "\n"
+}
+
+/// The header line of the metrics table.
+pub fn metrics_table_header() -> String {
+    table_line(&TABLE_COLUMNS.map(|(header, _)| header.to_string()))
+}
+
+/// The metrics table's line for one scheme.
+pub fn metrics_table_row(m: &Metrics) -> String {
+    table_line(&[
+        m.scheme.clone(),
+        m.faces.to_string(),
+        m.patches.to_string(),
+        format!("{:.2}", m.construct_ms),
+        cell(m.interp_max_rel),
+        cell(m.g0_max_rel),
+        cell(m.g1_max_rad),
+        cell(m.g1_mean_rad),
+        cell(m.g1_between_faces_max_rad),
+        cell(m.g1_inside_faces_max_rad),
+        cell(m.curvature_jump_max_rel),
+        cell(m.min_regularity_rel),
+        format!("{:.2e}", m.network_undulation_max_rad),
+        m.network_inflections_max.to_string(),
+        order_cell(m.continuity_order, m.continuity_order_typical),
+    ])
+}
+
 /// An aligned text table of metrics, one row per scheme. Lengths are relative to the
 /// bounding-box diagonal, angles in radians; `-` marks a figure over an empty set.
 pub fn metrics_table(metrics: &[Metrics]) -> String {
-    let header = [
-        "scheme",
-        "faces",
-        "patches",
-        "build_ms",
-        "interp",
-        "G0_gap",
-        "G1_max",
-        "G1_mean",
-        "G1_between",
-        "G1_inside",
-        "curv_jump",
-        "regularity",
-        "undulation",
-        "inflect",
-        "G^k",
-    ];
-    let rows: Vec<Vec<String>> = metrics
-        .iter()
-        .map(|m| {
-            vec![
-                m.scheme.clone(),
-                m.faces.to_string(),
-                m.patches.to_string(),
-                format!("{:.2}", m.construct_ms),
-                cell(m.interp_max_rel),
-                cell(m.g0_max_rel),
-                cell(m.g1_max_rad),
-                cell(m.g1_mean_rad),
-                cell(m.g1_between_faces_max_rad),
-                cell(m.g1_inside_faces_max_rad),
-                cell(m.curvature_jump_max_rel),
-                cell(m.min_regularity_rel),
-                format!("{:.2e}", m.network_undulation_max_rad),
-                m.network_inflections_max.to_string(),
-                order_cell(m.continuity_order, m.continuity_order_typical),
-            ]
-        })
-        .collect();
-    let widths: Vec<usize> = (0..header.len())
-        .map(|c| {
-            rows.iter()
-                .map(|r| r[c].chars().count())
-                .chain([header[c].len()])
-                .max()
-                .unwrap_or(0)
-        })
-        .collect();
-    let line = |cells: Vec<&str>| {
-        let padded: Vec<String> = cells
-            .iter()
-            .zip(&widths)
-            .enumerate()
-            .map(|(c, (text, &w))| {
-                // Names left-aligned, numbers right-aligned.
-                if c == 0 {
-                    format!("{text:<w$}")
-                } else {
-                    format!("{text:>w$}")
-                }
-            })
-            .collect();
-        padded.join("  ").trim_end().to_string() + "\n"
-    };
-    let mut out = line(header.to_vec());
-    for row in &rows {
-        out += &line(row.iter().map(String::as_str).collect());
-    }
-    out
+    let rows: Vec<String> = metrics.iter().map(metrics_table_row).collect();
+    metrics_table_header() + &rows.concat()
 }
 
 /// The metrics JSON of the README's Contracts: a list with one object per scheme.
@@ -256,6 +266,25 @@ pub fn run_metrics(
     raw_params: &[String],
     json: Option<&Path>,
 ) -> Result<Output> {
+    let mut table = String::new();
+    let mut output =
+        run_metrics_streaming(mesh_path, load, selection, raw_params, json, &mut |line| {
+            table += line
+        })?;
+    output.stdout = table;
+    Ok(output)
+}
+
+/// [`run_metrics`], handing the table to `line` line by line as the schemes are measured (the
+/// header once the mesh is loaded) instead of in [`Output::stdout`], which stays empty.
+pub fn run_metrics_streaming(
+    mesh_path: &Path,
+    load: &LoadOptions,
+    selection: &str,
+    raw_params: &[String],
+    json: Option<&Path>,
+    line: &mut dyn FnMut(&str),
+) -> Result<Output> {
     let params = parse_params(raw_params)?;
     // Check the scheme, the parameters and the output path before the (possibly slow) work.
     select_schemes(selection, &params)?;
@@ -263,15 +292,16 @@ pub fn run_metrics(
         check_writable(path)?;
     }
     let (mesh, mut warnings) = load_mesh(mesh_path, load)?;
-    let (metrics, skipped) = measure_schemes(&mesh, selection, &params)?;
+    line(&metrics_table_header());
+    let (metrics, skipped) = measure_schemes_each(&mesh, selection, &params, &mut |m| {
+        line(&metrics_table_row(m))
+    })?;
     warnings.extend(skipped);
     if let Some(path) = json {
         write_atomic(path, metrics_json(&metrics)?.as_bytes())?;
     }
     Ok(Output {
-        stdout: metrics_table(&metrics),
         warnings,
-
         ..Default::default()
     })
 }
@@ -376,27 +406,33 @@ pub fn run_default() -> Result<Output> {
 }
 
 /// `smoothlab report`: measures every scheme on the benchmark meshes and writes
-/// `metrics.{json,csv,md}` into `out_dir`.
+/// `metrics.{json,csv,md}` into `out_dir`, with a progress bar on a terminal's standard error;
+/// standard output gets one summary line.
 pub fn run_report(out_dir: &Path) -> Result<Output> {
-    let report = crate::report::write(out_dir)?;
+    let start = std::time::Instant::now();
+    let report = crate::report::write_with_progress(out_dir, &crate::report::terminal_progress())?;
     Ok(Output {
-        stdout: crate::report::to_markdown(&report),
+        stdout: crate::report::summary_line(&report, out_dir, start.elapsed().as_secs_f64()),
         ..Default::default()
     })
 }
 
-/// `smoothlab compare OLD NEW`: the changes between two reports; fails on a regression.
+/// `smoothlab compare OLD NEW`: the changes between two reports (or two `metrics --json`
+/// outputs); quality always judged, timings as `timings` says; fails on a regression.
 pub fn run_compare(
     old: &Path,
     new: &Path,
     thresholds: crate::report::compare::Thresholds,
+    timings: crate::report::compare::TimingCheck,
 ) -> Result<Output> {
+    use crate::report::{compare, read_comparable};
     thresholds.check()?;
-    let (old, new) = (crate::report::read(old)?, crate::report::read(new)?);
-    let changes = crate::report::compare::compare(&old, &new, thresholds);
+    let (old, new) = (read_comparable(old)?, read_comparable(new)?);
+    compare::check_comparable(&old, &new)?;
+    let comparison = compare::compare(&old, &new, thresholds, timings);
     Ok(Output {
-        stdout: crate::report::compare::to_text(&changes),
-        failed: changes.iter().any(|c| c.regression),
+        stdout: compare::to_text(&comparison),
+        failed: comparison.failed(),
         ..Default::default()
     })
 }

@@ -198,7 +198,7 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     if let Some(path) = &args.stats {
         check_writable(path)?;
     }
-    let (mesh, report) = Mesh::load_obj_with(&mesh_path, &scene.load_options()?)?;
+    let (mesh, report) = Mesh::load_with(&mesh_path, &scene.load_options()?)?;
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
     let (frame, stats) = job.render(&surface, &mesh)?;
     write_outputs(&frame, &outputs)?;

@@ -62,7 +62,7 @@ pub const DEFAULT_SPP: u32 = 4;
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
-    /// Mesh file (OBJ), relative to the scene file.
+    /// Mesh file (OBJ, PLY, OFF or STL), relative to the scene file.
     pub mesh: Option<PathBuf>,
     /// Weld tolerance of the mesh, relative to its bounding-box diagonal (see
     /// [`LoadOptions::weld_tolerance`]).

@@ -1,26 +1,37 @@
-//! Triangle meshes: OBJ input, welding, validation with typed errors, half-edge topology,
-//! ordered one-rings and vertex normals. Every scheme reads its input through [`Mesh`].
+//! Triangle meshes: OBJ, PLY, OFF and STL input, welding, validation with typed errors,
+//! half-edge topology, ordered one-rings and vertex normals. Every scheme reads its input
+//! through [`Mesh`].
 //!
-//! Loading runs one pipeline for every source ([`Mesh::from_triangles`], [`Mesh::parse_obj`],
-//! [`Mesh::load_obj`]):
-//! 1. reject an empty mesh, out-of-range indices, non-finite coordinates and coordinates out
-//!    of the supported range ([`MAX_COORDINATE_MAGNITUDE`], [`MIN_COORDINATE_SPAN`]);
-//! 2. drop vertices used by no face and weld vertices closer than the weld tolerance
+//! Loading runs one pipeline for every source ([`Mesh::from_triangles`], [`Mesh::load`],
+//! [`Mesh::parse_obj`], [`Mesh::parse_format`]). Every file reader produces the same
+//! intermediate, positions and polygons in file order, and then:
+//! 1. reject an empty mesh, faces with fewer than three corners, out-of-range indices,
+//!    non-finite coordinates;
+//! 2. split planar convex polygons into triangles, a fan from their first corner, with a
+//!    warning stating how many (within [`PLANARITY_TOLERANCE`] and [`CONVEXITY_TOLERANCE`]);
+//!    refuse any other polygon naming it;
+//! 3. reject coordinates out of the supported range ([`MAX_COORDINATE_MAGNITUDE`],
+//!    [`MIN_COORDINATE_SPAN`]);
+//! 4. drop vertices used by no face and weld vertices closer than the weld tolerance
 //!    ([`LoadOptions::weld_tolerance`], by default [`DEFAULT_WELD_TOLERANCE`] of the
 //!    bounding-box diagonal), rejecting a face two of whose corners welding would merge;
-//! 3. reject degenerate and duplicate faces, non-manifold edges (areas are measured on
+//!    identical positions are always welded, which connects the separate facets of an STL file;
+//! 5. reject degenerate and duplicate faces, non-manifold edges (areas are measured on
 //!    coordinates normalised to unit size, so the verdict does not depend on the scale);
-//! 4. orient every connected component consistently (or report a non-orientable one);
-//! 5. build the half-edge topology and the ordered one-rings, rejecting bow-tie vertices.
+//! 6. orient every connected component consistently (or report a non-orientable one);
+//! 7. build the half-edge topology and the ordered one-rings, rejecting bow-tie vertices.
 //!
-//! Errors name vertices as the input numbers them (the index into `positions`, or for an OBJ
-//! file the 0-based position of the `v` line), so a user can find the element at fault. Faces
-//! are numbered in input order, 0-based. After loading, the mesh has its own vertex numbering
-//! (see [`Mesh::from_triangles`]).
+//! Errors name vertices as the input numbers them (the index into `positions`, or for a file
+//! the 0-based position of the vertex in the file; for STL `3·facet + corner`), so a user can
+//! find the element at fault. Faces are numbered in input order, 0-based, as the file numbers
+//! its polygons. After loading, the mesh has its own vertex numbering (see
+//! [`Mesh::from_triangles`]) and numbers triangles, not polygons.
 
+mod formats;
 pub mod generate;
 mod normals;
 mod obj;
+mod polygon;
 mod topology;
 mod validate;
 mod weld;
@@ -32,7 +43,9 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
 
+pub use formats::MeshFormat;
 pub use normals::OBJ_NORMAL_ANGLE_TOLERANCE;
+pub use polygon::{CONVEXITY_TOLERANCE, PLANARITY_TOLERANCE};
 pub use validate::{DEGENERATE_AREA_RATIO, MAX_COORDINATE_MAGNITUDE, MIN_COORDINATE_SPAN};
 pub use weld::{DEFAULT_WELD_TOLERANCE, check_weld_tolerance};
 
@@ -135,7 +148,36 @@ impl Mesh {
         )
     }
 
-    /// Loads an OBJ file (position indices only; normals kept per position when consistent).
+    /// Loads a mesh file in the format its extension names ([`MeshFormat::from_path`], case
+    /// ignored), with the default [`LoadOptions`].
+    ///
+    /// A missing or unreadable file is [`Error::Io`] naming the path, an unknown extension
+    /// [`Error::UnknownMeshFormat`] listing the supported ones. See [`Mesh::parse_obj`] for
+    /// what is read from OBJ; PLY, OFF and STL give positions and faces only.
+    pub fn load(path: &Path) -> Result<(Mesh, LoadReport)> {
+        Mesh::load_with(path, &LoadOptions::default())
+    }
+
+    /// [`Mesh::load`] with the given options.
+    pub fn load_with(path: &Path, options: &LoadOptions) -> Result<(Mesh, LoadReport)> {
+        let format = MeshFormat::from_path(path)?;
+        let bytes = std::fs::read(path).map_err(|source| Error::io(path, source))?;
+        formats::parse(&bytes, format, path, options)
+    }
+
+    /// Parses the bytes of a mesh file in `format` (for embedded meshes and tests); errors
+    /// name the data as `<PLY data>` and so on.
+    pub fn parse_format(
+        bytes: &[u8],
+        format: MeshFormat,
+        options: &LoadOptions,
+    ) -> Result<(Mesh, LoadReport)> {
+        let origin = format!("<{} data>", format.name());
+        formats::parse(bytes, format, Path::new(&origin), options)
+    }
+
+    /// Loads an OBJ file whatever its extension (position indices only; normals kept per
+    /// position when consistent).
     ///
     /// See [`Mesh::parse_obj`] for what is read; a missing or unreadable file is
     /// [`Error::Io`] naming the path.
@@ -146,11 +188,7 @@ impl Mesh {
     /// [`Mesh::load_obj`] with the given options.
     pub fn load_obj_with(path: &Path, options: &LoadOptions) -> Result<(Mesh, LoadReport)> {
         let bytes = std::fs::read(path).map_err(|source| Error::io(path, source))?;
-        let text = String::from_utf8(bytes).map_err(|e| Error::MalformedObj {
-            path: path.to_path_buf(),
-            message: format!("not UTF-8 text ({e})"),
-        })?;
-        obj::parse(&text, path, options)
+        formats::parse(&bytes, MeshFormat::Obj, path, options)
     }
 
     /// Parses OBJ text (for embedded meshes and tests).
@@ -161,8 +199,9 @@ impl Mesh {
     /// errors name vertices by their 0-based position among the file's `v` records. The file's
     /// normals are kept for [`NormalSource::Obj`] when every face corner names one and each
     /// vertex gets one direction (within [`OBJ_NORMAL_ANGLE_TOLERANCE`]). Polygons with more
-    /// than three corners are rejected ([`Error::NotATriangle`]) rather than triangulated: how
-    /// a polygon is split changes every surface built on it, so that choice stays with the
+    /// than three corners are split into triangles when planar and convex, and refused
+    /// otherwise ([`Error::NonPlanarFace`], [`Error::NonConvexFace`]): how a bent or concave
+    /// polygon is split changes every surface built on it, so that choice stays with the
     /// modeller that made the file. A UTF-8 byte-order mark is skipped, and lines may end in
     /// LF, CR LF or CR alone (old Mac files).
     pub fn parse_obj(text: &str) -> Result<(Mesh, LoadReport)> {

@@ -18,7 +18,8 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::normals::CornerNormals;
-use super::{LoadOptions, LoadReport, Mesh, validate};
+use super::polygon::{self, PolygonMesh};
+use super::{LoadOptions, LoadReport, Mesh};
 use crate::error::{Error, Result};
 
 /// Statements that group or decorate geometry; they do not change the surface.
@@ -34,8 +35,8 @@ struct Scan {
     corner_vertex: Vec<u32>,
     /// True if the file has `vn` records.
     has_normals: bool,
-    /// The first (face, corner) written without a normal index.
-    first_corner_without_normal: Option<(usize, usize)>,
+    /// The first (face, corner, index among all corners) written without a normal index.
+    first_corner_without_normal: Option<(usize, usize, usize)>,
     /// Number of `l` records dropped.
     polylines: usize,
 }
@@ -105,7 +106,8 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
                         }
                         None => {
                             if scan.first_corner_without_normal.is_none() {
-                                scan.first_corner_without_normal = Some((face, corner));
+                                scan.first_corner_without_normal =
+                                    Some((face, corner, corners.len() - 1));
                             }
                         }
                     }
@@ -197,12 +199,6 @@ pub(super) fn parse(
             arities.extend(&mesh.face_arities);
         }
     }
-    if let Some((face, &corners)) = arities.iter().enumerate().find(|(_, a)| **a != 3) {
-        return Err(Error::NotATriangle {
-            face,
-            corners: corners as usize,
-        });
-    }
     if corners.len() != scan.corner_vertex.len() {
         return Err(malformed(
             origin,
@@ -235,8 +231,8 @@ pub(super) fn parse(
     }
     let corner_normals = if !scan.has_normals {
         Err("the OBJ file has no normals".to_string())
-    } else if let Some((face, corner)) = scan.first_corner_without_normal {
-        let vertex = scan.corner_vertex[3 * face + corner];
+    } else if let Some((face, corner, index)) = scan.first_corner_without_normal {
+        let vertex = scan.corner_vertex[index];
         Err(format!(
             "corner {corner} of face {face} (vertex {vertex}) has no normal index"
         ))
@@ -248,13 +244,13 @@ pub(super) fn parse(
             corner: normal_corners,
         })
     };
-    let faces: Vec<[u32; 3]> = corners
-        .chunks_exact(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect();
     let used_in_file = positions.len();
-    let (mesh, mut report) =
-        validate::assemble(positions, faces, Some(&labels), corner_normals, options)?;
+    let polygons = PolygonMesh {
+        positions,
+        corners,
+        arities,
+    };
+    let (mesh, mut report) = polygon::assemble(polygons, Some(&labels), corner_normals, options)?;
     let unused = scan.vertex_count.saturating_sub(used_in_file);
     if unused > 0 {
         report
@@ -398,15 +394,61 @@ f 1/2/1 4/3/4 6/4/6
     }
 
     #[test]
-    fn polygons_are_not_triangles() {
-        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 5\nf 1 2 3 4\n";
+    fn convex_quads_are_triangulated_keeping_their_normals() {
+        // The unit cube as six quads, every corner naming its vertex's normal.
+        let mut text = String::new();
+        for i in 0..8 {
+            let p = DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64);
+            text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+        }
+        for i in 0..8 {
+            let p = DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64);
+            let n = (p - DVec3::splat(0.5)).normalize();
+            text += &format!("vn {} {} {}\n", n.x, n.y, n.z);
+        }
+        for quad in [
+            [1, 3, 4, 2],
+            [5, 6, 8, 7],
+            [1, 2, 6, 5],
+            [3, 7, 8, 4],
+            [1, 5, 7, 3],
+            [2, 4, 8, 6],
+        ] {
+            let corners: Vec<String> = quad.iter().map(|v| format!("{v}//{v}")).collect();
+            text += &format!("f {}\n", corners.join(" "));
+        }
+        let (mesh, report) = Mesh::parse_obj(&text).unwrap();
+        assert_eq!((mesh.vertex_count(), mesh.face_count()), (8, 12));
+        assert!(mesh.is_closed());
+        assert!(
+            report.warnings[0].starts_with("triangulated 6 faces"),
+            "{:?}",
+            report.warnings
+        );
+        let normals = mesh.vertex_normals(NormalSource::Obj).unwrap();
+        for (n, p) in normals.iter().zip(mesh.positions()) {
+            assert!((*n - (*p - DVec3::splat(0.5)).normalize()).length() < 1e-15);
+        }
+        // A corner without normal is named by its place in the quad.
+        let text = text.replace("f 2//2 4//4 8//8 6//6", "f 2//2 4//4 8 6//6");
+        let reason = obj_normals_error(&text);
+        assert!(
+            reason.contains("corner 2 of face 5 (vertex 7) has no normal"),
+            "{reason}"
+        );
+    }
+
+    #[test]
+    fn bent_polygons_and_two_corner_faces_are_refused() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nv 0 0 1\nf 1 2 5\nf 1 2 3 4\n";
         let error = parse_err(text);
         assert!(
             matches!(
                 error,
-                Error::NotATriangle {
+                Error::NonPlanarFace {
                     face: 1,
-                    corners: 4
+                    corners: 4,
+                    ..
                 }
             ),
             "{error}"

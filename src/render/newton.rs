@@ -282,15 +282,16 @@ pub fn search(
         // Newton over the whole piece from `y` only where the target from `y` stays in Δ.
         let mut promising = false;
         let mut found_inside = root_here;
-        if level > 0 && !root_here {
-            if let Some(step) = planes.newton_step(f, ss, tt) {
-                let error = half_m * size * size / sigma;
-                let outside = distance_to_triangle(y - step, tri);
-                if outside > error * (1.0 + 1e-9) + 1e-12 {
-                    continue;
-                }
-                promising = outside == 0.0;
+        if level > 0
+            && !root_here
+            && let Some(step) = planes.newton_step(f, ss, tt)
+        {
+            let error = half_m * size * size / sigma;
+            let outside = distance_to_triangle(y - step, tri);
+            if outside > error * (1.0 + 1e-9) + 1e-12 {
+                continue;
             }
+            promising = outside == 0.0;
         }
         if promising {
             let start = Start::At {

@@ -1,14 +1,21 @@
 //! `smoothlab compare OLD.json NEW.json`: what changed between two reports, per scheme × mesh,
 //! and whether anything got worse beyond its tolerance (quality) or noise threshold (timing).
+//! Quality and time are judged separately.
 //!
-//! A quality figure regresses when it moves in its bad direction by more than
-//! `abs + rel · |old|` (each figure has its own `abs`, the tolerance of the measurement — e.g.
-//! 1e-9 rad for normal jumps that are exact zeros up to rounding — and the common `rel`); the
-//! continuity order regresses when it drops at all; a timing regresses when `new / old` exceeds
-//! the ratio threshold (timings under 1 ms are too noisy to judge and are skipped). A record in
-//! OLD that NEW lacks is a regression too.
+//! Quality is always judged. A quality figure regresses when it moves in its bad direction by
+//! more than `abs + rel · |old|` (each figure has its own `abs`, the tolerance of the
+//! measurement — e.g. 1e-9 rad for normal jumps that are exact zeros up to rounding — and the
+//! common `rel`); the continuity order regresses when it drops at all. A record in OLD that
+//! NEW lacks is a regression too.
+//!
+//! Timings depend on the machine, so they are judged only when asked ([`TimingCheck`]), and
+//! then only between reports measured on the same machine ([`super::provenance::Machine`])
+//! unless forced. A timing regresses when `new / old` exceeds the ratio threshold widened by
+//! the recorded spread: `ratio · (1 + spread)`, with `spread` the larger of the two records'
+//! `<timing>_spread_rel` ((slowest − fastest) / median of the runs), 0 when not recorded.
+//! Timings under 1 ms are too noisy to judge and are skipped.
 
-use super::{Record, Report};
+use super::{METRICS_MESH, Record, Report};
 use crate::error::{Error, Result};
 
 /// Which way is better.
@@ -36,6 +43,35 @@ const QUALITY: &[(&str, Better, f64)] = &[
 
 /// Tracked timings (milliseconds).
 const TIMINGS: &[&str] = &["construct_ms", "render_ms"];
+
+/// Whether timings are judged.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TimingCheck {
+    /// Timings are not judged (`compare` without `--timings`).
+    #[default]
+    Skip,
+    /// Judged when both reports carry the same machine fingerprint, else skipped with a note
+    /// (`--timings`).
+    SameMachine,
+    /// Judged whatever machines the reports come from (`--force-timings`).
+    Force,
+}
+
+/// The outcome of a comparison.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Comparison {
+    /// Every changed figure, regressions flagged.
+    pub changes: Vec<Change>,
+    /// Lines telling what was not judged and why (timings skipped, machines differ).
+    pub notes: Vec<String>,
+}
+
+impl Comparison {
+    /// True if any change is a regression.
+    pub fn failed(&self) -> bool {
+        self.changes.iter().any(|c| c.regression)
+    }
+}
 
 /// Thresholds of a comparison.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -105,8 +141,64 @@ fn worse(old: f64, new: f64, better: Better, abs: f64, rel: f64) -> bool {
     }
 }
 
-/// Compares two reports; every changed figure is listed, regressions flagged.
-pub fn compare(old: &Report, new: &Report, t: Thresholds) -> Vec<Change> {
+/// Checks that two reports can be compared: both `smoothlab report` output or both
+/// `metrics --json` output (whose records have no benchmark mesh to match a report's).
+pub fn check_comparable(old: &Report, new: &Report) -> Result<()> {
+    let from_metrics = |r: &Report| r.records.iter().all(|r| r.mesh == METRICS_MESH);
+    if from_metrics(old) != from_metrics(new) {
+        let kind = |r: &Report| {
+            if from_metrics(r) {
+                "metrics --json output"
+            } else {
+                "a report"
+            }
+        };
+        return Err(Error::Invalid(format!(
+            "cannot compare {} with {}: compare two reports or two metrics --json outputs",
+            kind(old),
+            kind(new)
+        )));
+    }
+    Ok(())
+}
+
+/// Whether the timings of `old` and `new` are judged under `check`, and if not, why.
+fn timings_judged(old: &Report, new: &Report, check: TimingCheck) -> (bool, Option<String>) {
+    match check {
+        TimingCheck::Skip => (
+            false,
+            Some(
+                "timings not judged (--timings judges them between reports of one machine)".into(),
+            ),
+        ),
+        TimingCheck::Force => (true, None),
+        TimingCheck::SameMachine => match (&old.machine, &new.machine) {
+            (Some(a), Some(b)) if a == b => (true, None),
+            (Some(a), Some(b)) => (
+                false,
+                Some(format!(
+                    "timings not judged: measured on different machines ({} vs {}); \
+                     --force-timings judges them anyway",
+                    a.describe(),
+                    b.describe()
+                )),
+            ),
+            _ => (
+                false,
+                Some(
+                    "timings not judged: a report records no machine fingerprint; \
+                     --force-timings judges them anyway"
+                        .into(),
+                ),
+            ),
+        },
+    }
+}
+
+/// Compares two reports: quality always, timings as `timings` says; every changed figure is
+/// listed, regressions flagged.
+pub fn compare(old: &Report, new: &Report, t: Thresholds, timings: TimingCheck) -> Comparison {
+    let (judge_timings, note) = timings_judged(old, new, timings);
     let mut changes = Vec::new();
     for o in &old.records {
         let name = format!("{} / {}", o.mesh, o.scheme);
@@ -141,30 +233,49 @@ pub fn compare(old: &Report, new: &Report, t: Thresholds) -> Vec<Change> {
                 });
             }
         }
+        if !judge_timings {
+            continue;
+        }
         for &key in TIMINGS {
             if let (Some(a), Some(b)) = (number(o, key), number(n, key))
                 && a >= 1.0
             {
+                let spread_key = format!("{key}_spread_rel");
+                let spread = [number(o, &spread_key), number(n, &spread_key)]
+                    .into_iter()
+                    .flatten()
+                    .filter(|s| s.is_finite() && *s >= 0.0)
+                    .fold(0.0, f64::max);
+                let allowed = t.time_ratio * (1.0 + spread);
                 let ratio = b / a;
-                if !(1.0 / t.time_ratio..=t.time_ratio).contains(&ratio) {
+                if !(1.0 / allowed..=allowed).contains(&ratio) {
                     changes.push(Change {
                         record: name.clone(),
                         key: key.into(),
                         old: Some(a),
                         new: Some(b),
-                        regression: ratio > t.time_ratio,
+                        regression: ratio > allowed,
                     });
                 }
             }
         }
     }
-    changes
+    Comparison {
+        changes,
+        notes: note.into_iter().collect(),
+    }
 }
 
-/// The comparison as text, regressions marked.
-pub fn to_text(changes: &[Change]) -> String {
+/// The comparison as text, regressions marked, then the notes.
+pub fn to_text(comparison: &Comparison) -> String {
+    let notes: String = comparison
+        .notes
+        .iter()
+        .map(|n| format!("note: {n}\n"))
+        .collect();
+    let changes = &comparison.changes;
     if changes.is_empty() {
-        return "no changes\n".into();
+        return format!("no changes\n{notes}");
     }
     let cell = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.3e}"));
     let mut out = String::new();
@@ -180,12 +291,22 @@ pub fn to_text(changes: &[Change]) -> String {
     }
     let worse = changes.iter().filter(|c| c.regression).count();
     out += &format!("{worse} regression(s) among {} change(s)\n", changes.len());
-    out
+    out + &notes
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::report::provenance::Machine;
+
+    fn machine(cpu: &str) -> Machine {
+        Machine {
+            cpu: cpu.into(),
+            logical_cores: 8,
+            os: "linux".into(),
+            arch: "x86_64".into(),
+        }
+    }
 
     fn report(values: &[(&str, f64)]) -> Report {
         let mut figures = serde_json::Map::new();
@@ -202,7 +323,20 @@ mod tests {
                 scheme: "hb".into(),
                 figures,
             }],
+            describe: None,
+            dirty: None,
+            tool_version: None,
+            machine: Some(machine("cpu A")),
         }
+    }
+
+    fn flagged(comparison: &Comparison) -> Vec<&str> {
+        comparison
+            .changes
+            .iter()
+            .filter(|c| c.regression)
+            .map(|c| c.key.as_str())
+            .collect()
     }
 
     #[test]
@@ -217,21 +351,76 @@ mod tests {
             ("continuity_order", 1.0),
             ("construct_ms", 12.0),
         ]);
-        let changes = compare(&old, &noise, Thresholds::default());
-        assert!(changes.iter().all(|c| !c.regression), "{changes:?}");
+        let t = Thresholds::default();
+        let comparison = compare(&old, &noise, t, TimingCheck::SameMachine);
+        assert!(!comparison.failed(), "{comparison:?}");
 
         let broken = report(&[
             ("g1_max_rad", 0.2),
             ("continuity_order", 0.0),
             ("construct_ms", 40.0),
         ]);
-        let changes = compare(&old, &broken, Thresholds::default());
-        let flagged: Vec<&str> = changes
-            .iter()
-            .filter(|c| c.regression)
-            .map(|c| c.key.as_str())
-            .collect();
-        assert_eq!(flagged, ["g1_max_rad", "continuity_order", "construct_ms"]);
+        let comparison = compare(&old, &broken, t, TimingCheck::SameMachine);
+        assert_eq!(
+            flagged(&comparison),
+            ["g1_max_rad", "continuity_order", "construct_ms"]
+        );
+        // Without --timings only quality is judged.
+        let comparison = compare(&old, &broken, t, TimingCheck::Skip);
+        assert_eq!(flagged(&comparison), ["g1_max_rad", "continuity_order"]);
+        assert!(comparison.notes[0].starts_with("timings not judged"));
+    }
+
+    #[test]
+    fn timings_of_another_machine_are_judged_only_when_forced() {
+        let old = report(&[("g1_max_rad", 0.1), ("construct_ms", 10.0)]);
+        let mut slower = report(&[("g1_max_rad", 0.1), ("construct_ms", 30.0)]);
+        slower.machine = Some(machine("cpu B"));
+        let t = Thresholds::default();
+        let comparison = compare(&old, &slower, t, TimingCheck::SameMachine);
+        assert!(comparison.changes.is_empty(), "{comparison:?}");
+        assert!(
+            comparison.notes[0].contains("different machines (cpu A, 8 logical cores"),
+            "{:?}",
+            comparison.notes
+        );
+        assert!(to_text(&comparison).starts_with("no changes\nnote: timings not judged"));
+        let forced = compare(&old, &slower, t, TimingCheck::Force);
+        assert_eq!(flagged(&forced), ["construct_ms"]);
+        // A report without fingerprint (an earlier version) is not judged either.
+        slower.machine = None;
+        let comparison = compare(&old, &slower, t, TimingCheck::SameMachine);
+        assert!(!comparison.failed());
+        assert!(comparison.notes[0].contains("no machine fingerprint"));
+    }
+
+    #[test]
+    fn the_recorded_spread_widens_the_timing_threshold() {
+        let old = report(&[("construct_ms", 10.0), ("construct_ms_spread_rel", 0.05)]);
+        let new = report(&[("construct_ms", 17.0), ("construct_ms_spread_rel", 0.2)]);
+        let t = Thresholds::default();
+        // 1.7 > 1.5, but within 1.5 · (1 + 0.2) = 1.8.
+        let comparison = compare(&old, &new, t, TimingCheck::SameMachine);
+        assert!(!comparison.failed(), "{comparison:?}");
+        let steady = report(&[("construct_ms", 17.0), ("construct_ms_spread_rel", 0.01)]);
+        // Beyond 1.5 · (1 + 0.05) = 1.575.
+        let comparison = compare(&old, &steady, t, TimingCheck::SameMachine);
+        assert_eq!(flagged(&comparison), ["construct_ms"]);
+    }
+
+    #[test]
+    fn reports_and_metrics_output_do_not_mix() {
+        let old = report(&[("g1_max_rad", 0.1)]);
+        let mut metrics = old.clone();
+        metrics.records[0].mesh = METRICS_MESH.into();
+        assert!(check_comparable(&old, &old).is_ok());
+        assert!(check_comparable(&metrics, &metrics).is_ok());
+        let err = check_comparable(&old, &metrics).unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("cannot compare a report with metrics --json output"),
+            "{err}"
+        );
     }
 
     #[test]
@@ -266,7 +455,7 @@ mod tests {
         let old = report(&[("g1_max_rad", 0.0)]);
         let mut new = old.clone();
         new.records.clear();
-        let changes = compare(&old, &new, Thresholds::default());
-        assert!(changes.iter().any(|c| c.regression), "{changes:?}");
+        let comparison = compare(&old, &new, Thresholds::default(), TimingCheck::Skip);
+        assert!(comparison.failed(), "{comparison:?}");
     }
 }

@@ -2,11 +2,18 @@
 //! meshes — the closed scenes and meshes sampled from analytic surfaces with exact normals — and
 //! measured: all metrics, the bending energy, and on analytic meshes the distance and normal
 //! error to the true surface. Written as `metrics.json` (the machine-readable record that
-//! [`compare`] reads), `metrics.csv` and `metrics.md`, stamped with the git commit and date.
+//! [`compare`] reads), `metrics.csv` and `metrics.md`, stamped with the git commit (with a
+//! dirty flag), the date, the tool version and the machine's fingerprint ([`provenance`]).
+//!
+//! Construction times are the median of [`TIMING_RUNS`] builds for schemes whose first build
+//! takes under [`CHEAP_BUILD_MS`], with the spread recorded as `construct_ms_spread_rel`
+//! ((slowest − fastest) / median); slower builds are timed once (`construct_ms_runs` = 1, no
+//! spread).
 
 pub mod analytic;
 pub mod compare;
 pub mod plots;
+pub mod provenance;
 
 use std::path::Path;
 use std::time::{SystemTime, UNIX_EPOCH};
@@ -24,6 +31,13 @@ use analytic::{Analytic, surface_error};
 
 /// The format version of `metrics.json` that this build writes and reads.
 pub const REPORT_VERSION: u32 = 1;
+
+/// How many times a cheap construction is timed; the report records the median.
+pub const TIMING_RUNS: usize = 5;
+
+/// A construction whose first build takes less than this (milliseconds) is timed
+/// [`TIMING_RUNS`] times; a slower one once, which keeps the report's run time low.
+pub const CHEAP_BUILD_MS: f64 = 50.0;
 
 /// A mesh the report measures every scheme on.
 pub struct BenchmarkMesh {
@@ -101,22 +115,103 @@ pub struct Report {
     pub date: String,
     /// The records, meshes in benchmark order, schemes in registry order.
     pub records: Vec<Record>,
+    /// `git describe --always --dirty` of the working tree (`-dirty`: files differ from the
+    /// commit), or `unknown`. Absent in reports of earlier versions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub describe: Option<String>,
+    /// True if the working tree differed from the commit. Absent when unknown.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dirty: Option<bool>,
+    /// The smoothlab version that wrote the report. Absent in reports of earlier versions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tool_version: Option<String>,
+    /// The machine the timings were measured on. Absent in reports of earlier versions, whose
+    /// timings [`compare`] therefore judges only when forced.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub machine: Option<provenance::Machine>,
+}
+
+impl Report {
+    /// An empty report stamped with this run's provenance: commit, describe string, date,
+    /// tool version and machine.
+    pub fn stamped(records: Vec<Record>) -> Report {
+        let describe = provenance::git_describe();
+        Report {
+            format: "smoothlab-report".into(),
+            version: REPORT_VERSION,
+            commit: git_commit(),
+            date: utc_now(),
+            records,
+            dirty: (describe != "unknown").then(|| describe.ends_with("-dirty")),
+            describe: Some(describe),
+            tool_version: Some(provenance::tool_version()),
+            machine: Some(provenance::Machine::current()),
+        }
+    }
+}
+
+/// Builds `scheme` on `mesh` and times it: once when the build takes [`CHEAP_BUILD_MS`] or
+/// more, else [`TIMING_RUNS`] times. Returns the surface, the median time (ms), the number of
+/// runs and the relative spread (None for one run).
+fn build_median_timed(
+    scheme: &str,
+    mesh: &Mesh,
+) -> Result<(crate::surface::Surface, f64, usize, Option<f64>)> {
+    let (surface, first) = schemes::build_timed(scheme, mesh, &[])?;
+    if first >= CHEAP_BUILD_MS {
+        return Ok((surface, first, 1, None));
+    }
+    let mut times = vec![first];
+    for _ in 1..TIMING_RUNS {
+        times.push(schemes::build_timed(scheme, mesh, &[])?.1);
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    let spread = if median > 0.0 {
+        (times[times.len() - 1] - times[0]) / median
+    } else {
+        0.0
+    };
+    Ok((surface, median, times.len(), Some(spread)))
 }
 
 /// Measures every registered scheme on every benchmark mesh it accepts.
 pub fn run() -> Result<Report> {
+    run_with_progress(&|_, _, _| {})
+}
+
+/// [`run`], calling `progress(done, total, "mesh / scheme")` before each record is measured
+/// and `progress(total, total, "")` at the end.
+pub fn run_with_progress(progress: &dyn Fn(usize, usize, &str)) -> Result<Report> {
+    let meshes = benchmark_meshes()?;
+    let accepts = |bench: &BenchmarkMesh, spec: &schemes::SchemeSpec| {
+        !spec.needs_closed_mesh || bench.mesh.is_closed()
+    };
+    let total: usize = meshes
+        .iter()
+        .map(|bench| SCHEMES.iter().filter(|spec| accepts(bench, spec)).count())
+        .sum();
     let mut records = Vec::new();
-    for bench in benchmark_meshes()? {
+    for bench in meshes {
         for spec in SCHEMES {
-            if spec.needs_closed_mesh && !bench.mesh.is_closed() {
+            if !accepts(&bench, spec) {
                 continue;
             }
-            let (surface, ms) = schemes::build_timed(spec.name, &bench.mesh, &[])?;
+            progress(
+                records.len(),
+                total,
+                &format!("{} / {}", bench.name, spec.name),
+            );
+            let (surface, ms, runs, spread) = build_median_timed(spec.name, &bench.mesh)?;
             let metrics = Metrics::measure(&surface, &bench.mesh, ms);
             let mut figures = match serde_json::to_value(&metrics) {
                 Ok(serde_json::Value::Object(map)) => map,
                 _ => return Err(Error::Invalid("metrics did not serialise".into())),
             };
+            figures.insert("construct_ms_runs".into(), runs.into());
+            if let Some(spread) = spread {
+                figures.insert("construct_ms_spread_rel".into(), spread.into());
+            }
             figures.insert("bending_energy".into(), bending_energy(&surface).into());
             if let Some(a) = bench.analytic {
                 let diag = bench.mesh.bounds().diagonal();
@@ -132,13 +227,8 @@ pub fn run() -> Result<Report> {
             });
         }
     }
-    Ok(Report {
-        format: "smoothlab-report".into(),
-        version: REPORT_VERSION,
-        commit: git_commit(),
-        date: utc_now(),
-        records,
-    })
+    progress(total, total, "");
+    Ok(Report::stamped(records))
 }
 
 fn git_commit() -> String {
@@ -220,8 +310,15 @@ pub fn to_markdown(report: &Report) -> String {
     let mut out = format!(
         "# smoothlab results\n\ncommit `{}`, {}. Lengths relative to the bounding-box diagonal, \
          angles in radians; written by `smoothlab report`.\n",
-        report.commit, report.date
+        report.describe.as_deref().unwrap_or(&report.commit),
+        report.date
     );
+    if let Some(machine) = &report.machine {
+        out += &format!(
+            "\nTimings (ms, median of up to {TIMING_RUNS} runs) measured on {}.\n",
+            machine.describe()
+        );
+    }
     let mut meshes: Vec<&str> = report.records.iter().map(|r| r.mesh.as_str()).collect();
     meshes.dedup();
     for mesh in meshes {
@@ -245,13 +342,21 @@ const TABLES: [&str; 3] = ["metrics.json", "metrics.csv", "metrics.md"];
 /// [`plots`] into `out_dir/figures/` (folders created if missing). Every output path is
 /// checked before the measurements start, and every file is written atomically.
 pub fn write(out_dir: &Path) -> Result<Report> {
+    write_with_progress(out_dir, &|_, _, _| {})
+}
+
+/// [`write()`], reporting progress as [`run_with_progress`] does.
+pub fn write_with_progress(
+    out_dir: &Path,
+    progress: &dyn Fn(usize, usize, &str),
+) -> Result<Report> {
     let figures = out_dir.join("figures");
     create_folder(&figures)?;
     let tables = TABLES.map(|name| out_dir.join(name));
     for path in tables.iter().chain(&plots::plot_paths(&figures)) {
         check_writable(path)?;
     }
-    let report = run()?;
+    let report = run_with_progress(progress)?;
     plots::write_plots(&report, &figures)?;
     let json = serde_json::to_string_pretty(&report)
         .map_err(|e| Error::Invalid(format!("report JSON: {e}")))?;
@@ -271,6 +376,72 @@ pub fn read(path: &Path) -> Result<Report> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let report: Report = serde_json::from_str(&text)
         .map_err(|e| Error::Invalid(format!("{}: not a smoothlab report: {e}", path.display())))?;
+    check(&report).map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
+    Ok(report)
+}
+
+/// The mesh name given to the records of `metrics --json` output read by [`read_comparable`]
+/// (that output does not name its mesh).
+pub const METRICS_MESH: &str = "(metrics)";
+
+/// Reads what `compare` compares: a report written by [`write()`] (see [`read`]), or the output
+/// of `smoothlab metrics --json` (a list of per-scheme objects), turned into a report with one
+/// record per scheme on the mesh [`METRICS_MESH`] and no provenance. The shape is detected
+/// from the JSON; anything else is an error naming the file and the two accepted shapes.
+pub fn read_comparable(path: &Path) -> Result<Report> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let value: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| Error::Invalid(format!("{}: not JSON: {e}", path.display())))?;
+    let shape_error = |what: &str| {
+        Error::Invalid(format!(
+            "{}: {what}; compare reads a smoothlab report (an object with \"format\": \
+             \"smoothlab-report\", from `smoothlab report`) or `smoothlab metrics --json` \
+             output (a list of objects with a \"scheme\")",
+            path.display()
+        ))
+    };
+    let report = match value {
+        serde_json::Value::Object(ref map) if map.contains_key("format") => {
+            serde_json::from_value::<Report>(value).map_err(|e| {
+                Error::Invalid(format!("{}: not a smoothlab report: {e}", path.display()))
+            })?
+        }
+        serde_json::Value::Array(entries) => {
+            let mut records = Vec::with_capacity(entries.len());
+            for (k, entry) in entries.into_iter().enumerate() {
+                let serde_json::Value::Object(figures) = entry else {
+                    return Err(shape_error(&format!(
+                        "entry {k} of the list is not an object"
+                    )));
+                };
+                let Some(scheme) = figures.get("scheme").and_then(|s| s.as_str()) else {
+                    return Err(shape_error(&format!(
+                        "entry {k} of the list has no \"scheme\""
+                    )));
+                };
+                records.push(Record {
+                    mesh: METRICS_MESH.to_string(),
+                    scheme: scheme.to_string(),
+                    figures,
+                });
+            }
+            if records.is_empty() {
+                return Err(shape_error("the list is empty"));
+            }
+            Report {
+                format: "smoothlab-report".into(),
+                version: REPORT_VERSION,
+                commit: "unknown".into(),
+                date: String::new(),
+                records,
+                describe: None,
+                dirty: None,
+                tool_version: None,
+                machine: None,
+            }
+        }
+        _ => return Err(shape_error("neither a report nor a list of metrics")),
+    };
     check(&report).map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
     Ok(report)
 }
@@ -299,6 +470,46 @@ fn check(report: &Report) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// A progress bar for [`write_with_progress`] on standard error, drawn only when standard
+/// error is a terminal (hidden when it is redirected, so logs stay clean). Returns the
+/// callback; the bar clears itself when the run is done.
+pub fn terminal_progress() -> impl Fn(usize, usize, &str) {
+    let bar =
+        indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("report {bar:40} {pos}/{len} {elapsed} {msg}")
+    {
+        bar.set_style(style);
+    }
+    move |done: usize, total: usize, record: &str| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(record.to_string());
+        if done == total {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// One line summing up a written report: records, meshes, schemes, where the files are,
+/// the commit and the run time.
+pub fn summary_line(report: &Report, out_dir: &Path, seconds: f64) -> String {
+    let mut meshes: Vec<&str> = report.records.iter().map(|r| r.mesh.as_str()).collect();
+    meshes.dedup();
+    let mut schemes: Vec<&str> = report.records.iter().map(|r| r.scheme.as_str()).collect();
+    schemes.sort_unstable();
+    schemes.dedup();
+    format!(
+        "report: {} records ({} meshes, {} schemes) written to {}/metrics.{{json,csv,md}} and \
+         figures/ in {seconds:.1} s; commit {}\n",
+        report.records.len(),
+        meshes.len(),
+        schemes.len(),
+        out_dir.display(),
+        report.describe.as_deref().unwrap_or(&report.commit),
+    )
 }
 
 /// Names of the schemes a report covers, for checks that every registered scheme is in it.
@@ -332,6 +543,10 @@ mod tests {
                 record("torus", "pn"),
                 record("cube", "hb"),
             ],
+            describe: None,
+            dirty: None,
+            tool_version: None,
+            machine: None,
         };
         check(&report).expect("valid report");
         report.version = 2;

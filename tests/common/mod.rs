@@ -43,3 +43,5 @@ pub fn smoothlab_with_stdout(args: &[&str], stdout: std::process::Stdio) -> Outp
         .output()
         .expect("run smoothlab")
 }
+
+pub mod mesh_files;

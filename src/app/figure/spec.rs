@@ -139,7 +139,7 @@ impl FigureSpec {
         toml_input::parse(&text, &path.display().to_string())
     }
 
-    /// The mesh: a scenes/ name, else an OBJ path relative to `dir`.
+    /// The mesh: a scenes/ name, else a mesh file (OBJ, PLY, OFF, STL) relative to `dir`.
     pub fn load_mesh(&self, dir: &Path) -> Result<Mesh> {
         if let Some(scene) = SCENES.iter().find(|s| s.name == self.mesh) {
             return scene.mesh();
@@ -150,7 +150,7 @@ impl FigureSpec {
         } else {
             path.to_path_buf()
         };
-        Ok(Mesh::load_obj(&path)?.0)
+        Ok(Mesh::load(&path)?.0)
     }
 
     /// The mode of entry `k` with its parameters, checked through the scene-file sections.
