@@ -438,6 +438,11 @@ fn local_jet(patch: &Patch, tri: [DVec2; 3], x: DVec2) -> (DVec3, DVec3, DVec3) 
     (p, su * e1.x + sv * e1.y, su * e2.x + sv * e2.y)
 }
 
+/// How far behind a ray's origin its BVH traversal starts (unit frame, where the scene's
+/// diagonal is in [1, 2)): twice the distance below which obvhs' CWBVH node test
+/// (`EPSILON = 1e-4` in `cwbvh::node`) ignores a box.
+pub(crate) const TRAVERSAL_SETBACK: f64 = 2e-4;
+
 /// The closest of the hits `hit_of(primitive, t_max so far)` over the primitives of `bvh` whose
 /// boxes the ray enters, with `t ∈ (t_min, t_max)`: the traversal shared by the exact and the
 /// tessellated tracer.
@@ -445,6 +450,12 @@ fn local_jet(patch: &Patch, tri: [DVec2; 3], x: DVec2) -> (DVec3, DVec3, DVec3) 
 /// The BVH is f32, so the traversal ray's interval is widened by `padding` (see
 /// [`crate::render::bvh::box_padding`]) and every closer hit shrinks it to `t + padding`,
 /// rounded to f32: rounding of t never culls a box that may still hold a closer f64 hit.
+///
+/// obvhs' node test treats every box the ray leaves before `t =` [`TRAVERSAL_SETBACK`]`/ 2`
+/// (its fixed minimum distance) as missed, whatever the ray's own interval. The traversal ray
+/// therefore starts [`TRAVERSAL_SETBACK`] behind the ray's origin (all its distances shifted by
+/// that much), so a box right at the origin — a grazing ray leaving a surface, a camera close
+/// to it — is still entered.
 pub(crate) fn closest_in_bvh(
     bvh: &CwBvh,
     padding: f64,
@@ -453,14 +464,15 @@ pub(crate) fn closest_in_bvh(
     t_max: f64,
     mut hit_of: impl FnMut(usize, f64) -> Option<Hit>,
 ) -> Option<Hit> {
+    let setback = TRAVERSAL_SETBACK;
     // `+ 0.0` turns −0.0 into +0.0: obvhs picks the slab order from `d < 0` but the
     // inverse direction from the sign bit, and the two disagree on −0.0.
     let traversal = Ray::new(
-        ray.origin.as_vec3a(),
+        (ray.origin - ray.dir * setback).as_vec3a(),
         ray.dir.as_vec3a() + Vec3A::ZERO,
-        (t_min - padding).max(0.0) as f32,
+        (t_min + setback - padding).max(0.0) as f32,
         if t_max.is_finite() {
-            (t_max + padding) as f32
+            (t_max + setback + padding) as f32
         } else {
             f32::INFINITY
         },
@@ -472,7 +484,7 @@ pub(crate) fn closest_in_bvh(
         Some(hit) => {
             best_t = hit.t;
             best = Some(hit);
-            (hit.t + padding) as f32
+            (hit.t + setback + padding) as f32
         }
         None => f32::INFINITY,
     });
