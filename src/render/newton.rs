@@ -291,7 +291,9 @@ pub fn search(
             if outside > error * (1.0 + 1e-9) + 1e-12 {
                 continue;
             }
-            promising = outside == 0.0;
+            // Deep down, a root near the edge of Δ may have its target just outside: run too.
+            // Deep down, a root near an edge of Δ may have its target just across it: run too.
+            promising = outside == 0.0 || (level >= 4 && outside <= size);
         }
         if promising {
             let start = Start::At {
