@@ -55,9 +55,6 @@ pub fn tolerance(m: usize) -> f64 {
     1e-8 * 10f64.powi(m as i32)
 }
 
-/// Orders evaluated first: the comparison of most joints stops at order 1 or 2.
-const FIRST_ORDERS: usize = 2;
-
 /// A bivariate power series truncated at total order [`MAX_ORDER`]; coefficient of `x^i y^j`
 /// at [`term`]`(i, j)` (by total order, then i descending — the order of `Patch::partials`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -283,37 +280,91 @@ impl HeightSeries {
     }
 }
 
+/// Blossom arguments held on the stack: nets of a higher degree are evaluated through
+/// [`TriangleBezier::partials`].
+const MAX_STACK_DEGREE: usize = 32;
+
+/// The partial derivatives of the orders `from..=to` of a Bézier net at `uv` into `out` (at
+/// `term(i, m − i)`), as [`TriangleBezier::partials`] computes them — `d!/(d−m)!` times the
+/// blossom at `i` copies of `∂/∂u`, `m − i` of `∂/∂v` and `d − m` of the point — without
+/// evaluating the lower orders.
+fn bezier_partials(
+    net: &TriangleBezier,
+    uv: DVec2,
+    from: usize,
+    to: usize,
+    out: &mut [DVec3; TERMS],
+) {
+    let d = net.degree();
+    if d > MAX_STACK_DEGREE {
+        let all = net.partials(uv.x, uv.y, to);
+        out[from * (from + 1) / 2..all.len()].copy_from_slice(&all[from * (from + 1) / 2..]);
+        return;
+    }
+    let x = DVec3::new(1.0 - uv.x - uv.y, uv.x, uv.y);
+    let (du, dv) = (DVec3::new(-1.0, 1.0, 0.0), DVec3::new(-1.0, 0.0, 1.0));
+    let mut args = [DVec3::ZERO; MAX_STACK_DEGREE];
+    for m in from..=to {
+        for i in 0..=m {
+            out[term(i, m - i)] = if m > d {
+                DVec3::ZERO
+            } else {
+                args[..i].fill(du);
+                args[i..m].fill(dv);
+                args[m..d].fill(x);
+                let falling: f64 = (d + 1 - m..=d).map(|k| k as f64).product();
+                falling * net.blossom(&args[..d])
+            };
+        }
+    }
+}
+
 /// Where the partial derivatives of a side come from.
 #[derive(Clone, Copy)]
 enum Source<'a> {
-    /// A patch of the surface.
-    Patch(&'a Patch),
-    /// A bare control net (a perturbed copy, for the rounding floor).
+    /// A Bézier net (of a patch, or a perturbed copy for the rounding floor): exact partials
+    /// of any order, evaluated order by order.
     Net(&'a TriangleBezier),
+    /// Another kind of patch: exact partials of all orders at once, or only those of its jet.
+    Patch(&'a Patch),
 }
 
-impl Source<'_> {
-    /// The partial derivatives at `uv` up to `order` (zero above), and the highest order this
-    /// side provides: exact ones up to [`MAX_ORDER`], or those of the jet (order 2) for patch
-    /// kinds without higher derivatives.
-    fn partials(self, uv: DVec2, order: usize) -> ([DVec3; TERMS], usize) {
-        let mut out = [DVec3::ZERO; TERMS];
-        let exact = match self {
-            Source::Patch(p) => p.partials(uv.x, uv.y, order),
-            Source::Net(net) => Some(net.partials(uv.x, uv.y, order)),
+impl<'a> Source<'a> {
+    /// The source of the partial derivatives of `patch`.
+    fn of(patch: &'a Patch) -> Source<'a> {
+        match patch.as_bezier() {
+            Some(net) => Source::Net(net),
+            None => Source::Patch(patch),
+        }
+    }
+
+    /// Evaluates the partial derivatives at `uv` of the orders `from..=to` (at least) into
+    /// `out`. Returns the highest order now evaluated and the highest order this side
+    /// provides: [`MAX_ORDER`], or 2 for patch kinds without higher derivatives (whose jet is
+    /// taken).
+    fn partials(
+        self,
+        uv: DVec2,
+        from: usize,
+        to: usize,
+        out: &mut [DVec3; TERMS],
+    ) -> (usize, usize) {
+        let patch = match self {
+            Source::Net(net) => {
+                bezier_partials(net, uv, from, to, out);
+                return (to, MAX_ORDER);
+            }
+            Source::Patch(patch) => patch,
         };
-        match exact {
+        match patch.partials(uv.x, uv.y, MAX_ORDER) {
             Some(all) => {
                 out[..all.len()].copy_from_slice(&all);
-                (out, MAX_ORDER)
+                (MAX_ORDER, MAX_ORDER)
             }
             None => {
-                let Source::Patch(p) = self else {
-                    unreachable!("a net has exact partials")
-                };
-                let j = p.jet(uv.x, uv.y);
+                let j = patch.jet(uv.x, uv.y);
                 out[..6].copy_from_slice(&[j.p, j.du, j.dv, j.duu, j.duv, j.dvv]);
-                (out, 2)
+                (2, 2)
             }
         }
     }
@@ -325,52 +376,64 @@ impl Source<'_> {
 struct JointPoint<'a> {
     sources: [Source<'a>; 2],
     uvs: [DVec2; 2],
+    /// The partial derivatives of both sides.
+    partials: [[DVec3; TERMS]; 2],
+    /// Highest order of the partials evaluated, per side.
+    evaluated: [usize; 2],
     /// Highest order both sides provide.
     limit: usize,
-    /// Orders of the partial derivatives evaluated.
-    evaluated: usize,
     frame: [DVec3; 3],
     heights: [HeightSeries; 2],
 }
 
 impl<'a> JointPoint<'a> {
-    /// The partial derivatives of both sides at `uvs` up to `order` (within what the sides
-    /// provide) and the highest order both provide.
-    fn partials(
+    /// The partial derivatives of the sides `sources` at `uvs` of the orders `from..=to` (of
+    /// all orders for patches that have them only together); what
+    /// [`JointPoint::new`] takes.
+    fn evaluate(
         sources: [Source<'a>; 2],
         uvs: [DVec2; 2],
-        order: usize,
-    ) -> ([[DVec3; TERMS]; 2], usize) {
-        let (pa, limit_a) = sources[0].partials(uvs[0], order);
-        let (pb, limit_b) = sources[1].partials(uvs[1], order);
-        ([pa, pb], limit_a.min(limit_b))
+        from: usize,
+        to: usize,
+    ) -> Evaluated<'a> {
+        let mut partials = [[DVec3::ZERO; TERMS]; 2];
+        let (ea, limit_a) = sources[0].partials(uvs[0], from, to, &mut partials[0]);
+        let (eb, limit_b) = sources[1].partials(uvs[1], from, to, &mut partials[1]);
+        Evaluated {
+            sources,
+            uvs,
+            partials,
+            evaluated: [ea, eb],
+            limit: limit_a.min(limit_b),
+        }
     }
 
-    /// The joint point from partials evaluated up to `evaluated`; `None` where a side is
+    /// The joint point from its evaluated partials (orders 1 at least); `None` where a side is
     /// singular. `edge_a` is side A's edge (its direction is `e1`).
-    fn new(
-        sources: [Source<'a>; 2],
-        uvs: [DVec2; 2],
-        edge_a: usize,
-        partials: &[[DVec3; TERMS]; 2],
-        evaluated: usize,
-        limit: usize,
-    ) -> Option<JointPoint<'a>> {
+    fn new(evaluated: Evaluated<'a>, edge_a: usize) -> Option<JointPoint<'a>> {
+        let Evaluated {
+            sources,
+            uvs,
+            partials,
+            evaluated,
+            limit,
+        } = evaluated;
         let pa = &partials[0];
         let w = UV_CORNERS[(edge_a + 1) % 3] - UV_CORNERS[edge_a];
         let e1 = (pa[1] * w.x + pa[2] * w.y).try_normalize()?;
         let n = pa[1].cross(pa[2]).try_normalize()?;
         let frame = [e1, n.cross(e1), n];
-        let evaluated = evaluated.min(limit);
+        let known = evaluated[0].min(evaluated[1]).min(limit);
         let heights = [
-            HeightSeries::new(&frame_series(&partials[0], frame, evaluated), evaluated)?,
-            HeightSeries::new(&frame_series(&partials[1], frame, evaluated), evaluated)?,
+            HeightSeries::new(&frame_series(&partials[0], frame, known), known)?,
+            HeightSeries::new(&frame_series(&partials[1], frame, known), known)?,
         ];
         Some(JointPoint {
             sources,
             uvs,
-            limit,
+            partials,
             evaluated,
+            limit,
             frame,
             heights,
         })
@@ -378,11 +441,21 @@ impl<'a> JointPoint<'a> {
 
     /// The order-m height coefficients of both sides (`m ≤ limit`).
     fn heights_at(&mut self, m: usize) -> [&Series; 2] {
-        if m > self.evaluated {
-            let (partials, _) = Self::partials(self.sources, self.uvs, self.limit);
-            self.evaluated = self.limit;
-            for (height, p) in self.heights.iter_mut().zip(&partials) {
-                height.extend(&frame_series(p, self.frame, self.limit), self.limit);
+        if m > self.heights[0].known {
+            for side in 0..2 {
+                if self.evaluated[side] < m {
+                    let (evaluated, _) = self.sources[side].partials(
+                        self.uvs[side],
+                        self.evaluated[side] + 1,
+                        m,
+                        &mut self.partials[side],
+                    );
+                    self.evaluated[side] = evaluated;
+                }
+            }
+            let known = self.evaluated[0].min(self.evaluated[1]).min(self.limit);
+            for (height, p) in self.heights.iter_mut().zip(&self.partials) {
+                height.extend(&frame_series(p, self.frame, known), known);
             }
         }
         for height in &mut self.heights {
@@ -390,6 +463,16 @@ impl<'a> JointPoint<'a> {
         }
         [&self.heights[0].height, &self.heights[1].height]
     }
+}
+
+/// Partial derivatives of both sides of a joint at one point, as [`JointPoint::evaluate`]
+/// gives them.
+struct Evaluated<'a> {
+    sources: [Source<'a>; 2],
+    uvs: [DVec2; 2],
+    partials: [[DVec3; TERMS]; 2],
+    evaluated: [usize; 2],
+    limit: usize,
 }
 
 /// A jump this large relative to the order-m coefficients is always detected: an order whose
@@ -462,8 +545,7 @@ impl<'a> Floor<'a> {
     fn new(nets: &'a PerturbedNets, uvs: [DVec2; 2], edge_a: usize, first: usize) -> Self {
         let trials = nets.iter().flatten().map(|pair| {
             let sources = [Source::Net(&pair[0]), Source::Net(&pair[1])];
-            let (partials, limit) = JointPoint::partials(sources, uvs, first);
-            JointPoint::new(sources, uvs, edge_a, &partials, first, limit)
+            JointPoint::new(JointPoint::evaluate(sources, uvs, 1, first), edge_a)
         });
         Floor {
             trials: trials.collect(),
@@ -529,12 +611,10 @@ fn exact_point<'a>(
         edge_uv(joint.a.edge as usize, s),
         edge_uv(joint.b.edge as usize, sb),
     ];
-    let sources =
-        [joint.a, joint.b].map(|side| Source::Patch(&surface.patches[side.patch as usize]));
-    let (partials, limit) = JointPoint::partials(sources, uvs, order);
-    let gap = (partials[0][0] - partials[1][0]).length();
-    let point = JointPoint::new(sources, uvs, joint.a.edge as usize, &partials, order, limit);
-    (gap, point)
+    let sources = [joint.a, joint.b].map(|side| Source::of(&surface.patches[side.patch as usize]));
+    let evaluated = JointPoint::evaluate(sources, uvs, 0, order);
+    let gap = (evaluated.partials[0][0] - evaluated.partials[1][0]).length();
+    (gap, JointPoint::new(evaluated, joint.a.edge as usize))
 }
 
 /// The measured order of `joint` at fraction `s` along it; `diag` is the length scale L.
@@ -560,23 +640,42 @@ pub struct Measured {
 
 /// [`order_at`] with the reason it stopped.
 pub fn measure_at(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> Measured {
-    measure_with_floor(surface, joint, s, diag, Some(&OnceCell::new()))
+    measure_with_floor(
+        surface,
+        joint,
+        s,
+        diag,
+        Some(&OnceCell::new()),
+        Goal::Reason,
+    )
 }
 
-/// [`measure_at`], with the rounding floor consulted if `nets` is given: the perturbed nets of
-/// the joint are drawn into it on first use (a joint's points share them).
+/// What the measure at one point has to establish.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Goal {
+    /// The order, and why it stops there ([`Measured::unresolved`]).
+    Reason,
+    /// The order only, and only up to a bound: the measure stops as soon as the sides agree to
+    /// it (the bound is the lowest order found so far along the joint, whose order is the
+    /// minimum), and does not tell an unresolved order from a difference.
+    OrderUpTo(i32),
+}
+
+/// [`measure_at`] towards `goal`, with the rounding floor consulted if `nets` is given: the
+/// perturbed nets of the joint are drawn into it on first use (a joint's points share them).
 fn measure_with_floor(
     surface: &Surface,
     joint: &Joint,
     s: f64,
     diag: f64,
     nets: Option<&OnceCell<PerturbedNets>>,
+    goal: Goal,
 ) -> Measured {
     let plain = |order| Measured {
         order,
         unresolved: false,
     };
-    let (gap, point) = exact_point(surface, joint, s, FIRST_ORDERS);
+    let (gap, point) = exact_point(surface, joint, s, 1);
     if gap > 1e-9 * diag {
         return plain(-1);
     }
@@ -587,6 +686,9 @@ fn measure_with_floor(
     let mut agreed = 0;
     let mut unresolved = false;
     for m in 1..=point.limit {
+        if matches!(goal, Goal::OrderUpTo(bound) if agreed as i32 >= bound) {
+            break;
+        }
         let [ha, hb] = point.heights_at(m);
         let (mut diff, mut mag) = (0.0_f64, 0.0_f64);
         for i in 0..=m {
@@ -599,6 +701,11 @@ fn measure_with_floor(
             let Some(nets) = nets else {
                 break;
             };
+            if goal != Goal::Reason && diff > RESOLVABLE * scale {
+                // Only a floor above RESOLVABLE of the scale could cover this difference, and
+                // such an order is not claimed either: the order stops here, whatever the floor.
+                break;
+            }
             let floor = floor
                 .get_or_insert_with(|| {
                     let nets = nets.get_or_init(|| perturbed_nets(surface, joint));
@@ -624,11 +731,10 @@ fn measure_with_floor(
 /// The order of a joint: the minimum over [`ORDER_SAMPLES`].
 pub fn joint_order(surface: &Surface, joint: &Joint, diag: f64) -> i32 {
     let nets = OnceCell::new();
-    ORDER_SAMPLES
-        .iter()
-        .map(|&s| measure_with_floor(surface, joint, s, diag, Some(&nets)).order)
-        .min()
-        .unwrap_or(0)
+    ORDER_SAMPLES.iter().fold(MAX_ORDER as i32, |lowest, &s| {
+        let goal = Goal::OrderUpTo(lowest);
+        lowest.min(measure_with_floor(surface, joint, s, diag, Some(&nets), goal).order)
+    })
 }
 
 #[cfg(test)]
@@ -966,7 +1072,7 @@ mod tests {
             }
             let plain = ORDER_SAMPLES
                 .iter()
-                .map(|&s| measure_with_floor(&same, &joint, s, diag, None).order)
+                .map(|&s| measure_with_floor(&same, &joint, s, diag, None, Goal::Reason).order)
                 .min();
             assert_eq!(
                 plain,
