@@ -29,12 +29,14 @@
 //! stops below it ([`Measured::unresolved`]) rather than claim it.
 //!
 //! Cost: the order-m coefficients of the height function need the partial derivatives and the
-//! reversion up to order m only, so everything is evaluated one order at a time, as far as the
-//! comparison goes ([`HeightSeries`], [`JointPoint`]); a G1 joint costs orders 1 and 2. Each
-//! coefficient is computed once, summed in the order of the full truncated series arithmetic,
-//! so a coefficient does not depend on how far the evaluation went. The rounding floor is
-//! estimated only where an order fails, only up to the orders compared, and the perturbed nets
-//! are drawn once per joint.
+//! reversion up to order m only, so both are evaluated one order at a time, as far as the
+//! comparison goes. Each coefficient is computed once, its sums in the order of the full
+//! truncated series arithmetic, so its value does not depend on how far the evaluation went.
+//! Along a joint, a point stops once its sides agree to the lowest order found at the points
+//! before it (the joint's order is the minimum), and the rounding floor is estimated only where
+//! it can decide the order — a difference above [`RESOLVABLE`] of the scale ends the order
+//! whatever the floor — from perturbed nets drawn once per joint. A G1 joint costs the first
+//! derivatives at four points and the second at one.
 
 use std::cell::OnceCell;
 
@@ -137,7 +139,8 @@ struct HeightSeries {
     h: Series,
     /// `A⁻¹`, row-major.
     inv: [f64; 4],
-    /// `s^i t^j` at `term(i, j)` (`s` at `term(1, 0)`, `t` at `term(0, 1)`), as series in `(x, y)`.
+    /// `s^i t^j` at `term(i, j)` (`s` at `term(1, 0)`, `t` at `term(0, 1)`; the constant is
+    /// not used), as series in `(x, y)`.
     monomials: [Series; TERMS],
     /// The height function `h(x, y)`.
     height: Series,
@@ -175,7 +178,6 @@ impl HeightSeries {
             order: 0,
             known: 0,
         };
-        series.monomials[0].0[0] = 1.0;
         series.extend(xyh, known);
         Some(series)
     }
