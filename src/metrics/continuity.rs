@@ -43,6 +43,7 @@ use std::cell::OnceCell;
 use glam::{DVec2, DVec3};
 
 use crate::bezier::TriangleBezier;
+use crate::bezier::triangle::{de_casteljau_step, point_count};
 use crate::surface::{Joint, Patch, Surface, UV_CORNERS, edge_uv};
 
 /// Highest order compared (a joint that agrees to this order is reported as this order).
@@ -282,14 +283,18 @@ impl HeightSeries {
     }
 }
 
-/// Blossom arguments held on the stack: nets of a higher degree are evaluated through
+/// Nets up to this degree are evaluated in stack arrays; higher degrees through
 /// [`TriangleBezier::partials`].
-const MAX_STACK_DEGREE: usize = 32;
+const MAX_STACK_DEGREE: usize = 16;
+
+/// Control points of a net of degree [`MAX_STACK_DEGREE`].
+const STACK_POINTS: usize = point_count(MAX_STACK_DEGREE);
 
 /// The partial derivatives of the orders `from..=to` of a Bézier net at `uv` into `out` (at
-/// `term(i, m − i)`), as [`TriangleBezier::partials`] computes them — `d!/(d−m)!` times the
-/// blossom at `i` copies of `∂/∂u`, `m − i` of `∂/∂v` and `d − m` of the point — without
-/// evaluating the lower orders.
+/// `term(i, j)`), as [`TriangleBezier::partials`] computes them: `d!/(d−m)!` times the blossom
+/// at `i` copies of `∂/∂u`, then `j` of `∂/∂v`, then `d − m` of the point (`m = i + j`), one
+/// de Casteljau step per argument in that order. The steps along the directions are shared by
+/// the terms they begin, and the lower orders are not evaluated.
 fn bezier_partials(
     net: &TriangleBezier,
     uv: DVec2,
@@ -305,18 +310,36 @@ fn bezier_partials(
     }
     let x = DVec3::new(1.0 - uv.x - uv.y, uv.x, uv.y);
     let (du, dv) = (DVec3::new(-1.0, 1.0, 0.0), DVec3::new(-1.0, 0.0, 1.0));
-    let mut args = [DVec3::ZERO; MAX_STACK_DEGREE];
-    for m in from..=to {
+    for m in from..=to.min(MAX_ORDER) {
         for i in 0..=m {
-            out[term(i, m - i)] = if m > d {
-                DVec3::ZERO
-            } else {
-                args[..i].fill(du);
-                args[i..m].fill(dv);
-                args[m..d].fill(x);
-                let falling: f64 = (d + 1 - m..=d).map(|k| k as f64).product();
-                falling * net.blossom(&args[..d])
-            };
+            out[term(i, m - i)] = DVec3::ZERO;
+        }
+    }
+    // `along_u`: the net after i steps along ∂/∂u; `along_uv`: then j along ∂/∂v.
+    let mut along_u = [DVec3::ZERO; STACK_POINTS];
+    let mut along_uv = [DVec3::ZERO; STACK_POINTS];
+    let mut at_point = [DVec3::ZERO; STACK_POINTS];
+    along_u[..point_count(d)].copy_from_slice(net.points());
+    for i in 0..=to.min(d) {
+        if i > 0 {
+            de_casteljau_step(&mut along_u, d - i + 1, du);
+        }
+        along_uv[..point_count(d - i)].copy_from_slice(&along_u[..point_count(d - i)]);
+        for j in 0..=(to - i).min(d - i) {
+            if j > 0 {
+                de_casteljau_step(&mut along_uv, d - i - j + 1, dv);
+            }
+            let m = i + j;
+            if m < from {
+                continue;
+            }
+            let rest = d - m;
+            at_point[..point_count(rest)].copy_from_slice(&along_uv[..point_count(rest)]);
+            for degree in (1..=rest).rev() {
+                de_casteljau_step(&mut at_point, degree, x);
+            }
+            let falling: f64 = (d + 1 - m..=d).map(|k| k as f64).product();
+            out[term(i, j)] = falling * at_point[0];
         }
     }
 }
@@ -967,6 +990,43 @@ mod tests {
                 }
                 for k in 0..TERMS {
                     assert_eq!(whole.height.0[k].to_bits(), reference.0[k].to_bits(), "{k}");
+                }
+            }
+        }
+    }
+
+    /// [`bezier_partials`] gives the partials of [`TriangleBezier::partials`] to the bit, for
+    /// every range of orders and degrees up to and beyond [`MAX_STACK_DEGREE`]; orders outside
+    /// the range are left as they were.
+    #[test]
+    fn bezier_partials_are_those_of_the_net() {
+        let mut state = 5;
+        for d in [0, 1, 2, 3, 4, 5, 6, 9, 12, 14, 16, 17] {
+            let net = TriangleBezier::from_fn(d, |_, _, _| {
+                DVec3::new(next_unit(&mut state), next_unit(&mut state), 0.5)
+            });
+            let uv = DVec2::new(0.3 * next_unit(&mut state).abs(), 0.25);
+            let reference = net.partials(uv.x, uv.y, MAX_ORDER);
+            for from in 0..=MAX_ORDER {
+                for to in from..=MAX_ORDER {
+                    let marker = DVec3::splat(7.0);
+                    let mut out = [marker; TERMS];
+                    bezier_partials(&net, uv, from, to, &mut out);
+                    for m in 0..=MAX_ORDER {
+                        for i in 0..=m {
+                            let k = term(i, m - i);
+                            let want = if (from..=to).contains(&m) {
+                                reference[k]
+                            } else {
+                                marker
+                            };
+                            assert_eq!(
+                                out[k].to_array().map(f64::to_bits),
+                                want.to_array().map(f64::to_bits),
+                                "d {d}, {from}..={to}, term {k}"
+                            );
+                        }
+                    }
                 }
             }
         }
