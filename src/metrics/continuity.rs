@@ -82,9 +82,10 @@ impl Series {
 
     /// The coefficient of `x^a y^b` in the product `self · other`, where `self` has no terms
     /// below total order `low_self` and `other` none below `low_other`. Only the coefficients of
-    /// the two factors below order `a + b` are read. The products are summed over the terms
-    /// of `self` by order, then by power of x (the only order-independent choice for the
-    /// whole truncated product), so the value is the same wherever it is computed.
+    /// the two factors below order `a + b` are read. The products are summed in the order in
+    /// which the whole truncated product accumulates them (over the terms of `self` by order,
+    /// then by power of x; the zero terms below the lowest orders left out), so the value is
+    /// that coefficient of the whole product, to the bit.
     fn product_coefficient(
         &self,
         low_self: usize,
