@@ -27,11 +27,24 @@
 //! than the floor while the floor is below [`RESOLVABLE`] (10%) of the coefficients — a jump of
 //! that size is still seen. An order with a larger floor cannot be resolved in f64: the measure
 //! stops below it ([`Measured::unresolved`]) rather than claim it.
+//!
+//! Cost: the order-m coefficients of the height function need the partial derivatives and the
+//! reversion up to order m only, so both are evaluated one order at a time, as far as the
+//! comparison goes. Each coefficient is computed once, its sums in the order of the full
+//! truncated series arithmetic, so its value does not depend on how far the evaluation went.
+//! Along a joint, a point stops once its sides agree to the lowest order found at the points
+//! before it (the joint's order is the minimum), and the rounding floor is estimated only where
+//! it can decide the order — a difference above [`RESOLVABLE`] of the scale ends the order
+//! whatever the floor — from perturbed nets drawn once per joint. A G1 joint costs the first
+//! derivatives at four points and the second at one.
 
-use glam::DVec3;
+use std::cell::OnceCell;
+
+use glam::{DVec2, DVec3};
 
 use crate::bezier::TriangleBezier;
-use crate::surface::{Joint, Surface, UV_CORNERS, edge_uv};
+use crate::bezier::triangle::{de_casteljau_step, point_count};
+use crate::surface::{Joint, Patch, Surface, UV_CORNERS, edge_uv};
 
 /// Highest order compared (a joint that agrees to this order is reported as this order).
 pub const MAX_ORDER: usize = 5;
@@ -59,23 +72,6 @@ fn term(i: usize, j: usize) -> usize {
 impl Series {
     const ZERO: Series = Series([0.0; TERMS]);
 
-    fn one() -> Series {
-        let mut s = Series::ZERO;
-        s.0[0] = 1.0;
-        s
-    }
-
-    fn linear(a: f64, b: f64) -> Series {
-        let mut s = Series::ZERO;
-        s.0[term(1, 0)] = a;
-        s.0[term(0, 1)] = b;
-        s
-    }
-
-    fn add_scaled(&self, other: &Series, k: f64) -> Series {
-        Series(std::array::from_fn(|i| self.0[i] + k * other.0[i]))
-    }
-
     /// The highest total order with a non-zero coefficient (0 for a constant or zero series).
     fn top_order(&self) -> usize {
         (0..=MAX_ORDER)
@@ -84,60 +80,35 @@ impl Series {
             .unwrap_or(0)
     }
 
-    /// The product, truncated at `MAX_ORDER`. Terms beyond either factor's [`Series::top_order`]
-    /// are zero and skipped (flat and low-degree patches cost almost nothing).
-    fn mul(&self, other: &Series) -> Series {
-        let mut out = Series::ZERO;
-        let other_top = other.top_order();
-        for m1 in 0..=self.top_order() {
-            for i1 in 0..=m1 {
-                let a = self.0[term(i1, m1 - i1)];
-                if a == 0.0 {
-                    continue;
-                }
-                for m2 in 0..=(MAX_ORDER - m1).min(other_top) {
-                    for i2 in 0..=m2 {
-                        out.0[term(i1 + i2, m1 - i1 + m2 - i2)] += a * other.0[term(i2, m2 - i2)];
-                    }
-                }
+    /// The coefficient of `x^a y^b` in the product `self · other`, where `self` has no terms
+    /// below total order `low_self` and `other` none below `low_other`. Only the coefficients of
+    /// the two factors below order `a + b` are read. The products are summed in the order in
+    /// which the whole truncated product accumulates them (over the terms of `self` by order,
+    /// then by power of x; the zero terms below the lowest orders left out), so the value is
+    /// that coefficient of the whole product, to the bit.
+    fn product_coefficient(
+        &self,
+        low_self: usize,
+        other: &Series,
+        low_other: usize,
+        a: usize,
+        b: usize,
+    ) -> f64 {
+        let m = a + b;
+        let mut sum = 0.0;
+        for m1 in low_self..=m.saturating_sub(low_other) {
+            let m2 = m - m1;
+            for i1 in a.saturating_sub(m2)..=m1.min(a) {
+                sum += self.0[term(i1, m1 - i1)] * other.0[term(a - i1, m2 - (a - i1))];
             }
         }
-        out
-    }
-
-    /// `self(s(x,y), t(x,y))` for series `s`, `t` without constant term.
-    fn compose(&self, s: &Series, t: &Series) -> Series {
-        // Powers beyond the order of `self` are never used.
-        let top = self.top_order();
-        let mut s_pow = [Series::one(); MAX_ORDER + 1];
-        let mut t_pow = [Series::one(); MAX_ORDER + 1];
-        for k in 1..=top {
-            s_pow[k] = s_pow[k - 1].mul(s);
-            t_pow[k] = t_pow[k - 1].mul(t);
-        }
-        let mut out = Series::ZERO;
-        for m in 0..=top {
-            for i in 0..=m {
-                let c = self.0[term(i, m - i)];
-                if c != 0.0 {
-                    out = out.add_scaled(&s_pow[i].mul(&t_pow[m - i]), c);
-                }
-            }
-        }
-        out
-    }
-
-    /// The series without its constant and linear terms.
-    fn nonlinear(&self) -> Series {
-        let mut s = *self;
-        s.0[..3].fill(0.0);
-        s
+        sum
     }
 }
 
-/// Taylor series of a patch side at `(u0, v0)` projected on the frame: (x, y, h) in (s, t),
-/// constant terms removed (the gap is checked separately).
-fn frame_series(partials: &[DVec3], frame: [DVec3; 3], order: usize) -> [Series; 3] {
+/// Taylor series of a patch side at `(u0, v0)` projected on the frame: (x, y, h) in (s, t)
+/// up to `order`, constant terms removed (the gap is checked separately).
+fn frame_series(partials: &[DVec3; TERMS], frame: [DVec3; 3], order: usize) -> [Series; 3] {
     let factorial = |n: usize| (1..=n).map(|k| k as f64).product::<f64>();
     std::array::from_fn(|axis| {
         let mut s = Series::ZERO;
@@ -151,49 +122,383 @@ fn frame_series(partials: &[DVec3], frame: [DVec3; 3], order: usize) -> [Series;
     })
 }
 
-/// The height function `h(x, y)` of a side given its frame series, by series reversion.
-fn height_function(xyh: &[Series; 3]) -> Option<Series> {
-    let (x, y, h) = (&xyh[0], &xyh[1], &xyh[2]);
-    let (a, b, c, d) = (
-        x.0[term(1, 0)],
-        x.0[term(0, 1)],
-        y.0[term(1, 0)],
-        y.0[term(0, 1)],
-    );
-    let det = a * d - b * c;
-    if det.abs() <= 1e-300 || !det.is_finite() {
-        return None;
-    }
-    // (s, t) = A⁻¹ [(x, y) − nonlinear(X, Y)(s, t)], one more correct order per round.
-    let inv = [d / det, -b / det, -c / det, a / det];
-    let (xn, yn) = (x.nonlinear(), y.nonlinear());
-    let mut s = Series::linear(inv[0], inv[1]);
-    let mut t = Series::linear(inv[2], inv[3]);
-    for _ in 1..MAX_ORDER {
-        let (rx, ry) = (xn.compose(&s, &t), yn.compose(&s, &t));
-        s = Series::linear(inv[0], inv[1])
-            .add_scaled(&rx, -inv[0])
-            .add_scaled(&ry, -inv[1]);
-        t = Series::linear(inv[2], inv[3])
-            .add_scaled(&rx, -inv[2])
-            .add_scaled(&ry, -inv[3]);
-    }
-    Some(h.compose(&s, &t))
+/// The height function `h(x, y)` of one side from its frame series, by series reversion one
+/// order at a time.
+///
+/// With `(x, y) = A(s, t) + (X, Y)(s, t)`, `A` the linear part, the inverse satisfies
+/// `(s, t) = A⁻¹[(x, y) − (X, Y)(s, t)]`. The order-m coefficients of the right-hand side
+/// involve those of `(s, t)` below order m only, so the order-m coefficients of the monomials
+/// `s^i t^j` (`monomials`, kept for every order), then of `(s, t)`, then of `h(s, t)` follow
+/// from the lower orders, each computed once. Sums run in the order of a full truncated
+/// composition (term by term of the outer series, by order then power of x).
+#[derive(Clone, Debug)]
+struct HeightSeries {
+    /// `x` without its linear part.
+    x_rest: Series,
+    /// `y` without its linear part.
+    y_rest: Series,
+    /// The height `h(s, t)`.
+    h: Series,
+    /// `A⁻¹`, row-major.
+    inv: [f64; 4],
+    /// `s^i t^j` at `term(i, j)` (`s` at `term(1, 0)`, `t` at `term(0, 1)`; the constant is
+    /// not used), as series in `(x, y)`.
+    monomials: [Series; TERMS],
+    /// The height function `h(x, y)`.
+    height: Series,
+    /// Highest total order of a monomial that is needed.
+    top: usize,
+    /// Orders of `monomials` and `height` computed so far.
+    order: usize,
+    /// Orders of the frame series known.
+    known: usize,
 }
 
-/// Partial derivatives of a patch at `uv` up to `MAX_ORDER` (exact), or up to order 2 from the
-/// jet for patch kinds without higher derivatives; the second value is the usable order.
-fn patch_partials(surface: &Surface, patch: u32, uv: glam::DVec2) -> (Vec<DVec3>, usize) {
-    let p = &surface.patches[patch as usize];
-    match p.partials(uv.x, uv.y, MAX_ORDER) {
-        Some(all) => (all, MAX_ORDER),
-        None => {
-            let j = p.jet(uv.x, uv.y);
-            let mut all = vec![DVec3::ZERO; TERMS];
-            all[..6].copy_from_slice(&[j.p, j.du, j.dv, j.duu, j.duv, j.dvv]);
-            (all, 2)
+impl HeightSeries {
+    /// The reversion of the frame series `xyh`, known up to order `known` (at least 1); `None`
+    /// if the linear part is singular.
+    fn new(xyh: &[Series; 3], known: usize) -> Option<HeightSeries> {
+        let (x, y) = (&xyh[0], &xyh[1]);
+        let (a, b, c, d) = (
+            x.0[term(1, 0)],
+            x.0[term(0, 1)],
+            y.0[term(1, 0)],
+            y.0[term(0, 1)],
+        );
+        let det = a * d - b * c;
+        if det.abs() <= 1e-300 || !det.is_finite() {
+            return None;
+        }
+        let mut series = HeightSeries {
+            x_rest: Series::ZERO,
+            y_rest: Series::ZERO,
+            h: Series::ZERO,
+            inv: [d / det, -b / det, -c / det, a / det],
+            monomials: [Series::ZERO; TERMS],
+            height: Series::ZERO,
+            top: 0,
+            order: 0,
+            known: 0,
+        };
+        series.extend(xyh, known);
+        Some(series)
+    }
+
+    /// Takes the same frame series known to a higher order (the lower orders are unchanged).
+    fn extend(&mut self, xyh: &[Series; 3], known: usize) {
+        let rest = |s: &Series| {
+            let mut s = *s;
+            s.0[..3].fill(0.0);
+            s
+        };
+        self.x_rest = rest(&xyh[0]);
+        self.y_rest = rest(&xyh[1]);
+        self.h = xyh[2];
+        self.known = known;
+        // Monomials of every order up to the known one while more orders may follow (their
+        // low-order coefficients are the factors of higher ones).
+        self.top = if known < MAX_ORDER {
+            known
+        } else {
+            [&self.x_rest, &self.y_rest, &self.h]
+                .map(Series::top_order)
+                .into_iter()
+                .max()
+                .unwrap_or(0)
+        };
+    }
+
+    /// Computes the coefficients up to order `m` (at most the known order).
+    fn advance_to(&mut self, m: usize) {
+        debug_assert!(m <= self.known);
+        while self.order < m {
+            self.order += 1;
+            self.next_order();
         }
     }
+
+    /// The coefficients of order `self.order` from the lower ones.
+    fn next_order(&mut self) {
+        let m = self.order;
+        if m == 1 {
+            let [s, t] = [term(1, 0), term(0, 1)];
+            self.monomials[s].0[s] = self.inv[0];
+            self.monomials[s].0[t] = self.inv[1];
+            self.monomials[t].0[s] = self.inv[2];
+            self.monomials[t].0[t] = self.inv[3];
+        } else {
+            self.next_monomial_order(m);
+            let inv = self.inv;
+            for a in 0..=m {
+                let k = term(a, m - a);
+                let rx = self.compose_coefficient(&self.x_rest, 2, m, k);
+                let ry = self.compose_coefficient(&self.y_rest, 2, m, k);
+                self.monomials[term(1, 0)].0[k] = -inv[0] * rx + -inv[1] * ry;
+                self.monomials[term(0, 1)].0[k] = -inv[2] * rx + -inv[3] * ry;
+            }
+        }
+        for a in 0..=m {
+            let k = term(a, m - a);
+            self.height.0[k] = self.compose_coefficient(&self.h, 1, m, k);
+        }
+    }
+
+    /// The order-m coefficients of the monomials of total order 2 to m: `s^i = s^{i−1}·s`,
+    /// `t^j = t^{j−1}·t`, `s^i t^j = s^i·t^j`. They read the monomials below order m only.
+    fn next_monomial_order(&mut self, m: usize) {
+        for p in 2..=m.min(self.top) {
+            for i in 0..=p {
+                let j = p - i;
+                let (left, low_left, right, low_right) = match (i, j) {
+                    (i, 0) => (term(i - 1, 0), i - 1, term(1, 0), 1),
+                    (0, j) => (term(0, j - 1), j - 1, term(0, 1), 1),
+                    (i, j) => (term(i, 0), i, term(0, j), j),
+                };
+                for a in 0..=m {
+                    let value = self.monomials[left].product_coefficient(
+                        low_left,
+                        &self.monomials[right],
+                        low_right,
+                        a,
+                        m - a,
+                    );
+                    self.monomials[term(i, j)].0[term(a, m - a)] = value;
+                }
+            }
+        }
+    }
+
+    /// Coefficient `k` (of order m) of `outer(s, t)` for an outer series without terms below
+    /// order `low`, from the monomials (terms of the outer series in order, zero ones skipped).
+    fn compose_coefficient(&self, outer: &Series, low: usize, m: usize, k: usize) -> f64 {
+        let mut sum = 0.0;
+        for p in low..=m.min(self.top) {
+            for i in 0..=p {
+                let c = outer.0[term(i, p - i)];
+                if c != 0.0 {
+                    sum += c * self.monomials[term(i, p - i)].0[k];
+                }
+            }
+        }
+        sum
+    }
+}
+
+/// Nets up to this degree are evaluated in stack arrays; higher degrees through
+/// [`TriangleBezier::partials`].
+const MAX_STACK_DEGREE: usize = 16;
+
+/// Control points of a net of degree [`MAX_STACK_DEGREE`].
+const STACK_POINTS: usize = point_count(MAX_STACK_DEGREE);
+
+/// The partial derivatives of the orders `from..=to` of a Bézier net at `uv` into `out` (at
+/// `term(i, j)`), as [`TriangleBezier::partials`] computes them: `d!/(d−m)!` times the blossom
+/// at `i` copies of `∂/∂u`, then `j` of `∂/∂v`, then `d − m` of the point (`m = i + j`), one
+/// de Casteljau step per argument in that order. The steps along the directions are shared by
+/// the terms they begin, and the lower orders are not evaluated.
+fn bezier_partials(
+    net: &TriangleBezier,
+    uv: DVec2,
+    from: usize,
+    to: usize,
+    out: &mut [DVec3; TERMS],
+) {
+    let d = net.degree();
+    if d > MAX_STACK_DEGREE {
+        let all = net.partials(uv.x, uv.y, to);
+        out[from * (from + 1) / 2..all.len()].copy_from_slice(&all[from * (from + 1) / 2..]);
+        return;
+    }
+    let x = DVec3::new(1.0 - uv.x - uv.y, uv.x, uv.y);
+    let (du, dv) = (DVec3::new(-1.0, 1.0, 0.0), DVec3::new(-1.0, 0.0, 1.0));
+    for m in from..=to.min(MAX_ORDER) {
+        for i in 0..=m {
+            out[term(i, m - i)] = DVec3::ZERO;
+        }
+    }
+    // `along_u`: the net after i steps along ∂/∂u; `along_uv`: then j along ∂/∂v.
+    let mut along_u = [DVec3::ZERO; STACK_POINTS];
+    let mut along_uv = [DVec3::ZERO; STACK_POINTS];
+    let mut at_point = [DVec3::ZERO; STACK_POINTS];
+    along_u[..point_count(d)].copy_from_slice(net.points());
+    for i in 0..=to.min(d) {
+        if i > 0 {
+            de_casteljau_step(&mut along_u, d - i + 1, du);
+        }
+        along_uv[..point_count(d - i)].copy_from_slice(&along_u[..point_count(d - i)]);
+        for j in 0..=(to - i).min(d - i) {
+            if j > 0 {
+                de_casteljau_step(&mut along_uv, d - i - j + 1, dv);
+            }
+            let m = i + j;
+            if m < from {
+                continue;
+            }
+            let rest = d - m;
+            at_point[..point_count(rest)].copy_from_slice(&along_uv[..point_count(rest)]);
+            for degree in (1..=rest).rev() {
+                de_casteljau_step(&mut at_point, degree, x);
+            }
+            let falling: f64 = (d + 1 - m..=d).map(|k| k as f64).product();
+            out[term(i, j)] = falling * at_point[0];
+        }
+    }
+}
+
+/// Where the partial derivatives of a side come from.
+#[derive(Clone, Copy)]
+enum Source<'a> {
+    /// A Bézier net (of a patch, or a perturbed copy for the rounding floor): exact partials
+    /// of any order, evaluated order by order.
+    Net(&'a TriangleBezier),
+    /// Another kind of patch: exact partials of all orders at once, or only those of its jet.
+    Patch(&'a Patch),
+}
+
+impl<'a> Source<'a> {
+    /// The source of the partial derivatives of `patch`.
+    fn of(patch: &'a Patch) -> Source<'a> {
+        match patch.as_bezier() {
+            Some(net) => Source::Net(net),
+            None => Source::Patch(patch),
+        }
+    }
+
+    /// Evaluates the partial derivatives at `uv` of the orders `from..=to` (at least) into
+    /// `out`. Returns the highest order now evaluated and the highest order this side
+    /// provides: [`MAX_ORDER`], or 2 for patch kinds without higher derivatives (whose jet is
+    /// taken).
+    fn partials(
+        self,
+        uv: DVec2,
+        from: usize,
+        to: usize,
+        out: &mut [DVec3; TERMS],
+    ) -> (usize, usize) {
+        let patch = match self {
+            Source::Net(net) => {
+                bezier_partials(net, uv, from, to, out);
+                return (to, MAX_ORDER);
+            }
+            Source::Patch(patch) => patch,
+        };
+        match patch.partials(uv.x, uv.y, MAX_ORDER) {
+            Some(all) => {
+                out[..all.len()].copy_from_slice(&all);
+                (MAX_ORDER, MAX_ORDER)
+            }
+            None => {
+                let j = patch.jet(uv.x, uv.y);
+                out[..6].copy_from_slice(&[j.p, j.du, j.dv, j.duu, j.duv, j.dvv]);
+                (2, 2)
+            }
+        }
+    }
+}
+
+/// Both sides of a joint at one point, with their height functions in side A's tangent frame,
+/// evaluated as far as the orders asked for.
+#[derive(Clone)]
+struct JointPoint<'a> {
+    sources: [Source<'a>; 2],
+    uvs: [DVec2; 2],
+    /// The partial derivatives of both sides.
+    partials: [[DVec3; TERMS]; 2],
+    /// Highest order of the partials evaluated, per side.
+    evaluated: [usize; 2],
+    /// Highest order both sides provide.
+    limit: usize,
+    frame: [DVec3; 3],
+    heights: [HeightSeries; 2],
+}
+
+impl<'a> JointPoint<'a> {
+    /// The partial derivatives of the sides `sources` at `uvs` of the orders `from..=to` (of
+    /// all orders for patches that have them only together); what
+    /// [`JointPoint::new`] takes.
+    fn evaluate(
+        sources: [Source<'a>; 2],
+        uvs: [DVec2; 2],
+        from: usize,
+        to: usize,
+    ) -> Evaluated<'a> {
+        let mut partials = [[DVec3::ZERO; TERMS]; 2];
+        let (ea, limit_a) = sources[0].partials(uvs[0], from, to, &mut partials[0]);
+        let (eb, limit_b) = sources[1].partials(uvs[1], from, to, &mut partials[1]);
+        Evaluated {
+            sources,
+            uvs,
+            partials,
+            evaluated: [ea, eb],
+            limit: limit_a.min(limit_b),
+        }
+    }
+
+    /// The joint point from its evaluated partials (orders 1 at least); `None` where a side is
+    /// singular. `edge_a` is side A's edge (its direction is `e1`).
+    fn new(evaluated: Evaluated<'a>, edge_a: usize) -> Option<JointPoint<'a>> {
+        let Evaluated {
+            sources,
+            uvs,
+            partials,
+            evaluated,
+            limit,
+        } = evaluated;
+        let pa = &partials[0];
+        let w = UV_CORNERS[(edge_a + 1) % 3] - UV_CORNERS[edge_a];
+        let e1 = (pa[1] * w.x + pa[2] * w.y).try_normalize()?;
+        let n = pa[1].cross(pa[2]).try_normalize()?;
+        let frame = [e1, n.cross(e1), n];
+        let known = evaluated[0].min(evaluated[1]).min(limit);
+        let heights = [
+            HeightSeries::new(&frame_series(&partials[0], frame, known), known)?,
+            HeightSeries::new(&frame_series(&partials[1], frame, known), known)?,
+        ];
+        Some(JointPoint {
+            sources,
+            uvs,
+            partials,
+            evaluated,
+            limit,
+            frame,
+            heights,
+        })
+    }
+
+    /// The order-m height coefficients of both sides (`m ≤ limit`).
+    fn heights_at(&mut self, m: usize) -> [&Series; 2] {
+        if m > self.heights[0].known {
+            for side in 0..2 {
+                if self.evaluated[side] < m {
+                    let (evaluated, _) = self.sources[side].partials(
+                        self.uvs[side],
+                        self.evaluated[side] + 1,
+                        m,
+                        &mut self.partials[side],
+                    );
+                    self.evaluated[side] = evaluated;
+                }
+            }
+            let known = self.evaluated[0].min(self.evaluated[1]).min(self.limit);
+            for (height, p) in self.heights.iter_mut().zip(&self.partials) {
+                height.extend(&frame_series(p, self.frame, known), known);
+            }
+        }
+        for height in &mut self.heights {
+            height.advance_to(m);
+        }
+        [&self.heights[0].height, &self.heights[1].height]
+    }
+}
+
+/// Partial derivatives of both sides of a joint at one point, as [`JointPoint::evaluate`]
+/// gives them.
+struct Evaluated<'a> {
+    sources: [Source<'a>; 2],
+    uvs: [DVec2; 2],
+    partials: [[DVec3; TERMS]; 2],
+    evaluated: [usize; 2],
+    limit: usize,
 }
 
 /// A jump this large relative to the order-m coefficients is always detected: an order whose
@@ -201,25 +506,101 @@ fn patch_partials(surface: &Surface, patch: u32, uv: glam::DVec2) -> (Vec<DVec3>
 pub const RESOLVABLE: f64 = 0.1;
 
 /// Perturbed evaluations behind [`rounding_floor`].
-const FLOOR_TRIALS: u64 = 4;
+const FLOOR_TRIALS: usize = 4;
 
 /// Factor between the spread of [`FLOOR_TRIALS`] one-ulp perturbations and the floor: the
 /// stored points carry a few ulps from their construction, and a sample maximum falls short
 /// of the true one.
 const FLOOR_SAFETY: f64 = 10.0;
 
-/// Height functions of both sides of `joint` at fraction `s` in side A's tangent frame, from
-/// the partials of the two patches (`None` where a side is singular).
-fn heights(partials: [&[DVec3]; 2], edge_a: usize, order: usize) -> Option<(Series, Series)> {
-    let pa = partials[0];
-    let w = UV_CORNERS[(edge_a + 1) % 3] - UV_CORNERS[edge_a];
-    let e1 = (pa[1] * w.x + pa[2] * w.y).try_normalize()?;
-    let n = pa[1].cross(pa[2]).try_normalize()?;
-    let frame = [e1, n.cross(e1), n];
-    Some((
-        height_function(&frame_series(pa, frame, order))?,
-        height_function(&frame_series(partials[1], frame, order))?,
-    ))
+/// The control nets of both sides of a joint, every point moved by one ulp of the net's
+/// largest coordinate in a deterministic pseudo-random direction, once per floor trial;
+/// `None` unless both sides are Bézier patches.
+type PerturbedNets = Option<Vec<[TriangleBezier; 2]>>;
+
+/// The [`PerturbedNets`] of `joint` (the same for every point along it).
+fn perturbed_nets(surface: &Surface, joint: &Joint) -> PerturbedNets {
+    let nets = [joint.a, joint.b].map(|side| surface.patches[side.patch as usize].as_bezier());
+    let [Some(net_a), Some(net_b)] = nets else {
+        return None;
+    };
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64 ^ (joint.a.patch as u64) << 32 ^ joint.b.patch as u64;
+    let mut unit = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut perturb = |net: &TriangleBezier| {
+        let ulp = f64::EPSILON
+            * net
+                .points()
+                .iter()
+                .map(|p| p.abs().max_element())
+                .fold(0.0, f64::max);
+        let moved = net
+            .points()
+            .iter()
+            .map(|p| *p + ulp * DVec3::new(unit(), unit(), unit()))
+            .collect();
+        TriangleBezier::new(net.degree(), moved)
+    };
+    Some(
+        (0..FLOOR_TRIALS)
+            .map(|_| {
+                let a = perturb(net_a);
+                [a, perturb(net_b)]
+            })
+            .collect(),
+    )
+}
+
+/// The rounding floor at one joint point, per order, evaluated as far as asked.
+struct Floor<'a> {
+    /// The joint point on every perturbed pair of nets (`None` where a perturbed side is
+    /// singular: that trial does not count).
+    trials: Vec<Option<JointPoint<'a>>>,
+    /// The floor per order, known up to `known`.
+    values: [f64; MAX_ORDER + 1],
+    known: usize,
+}
+
+impl<'a> Floor<'a> {
+    /// The floor at the domain points `uvs` of a joint with perturbed nets `nets` (side A on
+    /// edge `edge_a`), first asked for at order `first`.
+    fn new(nets: &'a PerturbedNets, uvs: [DVec2; 2], edge_a: usize, first: usize) -> Self {
+        let trials = nets.iter().flatten().map(|pair| {
+            let sources = [Source::Net(&pair[0]), Source::Net(&pair[1])];
+            JointPoint::new(JointPoint::evaluate(sources, uvs, 1, first), edge_a)
+        });
+        Floor {
+            trials: trials.collect(),
+            values: [0.0; MAX_ORDER + 1],
+            known: 0,
+        }
+    }
+
+    /// The floor of order m: how far the order-m coefficients of either side move under the
+    /// perturbations, times [`FLOOR_SAFETY`] (zero without perturbed nets). `exact` is the
+    /// unperturbed point, already evaluated to order m.
+    fn at(&mut self, m: usize, exact: &mut JointPoint<'_>) -> f64 {
+        while self.known < m {
+            self.known += 1;
+            let order = self.known;
+            let [ha, hb] = exact.heights_at(order);
+            let f = &mut self.values[order];
+            for trial in self.trials.iter_mut().flatten() {
+                let [pa, pb] = trial.heights_at(order);
+                for i in 0..=order {
+                    let k = term(i, order - i);
+                    *f = f
+                        .max(FLOOR_SAFETY * (pa.0[k] - ha.0[k]).abs())
+                        .max(FLOOR_SAFETY * (pb.0[k] - hb.0[k]).abs());
+                }
+            }
+        }
+        self.values[m]
+    }
 }
 
 /// The rounding floor of the height coefficients of `joint` at fraction `s`, per order: how
@@ -231,72 +612,35 @@ fn heights(partials: [&[DVec3]; 2], edge_a: usize, order: usize) -> Option<(Seri
 /// net.
 pub fn rounding_floor(surface: &Surface, joint: &Joint, s: f64) -> [f64; MAX_ORDER + 1] {
     let mut floor = [0.0; MAX_ORDER + 1];
-    let sides = [joint.a, joint.b];
-    let uvs = [
-        edge_uv(joint.a.edge as usize, s),
-        edge_uv(
-            joint.b.edge as usize,
-            if joint.reversed { 1.0 - s } else { s },
-        ),
-    ];
-    let nets: Option<Vec<_>> = sides
-        .iter()
-        .map(|side| surface.patches[side.patch as usize].as_bezier())
-        .collect();
-    let Some(nets) = nets else {
+    let nets = perturbed_nets(surface, joint);
+    let (_, exact) = exact_point(surface, joint, s, MAX_ORDER);
+    let (Some(mut exact), Some(_)) = (exact, &nets) else {
         return floor;
     };
-    let exact: Vec<Vec<DVec3>> = nets
-        .iter()
-        .zip(uvs)
-        .map(|(net, uv)| net.partials(uv.x, uv.y, MAX_ORDER))
-        .collect();
-    let Some((ha, hb)) = heights([&exact[0], &exact[1]], joint.a.edge as usize, MAX_ORDER) else {
-        return floor;
-    };
-    let mut state = 0x9e37_79b9_7f4a_7c15_u64 ^ (joint.a.patch as u64) << 32 ^ joint.b.patch as u64;
-    let mut unit = || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
-    for _ in 0..FLOOR_TRIALS {
-        let perturbed: Vec<Vec<DVec3>> = nets
-            .iter()
-            .zip(uvs)
-            .map(|(net, uv)| {
-                let ulp = f64::EPSILON
-                    * net
-                        .points()
-                        .iter()
-                        .map(|p| p.abs().max_element())
-                        .fold(0.0, f64::max);
-                let moved: Vec<DVec3> = net
-                    .points()
-                    .iter()
-                    .map(|p| *p + ulp * DVec3::new(unit(), unit(), unit()))
-                    .collect();
-                TriangleBezier::new(net.degree(), moved).partials(uv.x, uv.y, MAX_ORDER)
-            })
-            .collect();
-        let Some((pa, pb)) = heights(
-            [&perturbed[0], &perturbed[1]],
-            joint.a.edge as usize,
-            MAX_ORDER,
-        ) else {
-            continue;
-        };
-        for (m, f) in floor.iter_mut().enumerate().skip(1) {
-            for i in 0..=m {
-                let k = term(i, m - i);
-                *f = f
-                    .max(FLOOR_SAFETY * (pa.0[k] - ha.0[k]).abs())
-                    .max(FLOOR_SAFETY * (pb.0[k] - hb.0[k]).abs());
-            }
-        }
+    let mut estimate = Floor::new(&nets, exact.uvs, joint.a.edge as usize, MAX_ORDER);
+    for (m, f) in floor.iter_mut().enumerate().skip(1) {
+        *f = estimate.at(m, &mut exact);
     }
     floor
+}
+
+/// The unperturbed sides of `joint` at fraction `s`, partials evaluated up to `order`: the
+/// distance between them, and the joint point (`None` where a side is singular).
+fn exact_point<'a>(
+    surface: &'a Surface,
+    joint: &Joint,
+    s: f64,
+    order: usize,
+) -> (f64, Option<JointPoint<'a>>) {
+    let sb = if joint.reversed { 1.0 - s } else { s };
+    let uvs = [
+        edge_uv(joint.a.edge as usize, s),
+        edge_uv(joint.b.edge as usize, sb),
+    ];
+    let sources = [joint.a, joint.b].map(|side| Source::of(&surface.patches[side.patch as usize]));
+    let evaluated = JointPoint::evaluate(sources, uvs, 0, order);
+    let gap = (evaluated.partials[0][0] - evaluated.partials[1][0]).length();
+    (gap, JointPoint::new(evaluated, joint.a.edge as usize))
 }
 
 /// The measured order of `joint` at fraction `s` along it; `diag` is the length scale L.
@@ -322,39 +666,56 @@ pub struct Measured {
 
 /// [`order_at`] with the reason it stopped.
 pub fn measure_at(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> Measured {
-    measure_with_floor(surface, joint, s, diag, true)
+    measure_with_floor(
+        surface,
+        joint,
+        s,
+        diag,
+        Some(&OnceCell::new()),
+        Goal::Reason,
+    )
 }
 
-/// [`measure_at`], with the rounding floor consulted or not.
+/// What the measure at one point has to establish.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Goal {
+    /// The order, and why it stops there ([`Measured::unresolved`]).
+    Reason,
+    /// The order only, and only up to a bound: the measure stops as soon as the sides agree to
+    /// it (the bound is the lowest order found so far along the joint, whose order is the
+    /// minimum), and does not tell an unresolved order from a difference.
+    OrderUpTo(i32),
+}
+
+/// [`measure_at`] towards `goal`, with the rounding floor consulted if `nets` is given: the
+/// perturbed nets of the joint are drawn into it on first use (a joint's points share them).
 fn measure_with_floor(
     surface: &Surface,
     joint: &Joint,
     s: f64,
     diag: f64,
-    use_floor: bool,
+    nets: Option<&OnceCell<PerturbedNets>>,
+    goal: Goal,
 ) -> Measured {
     let plain = |order| Measured {
         order,
         unresolved: false,
     };
-    let sb = if joint.reversed { 1.0 - s } else { s };
-    let (uv_a, uv_b) = (
-        edge_uv(joint.a.edge as usize, s),
-        edge_uv(joint.b.edge as usize, sb),
-    );
-    let (pa, order_a) = patch_partials(surface, joint.a.patch, uv_a);
-    let (pb, order_b) = patch_partials(surface, joint.b.patch, uv_b);
-    if (pa[0] - pb[0]).length() > 1e-9 * diag {
+    let (gap, point) = exact_point(surface, joint, s, 1);
+    if gap > 1e-9 * diag {
         return plain(-1);
     }
-    let order = order_a.min(order_b);
-    let Some((ha, hb)) = heights([&pa, &pb], joint.a.edge as usize, order) else {
+    let Some(mut point) = point else {
         return plain(0);
     };
     let mut floor = None;
     let mut agreed = 0;
     let mut unresolved = false;
-    for m in 1..=order {
+    for m in 1..=point.limit {
+        if matches!(goal, Goal::OrderUpTo(bound) if agreed as i32 >= bound) {
+            break;
+        }
+        let [ha, hb] = point.heights_at(m);
         let (mut diff, mut mag) = (0.0_f64, 0.0_f64);
         for i in 0..=m {
             let k = term(i, m - i);
@@ -363,10 +724,20 @@ fn measure_with_floor(
         }
         let scale = mag.max(diag.powi(1 - m as i32));
         if diff > tolerance(m) * scale {
-            if !use_floor {
+            let Some(nets) = nets else {
+                break;
+            };
+            if goal != Goal::Reason && diff > RESOLVABLE * scale {
+                // Only a floor above RESOLVABLE of the scale could cover this difference, and
+                // such an order is not claimed either: the order stops here, whatever the floor.
                 break;
             }
-            let floor = floor.get_or_insert_with(|| rounding_floor(surface, joint, s))[m];
+            let floor = floor
+                .get_or_insert_with(|| {
+                    let nets = nets.get_or_init(|| perturbed_nets(surface, joint));
+                    Floor::new(nets, point.uvs, joint.a.edge as usize, m)
+                })
+                .at(m, &mut point);
             if floor > RESOLVABLE * scale {
                 unresolved = true;
                 break;
@@ -385,11 +756,11 @@ fn measure_with_floor(
 
 /// The order of a joint: the minimum over [`ORDER_SAMPLES`].
 pub fn joint_order(surface: &Surface, joint: &Joint, diag: f64) -> i32 {
-    ORDER_SAMPLES
-        .iter()
-        .map(|&s| order_at(surface, joint, s, diag))
-        .min()
-        .unwrap_or(0)
+    let nets = OnceCell::new();
+    ORDER_SAMPLES.iter().fold(MAX_ORDER as i32, |lowest, &s| {
+        let goal = Goal::OrderUpTo(lowest);
+        lowest.min(measure_with_floor(surface, joint, s, diag, Some(&nets), goal).order)
+    })
 }
 
 #[cfg(test)]
@@ -455,6 +826,211 @@ mod tests {
             between_faces: true,
         };
         (surface, joint)
+    }
+
+    /// The truncated product with all terms summed in turn (zero terms of `a` skipped): the
+    /// reference for [`Series::product_coefficient`].
+    fn full_product(a: &Series, b: &Series) -> Series {
+        let mut out = Series::ZERO;
+        for m1 in 0..=MAX_ORDER {
+            for i1 in 0..=m1 {
+                let x = a.0[term(i1, m1 - i1)];
+                if x == 0.0 {
+                    continue;
+                }
+                for m2 in 0..=MAX_ORDER - m1 {
+                    for i2 in 0..=m2 {
+                        out.0[term(i1 + i2, m1 - i1 + m2 - i2)] += x * b.0[term(i2, m2 - i2)];
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// `outer(s, t)` with every power and monomial formed in full: the reference composition.
+    fn full_composition(outer: &Series, s: &Series, t: &Series) -> Series {
+        let mut one = Series::ZERO;
+        one.0[0] = 1.0;
+        let mut s_pow = [one; MAX_ORDER + 1];
+        let mut t_pow = [one; MAX_ORDER + 1];
+        for k in 1..=MAX_ORDER {
+            s_pow[k] = full_product(&s_pow[k - 1], s);
+            t_pow[k] = full_product(&t_pow[k - 1], t);
+        }
+        let mut out = Series::ZERO;
+        for m in 0..=MAX_ORDER {
+            for i in 0..=m {
+                let c = outer.0[term(i, m - i)];
+                if c != 0.0 {
+                    let monomial = full_product(&s_pow[i], &t_pow[m - i]);
+                    out = Series(std::array::from_fn(|k| out.0[k] + c * monomial.0[k]));
+                }
+            }
+        }
+        out
+    }
+
+    /// The height function by [`MAX_ORDER`] − 1 rounds of the fixed-point iteration
+    /// `(s, t) ← A⁻¹[(x, y) − (X, Y)(s, t)]` on whole series: the reference for
+    /// [`HeightSeries`].
+    fn full_height_function(xyh: &[Series; 3]) -> Series {
+        let (x, y, h) = (&xyh[0], &xyh[1], &xyh[2]);
+        let (a, b, c, d) = (x.0[1], x.0[2], y.0[1], y.0[2]);
+        let det = a * d - b * c;
+        let inv = [d / det, -b / det, -c / det, a / det];
+        let rest = |s: &Series| {
+            let mut s = *s;
+            s.0[..3].fill(0.0);
+            s
+        };
+        let (x_rest, y_rest) = (rest(x), rest(y));
+        let linear = |p: f64, q: f64| {
+            let mut s = Series::ZERO;
+            s.0[1] = p;
+            s.0[2] = q;
+            s
+        };
+        let axpy =
+            |s: &Series, k: f64, r: &Series| Series(std::array::from_fn(|i| s.0[i] + k * r.0[i]));
+        let (mut s, mut t) = (linear(inv[0], inv[1]), linear(inv[2], inv[3]));
+        for _ in 1..MAX_ORDER {
+            let rx = full_composition(&x_rest, &s, &t);
+            let ry = full_composition(&y_rest, &s, &t);
+            s = axpy(&axpy(&linear(inv[0], inv[1]), -inv[0], &rx), -inv[1], &ry);
+            t = axpy(&axpy(&linear(inv[2], inv[3]), -inv[2], &rx), -inv[3], &ry);
+        }
+        full_composition(h, &s, &t)
+    }
+
+    /// A deterministic pseudo-random number in [−1, 1).
+    fn next_unit(state: &mut u64) -> f64 {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+
+    /// A random series with terms of total order `low..=high` only.
+    fn random_series(state: &mut u64, low: usize, high: usize) -> Series {
+        let mut s = Series::ZERO;
+        for m in low..=high {
+            for i in 0..=m {
+                s.0[term(i, m - i)] = next_unit(state) * 4f64.powi(m as i32 - 2);
+            }
+        }
+        s
+    }
+
+    /// Every coefficient of the product from [`Series::product_coefficient`] is the full
+    /// product's to the bit, for factors of every lowest order; lower orders of the product
+    /// are zero.
+    #[test]
+    fn product_coefficient_is_the_full_product() {
+        let mut state = 7;
+        for _ in 0..20 {
+            for low_a in 0..=MAX_ORDER {
+                for low_b in 0..=MAX_ORDER - low_a {
+                    let a = random_series(&mut state, low_a, MAX_ORDER);
+                    let b = random_series(&mut state, low_b, MAX_ORDER);
+                    let full = full_product(&a, &b);
+                    for m in 0..=MAX_ORDER {
+                        for i in 0..=m {
+                            let k = term(i, m - i);
+                            if m < low_a + low_b {
+                                assert_eq!(full.0[k], 0.0);
+                                continue;
+                            }
+                            let got = a.product_coefficient(low_a, &b, low_b, i, m - i);
+                            assert_eq!(got.to_bits(), full.0[k].to_bits(), "{low_a} {low_b} {k}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// A random frame series: a regular linear part, higher terms up to order `top`.
+    fn random_frame_series(state: &mut u64, top: usize) -> [Series; 3] {
+        let mut xyh = [0; 3].map(|_| random_series(state, 1, top));
+        xyh[0].0[1] += 2.0;
+        xyh[1].0[2] += 1.5;
+        xyh[2].0[1] *= 1e-3;
+        xyh[2].0[2] *= 1e-3;
+        xyh
+    }
+
+    /// [`HeightSeries`] gives the height function of the full iteration to the bit, whether
+    /// its frame series is known to [`MAX_ORDER`] from the start or first to a lower order and
+    /// then extended, and for outer series of every degree; lower orders do not depend on how
+    /// far it went.
+    #[test]
+    fn height_series_is_the_full_reversion() {
+        let mut state = 11;
+        for top in 1..=MAX_ORDER {
+            for _ in 0..20 {
+                let xyh = random_frame_series(&mut state, top);
+                let reference = full_height_function(&xyh);
+                let mut whole = HeightSeries::new(&xyh, MAX_ORDER).expect("regular");
+                whole.advance_to(MAX_ORDER);
+                for first in 1..MAX_ORDER {
+                    let truncated = |known: usize| {
+                        let mut s = xyh;
+                        for series in &mut s {
+                            series.0[(known + 1) * (known + 2) / 2..].fill(0.0);
+                        }
+                        s
+                    };
+                    let mut staged = HeightSeries::new(&truncated(first), first).expect("regular");
+                    staged.advance_to(first);
+                    let known = (first + 1) * (first + 2) / 2;
+                    assert_eq!(staged.height.0[..known], reference.0[..known]);
+                    staged.extend(&xyh, MAX_ORDER);
+                    staged.advance_to(MAX_ORDER);
+                    assert_eq!(staged.height, reference, "top {top}, first {first}");
+                }
+                for k in 0..TERMS {
+                    assert_eq!(whole.height.0[k].to_bits(), reference.0[k].to_bits(), "{k}");
+                }
+            }
+        }
+    }
+
+    /// [`bezier_partials`] gives the partials of [`TriangleBezier::partials`] to the bit, for
+    /// every range of orders and degrees up to and beyond [`MAX_STACK_DEGREE`]; orders outside
+    /// the range are left as they were.
+    #[test]
+    fn bezier_partials_are_those_of_the_net() {
+        let mut state = 5;
+        for d in [0, 1, 2, 3, 4, 5, 6, 9, 12, 14, 16, 17] {
+            let net = TriangleBezier::from_fn(d, |_, _, _| {
+                DVec3::new(next_unit(&mut state), next_unit(&mut state), 0.5)
+            });
+            let uv = DVec2::new(0.3 * next_unit(&mut state).abs(), 0.25);
+            let reference = net.partials(uv.x, uv.y, MAX_ORDER);
+            for from in 0..=MAX_ORDER {
+                for to in from..=MAX_ORDER {
+                    let marker = DVec3::splat(7.0);
+                    let mut out = [marker; TERMS];
+                    bezier_partials(&net, uv, from, to, &mut out);
+                    for m in 0..=MAX_ORDER {
+                        for i in 0..=m {
+                            let k = term(i, m - i);
+                            let want = if (from..=to).contains(&m) {
+                                reference[k]
+                            } else {
+                                marker
+                            };
+                            assert_eq!(
+                                out[k].to_array().map(f64::to_bits),
+                                want.to_array().map(f64::to_bits),
+                                "d {d}, {from}..={to}, term {k}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
     }
 
     fn base(p: DVec2) -> f64 {
@@ -523,13 +1099,9 @@ mod tests {
 
     /// The largest difference of the two sides' order-m height coefficients at `s`.
     fn side_difference(surface: &Surface, joint: &Joint, s: f64, m: usize) -> f64 {
-        let (pa, _) = patch_partials(surface, joint.a.patch, edge_uv(joint.a.edge as usize, s));
-        let (pb, _) = patch_partials(
-            surface,
-            joint.b.patch,
-            edge_uv(joint.b.edge as usize, 1.0 - s),
-        );
-        let (ha, hb) = heights([&pa, &pb], joint.a.edge as usize, MAX_ORDER).expect("regular");
+        let (_, point) = exact_point(surface, joint, s, MAX_ORDER);
+        let mut point = point.expect("regular");
+        let [ha, hb] = point.heights_at(m);
         (0..=m)
             .map(|i| (ha.0[term(i, m - i)] - hb.0[term(i, m - i)]).abs())
             .fold(0.0, f64::max)
@@ -563,7 +1135,7 @@ mod tests {
             }
             let plain = ORDER_SAMPLES
                 .iter()
-                .map(|&s| measure_with_floor(&same, &joint, s, diag, false).order)
+                .map(|&s| measure_with_floor(&same, &joint, s, diag, None, Goal::Reason).order)
                 .min();
             assert_eq!(
                 plain,

@@ -509,6 +509,32 @@ mod tests {
         assert_eq!(run(1), run(3));
     }
 
+    /// Built surfaces measure to the same JSON, byte for byte, on one thread and on two:
+    /// a G1 scheme on a mesh with valences 3 to 16, and the G4 spline on the deformed
+    /// icosahedron, whose order 4 is resolved through the rounding floor.
+    #[test]
+    fn built_surfaces_measure_the_same_on_any_thread_count() {
+        use crate::mesh::{Mesh, generate};
+        let g4 = vec![("k".to_string(), "4".to_string())];
+        let cases = [
+            ("hb", vec![], generate::mixed_valence()),
+            ("gk", g4, generate::deformed_icosahedron()),
+        ];
+        for (scheme, params, (positions, faces)) in cases {
+            let (mesh, _) = Mesh::from_triangles(positions, faces).expect("valid mesh");
+            let surface = crate::schemes::build(scheme, &mesh, &params).expect("builds");
+            let run = |threads| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .expect("thread pool");
+                let metrics = pool.install(|| Metrics::measure(&surface, &mesh, 0.0));
+                serde_json::to_string(&metrics).expect("serialisable")
+            };
+            assert_eq!(run(1), run(2), "{scheme}");
+        }
+    }
+
     #[test]
     fn json_has_the_contract_keys() {
         let (s, faces, positions) = pieces_of_one_polynomial();
