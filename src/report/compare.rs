@@ -4,8 +4,8 @@
 //!
 //! Quality is always judged. A quality figure regresses when it moves in its bad direction by
 //! more than `abs + rel · |old|` (each figure has its own `abs`, the tolerance of the
-//! measurement — e.g. 1e-9 rad for normal jumps that are exact zeros up to rounding — and the
-//! common `rel`); the continuity order regresses when it drops at all. A record in OLD that
+//! measurement, from `crate::tolerance` where it means "zero up to rounding" — e.g. 1e-9 rad for
+//! normal jumps — and the common `rel`); the continuity order regresses when it drops at all. A record in OLD that
 //! NEW lacks is a regression too.
 //!
 //! Timings depend on the machine, so they are judged only when asked ([`TimingCheck`]), and
@@ -17,6 +17,7 @@
 
 use super::{METRICS_MESH, Record, Report};
 use crate::error::{Error, Result};
+use crate::tolerance::{CURVATURE_REL, NORMAL_RAD, POSITION_REL};
 
 /// Which way is better.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,18 +28,18 @@ enum Better {
 
 /// A tracked quality figure: key, better direction, absolute tolerance.
 const QUALITY: &[(&str, Better, f64)] = &[
-    ("interp_max_rel", Better::Lower, 1e-12),
-    ("g0_max_rel", Better::Lower, 1e-12),
-    ("g1_max_rad", Better::Lower, 1e-9),
-    ("g1_between_faces_max_rad", Better::Lower, 1e-9),
-    ("g1_inside_faces_max_rad", Better::Lower, 1e-9),
-    ("curvature_jump_max_rel", Better::Lower, 1e-6),
+    ("interp_max_rel", Better::Lower, POSITION_REL),
+    ("g0_max_rel", Better::Lower, POSITION_REL),
+    ("g1_max_rad", Better::Lower, NORMAL_RAD),
+    ("g1_between_faces_max_rad", Better::Lower, NORMAL_RAD),
+    ("g1_inside_faces_max_rad", Better::Lower, NORMAL_RAD),
+    ("curvature_jump_max_rel", Better::Lower, CURVATURE_REL),
     ("continuity_order", Better::Higher, 0.0),
     ("min_regularity_rel", Better::Higher, 0.0),
     ("network_undulation_max_rad", Better::Lower, 1e-6),
     ("bending_energy", Better::Lower, 1e-9),
-    ("distance_max_rel", Better::Lower, 1e-12),
-    ("normal_error_max_rad", Better::Lower, 1e-9),
+    ("distance_max_rel", Better::Lower, POSITION_REL),
+    ("normal_error_max_rad", Better::Lower, NORMAL_RAD),
 ];
 
 /// Tracked timings (milliseconds).
