@@ -171,6 +171,7 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
         "undulation",
         "inflect",
         "G^k",
+        "flat_vtx",
     ];
     let rows: Vec<Vec<String>> = metrics
         .iter()
@@ -191,6 +192,7 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
                 format!("{:.2e}", m.network_undulation_max_rad),
                 m.network_inflections_max.to_string(),
                 order_cell(m.continuity_order, m.continuity_order_typical),
+                m.vertex_flat_points.to_string(),
             ]
         })
         .collect();
@@ -475,6 +477,10 @@ mod tests {
             joints_between_faces: 30,
             samples_per_joint: 17,
             singular_samples: 0,
+            vertex_flat_points: 0,
+            vertex_curved: 12,
+            vertex_mean_curvature_ratio_min: Some(0.5),
+            vertex_mean_curvature_ratio_max: Some(1.5),
         };
         let table = metrics_table(&[
             m.clone(),
