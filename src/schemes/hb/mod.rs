@@ -14,18 +14,18 @@
 //! `ṽ¹` computed at either end, C¹ continuity of `V` at `u = ½` gives `v² = (v¹ − ṽ¹)/2 = −ṽ²`.
 //! (HB00 §9 writes `v² = ½v¹ + ½v¹_k` in a per-end sign convention.)
 //!
-//! Default shape parameters: α = 1 interpolates the vertices; β = 1/3 with (γ0, γ1, γ2) =
-//! (−1, 2, 0) gives linear precision on regular meshes — for a planar ring of valence 6 the
-//! boundary curves are the straight edges parametrised uniformly, the twists vanish and `V` is
-//! constant (tested in [`vertex`]) — and keeps the curve network free of undulations, the
-//! paper's concern in §9: γ0 < 0 < γ1, as in Fig. 14's (−3.7, 4.6, 0.1). `b2 = 2b1 − b0` makes the
-//! boundary curves' second derivative vanish at the vertices (at the price of a flatter surface
-//! right at the vertices). Measured network undulation (metrics `undulation`, rad, max over
-//! edges) with β = 1/3: (−1, 2, 0) gives 0 on the icosahedron, deformed icosahedron and cube,
-//! 0.05 on the torus, 0.66 on mixed-valence (valence 15 and 16); (γ0, γ1, γ2) = (1/3, 0, 2/3), which
-//! also has linear precision but leans on Loop's point d, gives 0.6–1.8 on the same meshes. The six free points default to the
-//! thin-plate minimiser (`free=energy`, as in the paper's colour plate); `free=zero-twist` is the
-//! cheap alternative.
+//! Shape parameters: α = 1 interpolates the vertices. HB00 §6 leaves β, γ1, γ2 free per vertex;
+//! by default (`auto`) [`vertex::adaptive_shape`] chooses them at each vertex from its one-ring,
+//! so that the boundary curves start like the circular arcs with the normal curvature the mesh
+//! implies. The former global default β = 1/3, (γ0, γ1, γ2) = (−1, 2, 0) has linear precision on
+//! regular meshes and no network undulation on the icosahedron, but γ2 = 0 puts `b2` on the
+//! tangent line and the twists in the tangent plane, so every mesh vertex is a flat point
+//! (|H| = 0; measured on the unit icosphere of 80 faces: normal error 0.063 rad, distance
+//! 1.1e-2, against 0.0105 rad and 1.5e-3 with the per-vertex default, whose |H| at the vertices
+//! is 1.000 — results/defaults.md). Numbers for β or the γ set them at every vertex
+//! (Fig. 14: β = 0.1, γ = (−3.7, 4.6, 0.1)). The six free points default to the thin-plate
+//! minimiser (`free=energy`, as in the paper's colour plate); `free=zero-twist` is the cheap
+//! alternative.
 
 pub(crate) mod energy;
 pub(crate) mod macro_patch;

@@ -165,7 +165,7 @@ fn similarity_invariance_of_the_default() {
 /// reproduces the sphere's curvature at every vertex and stays close to the sphere. Measured:
 /// |H| = 1.000 at every vertex, normal error 0.0105 rad, radial distance 1.50e-3 (piper, the
 /// reference: |H| 0.99–1.02, 0.0082 rad, 1.02e-3). The old global default γ = (−1, 2, 0) has
-/// |H| = 0 at every vertex, 0.077 rad and 1.4e-2.
+/// |H| = 0 at every vertex, 0.063 rad and 1.1e-2.
 #[test]
 fn default_on_the_unit_icosphere_has_the_spheres_curvature_at_the_vertices() {
     use crate::report::analytic::{Analytic, surface_error, vertex_curvature_error};
