@@ -31,6 +31,9 @@ pub const MESH_CURVED: f64 = 1e-6;
 /// patch corner on it are at most this fraction of the mesh's curvature scale there.
 pub const FLAT_FRACTION: f64 = 1e-3;
 
+/// `(κ1, κ2, H)` at one patch corner.
+pub type CornerCurvature = (f64, f64, f64);
+
 /// The vertex figures of one surface.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct VertexCurvature {
@@ -96,9 +99,9 @@ pub fn surface_vertex_curvature(
     surface: &Surface,
     faces: &[[u32; 3]],
     vertex_count: usize,
-) -> Vec<Vec<(f64, f64, f64)>> {
+) -> Vec<Vec<CornerCurvature>> {
     let corners = surface.vertex_corners(faces);
-    let measured: Vec<Option<(u32, (f64, f64, f64))>> = corners
+    let measured: Vec<Option<(u32, CornerCurvature)>> = corners
         .par_iter()
         .map(|vc| {
             let uv = UV_CORNERS[vc.corner as usize];

@@ -47,16 +47,6 @@ pub struct ShapeRule {
 }
 
 impl ShapeRule {
-    /// The same parameters at every vertex.
-    #[cfg(test)]
-    pub fn global(shape: ShapeParams) -> ShapeRule {
-        ShapeRule {
-            alpha: shape.alpha,
-            beta: Some(shape.beta),
-            gamma: Some(shape.gamma),
-        }
-    }
-
     /// The parameters of the vertex `v` with one-ring `ring`.
     pub fn at_vertex(&self, v: DVec3, ring: &[DVec3]) -> ShapeParams {
         match (self.beta, self.gamma) {
