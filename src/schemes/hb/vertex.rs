@@ -70,6 +70,16 @@ impl ShapeRule {
 /// where the ring's heights over the tangent plane are below ~1e-8 of its edge lengths.
 const PLANAR_FALLBACK: f64 = 1e-16;
 
+/// The per-vertex β is kept in this range: 1/3 (linear precision) to 1/2 covers the arcs of
+/// rings up to a quarter circle; beyond, a ring is too coarse for a circle to be a guide, and
+/// longer tangents lower the regularity of the macro-patches.
+pub const BETA_RANGE: [f64; 2] = [0.25, 0.5];
+
+/// The per-vertex γ2 is kept in this range: 0 (the tangent line) to twice its value 1/8 on a
+/// regular ring of a sphere. The fit divides by the ring's heights over the tangent plane, which
+/// can nearly cancel at a saddle.
+pub const GAMMA2_RANGE: [f64; 2] = [0.0, 0.25];
+
 /// Per-vertex shape parameters chosen from the one-ring so that the boundary curves leaving `v`
 /// start like the circles the mesh implies [HB00 §6: β, γ1, γ2 free per vertex]:
 ///
@@ -113,7 +123,8 @@ pub fn adaptive_shape(v: DVec3, ring: &[DVec3], alpha: f64, beta: Option<f64>) -
             num += t.length() * arc;
             den += t.length_squared();
         }
-        if den > 0.0 { num / den } else { 1.0 / 3.0 }
+        let fitted = if den > 0.0 { num / den } else { 1.0 / 3.0 };
+        fitted.clamp(BETA_RANGE[0], BETA_RANGE[1])
     });
     let (mut num, mut den, mut reference, mut scale) = (0.0, 0.0, 0.0, 0.0);
     let mut tangential = Vec::with_capacity(n);
@@ -134,7 +145,7 @@ pub fn adaptive_shape(v: DVec3, ring: &[DVec3], alpha: f64, beta: Option<f64>) -
     }
     let reference = reference / nf;
     let weight = PLANAR_FALLBACK * (scale / nf).powi(2);
-    let g2 = (num + weight * reference) / (den + weight);
+    let g2 = ((num + weight * reference) / (den + weight)).clamp(GAMMA2_RANGE[0], GAMMA2_RANGE[1]);
     // (γ1 − 2)(b1 − b0) + γ2 (d − b0)ᵀ ≈ 0 over the edges.
     let (mut uu, mut uw) = (0.0, 0.0);
     for (u, w) in &tangential {
