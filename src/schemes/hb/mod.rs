@@ -21,7 +21,7 @@
 //! regular meshes and no network undulation on the icosahedron, but γ2 = 0 puts `b2` on the
 //! tangent line and the twists in the tangent plane, so every mesh vertex is a flat point
 //! (|H| = 0; measured on the unit icosphere of 80 faces: normal error 0.063 rad, distance
-//! 1.1e-2, against 0.0105 rad and 1.5e-3 with the per-vertex default, whose |H| at the vertices
+//! 1.1e-2, against 0.0106 rad and 1.8e-3 with the per-vertex default, whose |H| at the vertices
 //! is 1.000 — results/defaults.md). Numbers for β or the γ set them at every vertex
 //! (Fig. 14: β = 0.1, γ = (−3.7, 4.6, 0.1)). The six free points default to the thin-plate
 //! minimiser (`free=energy`, as in the paper's colour plate); `free=zero-twist` is the cheap
