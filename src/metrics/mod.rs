@@ -19,6 +19,7 @@ pub mod energy;
 pub mod joints;
 pub mod network;
 pub mod patchwise;
+pub mod vertex_curvature;
 
 use std::collections::BTreeMap;
 
@@ -116,6 +117,16 @@ pub struct Metrics {
     pub samples_per_joint: usize,
     /// Joint samples where a side has `Su × Sv = 0`, left out of the G1 and curvature figures.
     pub singular_samples: usize,
+    /// Mesh vertices where the mesh is curved but the surface has a flat point (both principal
+    /// curvatures ~0; see [`vertex_curvature`]).
+    pub vertex_flat_points: usize,
+    /// Mesh vertices where the mesh is curved (those the vertex figures are measured at).
+    pub vertex_curved: usize,
+    /// Smallest ratio `|H| / |H_mesh|` of the surface's mean curvature at a mesh vertex to the
+    /// mesh's discrete one ([`vertex_curvature`]; 1 on a sphere reproduced exactly).
+    pub vertex_mean_curvature_ratio_min: Option<f64>,
+    /// Largest ratio `|H| / |H_mesh|`.
+    pub vertex_mean_curvature_ratio_max: Option<f64>,
 }
 
 impl Metrics {
@@ -176,6 +187,7 @@ impl Metrics {
         };
         let regularity = patchwise::min_regularity(surface);
         let interp = patchwise::interpolation_error(surface, faces, positions);
+        let at_vertices = vertex_curvature::vertex_curvature(surface, faces, positions);
         Metrics {
             scheme: surface.scheme.clone(),
             params: surface.params.iter().cloned().collect(),
@@ -206,6 +218,10 @@ impl Metrics {
             joints_between_faces: per_joint.iter().filter(|j| j.between_faces).count(),
             samples_per_joint: JOINT_SAMPLES,
             singular_samples: sums.singular_samples,
+            vertex_flat_points: at_vertices.flat_points,
+            vertex_curved: at_vertices.curved_vertices,
+            vertex_mean_curvature_ratio_min: at_vertices.mean_ratio_min,
+            vertex_mean_curvature_ratio_max: at_vertices.mean_ratio_max,
         }
     }
 }
@@ -234,7 +250,7 @@ fn diagonal(positions: &[DVec3]) -> f64 {
 
 impl Metrics {
     /// Every real-valued figure with its JSON key.
-    fn figures(&self) -> [(&'static str, Option<f64>); 14] {
+    fn figures(&self) -> [(&'static str, Option<f64>); 16] {
         [
             ("construct_ms", Some(self.construct_ms)),
             ("interp_max_rel", self.interp_max_rel),
@@ -258,6 +274,14 @@ impl Metrics {
             (
                 "network_chord_deviation_max_rel",
                 Some(self.network_chord_deviation_max_rel),
+            ),
+            (
+                "vertex_mean_curvature_ratio_min",
+                self.vertex_mean_curvature_ratio_min,
+            ),
+            (
+                "vertex_mean_curvature_ratio_max",
+                self.vertex_mean_curvature_ratio_max,
             ),
         ]
     }

@@ -27,7 +27,7 @@ use crate::mesh::{Mesh, generate};
 use crate::metrics::Metrics;
 use crate::metrics::energy::bending_energy;
 use crate::schemes::{self, SCHEMES};
-use analytic::{Analytic, surface_error};
+use analytic::{Analytic, curvature_error, surface_error, vertex_curvature_error};
 
 /// The format version of `metrics.json` that this build writes and reads.
 pub const REPORT_VERSION: u32 = 1;
@@ -219,6 +219,15 @@ pub fn run_with_progress(progress: &dyn Fn(usize, usize, &str)) -> Result<Report
                 figures.insert("distance_max_rel".into(), (max_d / diag).into());
                 figures.insert("distance_mean_rel".into(), (mean_d / diag).into());
                 figures.insert("normal_error_max_rad".into(), normal.into());
+                let k = curvature_error(&surface, &a);
+                figures.insert("gaussian_error_max_rel".into(), k.gaussian_max_rel.into());
+                figures.insert("gaussian_error_rms_rel".into(), k.gaussian_rms_rel.into());
+                figures.insert("mean_error_max_rel".into(), k.mean_max_rel.into());
+                figures.insert("mean_error_rms_rel".into(), k.mean_rms_rel.into());
+                let (kv, h_lo, h_hi) = vertex_curvature_error(&surface, bench.mesh.faces(), &a);
+                figures.insert("vertex_mean_error_max_rel".into(), kv.mean_max_rel.into());
+                figures.insert("vertex_mean_abs_min".into(), h_lo.into());
+                figures.insert("vertex_mean_abs_max".into(), h_hi.into());
             }
             records.push(Record {
                 mesh: bench.name.clone(),
@@ -281,6 +290,11 @@ pub const COLUMNS: &[&str] = &[
     "bending_energy",
     "distance_max_rel",
     "normal_error_max_rad",
+    "mean_error_max_rel",
+    "mean_error_rms_rel",
+    "gaussian_error_max_rel",
+    "vertex_mean_abs_min",
+    "vertex_flat_points",
 ];
 
 fn value_text(v: Option<&serde_json::Value>) -> Option<String> {
