@@ -142,8 +142,8 @@ mod tests {
     fn bernstein_gram_sums_to_area() {
         let g = bernstein_gram(3, 0.7);
         let total: f64 = g.iter().flatten().sum();
-        assert!((total - 0.7).abs() < 1e-14, "{total}");
-        assert!((g[0][0] - 2.0 * 0.7 / 56.0).abs() < 1e-15);
+        crate::assert_near!(total, 0.7, 1e-14);
+        crate::assert_near!(g[0][0], 2.0 * 0.7 / 56.0, 1e-15);
     }
 
     /// The matrix reproduces [`TriangleBezier::elevate`].

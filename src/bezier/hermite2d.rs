@@ -200,18 +200,18 @@ mod tests {
         // 30°: first branch, projection exactly at 1.
         let v30 = DVec2::new(30f64.to_radians().cos(), 30f64.to_radians().sin());
         let s = CubicSegment2d::new(p0, v30, p1, v30);
-        assert!((s.points[1].x - 1.0).abs() <= 1e-15, "{}", s.points[1]);
-        assert!((s.points[2].x - 2.0).abs() <= 1e-15, "{}", s.points[2]);
+        crate::assert_near!(s.points[1].x, 1.0, 1e-15);
+        crate::assert_near!(s.points[2].x, 2.0, 1e-15);
         assert!(((s.points[1] - p0).length() - 1.0 / 30f64.to_radians().cos()).abs() <= 1e-15);
         // 75°: second branch, leg 2, projection 2 cos 75° < 1.
         let v75 = DVec2::new(75f64.to_radians().cos(), 75f64.to_radians().sin());
         let s = CubicSegment2d::new(p0, v75, p1, v75);
-        assert!(((s.points[1] - p0).length() - 2.0).abs() <= 1e-15);
-        assert!(((s.points[2] - p1).length() - 2.0).abs() <= 1e-15);
+        crate::assert_near!((s.points[1] - p0).length(), 2.0, 1e-15);
+        crate::assert_near!((s.points[2] - p1).length(), 2.0, 1e-15);
         assert!(s.points[1].x < s.points[2].x, "inner points crossed");
         // The two branches meet at 60°.
-        assert!((tangent_length(3.0, 0.5) - 2.0).abs() <= 1e-15);
-        assert!((tangent_length(3.0, 0.5 - 1e-15) - 2.0).abs() <= 1e-14);
+        crate::assert_near!(tangent_length(3.0, 0.5), 2.0, 1e-15);
+        crate::assert_near!(tangent_length(3.0, 0.5 - 1e-15), 2.0, 1e-14);
     }
 
     /// Straight data (tangents along the chord) gives the chord parametrised uniformly.
