@@ -9,4 +9,6 @@ pub mod schemes;
 pub mod surfaces;
 
 pub use rng::Rng;
-pub use schemes::{JointFigures, assert_g1_joints, closed_test_meshes, mesh, params};
+pub use schemes::{
+    JointFigures, assert_g1_joints, closed_test_meshes, mesh, params, unit_icosphere_accuracy,
+};

@@ -72,3 +72,19 @@ pub fn assert_g1_joints(m: &Metrics, label: &str) -> JointFigures {
     );
     figures
 }
+
+/// Accuracy of a scheme on the unit icosphere of 80 faces (vertices on the unit sphere):
+/// `[radial distance, normal error (rad), min |H|, max |H| at the mesh vertices]` of the
+/// surface `build` makes.
+pub fn unit_icosphere_accuracy(
+    build: impl Fn(&Mesh) -> crate::Result<crate::surface::Surface>,
+) -> [f64; 4] {
+    use crate::report::analytic::{Analytic, surface_error, vertex_curvature_error};
+    let sampled = generate::analytic::sphere(1);
+    let mesh = mesh((sampled.positions, sampled.faces));
+    let sphere = Analytic::Sphere { radius: 1.0 };
+    let surface = build(&mesh).expect("builds on the icosphere");
+    let (distance, _, normal) = surface_error(&surface, &sphere);
+    let (_, h_min, h_max) = vertex_curvature_error(&surface, mesh.faces(), &sphere);
+    [distance, normal, h_min, h_max]
+}

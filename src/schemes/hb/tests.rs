@@ -98,6 +98,28 @@ const GLOBAL_THIRD: [(&str, &str); 3] = [
     ("gamma1", "2"),
 ];
 
+/// Asserts that building with `p` on every closed test mesh mapped by `map` equals mapping the
+/// surface built on the mesh, control point by control point (to 1e-12 of the diagonal).
+fn assert_commutes_with(map: impl Fn(DVec3) -> DVec3, p: &Params, what: &str) {
+    for (name, mesh) in closed_test_meshes() {
+        let (mapped, _) = Mesh::from_triangles(
+            mesh.positions().iter().map(|&q| map(q)).collect(),
+            mesh.faces().to_vec(),
+        )
+        .expect("mapped mesh is valid");
+        let s0 = build(&mesh, p).expect("builds");
+        let s1 = build(&mapped, p).expect("builds");
+        let scale = mapped.bounds().diagonal();
+        for (p0, p1) in s0.patches.iter().zip(&s1.patches) {
+            let (b0, b1) = (p0.as_bezier().unwrap(), p1.as_bezier().unwrap());
+            for (x, y) in b0.points().iter().zip(b1.points()) {
+                let d = (map(*x) - *y).length() / scale;
+                assert!(d <= 1e-12, "{name}: {what} defect {d}");
+            }
+        }
+    }
+}
+
 /// With global shape parameters, building on an affinely mapped mesh equals mapping the surface
 /// (HB00's affine invariance). The per-vertex default measures lengths and curvatures, so it is
 /// invariant under similarities only (next test).
@@ -109,27 +131,10 @@ fn affine_invariance() {
         DVec3::new(-0.2, 0.1, 1.7),
     );
     let t = DVec3::new(0.5, -2.0, 3.0);
-    let map = |p: DVec3| a * p + t;
-    for (name, mesh) in closed_test_meshes() {
-        let (mapped, _) = Mesh::from_triangles(
-            mesh.positions().iter().map(|&p| map(p)).collect(),
-            mesh.faces().to_vec(),
-        )
-        .expect("mapped mesh is valid");
-        let mut zero_twist = GLOBAL_THIRD.to_vec();
-        zero_twist.push(("free", "zero-twist"));
-        for p in [params(&SPEC, &GLOBAL_THIRD), params(&SPEC, &zero_twist)] {
-            let s0 = build(&mesh, &p).expect("builds");
-            let s1 = build(&mapped, &p).expect("builds");
-            let scale = mapped.bounds().diagonal();
-            for (p0, p1) in s0.patches.iter().zip(&s1.patches) {
-                let (b0, b1) = (p0.as_bezier().unwrap(), p1.as_bezier().unwrap());
-                for (x, y) in b0.points().iter().zip(b1.points()) {
-                    let d = (map(*x) - *y).length() / scale;
-                    assert!(d <= 1e-12, "{name}: affine defect {d}");
-                }
-            }
-        }
+    let mut zero_twist = GLOBAL_THIRD.to_vec();
+    zero_twist.push(("free", "zero-twist"));
+    for p in [params(&SPEC, &GLOBAL_THIRD), params(&SPEC, &zero_twist)] {
+        assert_commutes_with(|q| a * q + t, &p, "affine");
     }
 }
 
@@ -140,25 +145,7 @@ fn similarity_invariance_of_the_default() {
     let axis = DVec3::new(0.3, -0.5, 0.8).normalize();
     let a = DMat3::from_axis_angle(axis, 0.7) * 2.5;
     let t = DVec3::new(0.5, -2.0, 3.0);
-    let map = |p: DVec3| a * p + t;
-    for (name, mesh) in closed_test_meshes() {
-        let (mapped, _) = Mesh::from_triangles(
-            mesh.positions().iter().map(|&p| map(p)).collect(),
-            mesh.faces().to_vec(),
-        )
-        .expect("mapped mesh is valid");
-        let p = params(&SPEC, &[]);
-        let s0 = build(&mesh, &p).expect("builds");
-        let s1 = build(&mapped, &p).expect("builds");
-        let scale = mapped.bounds().diagonal();
-        for (p0, p1) in s0.patches.iter().zip(&s1.patches) {
-            let (b0, b1) = (p0.as_bezier().unwrap(), p1.as_bezier().unwrap());
-            for (x, y) in b0.points().iter().zip(b1.points()) {
-                let d = (map(*x) - *y).length() / scale;
-                assert!(d <= 1e-12, "{name}: similarity defect {d}");
-            }
-        }
-    }
+    assert_commutes_with(|q| a * q + t, &params(&SPEC, &[]), "similarity");
 }
 
 /// The unit icosphere of 80 faces (vertices on the unit sphere, valences 5 and 6): the default
@@ -168,23 +155,16 @@ fn similarity_invariance_of_the_default() {
 /// |H| = 0 at every vertex, 0.063 rad and 1.1e-2.
 #[test]
 fn default_on_the_unit_icosphere_has_the_spheres_curvature_at_the_vertices() {
-    use crate::report::analytic::{Analytic, surface_error, vertex_curvature_error};
-    let sampled = generate::analytic::sphere(1);
-    let mesh = Mesh::from_triangles(sampled.positions, sampled.faces)
-        .expect("icosphere is valid")
-        .0;
-    let sphere = Analytic::Sphere { radius: 1.0 };
-    let surface = build(&mesh, &params(&SPEC, &[])).expect("builds");
-    let (distance, _, normal) = surface_error(&surface, &sphere);
-    let (_, h_min, h_max) = vertex_curvature_error(&surface, mesh.faces(), &sphere);
+    let [distance, normal, h_min, h_max] =
+        crate::testing::unit_icosphere_accuracy(|mesh| build(mesh, &params(&SPEC, &[])));
     assert!(
         (0.99..=1.01).contains(&h_min) && (0.99..=1.01).contains(&h_max),
         "|H| at the vertices in [{h_min}, {h_max}]"
     );
     assert!(normal <= 0.011, "normal error {normal} rad");
     assert!(distance <= 1.8e-3, "radial distance {distance}");
-    let old = build(&mesh, &params(&SPEC, &GLOBAL_THIRD)).expect("builds");
-    let (_, _, old_h_max) = vertex_curvature_error(&old, mesh.faces(), &sphere);
+    let [_, _, _, old_h_max] =
+        crate::testing::unit_icosphere_accuracy(|mesh| build(mesh, &params(&SPEC, &GLOBAL_THIRD)));
     assert!(
         old_h_max <= 1e-9,
         "the old default is flat at the vertices: {old_h_max}"

@@ -159,15 +159,8 @@ mod tests {
     /// radial distance 2.84e-2 (β = 1/2: 4.41e-2).
     #[test]
     fn default_on_the_unit_icosphere() {
-        use crate::report::analytic::{Analytic, surface_error, vertex_curvature_error};
-        let sampled = crate::mesh::generate::analytic::sphere(1);
-        let mesh = Mesh::from_triangles(sampled.positions, sampled.faces)
-            .expect("icosphere is valid")
-            .0;
-        let sphere = Analytic::Sphere { radius: 1.0 };
-        let surface = build(&mesh, &params(&SPEC, &[])).expect("builds");
-        let (distance, _, normal) = surface_error(&surface, &sphere);
-        let (_, h_min, h_max) = vertex_curvature_error(&surface, mesh.faces(), &sphere);
+        let [distance, normal, h_min, h_max] =
+            crate::testing::unit_icosphere_accuracy(|mesh| build(mesh, &params(&SPEC, &[])));
         assert!(
             h_min >= 1.65 && h_max <= 1.75,
             "|H| at the vertices in [{h_min}, {h_max}]"
