@@ -248,6 +248,7 @@ pub fn search(
 ) -> Option<u64> {
     // Every root lies within `radius` of `from` (the affine bound of the start).
     let (from, radius, half_m) = start.region(bounds)?;
+    let once = !start.may_meet_twice();
     let mut undecided = 0;
     let mut stack: Vec<([DVec2; 3], u32)> = Vec::new();
     let unit = [DVec2::ZERO, DVec2::X, DVec2::Y];
@@ -267,11 +268,12 @@ pub fn search(
         let f = planes.residual(p);
         let (ju, jv) = (planes.project(ss), planes.project(tt));
         let sigma = ju.perp_dot(jv).abs() / (ju.length_squared() + jv.length_squared()).sqrt();
-        // Two roots in the disk about `y` would make the mean Jacobian between them singular,
-        // but it differs from `J(y)` by at most `2 half_m · size` there: a root in Δ is the
-        // only one when `σ` exceeds that. Otherwise Δ is searched further, so a ray that meets
-        // the piece twice close together (grazing) finds the nearer root too.
-        let unique = sigma > 2.0 * half_m * size * (1.0 + 1e-9);
+        // A steep ray meets the piece once ([`Start::may_meet_twice`]). Otherwise: two roots in
+        // the disk about `y` would make the mean Jacobian between them singular, but it differs
+        // from `J(y)` by at most `2 half_m · size` there, so a root in Δ is the only one when
+        // `σ` exceeds that. Else Δ is searched further, so that a ray meeting the piece twice
+        // close together (grazing) finds the nearer root too.
+        let unique = once || sigma > 2.0 * half_m * size * (1.0 + 1e-9);
         let root_here = f.length_squared() <= tolerance * tolerance;
         if root_here {
             visit(y, p);
