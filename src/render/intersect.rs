@@ -283,38 +283,22 @@ impl<'s> Tracer<'s> {
         counters: &mut IntersectCounters,
     ) -> Option<Hit> {
         let c = &self.bvh.power[leaf.power as usize..];
-        macro_rules! on_power_form {
-            ($d:literal) => {
-                self.solve_piece(
-                    |x| local_point_and_tangents::<$d>(c, x.x, x.y),
-                    leaf,
-                    bounds,
-                    start,
-                    query,
-                    t_max,
-                    counters,
-                )
+        macro_rules! solve_with {
+            ($eval:expr) => {
+                self.solve_piece($eval, leaf, bounds, start, query, t_max, counters)
             };
         }
         match leaf.degree {
-            1 => on_power_form!(1),
-            2 => on_power_form!(2),
-            3 => on_power_form!(3),
-            4 => on_power_form!(4),
-            5 => on_power_form!(5),
-            6 => on_power_form!(6),
+            1 => solve_with!(|x| local_point_and_tangents::<1>(c, x.x, x.y)),
+            2 => solve_with!(|x| local_point_and_tangents::<2>(c, x.x, x.y)),
+            3 => solve_with!(|x| local_point_and_tangents::<3>(c, x.x, x.y)),
+            4 => solve_with!(|x| local_point_and_tangents::<4>(c, x.x, x.y)),
+            5 => solve_with!(|x| local_point_and_tangents::<5>(c, x.x, x.y)),
+            6 => solve_with!(|x| local_point_and_tangents::<6>(c, x.x, x.y)),
             _ => {
                 let patch = &self.unit.patches[leaf.patch as usize];
                 let tri = leaf.tri();
-                self.solve_piece(
-                    |x| local_jet(patch, tri, x),
-                    leaf,
-                    bounds,
-                    start,
-                    query,
-                    t_max,
-                    counters,
-                )
+                solve_with!(|x| local_jet(patch, tri, x))
             }
         }
     }
