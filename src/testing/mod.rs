@@ -10,5 +10,6 @@ pub mod surfaces;
 
 pub use rng::Rng;
 pub use schemes::{
-    JointFigures, assert_g1_joints, closed_test_meshes, mesh, params, unit_icosphere_accuracy,
+    JointFigures, assert_g1_joints, closed_test_meshes, max_smoothness_defect_inside_faces, mesh,
+    params, unit_icosphere_accuracy,
 };

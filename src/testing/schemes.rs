@@ -88,3 +88,127 @@ pub fn unit_icosphere_accuracy(
     let (_, h_min, h_max) = vertex_curvature_error(&surface, mesh.faces(), &sphere);
     [distance, normal, h_min, h_max]
 }
+
+/// The largest defect of Farin's `C^order` conditions between the Bézier pieces of one face
+/// that share a domain edge (Farin, CAGD §17.5): every control point of one piece within
+/// `order` rows of the shared edge must equal the other piece's blossom at that point's
+/// multi-index, the pieces' corners written in the other piece's barycentric coordinates.
+/// Absolute (in the surface's units); 0 when no face has two Bézier pieces with a common edge.
+///
+/// This reads the control nets only, through the patches' face-barycentric domains, so it
+/// checks a scheme's fill rules independently of how the scheme indexes its nets.
+pub fn max_smoothness_defect_inside_faces(surface: &crate::surface::Surface, order: usize) -> f64 {
+    use glam::{DMat3, DVec3};
+    let mut by_face: std::collections::BTreeMap<u32, Vec<&crate::surface::Patch>> =
+        Default::default();
+    for patch in &surface.patches {
+        by_face.entry(patch.face).or_default().push(patch);
+    }
+    let mut worst: f64 = 0.0;
+    for pieces in by_face.values() {
+        for a in pieces {
+            for b in pieces {
+                let (Some(net_a), Some(net_b)) = (a.as_bezier(), b.as_bezier()) else {
+                    continue;
+                };
+                if std::ptr::eq(*a, *b) || net_a.degree() != net_b.degree() {
+                    continue;
+                }
+                // b's corners shared with a, and the one that is not.
+                let shared: Vec<usize> = (0..3)
+                    .filter(|&c| a.domain.contains(&b.domain[c]))
+                    .collect();
+                if shared.len() != 2 {
+                    continue;
+                }
+                let free = 3 - shared[0] - shared[1];
+                let to_a = DMat3::from_cols(a.domain[0], a.domain[1], a.domain[2]).inverse();
+                let corners: [DVec3; 3] = b.domain.map(|x| to_a * x);
+                let d = net_b.degree();
+                for i in 0..=d {
+                    for j in 0..=d - i {
+                        let weights = [i, j, d - i - j];
+                        if weights[free] > order {
+                            continue;
+                        }
+                        let args: Vec<DVec3> = (0..3)
+                            .flat_map(|c| std::iter::repeat_n(corners[c], weights[c]))
+                            .collect();
+                        let defect = (net_b.point(i, j) - net_a.blossom(&args)).length();
+                        worst = worst.max(defect);
+                    }
+                }
+            }
+        }
+    }
+    worst
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::max_smoothness_defect_inside_faces;
+    use crate::bezier::TriangleBezier;
+    use crate::surface::{Patch, PatchGeometry, Surface};
+    use crate::testing::Rng;
+
+    /// One random quintic over a face, cut into the pieces of a 4-split: the pieces of one
+    /// polynomial are C^∞, so every order has no defect; moving one control point of the
+    /// middle piece `r` rows from an edge breaks exactly the orders ≥ `r`.
+    #[test]
+    fn the_defect_is_zero_for_one_polynomial_and_sees_a_moved_point() {
+        let mut rng = Rng::new(17);
+        let whole = TriangleBezier::from_fn(5, |_, _, _| {
+            DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64())
+        });
+        // The 4-split of the face: three corner triangles and the middle one.
+        let a = crate::surface::WHOLE_FACE;
+        let m = |k: usize, l: usize| 0.5 * (a[k] + a[l]);
+        let domains = [
+            [a[0], m(0, 1), m(2, 0)],
+            [a[1], m(1, 2), m(0, 1)],
+            [a[2], m(2, 0), m(1, 2)],
+            [m(1, 2), m(2, 0), m(0, 1)],
+        ];
+        let piece = |domain: [DVec3; 3]| {
+            TriangleBezier::from_fn(5, |i, j, k| {
+                let args: Vec<DVec3> = [(domain[0], i), (domain[1], j), (domain[2], k)]
+                    .iter()
+                    .flat_map(|&(x, n)| std::iter::repeat_n(x, n))
+                    .collect();
+                whole.blossom(&args)
+            })
+        };
+        let surface_of = |nets: Vec<TriangleBezier>| Surface {
+            scheme: "test".into(),
+            params: vec![],
+            patches: nets
+                .into_iter()
+                .zip(domains)
+                .enumerate()
+                .map(|(p, (net, domain))| Patch {
+                    face: 0,
+                    piece: p as u8,
+                    domain,
+                    geometry: PatchGeometry::Bezier(net),
+                })
+                .collect(),
+        };
+        let nets: Vec<TriangleBezier> = domains.iter().map(|&d| piece(d)).collect();
+        let exact = surface_of(nets.clone());
+        for order in 0..=5 {
+            let defect = max_smoothness_defect_inside_faces(&exact, order);
+            assert!(defect <= 1e-14, "order {order}: {defect}");
+        }
+        // The middle piece's b(2,2,1) is 1 row from its edge opposite corner 2 and 2 rows
+        // from the other two edges.
+        let mut moved = nets;
+        let p = moved[3].point(2, 2);
+        moved[3].set_point(2, 2, p + DVec3::new(1e-6, 0.0, 0.0));
+        let moved = surface_of(moved);
+        assert!(max_smoothness_defect_inside_faces(&moved, 0) <= 1e-14);
+        let c1 = max_smoothness_defect_inside_faces(&moved, 1);
+        assert!((c1 - 1e-6).abs() <= 1e-12, "C1 defect {c1}");
+    }
+}

@@ -73,7 +73,22 @@ fn check_g1(spec: &SchemeSpec, pairs: &[(&str, &str)], curvature_continuous: boo
 #[test]
 fn nielson_is_g1_and_interpolates() {
     check_g1(&nielson::SPEC, &[], false);
-    check_g1(&nielson::SPEC, &[("t", "2")], false);
+}
+
+/// `t ≥ 2` would not raise Nielson's order (its sub-surfaces carry first-order data only), so
+/// it is refused with the reason rather than built as a G¹ surface that claims more.
+#[test]
+fn nielson_refuses_higher_powers_with_the_reason() {
+    let mesh = mesh(crate::mesh::generate::octahedron());
+    for t in ["2", "3", "4"] {
+        let err = build_scheme("nielson", &mesh, &[("t".into(), t.into())]).unwrap_err();
+        let text = err.to_string();
+        assert!(text.contains("'t'"), "t={t}: {text}");
+        assert!(
+            text.contains("G1") && text.contains("fang-mann"),
+            "t={t}: {text}"
+        );
+    }
 }
 
 #[test]
