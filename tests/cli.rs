@@ -877,12 +877,41 @@ fn bvh_settings_and_size_are_bounded() {
     );
     assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
     let fine = scene("fine", "max_leaves = 100000");
-    let out = render(&fine, &[("SMOOTHLAB_MEMORY_LIMIT", "1000")]);
+    // Above the construction's estimate (8 faces × 3.8 kB), below the BVH's.
+    let out = render(&fine, &[("SMOOTHLAB_MEMORY_LIMIT", "100000")]);
     assert_fails_naming(
         &out,
         &["BVH of scheme 'hb'", "MB", "SMOOTHLAB_MEMORY_LIMIT"],
     );
     let out = render(&fine, &[]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}
+
+/// A mesh whose construction would need more memory than the limit is refused before the
+/// scheme allocates, naming the scheme, the face count, the estimate and how to raise the
+/// limit; just above the estimate it builds.
+#[test]
+fn construction_beyond_the_memory_limit_is_refused_before_it_starts() {
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bunny.obj");
+    let metrics = |limit: &str| {
+        common::smoothlab_with_env(
+            &["metrics", path_str(&mesh), "--scheme", "hb"],
+            &[("SMOOTHLAB_MEMORY_LIMIT", limit)],
+        )
+    };
+    // 1,000 faces × 3.8 kB ≈ 3.8 MB.
+    let out = metrics("1e6");
+    assert_fails_naming(
+        &out,
+        &[
+            "building scheme 'hb' on",
+            "faces",
+            "MB",
+            "fewer faces",
+            "SMOOTHLAB_MEMORY_LIMIT",
+        ],
+    );
+    let out = metrics("1e8");
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
 }
 

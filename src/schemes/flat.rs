@@ -15,6 +15,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     summary: "the mesh itself: one linear triangle per face (C0 baseline)",
     params: &[],
     needs_closed_mesh: false,
+    bytes_per_face: 400.0,
     build,
 };
 

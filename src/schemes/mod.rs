@@ -46,6 +46,10 @@ pub struct SchemeSpec {
     pub params: &'static [ParamSpec],
     /// True if it refuses meshes with boundary edges.
     pub needs_closed_mesh: bool,
+    /// Peak memory of the construction per mesh face, in bytes: measured on the 81,920-face
+    /// unit icosphere (valences 5 and 6; gk at k = 4), rounded up. [`build`] refuses a mesh
+    /// whose estimate exceeds the memory limit before allocating ([`crate::budget`]).
+    pub bytes_per_face: f64,
     /// The construction.
     pub build: fn(&Mesh, &Params) -> Result<Surface>,
 }
@@ -92,6 +96,15 @@ pub fn build(scheme: &str, mesh: &Mesh, user: &[(String, String)]) -> Result<Sur
             b: b as usize,
         });
     }
+    crate::budget::check_memory(
+        &format!(
+            "building scheme '{}' on {} faces",
+            spec.name,
+            mesh.face_count()
+        ),
+        spec.bytes_per_face * mesh.face_count() as f64,
+        "use a mesh with fewer faces",
+    )?;
     let surface = (spec.build)(mesh, &params)?;
     check_surface(&surface, mesh, user)?;
     Ok(surface)

@@ -21,6 +21,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     summary: "PN triangles (Vlachos et al. 2001): cubic per face from vertex normals, C0",
     params: &[crate::schemes::NORMALS_PARAM],
     needs_closed_mesh: false,
+    bytes_per_face: 600.0,
     build,
 };
 

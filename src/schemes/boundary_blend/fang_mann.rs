@@ -66,6 +66,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     summary: "Fang-Mann boundary blend: cubic sub-surfaces from one edge surface per edge, C^t",
     params: &blend_params("continuity order t (0..=6): weights f_{t,i} with alpha = u^(t+1)"),
     needs_closed_mesh: false,
+    bytes_per_face: 2900.0,
     build,
 };
 

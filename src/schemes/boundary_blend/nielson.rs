@@ -59,6 +59,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
         "power of the weights; only 1 (Nielson's): higher powers stay G1 here (use fang-mann)",
     ),
     needs_closed_mesh: false,
+    bytes_per_face: 3600.0,
     build,
 };
 

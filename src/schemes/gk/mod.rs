@@ -55,6 +55,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
         help: "smoothness order 1..4 (even: box spline of degree 3k/2+1; odd: half-box spline of degree 3(k+1)/2)",
     }],
     needs_closed_mesh: true,
+    bytes_per_face: 1700.0,
     build,
 };
 

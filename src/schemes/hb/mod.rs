@@ -35,6 +35,8 @@ use rayon::prelude::*;
 
 use crate::schemes::vertex_rings::HalfEdgeTable;
 
+use glam::DVec3;
+
 use crate::bezier::TriangleBezier;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
@@ -80,6 +82,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
         },
     ],
     needs_closed_mesh: true,
+    bytes_per_face: 3800.0,
     build,
 };
 
@@ -175,21 +178,30 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let (shape, free) = shape_params(params)?;
     let table = half_edge_table(mesh, &shape);
     let domains = piece_domains();
-    let per_face: Vec<[Patch; 4]> = mesh
-        .faces()
-        .par_iter()
+    // Filled in place, four patches per face, so that the construction's peak memory is the
+    // surface itself (collecting per-face arrays first and flattening them doubled it).
+    let empty = Patch {
+        face: 0,
+        piece: 0,
+        domain: domains[0],
+        geometry: PatchGeometry::Bezier(TriangleBezier::new(0, vec![DVec3::ZERO])),
+    };
+    let mut patches = vec![empty; 4 * mesh.face_count()];
+    patches
+        .par_chunks_mut(4)
+        .zip(mesh.faces().par_iter())
         .enumerate()
-        .map(|(f, face)| {
+        .for_each(|(f, (out, face))| {
             let nets = macro_patch(&face_corner_curves(&table, *face, f), free);
-            std::array::from_fn(|piece| Patch {
-                face: f as u32,
-                piece: piece as u8,
-                domain: domains[piece],
-                geometry: PatchGeometry::Bezier(TriangleBezier::new(5, nets[piece].to_vec())),
-            })
-        })
-        .collect();
-    let patches: Vec<Patch> = per_face.into_iter().flatten().collect();
+            for (piece, slot) in out.iter_mut().enumerate() {
+                *slot = Patch {
+                    face: f as u32,
+                    piece: piece as u8,
+                    domain: domains[piece],
+                    geometry: PatchGeometry::Bezier(TriangleBezier::new(5, nets[piece].to_vec())),
+                };
+            }
+        });
     Ok(params.surface(SPEC.name, patches))
 }
 

@@ -53,6 +53,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
         },
     ],
     needs_closed_mesh: true,
+    bytes_per_face: 1400.0,
     build,
 };
 

@@ -73,6 +73,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
         },
     ],
     needs_closed_mesh: false,
+    bytes_per_face: 3900.0,
     build,
 };
 
