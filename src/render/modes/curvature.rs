@@ -134,8 +134,8 @@ impl CurvatureSign {
     /// The convention as stated on the legend.
     pub fn legend_note(self) -> &'static str {
         match self {
-            CurvatureSign::Convex => "> 0 convex (outward normal)",
-            CurvatureSign::Normal => "sign: w.r.t. patch normal",
+            CurvatureSign::Convex => "convex > 0 (outward normal)",
+            CurvatureSign::Normal => "sign of II/I (patch normal)",
         }
     }
 }
@@ -296,12 +296,12 @@ pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &Curva
     let margin = (w / 60).max(2);
     let with_text = w >= 120 && h >= 120;
     let top = if with_text {
-        (2.0 * margin as f32 + 2.4 * font) as usize
+        (2.0 * margin as f32 + 3.2 * font) as usize
     } else {
         h / 10
     };
     let bottom = if with_text {
-        h.saturating_sub((2.0 * margin as f32 + 1.3 * font) as usize)
+        h.saturating_sub((2.0 * margin as f32 + 2.2 * font) as usize)
     } else {
         h - h / 10
     };
@@ -323,25 +323,30 @@ pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &Curva
     } else {
         ""
     };
-    if with_text {
-        // The dark panel behind the text and bar.
-        let tick_w = ticks
-            .iter()
-            .map(|(_, t)| text_width(font, t))
-            .fold(0.0, f32::max);
-        let text_w = [title, units, note]
-            .iter()
-            .map(|t| text_width(font, t))
-            .fold(tick_w + font * 0.6 + bar_w as f32, f32::max);
-        let panel_x0 = w.saturating_sub(margin + text_w.ceil() as usize + margin);
-        let panel_y1 = (bottom as f32 + 1.3 * font + margin as f32) as usize;
-        for y in 0..panel_y1.min(h) {
-            for px in &mut rgb[y * w + panel_x0..y * w + w] {
+    // Dark boxes behind the text, so that it reads over any colour.
+    let darken = |rgb: &mut [[f32; 3]], x0: f32, y0: f32, x1: f32, y1: f32| {
+        let (x0, x1) = (x0.max(0.0) as usize, (x1.max(0.0) as usize).min(w));
+        let (y0, y1) = (y0.max(0.0) as usize, (y1.max(0.0) as usize).min(h));
+        for y in y0..y1 {
+            for px in &mut rgb[y * w + x0..y * w + x1.max(x0)] {
                 for c in px.iter_mut() {
                     *c = 0.25 * *c + 0.75 * 0.02;
                 }
             }
         }
+    };
+    if with_text {
+        let tick_w = ticks
+            .iter()
+            .map(|(_, t)| text_width(font, t))
+            .fold(0.0, f32::max);
+        darken(
+            rgb,
+            x0 as f32 - 8.0 - tick_w,
+            top as f32 - 0.8 * font,
+            w as f32,
+            bottom as f32 + 0.8 * font,
+        );
     }
     for y in top..bottom {
         let t = 1.0 - (y - top) as f64 / (bottom - 1 - top) as f64;
@@ -378,11 +383,16 @@ pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &Curva
     if with_text {
         let right = (w - margin) as f32;
         let line = |rgb: &mut [[f32; 3]], y: f32, text: &str| {
-            draw_text(rgb, width, right - text_width(font, text), y, font, white, text);
+            if text.is_empty() {
+                return;
+            }
+            let left = right - text_width(font, text);
+            darken(rgb, left - 3.0, y - 1.0, w as f32, y + 1.2 * font);
+            draw_text(rgb, width, left, y, font, white, text);
         };
         line(rgb, margin as f32, title);
         line(rgb, margin as f32 + 1.15 * font, units);
-        line(rgb, bottom as f32 + 0.3 * font, note);
+        line(rgb, bottom as f32 + 0.8 * font, note);
     }
 }
 
@@ -441,7 +451,7 @@ mod tests {
         // Text (bright pixels) appears left of the bar, the panel darkens the image there.
         let bright = img.iter().filter(|p| p[0] > 0.8 && p[2] > 0.8).count();
         assert!(bright > 50, "{bright} text pixels");
-        assert!(img[(w / 2 * w + w - 40) as usize][0] < 0.5);
+        assert!(img[(w / 2 * w + w - 20) as usize][0] < 0.5);
         // The left half of the image is untouched.
         assert_eq!(img[(h / 2 * w + 10) as usize], grey);
     }
