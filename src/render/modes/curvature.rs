@@ -444,8 +444,9 @@ mod tests {
         let mut img = vec![grey; (w * h) as usize];
         let params = CurvatureParams::default();
         draw_legend(&mut img, w, h, &params);
-        // The bar's top is red-ish (positive = red in RdBu), its bottom blue-ish.
-        let column: Vec<[f32; 3]> = (0..h).map(|y| img[(y * w + w - 8) as usize]).collect();
+        // The bar's top is red-ish (positive = red in RdBu), its bottom blue-ish: the bar is
+        // w/40 = 5 pixels wide, 3 pixels from the edge.
+        let column: Vec<[f32; 3]> = (0..h).map(|y| img[(y * w + w - 6) as usize]).collect();
         assert!(column.iter().any(|p| p[0] > 2.0 * p[2] + 0.05), "no red in the bar");
         assert!(column.iter().any(|p| p[2] > 2.0 * p[0] + 0.05), "no blue in the bar");
         // Text (bright pixels) appears left of the bar, the panel darkens the image there.

@@ -132,8 +132,8 @@ mod tests {
         // Point samples.
         assert_eq!(filtered_square_wave(0.2, 0.0, 0.5), 1.0);
         assert_eq!(filtered_square_wave(0.7, 0.0, 0.5), 0.0);
-        // A narrow filter inside a stripe changes nothing.
-        assert_eq!(filtered_square_wave(0.25, 0.1, 0.5), 1.0);
+        // A narrow filter inside a stripe changes nothing (up to rounding).
+        assert!((filtered_square_wave(0.25, 0.1, 0.5) - 1.0).abs() < 1e-12);
         // Straddling an edge: half of it bright.
         assert!((filtered_square_wave(0.5, 0.2, 0.5) - 0.5).abs() < 1e-12);
         // Whole periods average to the duty cycle.
