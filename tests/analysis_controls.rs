@@ -476,6 +476,8 @@ fn isophote_step_flag_and_key() {
         &ico(),
         "--scheme",
         "pn",
+        "--mode",
+        "isophote",
         "--isophote-step",
         "0",
         "-o",

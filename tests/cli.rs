@@ -388,6 +388,14 @@ fn default_job_prints_every_scheme() {
             "{name} row missing: {text}"
         );
     }
+    // Each gallery cell's EXR (curvature values and the other channels) is beside its PNG.
+    for name in ["hb-zebra", "hb-curvature", "gk-isophote"] {
+        let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("out/gallery");
+        for ext in ["png", "exr"] {
+            let file = folder.join(format!("{name}.{ext}"));
+            assert!(file.is_file(), "{} missing", file.display());
+        }
+    }
 }
 
 #[test]
