@@ -87,7 +87,10 @@ mod tests {
         assert!(font().is_some(), "the embedded font parses");
         let narrow = text_width(12.0, "1");
         let wide = text_width(12.0, "11");
-        assert!(narrow > 3.0 && (wide - 2.0 * narrow).abs() < 1e-3, "{narrow} {wide}");
+        assert!(
+            narrow > 3.0 && (wide - 2.0 * narrow).abs() < 1e-3,
+            "{narrow} {wide}"
+        );
         assert!((text_width(24.0, "H") - 2.0 * text_width(12.0, "H")).abs() < 1e-3);
         let (w, h) = (40u32, 20u32);
         let mut img = vec![[0.0f32; 3]; (w * h) as usize];

@@ -36,8 +36,8 @@ impl Default for GalleryOptions {
     }
 }
 
-/// Compression of the gallery's EXRs: zlib, about a third of RLE's size at this image size
-/// for a few milliseconds more per cell.
+/// Compression of the gallery's EXRs: zlib, 60 % of RLE's size at this image size (2.75 MB
+/// instead of 4.6 MB for a 320² curvature cell).
 pub const GALLERY_EXR_COMPRESSION: ExrCompression = ExrCompression::Zip;
 
 /// One rendered gallery image.

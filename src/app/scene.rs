@@ -650,7 +650,8 @@ impl SceneFile {
         }
         if let Some(m) = &c.map {
             p.map = Some(
-                CurvatureMap::by_name(m).map_err(|e| Error::Invalid(format!("curvature.map: {e}")))?,
+                CurvatureMap::by_name(m)
+                    .map_err(|e| Error::Invalid(format!("curvature.map: {e}")))?,
             );
         }
         if let Some(sign) = &c.sign {

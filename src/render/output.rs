@@ -78,16 +78,17 @@ impl ExrCompression {
 /// What the image files record about how they were made.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct OutputMeta {
-    /// The command line (PNG `tEXt` `Comment`, EXR `comments` and `smoothlab.command`).
+    /// The command line (PNG `tEXt` `Comment`, EXR `comments`).
     pub command: Option<String>,
-    /// The camera (EXR `smoothlab.eye`, `.target`, `.up` as v3f, `.fov_deg` or
-    /// `.ortho_height` as float, and the PNG `tEXt` `Camera`).
+    /// The camera (PNG `tEXt` `Camera`, EXR text attribute `smoothlab.camera`, both
+    /// `eye X,Y,Z target X,Y,Z up X,Y,Z fov_deg F` or `… ortho_height H`).
     pub camera: Option<Camera>,
 }
 
 impl OutputMeta {
-    /// One line describing the camera.
-    fn camera_text(&self) -> Option<String> {
+    /// One line describing the camera: `eye X,Y,Z target X,Y,Z up X,Y,Z fov_deg F` (or
+    /// `ortho_height H`).
+    pub fn camera_text(&self) -> Option<String> {
         let c = self.camera?;
         let v = |p: glam::DVec3| format!("{},{},{}", p.x, p.y, p.z);
         let projection = match c.projection {
@@ -267,7 +268,12 @@ fn exr_text(text: &str) -> exr::prelude::Text {
 /// Writes the frame as a linear f32 EXR with the channels of [`EXR_CHANNELS`] and
 /// [`EXR_ID_CHANNELS`], RLE-compressed (atomically, see [`write_atomic`]).
 pub fn write_exr(frame: &Frame, path: &Path) -> Result<()> {
-    write_exr_with(frame, path, ExrCompression::default(), &OutputMeta::default())
+    write_exr_with(
+        frame,
+        path,
+        ExrCompression::default(),
+        &OutputMeta::default(),
+    )
 }
 
 /// Writes the frame as EXR with `compression` and `meta` as header attributes.
@@ -294,33 +300,16 @@ pub fn write_exr_with(
         "smoothlab {}",
         env!("CARGO_PKG_VERSION")
     )));
+    // Custom attributes live in a hash map whose order is written as is: one entry at most,
+    // so that the file's bytes do not depend on the map's random order.
     if let Some(command) = &meta.command {
         attributes.comments = Some(exr_text(command));
-        attributes.other.insert(
-            exr_text("smoothlab.command"),
-            AttributeValue::Text(exr_text(command)),
-        );
     }
-    if let Some(camera) = &meta.camera {
-        let v3 = |p: glam::DVec3| AttributeValue::FloatVec3((p.x as f32, p.y as f32, p.z as f32));
-        let other = &mut attributes.other;
-        other.insert(exr_text("smoothlab.eye"), v3(camera.eye));
-        other.insert(exr_text("smoothlab.target"), v3(camera.target));
-        other.insert(exr_text("smoothlab.up"), v3(camera.up()));
-        match camera.projection {
-            Projection::Perspective { fov_deg } => {
-                other.insert(
-                    exr_text("smoothlab.fov_deg"),
-                    AttributeValue::F32(fov_deg as f32),
-                );
-            }
-            Projection::Orthographic { height } => {
-                other.insert(
-                    exr_text("smoothlab.ortho_height"),
-                    AttributeValue::F32(height as f32),
-                );
-            }
-        }
+    if let Some(camera) = meta.camera_text() {
+        attributes.other.insert(
+            exr_text("smoothlab.camera"),
+            AttributeValue::Text(exr_text(&camera)),
+        );
     }
     let layer = Layer::new(
         (frame.width as usize, frame.height as usize),

@@ -214,11 +214,12 @@ impl Default for CurvatureParams {
 impl CurvatureParams {
     /// The colour map in use.
     pub fn colour_map(&self) -> CurvatureMap {
-        self.map.unwrap_or(if self.quantity == CurvatureQuantity::MaxAbs {
-            CurvatureMap::Sequential
-        } else {
-            CurvatureMap::Diverging
-        })
+        self.map
+            .unwrap_or(if self.quantity == CurvatureQuantity::MaxAbs {
+                CurvatureMap::Sequential
+            } else {
+                CurvatureMap::Diverging
+            })
     }
 
     /// The values at the bottom and top of the colour range.
@@ -447,8 +448,14 @@ mod tests {
         // The bar's top is red-ish (positive = red in RdBu), its bottom blue-ish: the bar is
         // w/40 = 5 pixels wide, 3 pixels from the edge.
         let column: Vec<[f32; 3]> = (0..h).map(|y| img[(y * w + w - 6) as usize]).collect();
-        assert!(column.iter().any(|p| p[0] > 2.0 * p[2] + 0.05), "no red in the bar");
-        assert!(column.iter().any(|p| p[2] > 2.0 * p[0] + 0.05), "no blue in the bar");
+        assert!(
+            column.iter().any(|p| p[0] > 2.0 * p[2] + 0.05),
+            "no red in the bar"
+        );
+        assert!(
+            column.iter().any(|p| p[2] > 2.0 * p[0] + 0.05),
+            "no blue in the bar"
+        );
         // Text (bright pixels) appears left of the bar, the panel darkens the image there.
         let bright = img.iter().filter(|p| p[0] > 0.8 && p[2] > 0.8).count();
         assert!(bright > 50, "{bright} text pixels");
@@ -464,7 +471,10 @@ mod tests {
             ..CurvatureParams::default()
         };
         assert!(p.colour_of(2.0).x > p.colour_of(2.0).z, "positive is red");
-        assert!(p.colour_of(-2.0).z > p.colour_of(-2.0).x, "negative is blue");
+        assert!(
+            p.colour_of(-2.0).z > p.colour_of(-2.0).x,
+            "negative is blue"
+        );
         let s = CurvatureParams {
             quantity: CurvatureQuantity::MaxAbs,
             ..p

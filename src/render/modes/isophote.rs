@@ -75,7 +75,13 @@ mod tests {
             step_deg: Some(15.0),
             ..IsophoteParams::default()
         };
-        let at = |deg: f64| p.band(DVec3::new(deg.to_radians().sin(), 0.0, deg.to_radians().cos()));
+        let at = |deg: f64| {
+            p.band(DVec3::new(
+                deg.to_radians().sin(),
+                0.0,
+                deg.to_radians().cos(),
+            ))
+        };
         assert!((at(30.0) - 2.0).abs() < 1e-9);
         assert!((at(52.5) - 3.5).abs() < 1e-9);
         let cosine = IsophoteParams::default();

@@ -13,7 +13,9 @@ use glam::DVec3;
 
 use crate::render::interaction::ShadingPoint;
 
-pub use curvature::{CurvatureMap, CurvatureParams, CurvatureQuantity, CurvatureRange, CurvatureSign};
+pub use curvature::{
+    CurvatureMap, CurvatureParams, CurvatureQuantity, CurvatureRange, CurvatureSign,
+};
 pub use isophote::IsophoteParams;
 pub use overlay::Overlay;
 pub use stripes::Footprint;

@@ -27,7 +27,11 @@ pub fn linear_to_srgb(x: f64) -> f64 {
 
 /// Linear RGB of a `colorous` gradient at `t ∈ [0, 1]` (clamped).
 fn gradient(g: colorous::Gradient, t: f64) -> DVec3 {
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.5 };
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
     let c = g.eval_continuous(t);
     srgb_to_linear(DVec3::new(
         f64::from(c.r) / 255.0,
@@ -93,10 +97,17 @@ mod tests {
     #[test]
     fn maps_run_the_right_way() {
         let white = rdbu(0.5);
-        assert!(white.min_element() > 0.8, "RdBu's middle is near white: {white}");
+        assert!(
+            white.min_element() > 0.8,
+            "RdBu's middle is near white: {white}"
+        );
         assert!(rdbu(1.0).x > rdbu(1.0).z, "the top is red");
         assert!(rdbu(0.0).z > rdbu(0.0).x, "the bottom is blue");
-        assert_eq!(rdbu(f64::NAN), white, "NaN maps to the middle, never into the image");
+        assert_eq!(
+            rdbu(f64::NAN),
+            white,
+            "NaN maps to the middle, never into the image"
+        );
         assert!(viridis(1.0).length() > 3.0 * viridis(0.0).length());
     }
 }

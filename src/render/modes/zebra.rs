@@ -256,15 +256,20 @@ mod tests {
         let gradient = |z: &ZebraParams, n: DVec3| {
             let h = 1e-6;
             let (a, b) = n.any_orthonormal_pair();
-            let d1 = z.phase((n + a * h).normalize(), view) - z.phase((n - a * h).normalize(), view);
-            let d2 = z.phase((n + b * h).normalize(), view) - z.phase((n - b * h).normalize(), view);
+            let d1 =
+                z.phase((n + a * h).normalize(), view) - z.phase((n - a * h).normalize(), view);
+            let d2 =
+                z.phase((n + b * h).normalize(), view) - z.phase((n - b * h).normalize(), view);
             (d1 - d1.round()).hypot(d2 - d2.round()) / (2.0 * h)
         };
         let mut worst: f64 = 0.0;
         for i in 0..40 {
             for j in 0..40 {
                 // Normals within 80° of −view.
-                let (s, t) = (f64::from(i) / 39.0 * 2.0 - 1.0, f64::from(j) / 39.0 * 2.0 - 1.0);
+                let (s, t) = (
+                    f64::from(i) / 39.0 * 2.0 - 1.0,
+                    f64::from(j) / 39.0 * 2.0 - 1.0,
+                );
                 let (a, b) = view.any_orthonormal_pair();
                 let tilt = 80f64.to_radians() * s.hypot(t).min(1.0);
                 let dir = (a * s + b * t).normalize_or(a);
