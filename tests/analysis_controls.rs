@@ -272,7 +272,7 @@ fn exr_has_camera_command_and_integer_ids() {
             .channel_data
             .list
             .iter()
-            .find(|c| c.name == Text::from(name))
+            .find(|c| c.name == *name)
             .map(|c| c.sample_data.clone())
             .unwrap_or_else(|| panic!("channel {name}"))
     };
@@ -597,7 +597,7 @@ fn gallery_writes_an_exr_beside_each_png() {
         .channel_data
         .list
         .iter()
-        .find(|c| c.name == exr::prelude::Text::from("H"))
+        .find(|c| c.name == *"H")
         .expect("H channel");
     let values: Vec<f32> = (0..h.sample_data.len())
         .map(|i| h.sample_data.value_by_flat_index(i).to_f32())

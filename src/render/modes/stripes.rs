@@ -111,7 +111,7 @@ pub fn filtered_square_wave(phase: f64, width: f64, duty: f64) -> f64 {
     if !phase.is_finite() {
         return duty;
     }
-    if !(width > 1e-12) {
+    if width.is_nan() || width <= 1e-12 {
         return if super::fract(phase) < duty { 1.0 } else { 0.0 };
     }
     if width >= 1.0e6 {
