@@ -148,7 +148,8 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             output.stdout += &smoothlab::app::render::run_gallery(Path::new("out/gallery"))?;
             Ok(output)
         }
-        Some(Command::Render(args)) => {
+        Some(Command::Render(mut args)) => {
+            args.command_line = Some(command_line());
             let (stats, warnings) = smoothlab::app::render::render_command(&args)?;
             Ok(Output {
                 stdout: smoothlab::app::render::render_summary(&stats),
@@ -239,6 +240,21 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             },
         ),
     }
+}
+
+/// The command line as typed, arguments with spaces or quotes in single quotes.
+fn command_line() -> String {
+    std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .map(|a| {
+            if a.is_empty() || a.contains(|c: char| c.is_whitespace() || "'\"$\\".contains(c)) {
+                format!("'{}'", a.replace('\'', "'\\''"))
+            } else {
+                a
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// Writes `text` to standard error. Nothing useful can be done when that fails (e.g. standard

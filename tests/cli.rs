@@ -388,6 +388,14 @@ fn default_job_prints_every_scheme() {
             "{name} row missing: {text}"
         );
     }
+    // Each gallery cell's EXR (curvature values and the other channels) is beside its PNG.
+    for name in ["hb-zebra", "hb-curvature", "gk-isophote"] {
+        let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("out/gallery");
+        for ext in ["png", "exr"] {
+            let file = folder.join(format!("{name}.{ext}"));
+            assert!(file.is_file(), "{} missing", file.display());
+        }
+    }
 }
 
 #[test]
@@ -1403,7 +1411,11 @@ fn up_applies_to_automatic_framing() {
         args.extend_from_slice(extra);
         let out = small_render(&dir, &args);
         assert!(out.status.success(), "{name}: {}", stderr(&out));
-        std::fs::read(stem.with_extension("png")).expect("PNG")
+        // The pixels (the PNG's text chunks record the command line and camera).
+        image::open(stem.with_extension("png"))
+            .expect("PNG")
+            .to_rgb8()
+            .into_raw()
     };
     let default = png("default", &[]);
     assert_eq!(

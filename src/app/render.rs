@@ -8,24 +8,154 @@ use crate::app::scene::SceneFile;
 use crate::error::{Error, Result};
 use crate::files::check_writable;
 use crate::mesh::Mesh;
-use crate::render::output::{prepare_outputs, write_outputs};
+use crate::render::output::{OutputMeta, OutputOptions, prepare_outputs, write_outputs_with};
 use crate::render::stats::RenderStats;
 use crate::schemes;
+
+/// Render modes (`--mode`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModeArg {
+    /// Reflection lines of parallel light tubes.
+    Zebra,
+    /// View-independent highlight lines of parallel line lights.
+    Highlight,
+    /// Bands of constant n·L.
+    Isophote,
+    /// A curvature quantity through a colour map, with a legend.
+    Curvature,
+    /// The normal as a colour.
+    Normals,
+    /// One colour per face and piece.
+    Patches,
+    /// Plain grey lit from the eye.
+    Diffuse,
+    /// Path-traced clear coat in a studio.
+    Shaded,
+}
+
+impl ModeArg {
+    /// The mode's name in scenes.
+    pub fn name(self) -> &'static str {
+        match self {
+            ModeArg::Zebra => "zebra",
+            ModeArg::Highlight => "highlight",
+            ModeArg::Isophote => "isophote",
+            ModeArg::Curvature => "curvature",
+            ModeArg::Normals => "normals",
+            ModeArg::Patches => "patches",
+            ModeArg::Diffuse => "diffuse",
+            ModeArg::Shaded => "shaded",
+        }
+    }
+}
+
+/// Boundary overlays (`--overlay`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OverlayArg {
+    /// No lines.
+    None,
+    /// Lines along mesh-face boundaries.
+    Faces,
+    /// Lines along every patch boundary.
+    Patches,
+    /// Both.
+    Both,
+}
+
+impl OverlayArg {
+    /// The overlay's name in scenes.
+    pub fn name(self) -> &'static str {
+        match self {
+            OverlayArg::None => "none",
+            OverlayArg::Faces => "faces",
+            OverlayArg::Patches => "patches",
+            OverlayArg::Both => "both",
+        }
+    }
+}
+
+/// EXR compressions (`--exr-compression`), all lossless.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExrCompressionArg {
+    /// Uncompressed.
+    None,
+    /// Run-length (fast).
+    Rle,
+    /// zlib per scan line.
+    Zips,
+    /// zlib per 16 scan lines.
+    Zip,
+    /// Wavelet + Huffman.
+    Piz,
+}
+
+impl ExrCompressionArg {
+    /// The compression's name in scenes.
+    pub fn name(self) -> &'static str {
+        match self {
+            ExrCompressionArg::None => "none",
+            ExrCompressionArg::Rle => "rle",
+            ExrCompressionArg::Zips => "zips",
+            ExrCompressionArg::Zip => "zip",
+            ExrCompressionArg::Piz => "piz",
+        }
+    }
+}
+
+/// Curvature quantities (`--curvature-quantity`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QuantityArg {
+    /// K = κ1 κ2.
+    Gaussian,
+    /// H = (κ1 + κ2) / 2.
+    Mean,
+    /// max(|κ1|, |κ2|).
+    Maxabs,
+    /// The larger principal curvature.
+    K1,
+    /// The smaller principal curvature.
+    K2,
+}
+
+/// Curvature colour maps (`--curvature-map`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MapArg {
+    /// ColorBrewer RdBu over [−r, r], zero white.
+    Diverging,
+    /// viridis over [−r, r] ([0, r] for maxabs).
+    Sequential,
+}
+
+/// Curvature sign conventions (`--curvature-sign`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SignArg {
+    /// Positive where convex seen from the side the normal points to (outward normals).
+    Convex,
+    /// II/I with respect to the patch normal (convex is negative with outward normals).
+    Normal,
+}
+
+/// The name of a clap value as written on the command line.
+fn value_name(v: impl clap::ValueEnum) -> String {
+    v.to_possible_value()
+        .map_or_else(String::new, |p| p.get_name().to_string())
+}
 
 /// `smoothlab render SCENE.toml | MESH.obj [options]` — every option overrides the scene.
 #[derive(clap::Args, Clone, Debug, Default)]
 pub struct RenderArgs {
-    /// Scene file (.toml) or mesh (.obj).
+    /// Scene file (.toml) or mesh (.obj, .ply, .off, .stl).
     pub input: PathBuf,
-    /// Scheme name (default: the scene's, else the first registered scheme).
+    /// Scheme name; required for a mesh input (default: the scene's `[scheme] name`). One of
+    /// flat, pn, hb, loop94, piper, nielson, fang-mann, gk (`smoothlab schemes`).
     #[arg(long)]
     pub scheme: Option<String>,
     /// Scheme parameter `name=value` (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub params: Vec<String>,
-    /// Mode: zebra, highlight, isophote, curvature, normals, patches, diffuse, shaded.
-    #[arg(long)]
-    pub mode: Option<String>,
+    /// Shading mode [default: the scene's, else zebra].
+    #[arg(long, value_enum)]
+    pub mode: Option<ModeArg>,
     /// Eye position `X,Y,Z`.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<[f64; 3]>,
@@ -35,19 +165,19 @@ pub struct RenderArgs {
     /// Up direction `X,Y,Z`.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub up: Option<[f64; 3]>,
-    /// Vertical field of view, degrees.
+    /// Vertical field of view, degrees [default: 35].
     #[arg(long)]
     pub fov: Option<f64>,
     /// Orthographic projection.
     #[arg(long)]
     pub ortho: bool,
-    /// Image size `WxH`.
+    /// Image size `WxH` [default: 640x480].
     #[arg(long, value_parser = parse_size)]
     pub size: Option<[u32; 2]>,
-    /// Samples per pixel.
+    /// Samples per pixel [default: 4].
     #[arg(long)]
     pub spp: Option<u32>,
-    /// Output name (writes NAME.png and NAME.exr).
+    /// Output name (writes NAME.png and NAME.exr) [default: MESH-SCHEME-MODE].
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
     /// Write render statistics as JSON.
@@ -56,10 +186,10 @@ pub struct RenderArgs {
     /// Render an N-per-edge tessellation instead of the exact patches.
     #[arg(long, value_name = "N")]
     pub tessellate: Option<u32>,
-    /// Boundary overlay: none, faces, patches, both.
-    #[arg(long)]
-    pub overlay: Option<String>,
-    /// Sample seed.
+    /// Boundary overlay [default: none].
+    #[arg(long, value_enum)]
+    pub overlay: Option<OverlayArg>,
+    /// Sample seed [default: 0].
     #[arg(long)]
     pub seed: Option<u64>,
     /// Weld vertices closer than this fraction of the bounding-box diagonal (0: identical
@@ -71,6 +201,61 @@ pub struct RenderArgs {
         allow_hyphen_values = true
     )]
     pub weld_tolerance: Option<f64>,
+    /// Write the PNG only, no EXR (scene: `render.exr = false`).
+    #[arg(long)]
+    pub no_exr: bool,
+    /// EXR compression [default: rle] (scene: `render.exr_compression`).
+    #[arg(long, value_enum)]
+    pub exr_compression: Option<ExrCompressionArg>,
+    /// Zebra light-tube axis: `view` (stripes vertical on screen, poles only on the
+    /// silhouette), `view-horizontal`, or a world direction `X,Y,Z` [default: view].
+    #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
+    pub zebra_axis: Option<String>,
+    /// Zebra bright stripes per full turn of the reflected direction [default: 16].
+    #[arg(long, value_name = "N")]
+    pub zebra_stripes: Option<f64>,
+    /// Zebra stripe period: thin (11.25°), medium (22.5°), thick (45°) or degrees.
+    #[arg(long, value_name = "WIDTH")]
+    pub zebra_width: Option<String>,
+    /// Bright fraction of a zebra period, 0..1 [default: 0.5].
+    #[arg(long, value_name = "F")]
+    pub zebra_duty: Option<f64>,
+    /// Linear RGB of the bright zebra stripes `R,G,B` [default: 0.9,0.9,0.9].
+    #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
+    pub zebra_bright: Option<[f64; 3]>,
+    /// Linear RGB of the dark zebra stripes `R,G,B` [default: 0.015,0.015,0.015].
+    #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
+    pub zebra_dark: Option<[f64; 3]>,
+    /// Point-sample the zebra, highlight and isophote stripes instead of box-filtering them
+    /// over each pixel's footprint.
+    #[arg(long)]
+    pub no_stripe_filter: bool,
+    /// Highlight lights per scene diagonal [default: 4].
+    #[arg(long, value_name = "N")]
+    pub highlight_lines: Option<f64>,
+    /// An isophote every DEG degrees between normal and light [default: 16 bands of equal
+    /// n·L].
+    #[arg(long, value_name = "DEG")]
+    pub isophote_step: Option<f64>,
+    /// Curvature quantity [default: mean].
+    #[arg(long, value_enum)]
+    pub curvature_quantity: Option<QuantityArg>,
+    /// Curvature colour map [default: diverging; sequential for maxabs].
+    #[arg(long, value_enum)]
+    pub curvature_map: Option<MapArg>,
+    /// Sign convention of mean, κ1 and κ2 [default: convex].
+    #[arg(long, value_enum)]
+    pub curvature_sign: Option<SignArg>,
+    /// Curvature half-range: `auto` (95th percentile of |value| in view) or a number
+    /// [default: auto].
+    #[arg(long, value_name = "auto|R")]
+    pub curvature_range: Option<String>,
+    /// No curvature legend (scene: `curvature.legend = false`).
+    #[arg(long)]
+    pub no_legend: bool,
+    /// The command line as typed, recorded in the PNG and EXR (set by the binary).
+    #[arg(skip)]
+    pub command_line: Option<String>,
 }
 
 /// Parses `X,Y,Z`.
@@ -131,8 +316,8 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
         scene.scheme.params.insert(name, toml::Value::String(value));
     }
     let r = &mut scene.render;
-    if args.mode.is_some() {
-        r.mode = args.mode.clone();
+    if let Some(m) = args.mode {
+        r.mode = Some(m.name().to_string());
     }
     if args.size.is_some() {
         r.size = args.size;
@@ -146,12 +331,19 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     if args.tessellate.is_some() {
         r.tessellate = args.tessellate;
     }
-    if args.overlay.is_some() {
-        r.overlay = args.overlay.clone();
+    if let Some(o) = args.overlay {
+        r.overlay = Some(o.name().to_string());
+    }
+    if args.no_exr {
+        r.exr = Some(false);
+    }
+    if let Some(c) = args.exr_compression {
+        r.exr_compression = Some(c.name().to_string());
     }
     if args.seed.is_some() {
         r.seed = args.seed;
     }
+    apply_mode_options(args, &mut scene);
     let c = &mut scene.camera;
     if args.eye.is_some() {
         c.eye = args.eye;
@@ -171,6 +363,67 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     Ok(scene)
 }
 
+/// The zebra, highlight, isophote and curvature options of `args` written into the scene's
+/// sections (validated with the scene).
+fn apply_mode_options(args: &RenderArgs, scene: &mut SceneFile) {
+    let z = &mut scene.zebra;
+    if let Some(axis) = &args.zebra_axis {
+        z.axis = Some(match parse_vec3(axis) {
+            Ok(v) => toml::Value::Array(v.iter().map(|x| toml::Value::Float(*x)).collect()),
+            // A view axis by name, or anything else for the scene's check to name.
+            Err(_) => toml::Value::String(axis.trim().to_string()),
+        });
+    }
+    if args.zebra_stripes.is_some() {
+        z.stripes = args.zebra_stripes;
+        z.width = None;
+    }
+    if let Some(w) = &args.zebra_width {
+        z.width = Some(toml::Value::String(w.clone()));
+        z.stripes = None;
+    }
+    if args.zebra_duty.is_some() {
+        z.duty = args.zebra_duty;
+    }
+    if args.zebra_bright.is_some() {
+        z.bright = args.zebra_bright;
+    }
+    if args.zebra_dark.is_some() {
+        z.dark = args.zebra_dark;
+    }
+    if args.no_stripe_filter {
+        z.filter = Some(false);
+        scene.highlight.filter = Some(false);
+        scene.isophote.filter = Some(false);
+    }
+    if args.highlight_lines.is_some() {
+        scene.highlight.lines = args.highlight_lines;
+        scene.highlight.spacing = None;
+    }
+    if args.isophote_step.is_some() {
+        scene.isophote.step_deg = args.isophote_step;
+    }
+    let c = &mut scene.curvature;
+    if let Some(q) = args.curvature_quantity {
+        c.quantity = Some(value_name(q));
+    }
+    if let Some(m) = args.curvature_map {
+        c.map = Some(value_name(m));
+    }
+    if let Some(s) = args.curvature_sign {
+        c.sign = Some(value_name(s));
+    }
+    if let Some(r) = &args.curvature_range {
+        c.range = Some(match r.trim().parse::<f64>() {
+            Ok(x) => toml::Value::Float(x),
+            Err(_) => toml::Value::String(r.trim().to_string()),
+        });
+    }
+    if args.no_legend {
+        c.legend = Some(false);
+    }
+}
+
 /// Runs `smoothlab render`: checks the output paths, loads the mesh, builds the scheme,
 /// renders, writes `NAME.png`, `NAME.exr` and the statistics. Returns the statistics and the
 /// loading warnings (one line each, without the `warning:` prefix).
@@ -181,11 +434,16 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
         .mesh
         .clone()
         .ok_or_else(|| Error::Invalid(format!("{}: no mesh given", args.input.display())))?;
-    let scheme = scene
-        .scheme
-        .name
-        .clone()
-        .unwrap_or_else(|| schemes::names().first().map_or("hb", |s| s).to_string());
+    let load_options = scene.load_options()?;
+    let exr = scene.exr_compression()?;
+    let scheme = scene.scheme.name.clone().ok_or_else(|| {
+        Error::Invalid(format!(
+            "{}: no scheme given: pass --scheme NAME (one of {}) or set [scheme] name in a scene",
+            args.input.display(),
+            schemes::names().join(", ")
+        ))
+    })?;
+    schemes::find(&scheme)?;
     let name = scene.render.output.clone().unwrap_or_else(|| {
         let mode = scene.render.mode.as_deref().unwrap_or("zebra");
         let mesh = mesh_path
@@ -198,10 +456,17 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     if let Some(path) = &args.stats {
         check_writable(path)?;
     }
-    let (mesh, report) = Mesh::load_with(&mesh_path, &scene.load_options()?)?;
+    let (mesh, report) = Mesh::load_with(&mesh_path, &load_options)?;
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
     let (frame, stats) = job.render(&surface, &mesh)?;
-    write_outputs(&frame, &outputs)?;
+    let options = OutputOptions {
+        exr,
+        meta: OutputMeta {
+            command: args.command_line.clone(),
+            camera: Some(job.camera_of(&surface)?),
+        },
+    };
+    write_outputs_with(&frame, &outputs, &options)?;
     if let Some(path) = &args.stats {
         stats.write_json(path)?;
     }
@@ -256,7 +521,7 @@ mod tests {
     fn options_override_the_scene() {
         let args = RenderArgs {
             input: PathBuf::from("bunny.obj"),
-            mode: Some("isophote".into()),
+            mode: Some(ModeArg::Isophote),
             size: Some([32, 16]),
             params: vec!["normals=obj".into()],
             ortho: true,

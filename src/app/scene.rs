@@ -24,15 +24,27 @@
 //! surface = true              # false: the tubes alone
 //! curve_radius = 0.003        # relative to the bounding-box diagonal
 //! curve_edge = 4              # only the curves of this mesh edge
+//! exr = true                  # false: the PNG only
+//! exr_compression = "rle"     # none rle zip zips piz pxr24 b44 b44a
 //! [zebra]
-//! axis = [0.0, 1.0, 0.0]
-//! stripes = 16
+//! axis = "view"               # view, view-horizontal or a world direction [0.0, 1.0, 0.0]
+//! stripes = 16                # bright stripes per full turn, or:
+//! width = "medium"            # thin medium thick, or the period in degrees
 //! duty = 0.5
+//! bright = [0.9, 0.9, 0.9]    # linear RGB
+//! dark = [0.015, 0.015, 0.015]
+//! filter = true               # box-filter the stripes over the pixel footprint
+//! [highlight]
+//! lines = 4                   # lights per scene diagonal (or spacing = world distance)
+//! [isophote]
+//! step_deg = 10               # an isophote every 10° (default: 16 bands of equal n·L)
 //! [curvature]
 //! quantity = "mean"           # gaussian mean maxabs k1 k2
 //! range = "auto"              # or a number: fixed half-range
 //! percentile = 95
 //! legend = true
+//! map = "diverging"           # diverging (RdBu) or sequential (viridis)
+//! sign = "convex"             # convex: > 0 where convex (outward normal); normal: II/I
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -48,9 +60,10 @@ use crate::render::curves::CurveOverlay;
 use crate::render::film::RenderSettings;
 use crate::render::job::{CameraSpec, DEFAULT_FOV, DEFAULT_MAX_LEAVES, Geometry, RenderJob};
 use crate::render::modes::{
-    CurvatureParams, CurvatureQuantity, CurvatureRange, HighlightParams, IsophoteParams, Mode,
-    Overlay, ZebraParams,
+    CurvatureMap, CurvatureParams, CurvatureQuantity, CurvatureRange, CurvatureSign,
+    HighlightParams, IsophoteParams, Mode, Overlay, ZebraAxis, ZebraParams,
 };
+use crate::render::output::ExrCompression;
 use crate::render::shaded::{Environment, LatLongMap, ShadedParams};
 
 /// Default image size.
@@ -160,6 +173,10 @@ pub struct RenderSection {
     pub curve_radius: Option<f64>,
     /// Draw the curves of this mesh edge only (index in the mesh's edge list).
     pub curve_edge: Option<usize>,
+    /// Write the EXR beside the PNG (default true).
+    pub exr: Option<bool>,
+    /// EXR compression (see [`ExrCompression::NAMES`]).
+    pub exr_compression: Option<String>,
 }
 
 /// `[bvh]`
@@ -188,13 +205,22 @@ pub const MAX_DEPTH_LIMIT: u32 = 16;
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ZebraSection {
-    /// Direction of the light tubes.
-    #[serde(default, deserialize_with = "exact")]
-    pub axis: Option<[f64; 3]>,
+    /// Direction of the light tubes: `"view"`, `"view-horizontal"` or `[x, y, z]`.
+    pub axis: Option<toml::Value>,
     /// Bright stripes per full turn.
     pub stripes: Option<f64>,
+    /// Period of the stripes: `"thin"`, `"medium"`, `"thick"` or degrees.
+    pub width: Option<toml::Value>,
     /// Bright fraction of a period.
     pub duty: Option<f64>,
+    /// Linear RGB of the bright stripes.
+    #[serde(default, deserialize_with = "exact")]
+    pub bright: Option<[f64; 3]>,
+    /// Linear RGB of the dark stripes.
+    #[serde(default, deserialize_with = "exact")]
+    pub dark: Option<[f64; 3]>,
+    /// Box-filter the stripes over the pixel footprint.
+    pub filter: Option<bool>,
 }
 
 /// `[highlight]`
@@ -212,8 +238,12 @@ pub struct HighlightSection {
     pub direction: Option<[f64; 3]>,
     /// Distance between lights.
     pub spacing: Option<f64>,
+    /// Lights per scene diagonal (instead of `spacing`).
+    pub lines: Option<f64>,
     /// Bright fraction of a period.
     pub duty: Option<f64>,
+    /// Box-filter the stripes over the pixel footprint.
+    pub filter: Option<bool>,
 }
 
 /// `[isophote]`
@@ -225,6 +255,10 @@ pub struct IsophoteSection {
     pub light: Option<[f64; 3]>,
     /// Number of bands.
     pub bands: Option<u32>,
+    /// Angle between neighbouring isophotes in degrees (instead of `bands`).
+    pub step_deg: Option<f64>,
+    /// Box-filter the bands over the pixel footprint.
+    pub filter: Option<bool>,
 }
 
 /// `[curvature]`
@@ -239,6 +273,10 @@ pub struct CurvatureSection {
     pub percentile: Option<f64>,
     /// Draw a colour bar.
     pub legend: Option<bool>,
+    /// Colour map: diverging or sequential.
+    pub map: Option<String>,
+    /// Sign convention: convex or normal.
+    pub sign: Option<String>,
 }
 
 /// `[shaded]`
@@ -363,6 +401,19 @@ impl SceneFile {
         })
     }
 
+    /// The EXR compression of `[render]` (None: no EXR is written).
+    pub fn exr_compression(&self) -> Result<Option<ExrCompression>> {
+        if self.render.exr == Some(false) {
+            return Ok(None);
+        }
+        match &self.render.exr_compression {
+            None => Ok(Some(ExrCompression::default())),
+            Some(name) => ExrCompression::by_name(name)
+                .map(Some)
+                .map_err(|e| Error::Invalid(format!("render.exr_compression: {e}"))),
+        }
+    }
+
     /// The subdivision criterion (defaults where unset).
     pub fn criterion(&self) -> Result<SubdivisionCriterion> {
         let mut c = SubdivisionCriterion::default();
@@ -451,14 +502,58 @@ impl SceneFile {
 
     fn zebra_into(&self, p: &mut ZebraParams) -> Result<()> {
         let z = &self.zebra;
-        if let Some(a) = z.axis {
-            p.axis = direction("zebra.axis", a)?;
+        match &z.axis {
+            None => {}
+            Some(toml::Value::String(name)) if ZebraAxis::VIEW_NAMES.contains(&name.as_str()) => {
+                p.axis = ZebraAxis::parse(name)?;
+            }
+            Some(toml::Value::Array(items)) if items.len() == 3 => {
+                let mut a = [0.0; 3];
+                for (slot, item) in a.iter_mut().zip(items) {
+                    *slot = match item {
+                        toml::Value::Float(x) => *x,
+                        toml::Value::Integer(x) => *x as f64,
+                        other => {
+                            return Err(Error::Invalid(format!(
+                                "zebra.axis element {other} is not a number"
+                            )));
+                        }
+                    };
+                }
+                p.axis = ZebraAxis::World(direction("zebra.axis", a)?);
+            }
+            Some(other) => {
+                return Err(Error::Invalid(format!(
+                    "zebra.axis = {other} is neither \"view\", \"view-horizontal\" nor [x, y, z]"
+                )));
+            }
+        }
+        if z.stripes.is_some() && z.width.is_some() {
+            return Err(Error::Invalid(
+                "zebra.stripes and zebra.width both set: give one".into(),
+            ));
         }
         if let Some(s) = z.stripes {
             p.stripes = positive("zebra.stripes", s)?;
         }
+        if let Some(w) = &z.width {
+            let text = match w {
+                toml::Value::String(s) => s.clone(),
+                other => other.to_string(),
+            };
+            p.stripes = 360.0 / zebra_width_deg(&text)?;
+        }
         if let Some(d) = z.duty {
             p.duty = fraction("zebra.duty", d)?;
+        }
+        if let Some(c) = z.bright {
+            p.bright = colour("zebra.bright", c)?;
+        }
+        if let Some(c) = z.dark {
+            p.dark = colour("zebra.dark", c)?;
+        }
+        if let Some(f) = z.filter {
+            p.filter = f;
         }
         Ok(())
     }
@@ -474,8 +569,19 @@ impl SceneFile {
         if let Some(d) = h.direction {
             p.direction = direction("highlight.direction", d)?;
         }
+        if h.spacing.is_some() && h.lines.is_some() {
+            return Err(Error::Invalid(
+                "highlight.spacing and highlight.lines both set: give one".into(),
+            ));
+        }
         if let Some(s) = h.spacing {
             p.spacing = Some(positive("highlight.spacing", s)?);
+        }
+        if let Some(n) = h.lines {
+            p.lines = positive("highlight.lines", n)?;
+        }
+        if let Some(f) = h.filter {
+            p.filter = f;
         }
         if let Some(d) = h.duty {
             p.duty = fraction("highlight.duty", d)?;
@@ -497,6 +603,17 @@ impl SceneFile {
                 return Err(Error::Invalid("isophote.bands must be at least 1".into()));
             }
             p.bands = b;
+        }
+        if let Some(step) = self.isophote.step_deg {
+            if !(step > 0.0 && step <= 90.0) {
+                return Err(Error::Invalid(format!(
+                    "isophote.step_deg = {step} must be in (0, 90]"
+                )));
+            }
+            p.step_deg = Some(step);
+        }
+        if let Some(f) = self.isophote.filter {
+            p.filter = f;
         }
         Ok(())
     }
@@ -531,6 +648,16 @@ impl SceneFile {
         if let Some(l) = c.legend {
             p.legend = l;
         }
+        if let Some(m) = &c.map {
+            p.map = Some(
+                CurvatureMap::by_name(m)
+                    .map_err(|e| Error::Invalid(format!("curvature.map: {e}")))?,
+            );
+        }
+        if let Some(sign) = &c.sign {
+            p.sign = CurvatureSign::by_name(sign)
+                .map_err(|e| Error::Invalid(format!("curvature.sign: {e}")))?;
+        }
         Ok(())
     }
 
@@ -557,6 +684,32 @@ impl SceneFile {
                 Environment::Map(std::sync::Arc::new(LatLongMap::load(Path::new(env))?));
         }
         Ok(())
+    }
+}
+
+/// The period in degrees of a zebra width: `thin` (11.25°), `medium` (22.5°), `thick` (45°)
+/// or a number of degrees in (0, 360].
+pub fn zebra_width_deg(text: &str) -> Result<f64> {
+    match text.trim() {
+        "thin" => Ok(11.25),
+        "medium" => Ok(22.5),
+        "thick" => Ok(45.0),
+        other => match other.parse::<f64>() {
+            Ok(x) if x > 0.0 && x <= 360.0 => Ok(x),
+            _ => Err(Error::Invalid(format!(
+                "zebra.width = {text} is neither thin, medium, thick nor degrees in (0, 360]"
+            ))),
+        },
+    }
+}
+
+fn colour(name: &str, c: [f64; 3]) -> Result<DVec3> {
+    if c.iter().all(|x| x.is_finite() && *x >= 0.0) {
+        Ok(DVec3::from_array(c))
+    } else {
+        Err(Error::Invalid(format!(
+            "{name} = {c:?} must be non-negative linear RGB"
+        )))
     }
 }
 

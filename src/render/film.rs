@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use crate::render::camera::Camera;
 use crate::render::intersect::{Hit, IntersectCounters};
 use crate::render::modes::curvature::{CurvatureRange, abs_percentile, draw_legend};
-use crate::render::modes::{Mode, Overlay};
+use crate::render::modes::{Footprint, Mode, Overlay};
 use crate::render::sampler::pixel_offset;
 use crate::render::shaded;
 use crate::render::stats::RenderStats;
@@ -166,7 +166,7 @@ pub fn render<T: SurfaceTracer>(
     if let Mode::Curvature(p) = &mode
         && p.legend
     {
-        draw_legend(&mut frame.rgb, w, h);
+        draw_legend(&mut frame.rgb, w, h, p);
     }
     stats.misses = stats.rays - stats.hits;
     stats.set_newton(&counters);
@@ -203,6 +203,10 @@ fn resolve_mode<T: SurfaceTracer>(
     let bounds = tracer.bounds();
     match &settings.mode {
         Mode::Highlight(p) => Mode::Highlight(p.resolved(bounds.center(), bounds.diagonal())),
+        Mode::Zebra(p) => Mode::Zebra(crate::render::modes::ZebraParams {
+            view_up: camera.up(),
+            ..*p
+        }),
         Mode::Curvature(p) => {
             let mut p = *p;
             p.half_range = match p.range {
@@ -289,6 +293,10 @@ fn render_tile<T: SurfaceTracer>(
         hits: 0,
     };
     let ndc = |px: f64, py: f64| (2.0 * px / f64::from(w) - 1.0, 1.0 - 2.0 * py / f64::from(h));
+    // The side of one sample's cell in pixels (the stratified grid of `pixel_offset`): the
+    // stripe modes filter over it, so that the samples of a pixel together cover it.
+    let cell = 1.0 / f64::from(settings.spp).sqrt();
+    let filtered = mode.uses_footprint();
     for y in y0..y0 + th {
         for x in x0..x0 + tw {
             let pixel = u64::from(y) * u64::from(w) + u64::from(x);
@@ -339,6 +347,14 @@ fn render_tile<T: SurfaceTracer>(
                     (None, None) => settings.background,
                     (None, Some(hit)) => {
                         let sp = tracer.shading_point(&hit, &ray);
+                        let footprint = if filtered {
+                            let (fx, fy) = ndc(f64::from(x) + ox + cell, f64::from(y) + oy + cell);
+                            let right = camera.ray(fx, sy, aspect);
+                            let down = camera.ray(sx, fy, aspect);
+                            Footprint::new(&sp, &ray, [&right, &down])
+                        } else {
+                            None
+                        };
                         let base = match mode {
                             Mode::Shaded(params) => {
                                 let mut path = shaded::PathState {
@@ -359,7 +375,7 @@ fn render_tile<T: SurfaceTracer>(
                                 tile.hits += path.hits;
                                 c
                             }
-                            _ => mode.shade(&sp),
+                            _ => mode.shade_filtered(&sp, footprint.as_ref()),
                         };
                         if settings.overlay.enabled() {
                             let footprint = camera.pixel_footprint(hit.t, h);

@@ -152,6 +152,12 @@ pub struct RenderJob {
 }
 
 impl RenderJob {
+    /// The camera this job renders `surface` with (as [`RenderJob::render`] computes it).
+    pub fn camera_of(&self, surface: &Surface) -> Result<Camera> {
+        let aspect = f64::from(self.settings.width) / f64::from(self.settings.height);
+        self.camera.camera(surface, aspect)
+    }
+
     /// Renders `surface` (built on `mesh`) with this job's camera, settings and curves.
     pub fn render(&self, surface: &Surface, mesh: &Mesh) -> Result<(Frame, RenderStats)> {
         let mut settings = self.settings.clone();

@@ -1,11 +1,14 @@
-//! Image files: PNG (8-bit, sRGB transfer) and EXR (linear f32) with the channels of the README's Contracts:
-//! `R, G, B, Z, N.X, N.Y, N.Z, P.X, P.Y, P.Z, u, v, patch_id, face_id, K, H`.
+//! Image files: PNG (8-bit, sRGB transfer, with an `sRGB` chunk and `tEXt` metadata) and EXR
+//! (linear f32) with the channels of the README's Contracts:
+//! `R, G, B, Z, N.X, N.Y, N.Z, P.X, P.Y, P.Z, u, v, patch_id, face_id, K, H`, plus the ids as
+//! u32 in `id.patch` and `id.face` (miss: `u32::MAX`), and header attributes for the camera
+//! and the command line (see [`OutputMeta`]).
 //!
 //! Geometry channels describe the ray through the pixel centre: `Z` is the distance from the
 //! ray origin (rays have unit direction), `N` the unit patch normal (patch orientation), `P` the
 //! hit point, `(u, v)` the patch parameters (barycentric `(1−u−v, u, v)` of patch `patch_id` in
 //! the JSON export's indexing), `face_id` the mesh face, `K`/`H` Gaussian/mean curvature.
-//! Ids are stored as f32 and are exact below 2^24.
+//! Ids are stored as f32 (exact below 2^24) and as u32.
 //!
 //! Pixels whose centre ray misses hold the background colour in R, G, B and these values, so
 //! that no NaN is ever written: `Z = −1`, `N = P = 0`, `u = v = −1`, `patch_id = face_id = −1`,
@@ -16,8 +19,108 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::files::{check_writable, create_folder, ends_with_separator, write_atomic};
+use crate::render::camera::{Camera, Projection};
 use crate::render::film::Frame;
 use crate::render::modes::palette::linear_to_srgb;
+
+/// The integer id channels of the EXR (u32; `u32::MAX` where the centre ray misses).
+pub const EXR_ID_CHANNELS: [&str; 2] = ["id.patch", "id.face"];
+
+/// How the EXR is compressed (all lossless).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ExrCompression {
+    /// Uncompressed.
+    None,
+    /// Run-length (fast, the default).
+    #[default]
+    Rle,
+    /// zlib per scan line.
+    Zips,
+    /// zlib per 16 scan lines.
+    Zip,
+    /// Wavelet + Huffman.
+    Piz,
+}
+
+impl ExrCompression {
+    /// Names accepted in scenes and on the command line.
+    pub const NAMES: [&'static str; 5] = ["none", "rle", "zips", "zip", "piz"];
+
+    /// The compression called `name`.
+    pub fn by_name(name: &str) -> Result<ExrCompression> {
+        Ok(match name {
+            "none" => ExrCompression::None,
+            "rle" => ExrCompression::Rle,
+            "zips" => ExrCompression::Zips,
+            "zip" => ExrCompression::Zip,
+            "piz" => ExrCompression::Piz,
+            _ => {
+                return Err(Error::Invalid(format!(
+                    "unknown EXR compression '{name}' (known: {})",
+                    Self::NAMES.join(", ")
+                )));
+            }
+        })
+    }
+
+    fn exr(self) -> exr::prelude::Compression {
+        use exr::prelude::Compression;
+        match self {
+            ExrCompression::None => Compression::Uncompressed,
+            ExrCompression::Rle => Compression::RLE,
+            ExrCompression::Zips => Compression::ZIP1,
+            ExrCompression::Zip => Compression::ZIP16,
+            ExrCompression::Piz => Compression::PIZ,
+        }
+    }
+}
+
+/// What the image files record about how they were made.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OutputMeta {
+    /// The command line (PNG `tEXt` `Comment`, EXR `comments`).
+    pub command: Option<String>,
+    /// The camera (PNG `tEXt` `Camera`, EXR text attribute `smoothlab.camera`, both
+    /// `eye X,Y,Z target X,Y,Z up X,Y,Z fov_deg F` or `… ortho_height H`).
+    pub camera: Option<Camera>,
+}
+
+impl OutputMeta {
+    /// One line describing the camera: `eye X,Y,Z target X,Y,Z up X,Y,Z fov_deg F` (or
+    /// `ortho_height H`).
+    pub fn camera_text(&self) -> Option<String> {
+        let c = self.camera?;
+        let v = |p: glam::DVec3| format!("{},{},{}", p.x, p.y, p.z);
+        let projection = match c.projection {
+            Projection::Perspective { fov_deg } => format!("fov_deg {fov_deg}"),
+            Projection::Orthographic { height } => format!("ortho_height {height}"),
+        };
+        Some(format!(
+            "eye {} target {} up {} {projection}",
+            v(c.eye),
+            v(c.target),
+            v(c.up())
+        ))
+    }
+}
+
+/// What [`write_outputs`] writes besides the PNG.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputOptions {
+    /// The EXR's compression; None: no EXR.
+    pub exr: Option<ExrCompression>,
+    /// Metadata of both files.
+    pub meta: OutputMeta,
+}
+
+impl Default for OutputOptions {
+    fn default() -> Self {
+        OutputOptions {
+            exr: Some(ExrCompression::default()),
+            meta: OutputMeta::default(),
+        }
+    }
+}
 
 /// The EXR channel names, in the order of the README's Contracts (the file stores them sorted by name, as
 /// the format requires).
@@ -37,17 +140,55 @@ pub fn srgb8(frame: &Frame) -> Vec<u8> {
 
 /// Writes the frame as an 8-bit sRGB PNG (atomically, see [`write_atomic`]).
 pub fn write_png(frame: &Frame, path: &Path) -> Result<()> {
+    write_png_with(frame, path, &OutputMeta::default())
+}
+
+/// Writes the frame as an 8-bit sRGB PNG with `meta` in `tEXt` chunks.
+pub fn write_png_with(frame: &Frame, path: &Path, meta: &OutputMeta) -> Result<()> {
     let img = image::RgbImage::from_raw(frame.width, frame.height, srgb8(frame))
         .ok_or_else(|| Error::Invalid("frame buffer does not match its size".into()))?;
-    write_rgb_png(&img, path)
+    let mut text = Vec::new();
+    if let Some(command) = &meta.command {
+        text.push(("Comment", command.clone()));
+    }
+    if let Some(camera) = meta.camera_text() {
+        text.push(("Camera", camera));
+    }
+    write_png_bytes(&img, path, &text)
 }
 
 /// Writes an 8-bit RGB image as a PNG (atomically, see [`write_atomic`]).
 pub fn write_rgb_png(img: &image::RgbImage, path: &Path) -> Result<()> {
-    let mut bytes = Cursor::new(Vec::new());
-    img.write_to(&mut bytes, image::ImageFormat::Png)
-        .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
-    write_atomic(path, bytes.get_ref())
+    write_png_bytes(img, path, &[])
+}
+
+/// The PNG of `img`: an `sRGB` chunk (perceptual intent; the pixels are sRGB-encoded), a
+/// `Software` text and the `(keyword, text)` pairs, as `tEXt` when Latin-1, else `iTXt`.
+fn write_png_bytes(img: &image::RgbImage, path: &Path, text: &[(&str, String)]) -> Result<()> {
+    let err = |e: png::EncodingError| Error::Invalid(format!("{}: {e}", path.display()));
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, img.width(), img.height());
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let software = format!("smoothlab {}", env!("CARGO_PKG_VERSION"));
+        encoder
+            .add_text_chunk("Software".into(), software)
+            .map_err(err)?;
+        for (keyword, value) in text {
+            if value.chars().all(|c| u32::from(c) < 256) {
+                encoder.add_text_chunk((*keyword).into(), value.clone())
+            } else {
+                encoder.add_itxt_chunk((*keyword).into(), value.clone())
+            }
+            .map_err(err)?;
+        }
+        let mut writer = encoder.write_header().map_err(err)?;
+        writer.write_image_data(img.as_raw()).map_err(err)?;
+        writer.finish().map_err(err)?;
+    }
+    write_atomic(path, &bytes)
 }
 
 /// The 16 channels as planes of f32, in [`EXR_CHANNELS`] order.
@@ -91,29 +232,89 @@ fn finite_or_zero(x: f64) -> f32 {
     if f.is_finite() { f } else { 0.0 }
 }
 
-/// The EXR encoding: RLE in 64-pixel tiles, written in increasing-y order (the compressor
-/// works in parallel, but the file is the same bytes for any thread count and run).
-const EXR_ENCODING: exr::prelude::Encoding = exr::prelude::Encoding {
-    line_order: exr::prelude::LineOrder::Increasing,
-    ..exr::prelude::Encoding::FAST_LOSSLESS
-};
+/// The EXR encoding: `compression` in 64-pixel tiles (RLE by default), written in
+/// increasing-y order (the compressor works in parallel, but the file is the same bytes for
+/// any thread count and run).
+fn exr_encoding(compression: ExrCompression) -> exr::prelude::Encoding {
+    exr::prelude::Encoding {
+        line_order: exr::prelude::LineOrder::Increasing,
+        compression: compression.exr(),
+        ..exr::prelude::Encoding::FAST_LOSSLESS
+    }
+}
 
-/// Writes the frame as a linear f32 EXR with the channels of [`EXR_CHANNELS`] (atomically, see
-/// [`write_atomic`]).
-pub fn write_exr(frame: &Frame, path: &Path) -> Result<()> {
-    use exr::prelude::{
-        AnyChannel, AnyChannels, FlatSamples, Image, Layer, LayerAttributes, SmallVec,
-        WritableImage,
+/// The u32 id planes of [`EXR_ID_CHANNELS`]: patch and face, `u32::MAX` where the centre ray
+/// misses.
+pub fn exr_id_planes(frame: &Frame) -> [Vec<u32>; 2] {
+    let ids = |f: &dyn Fn(&crate::render::film::PixelGeometry) -> u32| {
+        frame
+            .geometry
+            .iter()
+            .map(|g| g.as_ref().map_or(u32::MAX, f))
+            .collect::<Vec<u32>>()
     };
-    let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = EXR_CHANNELS
+    [ids(&|g| g.hit.patch), ids(&|g| g.face)]
+}
+
+/// `text` as an EXR attribute text (Latin-1; other characters become `?`).
+fn exr_text(text: &str) -> exr::prelude::Text {
+    let latin1: String = text
+        .chars()
+        .map(|c| if u32::from(c) < 256 { c } else { '?' })
+        .collect();
+    exr::prelude::Text::new_or_none(&latin1).unwrap_or_default()
+}
+
+/// Writes the frame as a linear f32 EXR with the channels of [`EXR_CHANNELS`] and
+/// [`EXR_ID_CHANNELS`], RLE-compressed (atomically, see [`write_atomic`]).
+pub fn write_exr(frame: &Frame, path: &Path) -> Result<()> {
+    write_exr_with(
+        frame,
+        path,
+        ExrCompression::default(),
+        &OutputMeta::default(),
+    )
+}
+
+/// Writes the frame as EXR with `compression` and `meta` as header attributes.
+pub fn write_exr_with(
+    frame: &Frame,
+    path: &Path,
+    compression: ExrCompression,
+    meta: &OutputMeta,
+) -> Result<()> {
+    use exr::prelude::{
+        AnyChannel, AnyChannels, AttributeValue, FlatSamples, Image, Layer, LayerAttributes,
+        SmallVec, WritableImage,
+    };
+    let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = EXR_CHANNELS
         .iter()
         .zip(exr_planes(frame))
         .map(|(name, plane)| AnyChannel::new(*name, FlatSamples::F32(plane)))
         .collect();
+    for (name, plane) in EXR_ID_CHANNELS.iter().zip(exr_id_planes(frame)) {
+        channels.push(AnyChannel::new(*name, FlatSamples::U32(plane)));
+    }
+    let mut attributes = LayerAttributes::named("smoothlab");
+    attributes.software_name = Some(exr_text(&format!(
+        "smoothlab {}",
+        env!("CARGO_PKG_VERSION")
+    )));
+    // Custom attributes live in a hash map whose order is written as is: one entry at most,
+    // so that the file's bytes do not depend on the map's random order.
+    if let Some(command) = &meta.command {
+        attributes.comments = Some(exr_text(command));
+    }
+    if let Some(camera) = meta.camera_text() {
+        attributes.other.insert(
+            exr_text("smoothlab.camera"),
+            AttributeValue::Text(exr_text(&camera)),
+        );
+    }
     let layer = Layer::new(
         (frame.width as usize, frame.height as usize),
-        LayerAttributes::named("smoothlab"),
-        EXR_ENCODING,
+        attributes,
+        exr_encoding(compression),
         AnyChannels::sort(channels),
     );
     let mut bytes = Cursor::new(Vec::new());
@@ -186,9 +387,22 @@ pub fn prepare_outputs(name: &Path) -> Result<[PathBuf; 2]> {
 }
 
 /// Writes the frame to the files of [`prepare_outputs`]: PNG and EXR.
-pub fn write_outputs(frame: &Frame, [png, exr]: &[PathBuf; 2]) -> Result<()> {
-    write_png(frame, png)?;
-    write_exr(frame, exr)
+pub fn write_outputs(frame: &Frame, files: &[PathBuf; 2]) -> Result<()> {
+    write_outputs_with(frame, files, &OutputOptions::default())
+}
+
+/// Writes the frame to the files of [`prepare_outputs`] as `options` say: the PNG, and the EXR
+/// unless `options.exr` is None.
+pub fn write_outputs_with(
+    frame: &Frame,
+    [png, exr]: &[PathBuf; 2],
+    options: &OutputOptions,
+) -> Result<()> {
+    write_png_with(frame, png, &options.meta)?;
+    match options.exr {
+        Some(compression) => write_exr_with(frame, exr, compression, &options.meta),
+        None => Ok(()),
+    }
 }
 
 #[cfg(test)]

@@ -1,12 +1,15 @@
-//! Curvature maps: Gaussian, mean, largest |κ|, κ1 or κ2 through a diverging colour map over a
-//! symmetric range, fixed (for comparable figures) or chosen from a percentile of the values in
-//! view.
+//! Curvature maps: Gaussian, mean, largest |κ|, κ1 or κ2 through a diverging or sequential
+//! colour map (ColorBrewer RdBu, viridis) over a symmetric range, fixed (for comparable
+//! figures) or chosen from a percentile of the values in view; the sign convention is
+//! selectable and the legend names the quantity, its units, its sign convention and carries
+//! numeric ticks.
 
 use glam::DVec3;
 
 use crate::geom::Curvature;
 use crate::render::interaction::ShadingPoint;
 use crate::render::modes::palette;
+use crate::text::{draw_text, text_width};
 
 /// Which curvature to show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,7 +47,50 @@ impl CurvatureQuantity {
         })
     }
 
-    /// The quantity's value.
+    /// The quantity's name and symbol for legends.
+    pub fn label(self) -> &'static str {
+        match self {
+            CurvatureQuantity::Gaussian => "Gaussian curvature K",
+            CurvatureQuantity::Mean => "mean curvature H",
+            CurvatureQuantity::MaxAbs => "max |κ|",
+            CurvatureQuantity::K1 => "principal curvature κ1",
+            CurvatureQuantity::K2 => "principal curvature κ2",
+        }
+    }
+
+    /// The quantity's units, in the mesh's length unit.
+    pub fn units(self) -> &'static str {
+        match self {
+            CurvatureQuantity::Gaussian => "1/length²",
+            _ => "1/length",
+        }
+    }
+
+    /// True if the quantity changes sign with the orientation of the normal.
+    pub fn depends_on_sign(self) -> bool {
+        matches!(
+            self,
+            CurvatureQuantity::Mean | CurvatureQuantity::K1 | CurvatureQuantity::K2
+        )
+    }
+
+    /// The quantity's value under sign convention `sign` (κ1 ≥ κ2 in either).
+    pub fn value_signed(self, c: &Curvature, sign: CurvatureSign) -> f64 {
+        match sign {
+            CurvatureSign::Normal => self.value(c),
+            CurvatureSign::Convex => {
+                let flipped = Curvature {
+                    gaussian: c.gaussian,
+                    mean: -c.mean,
+                    k1: -c.k2,
+                    k2: -c.k1,
+                };
+                self.value(&flipped)
+            }
+        }
+    }
+
+    /// The quantity's value with respect to the patch normal ([`CurvatureSign::Normal`]).
     pub fn value(self, c: &Curvature) -> f64 {
         match self {
             CurvatureQuantity::Gaussian => c.gaussian,
@@ -52,6 +98,71 @@ impl CurvatureQuantity {
             CurvatureQuantity::MaxAbs => c.k1.abs().max(c.k2.abs()),
             CurvatureQuantity::K1 => c.k1,
             CurvatureQuantity::K2 => c.k2,
+        }
+    }
+}
+
+/// The sign convention of the signed curvatures (mean, κ1, κ2; Gaussian curvature does not
+/// depend on it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurvatureSign {
+    /// Positive where the surface bends away from its normal: convex is positive when the
+    /// normals point outwards (the mesh's faces wound counter-clockwise seen from outside).
+    Convex,
+    /// `κ = II/I` with respect to the patch normal `Su × Sv`, the convention of
+    /// [`crate::geom::Curvature`] and of the EXR's `H` channel: convex is negative with
+    /// outward normals.
+    Normal,
+}
+
+impl CurvatureSign {
+    /// Names accepted in scenes and on the command line.
+    pub const NAMES: &'static [&'static str] = &["convex", "normal"];
+
+    /// The convention called `name`.
+    pub fn by_name(name: &str) -> crate::Result<CurvatureSign> {
+        match name {
+            "convex" => Ok(CurvatureSign::Convex),
+            "normal" => Ok(CurvatureSign::Normal),
+            _ => Err(crate::Error::Invalid(format!(
+                "unknown curvature sign convention '{name}' (known: {})",
+                Self::NAMES.join(", ")
+            ))),
+        }
+    }
+
+    /// The convention as stated on the legend.
+    pub fn legend_note(self) -> &'static str {
+        match self {
+            CurvatureSign::Convex => "convex > 0 (outward normal)",
+            CurvatureSign::Normal => "sign of II/I (patch normal)",
+        }
+    }
+}
+
+/// The colour map of the curvature mode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurvatureMap {
+    /// ColorBrewer RdBu: blue through white to red over `[−r, r]` (zero is white).
+    Diverging,
+    /// viridis (perceptually uniform): dark blue to yellow over `[−r, r]`, or `[0, r]` for
+    /// max |κ|.
+    Sequential,
+}
+
+impl CurvatureMap {
+    /// Names accepted in scenes and on the command line.
+    pub const NAMES: &'static [&'static str] = &["diverging", "sequential"];
+
+    /// The map called `name`.
+    pub fn by_name(name: &str) -> crate::Result<CurvatureMap> {
+        match name {
+            "diverging" => Ok(CurvatureMap::Diverging),
+            "sequential" => Ok(CurvatureMap::Sequential),
+            _ => Err(crate::Error::Invalid(format!(
+                "unknown curvature colour map '{name}' (known: {})",
+                Self::NAMES.join(", ")
+            ))),
         }
     }
 }
@@ -76,10 +187,15 @@ pub struct CurvatureParams {
     pub quantity: CurvatureQuantity,
     /// How the range is chosen.
     pub range: CurvatureRange,
-    /// Draw a colour bar at the right edge of the image.
+    /// Draw a colour bar with the quantity's name, units, sign convention and numeric ticks
+    /// at the right edge of the image.
     pub legend: bool,
     /// The half-range in use (set before rendering from `range`).
     pub half_range: f64,
+    /// Colour map; None: diverging for signed quantities, sequential for max |κ|.
+    pub map: Option<CurvatureMap>,
+    /// Sign convention of the signed quantities.
+    pub sign: CurvatureSign,
 }
 
 impl Default for CurvatureParams {
@@ -87,19 +203,53 @@ impl Default for CurvatureParams {
         CurvatureParams {
             quantity: CurvatureQuantity::Mean,
             range: CurvatureRange::Auto { percentile: 95.0 },
-            legend: false,
+            legend: true,
             half_range: 1.0,
+            map: None,
+            sign: CurvatureSign::Convex,
         }
     }
 }
 
 impl CurvatureParams {
+    /// The colour map in use.
+    pub fn colour_map(&self) -> CurvatureMap {
+        self.map
+            .unwrap_or(if self.quantity == CurvatureQuantity::MaxAbs {
+                CurvatureMap::Sequential
+            } else {
+                CurvatureMap::Diverging
+            })
+    }
+
+    /// The values at the bottom and top of the colour range.
+    pub fn value_range(&self) -> (f64, f64) {
+        let r = self.half_range.max(crate::tolerance::DIVISION_GUARD);
+        if self.quantity == CurvatureQuantity::MaxAbs {
+            (0.0, r)
+        } else {
+            (-r, r)
+        }
+    }
+
+    /// Linear RGB of `value` (clamped to the range; NaN is the middle of the map).
+    pub fn colour_of(&self, value: f64) -> DVec3 {
+        let (lo, hi) = self.value_range();
+        let t = if value.is_finite() {
+            ((value - lo) / (hi - lo)).clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
+        match self.colour_map() {
+            CurvatureMap::Diverging => palette::rdbu(t),
+            CurvatureMap::Sequential => palette::viridis(t),
+        }
+    }
+
     /// Colour of the hit; singular points (no curvature) are black.
     pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
         match &sp.curvature {
-            Some(c) => palette::diverging(
-                self.quantity.value(c) / self.half_range.max(crate::tolerance::DIVISION_GUARD),
-            ),
+            Some(c) => self.colour_of(self.quantity.value_signed(c, self.sign)),
             None => DVec3::ZERO,
         }
     }
@@ -118,30 +268,132 @@ pub fn abs_percentile(values: &mut [f64], percentile: f64) -> f64 {
     values[rank as usize]
 }
 
-/// Paints a vertical colour bar (top = +range, bottom = −range) into the right edge of a linear
-/// RGB image, framed in black, with a black tick at zero.
-pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32) {
+/// A tick label: at most three significant digits, no trailing zeros.
+pub fn tick_label(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return "0".into();
+    }
+    let magnitude = x.abs().log10().floor() as i32;
+    if !(-3..=4).contains(&magnitude) {
+        return format!("{x:.2e}");
+    }
+    let digits = (2 - magnitude).max(0) as usize;
+    let text = format!("{x:+.digits$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
+/// Paints the legend of `params` into the right edge of a linear RGB image of `width` ×
+/// `height`: on a dark panel, the quantity's name and units, the colour bar (top = top of the
+/// range) framed in black with five numeric ticks, and the sign convention. Images too small
+/// for text get the bare bar.
+pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &CurvatureParams) {
     let (w, h) = (width as usize, height as usize);
+    let font = (h as f32 / 28.0).clamp(9.0, 22.0);
     let bar_w = (w / 40).max(4);
-    let margin = (w / 40).max(2);
-    let top = h / 10;
-    let bottom = h - h / 10;
-    if bar_w + 2 * margin >= w || bottom <= top + 2 {
+    let margin = (w / 60).max(2);
+    let with_text = w >= 120 && h >= 120;
+    let top = if with_text {
+        (2.0 * margin as f32 + 3.2 * font) as usize
+    } else {
+        h / 10
+    };
+    let bottom = if with_text {
+        h.saturating_sub((2.0 * margin as f32 + 2.2 * font) as usize)
+    } else {
+        h - h / 10
+    };
+    if bar_w + 2 * margin >= w || bottom <= top + 8 {
         return;
     }
+    let (lo, hi) = params.value_range();
+    let ticks: Vec<(f64, String)> = (0..5)
+        .map(|i| {
+            let v = hi - (hi - lo) * f64::from(i) / 4.0;
+            (v, tick_label(v))
+        })
+        .collect();
     let x0 = w - margin - bar_w;
+    let title = params.quantity.label();
+    let units = params.quantity.units();
+    let note = if params.quantity.depends_on_sign() {
+        params.sign.legend_note()
+    } else {
+        ""
+    };
+    // Dark boxes behind the text, so that it reads over any colour.
+    let darken = |rgb: &mut [[f32; 3]], x0: f32, y0: f32, x1: f32, y1: f32| {
+        let (x0, x1) = (x0.max(0.0) as usize, (x1.max(0.0) as usize).min(w));
+        let (y0, y1) = (y0.max(0.0) as usize, (y1.max(0.0) as usize).min(h));
+        for y in y0..y1 {
+            for px in &mut rgb[y * w + x0..y * w + x1.max(x0)] {
+                for c in px.iter_mut() {
+                    *c = 0.25 * *c + 0.75 * 0.02;
+                }
+            }
+        }
+    };
+    if with_text {
+        let tick_w = ticks
+            .iter()
+            .map(|(_, t)| text_width(font, t))
+            .fold(0.0, f32::max);
+        darken(
+            rgb,
+            x0 as f32 - 8.0 - tick_w,
+            top as f32 - 0.8 * font,
+            w as f32,
+            bottom as f32 + 0.8 * font,
+        );
+    }
     for y in top..bottom {
-        let s = 1.0 - 2.0 * (y - top) as f64 / (bottom - 1 - top) as f64;
-        let c = palette::diverging(s);
+        let t = 1.0 - (y - top) as f64 / (bottom - 1 - top) as f64;
+        let c = params.colour_of(lo + (hi - lo) * t);
         for x in x0..x0 + bar_w {
             let frame = y == top || y == bottom - 1 || x == x0 || x == x0 + bar_w - 1;
-            let zero = y == (top + bottom) / 2;
-            rgb[y * w + x] = if frame || zero {
+            rgb[y * w + x] = if frame {
                 [0.0; 3]
             } else {
                 [c.x as f32, c.y as f32, c.z as f32]
             };
         }
+    }
+    let white = [0.9f32; 3];
+    for (i, (_, label)) in ticks.iter().enumerate() {
+        let y = top + (bottom - 1 - top) * i / 4;
+        // A tick mark across the bar's left edge.
+        for x in x0.saturating_sub(3)..x0 + 2 {
+            rgb[y * w + x] = white;
+        }
+        if with_text {
+            let tw = text_width(font, label);
+            draw_text(
+                rgb,
+                width,
+                x0 as f32 - 5.0 - tw,
+                y as f32 - 0.55 * font,
+                font,
+                white,
+                label,
+            );
+        }
+    }
+    if with_text {
+        let right = (w - margin) as f32;
+        let line = |rgb: &mut [[f32; 3]], y: f32, text: &str| {
+            if text.is_empty() {
+                return;
+            }
+            let left = right - text_width(font, text);
+            darken(rgb, left - 3.0, y - 1.0, w as f32, y + 1.2 * font);
+            draw_text(rgb, width, left, y, font, white, text);
+        };
+        line(rgb, margin as f32, title);
+        line(rgb, margin as f32 + 1.15 * font, units);
+        line(rgb, bottom as f32 + 0.8 * font, note);
     }
 }
 
@@ -169,5 +421,68 @@ mod tests {
         assert_eq!(CurvatureQuantity::MaxAbs.value(&c), 2.0);
         assert_eq!(CurvatureQuantity::K2.value(&c), -2.0);
         assert!(CurvatureQuantity::by_name("bogus").is_err());
+        // Convex-positive flips the signed quantities and keeps κ1 ≥ κ2.
+        let convex = CurvatureSign::Convex;
+        assert_eq!(CurvatureQuantity::Mean.value_signed(&c, convex), 0.5);
+        assert_eq!(CurvatureQuantity::K1.value_signed(&c, convex), 2.0);
+        assert_eq!(CurvatureQuantity::K2.value_signed(&c, convex), -1.0);
+        assert_eq!(CurvatureQuantity::Gaussian.value_signed(&c, convex), -2.0);
+    }
+
+    #[test]
+    fn tick_labels_are_short() {
+        assert_eq!(tick_label(0.0), "0");
+        assert_eq!(tick_label(1.25), "+1.25");
+        assert_eq!(tick_label(-0.5), "-0.5");
+        assert_eq!(tick_label(12.345), "+12.3");
+        assert_eq!(tick_label(2.0e-5), "2.00e-5");
+    }
+
+    #[test]
+    fn legend_draws_text_and_bar() {
+        let (w, h) = (200u32, 200u32);
+        let grey = [0.5f32; 3];
+        let mut img = vec![grey; (w * h) as usize];
+        let params = CurvatureParams::default();
+        draw_legend(&mut img, w, h, &params);
+        // The bar's top is red-ish (positive = red in RdBu), its bottom blue-ish: the bar is
+        // w/40 = 5 pixels wide, 3 pixels from the edge.
+        let column: Vec<[f32; 3]> = (0..h).map(|y| img[(y * w + w - 6) as usize]).collect();
+        assert!(
+            column.iter().any(|p| p[0] > 2.0 * p[2] + 0.05),
+            "no red in the bar"
+        );
+        assert!(
+            column.iter().any(|p| p[2] > 2.0 * p[0] + 0.05),
+            "no blue in the bar"
+        );
+        // Text (bright pixels) appears left of the bar, the panel darkens the image there.
+        let bright = img.iter().filter(|p| p[0] > 0.8 && p[2] > 0.8).count();
+        assert!(bright > 50, "{bright} text pixels");
+        assert!(img[(w / 2 * w + w - 20) as usize][0] < 0.5);
+        // The left half of the image is untouched.
+        assert_eq!(img[(h / 2 * w + 10) as usize], grey);
+    }
+
+    #[test]
+    fn maps_follow_the_range() {
+        let p = CurvatureParams {
+            half_range: 2.0,
+            ..CurvatureParams::default()
+        };
+        assert!(p.colour_of(2.0).x > p.colour_of(2.0).z, "positive is red");
+        assert!(
+            p.colour_of(-2.0).z > p.colour_of(-2.0).x,
+            "negative is blue"
+        );
+        let s = CurvatureParams {
+            quantity: CurvatureQuantity::MaxAbs,
+            ..p
+        };
+        assert_eq!(s.colour_map(), CurvatureMap::Sequential);
+        assert_eq!(s.value_range(), (0.0, 2.0));
+        // viridis runs from dark to light.
+        let (dark, light) = (s.colour_of(0.0), s.colour_of(2.0));
+        assert!(light.length() > 2.0 * dark.length());
     }
 }

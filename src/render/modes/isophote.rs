@@ -1,17 +1,25 @@
-//! Isophotes: curves of constant `n·L`. Bands of equal width in `n·L` alternate light and dark,
-//! so band borders are isophotes; they are C⁰ across a G¹ surface and kink where it breaks.
+//! Isophotes: curves of constant `n·L`. Bands alternate light and dark, so band borders are
+//! isophotes; they are C⁰ across a G¹ surface and kink where it breaks. Bands are of equal width
+//! in `n·L` (the default) or in the angle between `n` and `L` (`step_deg`: an isophote every so
+//! many degrees).
 
 use glam::DVec3;
 
 use crate::render::interaction::ShadingPoint;
+use crate::render::modes::stripes::{Footprint, filtered_square_wave};
 
 /// Parameters of the isophote mode.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IsophoteParams {
     /// Direction towards the light (world space).
     pub light: DVec3,
-    /// Number of bands over `n·L ∈ [−1, 1]`.
+    /// Number of bands over `n·L ∈ [−1, 1]` (used when `step_deg` is None).
     pub bands: u32,
+    /// Angle between neighbouring isophotes in degrees (bands of equal angle between `n` and
+    /// `L`, the first border at this angle); None: `bands` bands of equal `n·L`.
+    pub step_deg: Option<f64>,
+    /// Box-filter the bands over each sample's screen footprint; false: point samples.
+    pub filter: bool,
 }
 
 impl Default for IsophoteParams {
@@ -19,23 +27,64 @@ impl Default for IsophoteParams {
         IsophoteParams {
             light: DVec3::new(0.3, 0.8, 0.5),
             bands: 16,
+            step_deg: None,
+            filter: true,
         }
     }
 }
 
 impl IsophoteParams {
+    /// The band coordinate (bands from the start, 2 per light–dark period) at unit normal `n`.
+    pub fn band(&self, n: DVec3) -> f64 {
+        let light = self.light.normalize_or(DVec3::Y);
+        let c = n.dot(light).clamp(-1.0, 1.0);
+        match self.step_deg {
+            Some(step) => c.acos().to_degrees() / step.max(1e-9),
+            None => (c + 1.0) * 0.5 * f64::from(self.bands.max(1)),
+        }
+    }
+
     /// Band colour at the hit: even bands light, odd bands dark, each tinted by `n·L` so the
-    /// shape stays readable.
-    pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
+    /// shape stays readable; box-filtered over `footprint` when given.
+    pub fn shade(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
         let light = self.light.normalize_or(DVec3::Y);
         let c = sp.facing_normal.dot(light).clamp(-1.0, 1.0);
-        let bands = self.bands.max(1);
-        let band = (((c + 1.0) * 0.5 * f64::from(bands)) as u32).min(bands - 1);
-        let shade = 0.55 + 0.45 * c;
-        if band.is_multiple_of(2) {
-            DVec3::new(0.95, 0.78, 0.35) * shade
-        } else {
-            DVec3::new(0.05, 0.09, 0.25) * shade
+        let mut band = self.band(sp.facing_normal);
+        if self.step_deg.is_none() {
+            // The last band is closed at n·L = 1.
+            band = band.min(f64::from(self.bands.max(1)) - 0.5);
         }
+        let width = match footprint {
+            Some(f) if self.filter => f.phase_width(sp, |_, n, _| 0.5 * self.band(n)),
+            _ => 0.0,
+        };
+        let light_fraction = filtered_square_wave(0.5 * band, width, 0.5);
+        let shade = 0.55 + 0.45 * c;
+        DVec3::new(0.05, 0.09, 0.25).lerp(DVec3::new(0.95, 0.78, 0.35), light_fraction) * shade
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn angle_steps_put_borders_at_multiples_of_the_step() {
+        let p = IsophoteParams {
+            light: DVec3::Z,
+            step_deg: Some(15.0),
+            ..IsophoteParams::default()
+        };
+        let at = |deg: f64| {
+            p.band(DVec3::new(
+                deg.to_radians().sin(),
+                0.0,
+                deg.to_radians().cos(),
+            ))
+        };
+        assert!((at(30.0) - 2.0).abs() < 1e-9);
+        assert!((at(52.5) - 3.5).abs() < 1e-9);
+        let cosine = IsophoteParams::default();
+        assert!((cosine.band(cosine.light.normalize()) - 16.0).abs() < 1e-9);
     }
 }

@@ -6,16 +6,20 @@ pub mod curvature;
 pub mod isophote;
 pub mod overlay;
 pub mod palette;
+pub mod stripes;
 pub mod zebra;
 
 use glam::DVec3;
 
 use crate::render::interaction::ShadingPoint;
 
-pub use curvature::{CurvatureParams, CurvatureQuantity, CurvatureRange};
+pub use curvature::{
+    CurvatureMap, CurvatureParams, CurvatureQuantity, CurvatureRange, CurvatureSign,
+};
 pub use isophote::IsophoteParams;
 pub use overlay::Overlay;
-pub use zebra::{HighlightParams, ZebraParams};
+pub use stripes::Footprint;
+pub use zebra::{HighlightParams, ZebraAxis, ZebraParams};
 
 /// A shading mode with its parameters.
 #[derive(Clone, Debug, PartialEq)]
@@ -85,13 +89,30 @@ impl Mode {
         }
     }
 
-    /// Linear RGB of a hit for the direct (non path-traced) modes; `Shaded` is handled by the
-    /// path tracer and gets a plain diffuse preview here.
-    pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
+    /// True for the stripe modes, which filter their stripes over the sample's
+    /// [`Footprint`] when given one.
+    pub fn uses_footprint(&self) -> bool {
         match self {
-            Mode::Zebra(p) => p.shade(sp),
-            Mode::Highlight(p) => p.shade(sp),
-            Mode::Isophote(p) => p.shade(sp),
+            Mode::Zebra(p) => p.filter,
+            Mode::Highlight(p) => p.filter,
+            Mode::Isophote(p) => p.filter,
+            _ => false,
+        }
+    }
+
+    /// Linear RGB of a hit for the direct (non path-traced) modes, point-sampled; `Shaded` is
+    /// handled by the path tracer and gets a plain diffuse preview here.
+    pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
+        self.shade_filtered(sp, None)
+    }
+
+    /// As [`Mode::shade`], the stripe modes box-filtered over `footprint` (the change of the
+    /// hit across one sample cell) when given.
+    pub fn shade_filtered(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
+        match self {
+            Mode::Zebra(p) => p.shade(sp, footprint),
+            Mode::Highlight(p) => p.shade(sp, footprint),
+            Mode::Isophote(p) => p.shade(sp, footprint),
             Mode::Curvature(p) => p.shade(sp),
             Mode::Normals => palette::srgb_to_linear(0.5 * (sp.normal + DVec3::ONE)),
             Mode::Patches => {

@@ -1,4 +1,5 @@
-//! Colour helpers: sRGB transfer, the diverging colour map and per-face colours.
+//! Colour helpers: sRGB transfer, the curvature colour maps (from `colorous`) and per-face
+//! colours.
 
 use glam::DVec3;
 
@@ -24,25 +25,29 @@ pub fn linear_to_srgb(x: f64) -> f64 {
     }
 }
 
-/// Anchors of the diverging map (sRGB-encoded): cool blue, neutral light grey, warm red.
-const COOL: DVec3 = DVec3::new(0.230, 0.299, 0.754);
-const NEUTRAL: DVec3 = DVec3::new(0.865, 0.865, 0.865);
-const WARM: DVec3 = DVec3::new(0.706, 0.016, 0.150);
+/// Linear RGB of a `colorous` gradient at `t ∈ [0, 1]` (clamped).
+fn gradient(g: colorous::Gradient, t: f64) -> DVec3 {
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let c = g.eval_continuous(t);
+    srgb_to_linear(DVec3::new(
+        f64::from(c.r) / 255.0,
+        f64::from(c.g) / 255.0,
+        f64::from(c.b) / 255.0,
+    ))
+}
 
-/// Diverging colour map: `s ∈ [−1, 1]` (clamped) from blue through grey to red, as linear RGB.
-/// Interpolated in sRGB so that equal steps of `s` look equally large.
-pub fn diverging(s: f64) -> DVec3 {
-    let s = if s.is_finite() {
-        s.clamp(-1.0, 1.0)
-    } else {
-        0.0
-    };
-    let encoded = if s < 0.0 {
-        NEUTRAL.lerp(COOL, -s)
-    } else {
-        NEUTRAL.lerp(WARM, s)
-    };
-    srgb_to_linear(encoded)
+/// ColorBrewer RdBu, `t = 0` blue, `0.5` white, `1` red, as linear RGB.
+pub fn rdbu(t: f64) -> DVec3 {
+    gradient(colorous::RED_BLUE, 1.0 - t)
+}
+
+/// viridis (perceptually uniform sequential), `t = 0` dark blue to `1` yellow, as linear RGB.
+pub fn viridis(t: f64) -> DVec3 {
+    gradient(colorous::VIRIDIS, t)
 }
 
 /// A colour per face (golden-ratio hue steps so neighbours differ), lighter or darker per
@@ -90,15 +95,19 @@ mod tests {
     }
 
     #[test]
-    fn diverging_is_symmetric_around_grey() {
-        let mid = diverging(0.0);
-        assert!((mid.x - mid.y).abs() < 1e-15 && (mid.y - mid.z).abs() < 1e-15);
-        assert!(diverging(1.0).x > diverging(1.0).z, "positive is warm");
-        assert!(diverging(-1.0).z > diverging(-1.0).x, "negative is cool");
-        assert_eq!(
-            diverging(f64::NAN),
-            mid,
-            "NaN maps to neutral, never into the image"
+    fn maps_run_the_right_way() {
+        let white = rdbu(0.5);
+        assert!(
+            white.min_element() > 0.8,
+            "RdBu's middle is near white: {white}"
         );
+        assert!(rdbu(1.0).x > rdbu(1.0).z, "the top is red");
+        assert!(rdbu(0.0).z > rdbu(0.0).x, "the bottom is blue");
+        assert_eq!(
+            rdbu(f64::NAN),
+            white,
+            "NaN maps to the middle, never into the image"
+        );
+        assert!(viridis(1.0).length() > 3.0 * viridis(0.0).length());
     }
 }

@@ -12,43 +12,126 @@
 use glam::DVec3;
 
 use crate::render::interaction::ShadingPoint;
-use crate::render::modes::fract;
+use crate::render::modes::stripes::{Footprint, filtered_square_wave};
 
 /// Linear-light brightness of a bright stripe and of a dark one.
 const BRIGHT: f64 = 0.9;
 const DARK: f64 = 0.015;
 
+/// Where the light tubes of the zebra environment run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ZebraAxis {
+    /// Tubes parallel to this world direction; the stripe index is the angle of the reflected
+    /// direction around it. Its two poles (reflected direction along ±axis), where every
+    /// stripe meets, fall inside the view of a closed surface.
+    World(DVec3),
+    /// Tubes attached to the view: the reflected direction is measured from the direction back
+    /// along the ray (azimuthal equidistant projection around it) and the stripes are its
+    /// lines of constant image-horizontal coordinate, so they run vertically on screen. The
+    /// only pole is the reflected direction along the ray, i.e. the silhouette, never inside
+    /// the view.
+    View,
+    /// As [`ZebraAxis::View`], with stripes running horizontally on screen.
+    ViewHorizontal,
+}
+
+impl ZebraAxis {
+    /// Names of the view-attached axes accepted in scenes and on the command line.
+    pub const VIEW_NAMES: [&'static str; 2] = ["view", "view-horizontal"];
+
+    /// `view`, `view-horizontal` or a world direction `X,Y,Z` (non-zero).
+    pub fn parse(text: &str) -> crate::Result<ZebraAxis> {
+        match text.trim() {
+            "view" => return Ok(ZebraAxis::View),
+            "view-horizontal" => return Ok(ZebraAxis::ViewHorizontal),
+            _ => {}
+        }
+        let parts: Vec<Option<f64>> = text
+            .split(',')
+            .map(|p| p.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+            .collect();
+        match parts.as_slice() {
+            [Some(x), Some(y), Some(z)] if DVec3::new(*x, *y, *z).length() > 0.0 => {
+                Ok(ZebraAxis::World(DVec3::new(*x, *y, *z).normalize()))
+            }
+            _ => Err(crate::Error::Invalid(format!(
+                "zebra axis '{text}' is neither view, view-horizontal nor a non-zero X,Y,Z"
+            ))),
+        }
+    }
+}
+
 /// Parameters of the zebra (reflection line) mode.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ZebraParams {
-    /// Direction of the light tubes (world space).
-    pub axis: DVec3,
-    /// Number of bright stripes in a full turn around the axis.
+    /// Where the light tubes run.
+    pub axis: ZebraAxis,
+    /// Number of bright stripes per full turn (2π) of the reflected direction.
     pub stripes: f64,
     /// Fraction of each period that is bright.
     pub duty: f64,
+    /// Linear RGB of the bright stripes.
+    pub bright: DVec3,
+    /// Linear RGB of the dark stripes.
+    pub dark: DVec3,
+    /// The image's up direction (filled in from the camera before rendering; used by the
+    /// view-attached axes).
+    pub view_up: DVec3,
+    /// Box-filter the stripes over each sample's screen footprint (see
+    /// [`crate::render::modes::stripes`]); false: point samples.
+    pub filter: bool,
 }
 
 impl Default for ZebraParams {
     fn default() -> Self {
         ZebraParams {
-            axis: DVec3::Y,
+            axis: ZebraAxis::View,
             stripes: 16.0,
             duty: 0.5,
+            bright: DVec3::splat(BRIGHT),
+            dark: DVec3::splat(DARK),
+            view_up: DVec3::Y,
+            filter: true,
         }
     }
 }
 
 impl ZebraParams {
-    /// Bright or dark stripe at the hit.
-    pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
-        let n = sp.facing_normal;
-        let reflected = sp.view - 2.0 * sp.view.dot(n) * n;
-        let axis = self.axis.normalize_or(DVec3::Y);
-        let (b1, b2) = axis.any_orthonormal_pair();
-        let angle = reflected.dot(b2).atan2(reflected.dot(b1));
-        let phase = fract(self.stripes * angle / std::f64::consts::TAU);
-        DVec3::splat(if phase < self.duty { BRIGHT } else { DARK })
+    /// The stripe phase (in periods) of a hit at normal `n` seen along unit `view`.
+    pub fn phase(&self, n: DVec3, view: DVec3) -> f64 {
+        let reflected = view - 2.0 * view.dot(n) * n;
+        let angle = match self.axis {
+            ZebraAxis::World(axis) => {
+                let (b1, b2) = axis.normalize_or(DVec3::Y).any_orthonormal_pair();
+                reflected.dot(b2).atan2(reflected.dot(b1))
+            }
+            ZebraAxis::View | ZebraAxis::ViewHorizontal => {
+                // Azimuthal equidistant coordinates around −view: the angle from −view times
+                // the direction of the reflected vector's part across the view.
+                let up = (self.view_up - view * self.view_up.dot(view)).normalize_or(DVec3::Y);
+                let right = view.cross(up);
+                let theta = (-reflected.dot(view)).clamp(-1.0, 1.0).acos();
+                let (x, y) = (reflected.dot(right), reflected.dot(up));
+                let across = x.hypot(y);
+                if across <= 0.0 {
+                    return 0.0;
+                }
+                let c = if self.axis == ZebraAxis::View { x } else { y };
+                theta * c / across
+            }
+        };
+        self.stripes * angle / std::f64::consts::TAU
+    }
+
+    /// Bright or dark stripe at the hit, box-filtered over `footprint` when given.
+    pub fn shade(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
+        let phase = self.phase(sp.facing_normal, sp.view);
+        let width = match footprint {
+            Some(f) if self.filter => f.phase_width(sp, |_, n, v| self.phase(n, v)),
+            _ => 0.0,
+        };
+        let bright = filtered_square_wave(phase, width, self.duty);
+        self.dark.lerp(self.bright, bright)
     }
 }
 
@@ -63,10 +146,14 @@ pub struct HighlightParams {
     pub plane_normal: DVec3,
     /// Direction of the line lights (projected into the plane).
     pub direction: DVec3,
-    /// Distance between neighbouring lights; None: a quarter of the scene diagonal.
+    /// Distance between neighbouring lights; None: the scene diagonal over `lines`.
     pub spacing: Option<f64>,
     /// Fraction of each period that is bright.
     pub duty: f64,
+    /// Number of lights per scene diagonal when `spacing` is None.
+    pub lines: f64,
+    /// Box-filter the stripes over each sample's screen footprint; false: point samples.
+    pub filter: bool,
 }
 
 impl Default for HighlightParams {
@@ -77,6 +164,8 @@ impl Default for HighlightParams {
             direction: DVec3::X,
             spacing: None,
             duty: 0.5,
+            lines: 4.0,
+            filter: true,
         }
     }
 }
@@ -89,30 +178,110 @@ impl HighlightParams {
             origin: Some(self.origin.unwrap_or(center + normal * diagonal)),
             plane_normal: normal,
             direction: self.direction,
-            spacing: Some(self.spacing.unwrap_or(diagonal / 4.0)),
-            duty: self.duty,
+            spacing: Some(
+                self.spacing
+                    .unwrap_or(diagonal / self.lines.max(f64::MIN_POSITIVE)),
+            ),
+            ..*self
         }
     }
 
-    /// Bright or dark stripe at the hit ([`HighlightParams::resolved`] first).
-    pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
+    /// The stripe phase (in periods) at point `p` with unit normal `n`; None where the normal
+    /// half-line does not reach the light plane.
+    pub fn phase(&self, p: DVec3, n: DVec3) -> Option<f64> {
         let m = self.plane_normal;
         let origin = self.origin.unwrap_or(DVec3::ZERO);
         let spacing = self.spacing.unwrap_or(1.0);
-        // The outward normal half-line (turned towards the viewer, so both sides of an open
-        // surface behave alike) must reach the light plane; points facing away see no light.
-        let n = sp.facing_normal;
-        let p = sp.jet.p;
         let along = n.dot(m);
         let reach = (origin - p).dot(m);
         if along.abs() < 1e-9 || reach / along <= 0.0 {
-            return DVec3::splat(DARK);
+            return None;
         }
         let meet = p + n * (reach / along);
         let across = m
             .cross(self.direction)
             .normalize_or(m.any_orthonormal_vector());
-        let phase = fract((meet - origin).dot(across) / spacing);
-        DVec3::splat(if phase < self.duty { BRIGHT } else { DARK })
+        Some((meet - origin).dot(across) / spacing)
+    }
+
+    /// Bright or dark stripe at the hit ([`HighlightParams::resolved`] first), box-filtered
+    /// over `footprint` when given.
+    pub fn shade(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
+        // The outward normal half-line (turned towards the viewer, so both sides of an open
+        // surface behave alike) must reach the light plane; points facing away see no light.
+        let Some(phase) = self.phase(sp.jet.p, sp.facing_normal) else {
+            return DVec3::splat(DARK);
+        };
+        let width = match footprint {
+            Some(f) if self.filter => {
+                f.phase_width(sp, |p, n, _| self.phase(p, n).unwrap_or(phase))
+            }
+            _ => 0.0,
+        };
+        DVec3::splat(DARK).lerp(
+            DVec3::splat(BRIGHT),
+            filtered_square_wave(phase, width, self.duty),
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axes_parse() {
+        assert_eq!(ZebraAxis::parse("view").expect("view"), ZebraAxis::View);
+        assert_eq!(
+            ZebraAxis::parse("0,2,0").expect("vector"),
+            ZebraAxis::World(DVec3::Y)
+        );
+        for bad in ["0,0,0", "1,2", "up", "1,nan,0"] {
+            let err = ZebraAxis::parse(bad).expect_err(bad).to_string();
+            assert!(err.contains(bad), "{err}");
+        }
+    }
+
+    /// The view-attached stripes have no pole inside the view: the phase is smooth in the
+    /// normal wherever the surface faces the eye, and its gradient stays bounded (the world
+    /// axis's pole, by contrast, has an unbounded one).
+    #[test]
+    fn view_axis_has_no_pole_facing_the_eye() {
+        let view = DVec3::new(0.1, -0.2, -1.0).normalize();
+        let params = ZebraParams::default();
+        let world = ZebraParams {
+            axis: ZebraAxis::World(DVec3::Y),
+            ..params
+        };
+        let gradient = |z: &ZebraParams, n: DVec3| {
+            let h = 1e-6;
+            let (a, b) = n.any_orthonormal_pair();
+            let d1 =
+                z.phase((n + a * h).normalize(), view) - z.phase((n - a * h).normalize(), view);
+            let d2 =
+                z.phase((n + b * h).normalize(), view) - z.phase((n - b * h).normalize(), view);
+            (d1 - d1.round()).hypot(d2 - d2.round()) / (2.0 * h)
+        };
+        let mut worst: f64 = 0.0;
+        for i in 0..40 {
+            for j in 0..40 {
+                // Normals within 80° of −view.
+                let (s, t) = (
+                    f64::from(i) / 39.0 * 2.0 - 1.0,
+                    f64::from(j) / 39.0 * 2.0 - 1.0,
+                );
+                let (a, b) = view.any_orthonormal_pair();
+                let tilt = 80f64.to_radians() * s.hypot(t).min(1.0);
+                let dir = (a * s + b * t).normalize_or(a);
+                let n = -view * tilt.cos() + dir * tilt.sin();
+                worst = worst.max(gradient(&params, n));
+            }
+        }
+        // 16 stripes per 2π, the reflected angle changes twice as fast as the normal: about
+        // 16·2/2π ≈ 5 periods per radian of normal, and never much more.
+        assert!(worst < 12.0, "view-attached phase gradient {worst}");
+        // The world axis's pole: the normal halfway between −view and the axis.
+        let pole = (DVec3::Y - view).normalize();
+        assert!(gradient(&world, (pole + DVec3::X * 1e-4).normalize()) > 100.0);
     }
 }
