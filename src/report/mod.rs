@@ -195,11 +195,15 @@ fn schemes_for(bench: &BenchmarkMesh) -> impl Iterator<Item = &'static schemes::
         .filter(|spec| !spec.needs_closed_mesh || bench.mesh.is_closed())
 }
 
+/// What [`run_measuring`] hands each benchmark mesh to: the mesh and the surfaces built on it
+/// (scheme name, surface; registry order).
+type EachMesh<'a> = dyn FnMut(&BenchmarkMesh, &[(String, Surface)]) -> Result<()> + 'a;
+
 /// [`run_with_progress`], handing each benchmark mesh with the surfaces built on it (scheme
 /// name, surface; registry order) to `each_mesh` once its records are measured.
 fn run_measuring(
     progress: &dyn Fn(usize, usize, &str),
-    each_mesh: &mut dyn FnMut(&BenchmarkMesh, &[(String, Surface)]) -> Result<()>,
+    each_mesh: &mut EachMesh,
 ) -> Result<Report> {
     let meshes = benchmark_meshes()?;
     let total: usize = meshes.iter().map(|bench| schemes_for(bench).count()).sum();
@@ -444,15 +448,14 @@ pub fn write_with(
         )?);
         Ok(())
     })?;
-    let comparison = match &baseline {
-        Some((_, old)) => Some(compare::compare(
+    let comparison = baseline.as_ref().map(|(_, old)| {
+        compare::compare(
             old,
             &report,
             compare::Thresholds::default(),
             compare::TimingCheck::SameMachine,
-        )),
-        None => None,
-    };
+        )
+    });
     plots::write_plots(&report, &figures)?;
     let json = serde_json::to_string_pretty(&report)
         .map_err(|e| Error::Invalid(format!("report JSON: {e}")))?;
