@@ -53,11 +53,15 @@ enum Command {
     },
     /// List the schemes and their parameters.
     Schemes,
-    /// Measure every scheme on the benchmark meshes; write metrics.{json,csv,md}.
+    /// Measure every scheme on the benchmark meshes; write metrics.{json,csv,md}, SVG plots
+    /// and the results page index.html (tables, plots, zebra and curvature thumbnails).
     Report {
         /// Output folder.
         #[arg(long, default_value = "results")]
         out: PathBuf,
+        /// A previous report (metrics.json): the page lists the changes against it.
+        #[arg(long, value_name = "OLD.json")]
+        baseline: Option<PathBuf>,
     },
     /// Compare two reports (metrics.json) or two `metrics --json` outputs; exit code 1 if a
     /// quality figure (or, with --timings, a timing) got worse.
@@ -218,7 +222,7 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             &json,
         ),
         Some(Command::Schemes) => Ok(app::run_schemes()),
-        Some(Command::Report { out }) => app::run_report(&out),
+        Some(Command::Report { out, baseline }) => app::run_report(&out, baseline.as_deref()),
         Some(Command::Compare {
             old,
             new,

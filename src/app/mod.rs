@@ -408,13 +408,31 @@ pub fn run_default() -> Result<Output> {
 }
 
 /// `smoothlab report`: measures every scheme on the benchmark meshes and writes
-/// `metrics.{json,csv,md}` into `out_dir`, with a progress bar on a terminal's standard error;
-/// standard output gets one summary line.
-pub fn run_report(out_dir: &Path) -> Result<Output> {
+/// `metrics.{json,csv,md}`, the plots and the results page (`index.html` with its thumbnails)
+/// into `out_dir`, with a progress bar on a terminal's standard error; standard output gets one
+/// summary line, and with `baseline` (a previous `metrics.json`) a second one counting the
+/// changes and regressions the page lists.
+pub fn run_report(out_dir: &Path, baseline: Option<&Path>) -> Result<Output> {
     let start = std::time::Instant::now();
-    let report = crate::report::write_with_progress(out_dir, &crate::report::terminal_progress())?;
+    let options = crate::report::WriteOptions {
+        baseline: baseline.map(Path::to_path_buf),
+        ..Default::default()
+    };
+    let written =
+        crate::report::write_with(out_dir, &options, &crate::report::terminal_progress())?;
+    let mut stdout =
+        crate::report::summary_line(&written.report, out_dir, start.elapsed().as_secs_f64());
+    if let (Some(path), Some(comparison)) = (baseline, &written.comparison) {
+        let worse = comparison.changes.iter().filter(|c| c.regression).count();
+        stdout += &format!(
+            "baseline {}: {worse} regression(s) among {} change(s), listed in {}\n",
+            path.display(),
+            comparison.changes.len(),
+            out_dir.join(crate::report::page::PAGE).display()
+        );
+    }
     Ok(Output {
-        stdout: crate::report::summary_line(&report, out_dir, start.elapsed().as_secs_f64()),
+        stdout,
         ..Default::default()
     })
 }

@@ -2,7 +2,7 @@
 //! samples, output. Every key is optional; the command line overrides any of them. Example:
 //!
 //! ```toml
-//! mesh = "ico.obj"            # relative to the scene file
+//! mesh = "ico.obj"            # relative to the scene file, as every path in it
 //! weld_tolerance = 1e-10      # weld vertices closer than this fraction of the diagonal
 //! [scheme]
 //! name = "hb"
@@ -17,7 +17,7 @@
 //! mode = "zebra"              # zebra highlight isophote curvature normals patches diffuse shaded
 //! size = [640, 480]
 //! spp = 4
-//! output = "out/ico-zebra"    # writes .png and .exr
+//! output = "out/ico-zebra"    # writes .png and .exr beside the scene file in out/
 //! overlay = "faces"           # none, faces, patches, both
 //! curves = true               # boundary curves as blue tubes
 //! control_polygons = true     # their control polygons as red tubes
@@ -150,7 +150,8 @@ pub struct RenderSection {
     pub size: Option<[u32; 2]>,
     /// Samples per pixel.
     pub spp: Option<u32>,
-    /// Output stem (".png" and ".exr" are appended), relative to the working directory.
+    /// Output stem (".png" and ".exr" are appended), relative to the scene file (a `-o` on the
+    /// command line is relative to the working directory).
     pub output: Option<PathBuf>,
     /// Boundary overlay: none, faces, patches, both.
     pub overlay: Option<String>,
@@ -295,8 +296,8 @@ pub struct ShadedSection {
 }
 
 impl SceneFile {
-    /// Reads and parses a scene file; relative mesh and environment paths are made relative to
-    /// the file's directory.
+    /// Reads and parses a scene file; every relative path in it — mesh, output, environment —
+    /// is made relative to the file's directory.
     pub fn load(path: &Path) -> Result<SceneFile> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
         let mut scene: SceneFile = toml_input::parse(&text, &path.display().to_string())?;
@@ -305,6 +306,11 @@ impl SceneFile {
             && mesh.is_relative()
         {
             scene.mesh = Some(dir.join(mesh));
+        }
+        if let Some(output) = &scene.render.output
+            && output.is_relative()
+        {
+            scene.render.output = Some(dir.join(output));
         }
         if let Some(env) = &scene.shaded.environment
             && env != "studio"

@@ -12,6 +12,7 @@
 
 pub mod analytic;
 pub mod compare;
+pub mod page;
 pub mod plots;
 pub mod provenance;
 
@@ -27,6 +28,7 @@ use crate::mesh::{Mesh, generate};
 use crate::metrics::Metrics;
 use crate::metrics::energy::bending_energy;
 use crate::schemes::{self, SCHEMES};
+use crate::surface::Surface;
 use analytic::{Analytic, curvature_error, surface_error, vertex_curvature_error};
 
 /// The format version of `metrics.json` that this build writes and reads.
@@ -153,10 +155,7 @@ impl Report {
 /// Builds `scheme` on `mesh` and times it: once when the build takes [`CHEAP_BUILD_MS`] or
 /// more, else [`TIMING_RUNS`] times after that first (warm-up) build. Returns the surface, the median time (ms), the number of
 /// runs and the relative spread (None for one run).
-fn build_median_timed(
-    scheme: &str,
-    mesh: &Mesh,
-) -> Result<(crate::surface::Surface, f64, usize, Option<f64>)> {
+fn build_median_timed(scheme: &str, mesh: &Mesh) -> Result<(Surface, f64, usize, Option<f64>)> {
     let (surface, first) = schemes::build_timed(scheme, mesh, &[])?;
     if first >= CHEAP_BUILD_MS {
         return Ok((surface, first, 1, None));
@@ -185,20 +184,33 @@ pub fn run() -> Result<Report> {
 /// [`run`], calling `progress(done, total, "mesh / scheme")` before each record is measured
 /// and `progress(total, total, "")` at the end.
 pub fn run_with_progress(progress: &dyn Fn(usize, usize, &str)) -> Result<Report> {
-    let meshes = benchmark_meshes()?;
-    let accepts = |bench: &BenchmarkMesh, spec: &schemes::SchemeSpec| {
-        !spec.needs_closed_mesh || bench.mesh.is_closed()
-    };
-    let total: usize = meshes
+    run_measuring(progress, &mut |_, _| Ok(()))
+}
+
+/// Every scheme a benchmark mesh is measured with: those that accept the mesh, in registry
+/// order.
+fn schemes_for(bench: &BenchmarkMesh) -> impl Iterator<Item = &'static schemes::SchemeSpec> {
+    SCHEMES
         .iter()
-        .map(|bench| SCHEMES.iter().filter(|spec| accepts(bench, spec)).count())
-        .sum();
+        .filter(|spec| !spec.needs_closed_mesh || bench.mesh.is_closed())
+}
+
+/// What [`run_measuring`] hands each benchmark mesh to: the mesh and the surfaces built on it
+/// (scheme name, surface; registry order).
+type EachMesh<'a> = dyn FnMut(&BenchmarkMesh, &[(String, Surface)]) -> Result<()> + 'a;
+
+/// [`run_with_progress`], handing each benchmark mesh with the surfaces built on it (scheme
+/// name, surface; registry order) to `each_mesh` once its records are measured.
+fn run_measuring(
+    progress: &dyn Fn(usize, usize, &str),
+    each_mesh: &mut EachMesh,
+) -> Result<Report> {
+    let meshes = benchmark_meshes()?;
+    let total: usize = meshes.iter().map(|bench| schemes_for(bench).count()).sum();
     let mut records = Vec::new();
     for bench in meshes {
-        for spec in SCHEMES {
-            if !accepts(&bench, spec) {
-                continue;
-            }
+        let mut surfaces = Vec::new();
+        for spec in schemes_for(&bench) {
             progress(
                 records.len(),
                 total,
@@ -236,7 +248,9 @@ pub fn run_with_progress(progress: &dyn Fn(usize, usize, &str)) -> Result<Report
                 scheme: spec.name.to_string(),
                 figures,
             });
+            surfaces.push((spec.name.to_string(), surface));
         }
+        each_mesh(&bench, &surfaces)?;
     }
     progress(total, total, "");
     Ok(Report::stamped(records))
@@ -354,9 +368,31 @@ pub fn to_markdown(report: &Report) -> String {
 /// The tables [`write()`] writes into its folder.
 const TABLES: [&str; 3] = ["metrics.json", "metrics.csv", "metrics.md"];
 
-/// Runs the report and writes `metrics.{json,csv,md}` into `out_dir` and the SVG plots of
-/// [`plots`] into `out_dir/figures/` (folders created if missing). Every output path is
-/// checked before the measurements start, and every file is written atomically.
+/// What [`write_with`] writes besides the tables and plots.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WriteOptions {
+    /// A previous report (`metrics.json`) to compare the new one with on the page
+    /// (`report --baseline`).
+    pub baseline: Option<std::path::PathBuf>,
+    /// Size and sampling of the page's thumbnails.
+    pub thumbnails: page::ThumbnailOptions,
+}
+
+/// What [`write_with`] measured and wrote.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Written {
+    /// The new report.
+    pub report: Report,
+    /// The comparison with the baseline, when one was given.
+    pub comparison: Option<compare::Comparison>,
+    /// The thumbnails of each benchmark mesh.
+    pub thumbnails: Vec<page::MeshThumbnails>,
+}
+
+/// Runs the report and writes `metrics.{json,csv,md}` into `out_dir`, the SVG plots of
+/// [`plots`] into `out_dir/figures/` and the results page ([`page`]: `index.html`, thumbnails
+/// in `out_dir/thumbs/`), folders created if missing. Every output path is checked before the
+/// measurements start, and every file is written atomically.
 pub fn write(out_dir: &Path) -> Result<Report> {
     write_with_progress(out_dir, &|_, _, _| {})
 }
@@ -366,13 +402,60 @@ pub fn write_with_progress(
     out_dir: &Path,
     progress: &dyn Fn(usize, usize, &str),
 ) -> Result<Report> {
+    Ok(write_with(out_dir, &WriteOptions::default(), progress)?.report)
+}
+
+/// [`write_with_progress`] with `options`: with a baseline, the baseline is read (it must be a
+/// report, see [`read`]) before anything is measured, and the page lists the changes against it as
+/// `compare --timings` judges them with the default thresholds.
+pub fn write_with(
+    out_dir: &Path,
+    options: &WriteOptions,
+    progress: &dyn Fn(usize, usize, &str),
+) -> Result<Written> {
+    let baseline = options
+        .baseline
+        .as_deref()
+        .map(|path| read(path).map(|report| (path, report)))
+        .transpose()?;
     let figures = out_dir.join("figures");
+    let thumbs = out_dir.join(page::THUMBS);
     create_folder(&figures)?;
+    create_folder(&thumbs)?;
     let tables = TABLES.map(|name| out_dir.join(name));
-    for path in tables.iter().chain(&plots::plot_paths(&figures)) {
+    let page_path = out_dir.join(page::PAGE);
+    let mut outputs: Vec<std::path::PathBuf> = tables.to_vec();
+    outputs.extend(plots::plot_paths(&figures));
+    outputs.push(page_path.clone());
+    for bench in benchmark_meshes()? {
+        for spec in schemes_for(&bench) {
+            for mode in page::THUMB_MODES {
+                outputs.push(page::thumbnail_path(out_dir, &bench.name, spec.name, mode));
+            }
+        }
+    }
+    for path in &outputs {
         check_writable(path)?;
     }
-    let report = run_with_progress(progress)?;
+    let mut thumbnails = Vec::new();
+    let report = run_measuring(progress, &mut |bench, surfaces| {
+        thumbnails.push(page::render_thumbnails(
+            &bench.name,
+            &bench.mesh,
+            surfaces,
+            out_dir,
+            &options.thumbnails,
+        )?);
+        Ok(())
+    })?;
+    let comparison = baseline.as_ref().map(|(_, old)| {
+        compare::compare(
+            old,
+            &report,
+            compare::Thresholds::default(),
+            compare::TimingCheck::SameMachine,
+        )
+    });
     plots::write_plots(&report, &figures)?;
     let json = serde_json::to_string_pretty(&report)
         .map_err(|e| Error::Invalid(format!("report JSON: {e}")))?;
@@ -382,7 +465,26 @@ pub fn write_with_progress(
     {
         write_atomic(path, text.as_bytes())?;
     }
-    Ok(report)
+    let html = page::to_html(
+        &report,
+        &thumbnails,
+        baseline
+            .as_ref()
+            .zip(comparison.as_ref())
+            .map(|((path, old), comparison)| page::Baseline {
+                path,
+                report: old,
+                comparison,
+            })
+            .as_ref(),
+    );
+    page::check_references(&html, out_dir)?;
+    write_atomic(&page_path, html.as_bytes())?;
+    Ok(Written {
+        report,
+        comparison,
+        thumbnails,
+    })
 }
 
 /// Reads a `metrics.json` written by [`write()`]: the format must be `smoothlab-report` of
@@ -518,8 +620,8 @@ pub fn summary_line(report: &Report, out_dir: &Path, seconds: f64) -> String {
     schemes.sort_unstable();
     schemes.dedup();
     format!(
-        "report: {} records ({} meshes, {} schemes) written to {}/metrics.{{json,csv,md}} and \
-         figures/ in {seconds:.1} s; commit {}\n",
+        "report: {} records ({} meshes, {} schemes) written to {}/metrics.{{json,csv,md}}, \
+         figures/ and index.html in {seconds:.1} s; commit {}\n",
         report.records.len(),
         meshes.len(),
         schemes.len(),

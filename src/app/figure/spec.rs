@@ -6,7 +6,7 @@
 //! ```toml
 //! title = "G1 schemes"                  # optional title line
 //! mesh = "deformed-icosahedron"         # a scenes/ mesh name, or an OBJ path (relative to this file)
-//! output = "results/figures/g1"         # stem, relative to the working directory
+//! output = "../results/figures/g1"      # stem, relative to this file (as every path here)
 //! size = [256, 256]                     # per cell
 //! spp = 4
 //! exr = true                            # one EXR per cell
@@ -58,7 +58,7 @@ pub struct FigureSpec {
     /// A scenes/ mesh name or an OBJ path relative to the spec file.
     pub mesh: String,
     /// Output stem (`.png` appended; a `.png` or `.exr` ending is dropped first), relative to
-    /// the working directory.
+    /// the spec file once loaded by [`FigureSpec::load`].
     pub output: PathBuf,
     /// Cell size in pixels.
     #[serde(default, deserialize_with = "exact")]
@@ -133,10 +133,15 @@ impl FigureSpec {
         toml_input::parse(text, "figure spec")
     }
 
-    /// Reads a spec file; errors name the file, line, column and key.
+    /// Reads a spec file; errors name the file, line, column and key. A relative `output` is
+    /// made relative to the spec file's folder, like its mesh path.
     pub fn load(path: &Path) -> Result<FigureSpec> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        toml_input::parse(&text, &path.display().to_string())
+        let mut spec: FigureSpec = toml_input::parse(&text, &path.display().to_string())?;
+        if spec.output.is_relative() {
+            spec.output = path.parent().unwrap_or(Path::new("")).join(&spec.output);
+        }
+        Ok(spec)
     }
 
     /// The mesh: a scenes/ name, else a mesh file (OBJ, PLY, OFF, STL) relative to `dir`.

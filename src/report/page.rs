@@ -1,0 +1,627 @@
+//! The results page: `index.html` in the report folder, one self-contained HTML file (inline CSS
+//! and JavaScript, no network) with the provenance of the run, the metrics tables (one per
+//! benchmark mesh, sortable by any column), the SVG plots of [`super::plots`], a zebra and a
+//! curvature thumbnail per benchmark mesh and scheme, and — when a baseline report is given —
+//! the changes against it as [`super::compare`] judges them.
+//!
+//! Images are files beside the page, referenced relatively (`figures/*.svg`,
+//! `thumbs/MESH-SCHEME-MODE.png`), so the folder can be opened from disk or served as it is.
+//! Thumbnails are rendered by the exact renderer ([`RenderJob`]) from one camera per mesh,
+//! framing points sampled on every scheme's surface, once per surface: the zebra image, and
+//! from the same render's per-pixel geometry record (the ray through each pixel centre, as the
+//! EXR's `H` channel) the mean-curvature image, in the curvature mode's diverging colours. The
+//! curvature thumbnails of a mesh share one colour range (the median over its curved schemes of
+//! the 95th percentile of |H| in view), so their colours compare across schemes.
+//!
+//! The page checks itself when it loads: its first script records every script error, failed
+//! resource load, unhandled rejection and `console.error` call; after the `load` event it counts
+//! the tables and the images that decoded and writes `data-ready`, `data-tables`, `data-images`
+//! and `data-errors` onto `<body>` (the messages go into `<pre id="page-errors">`). The browser
+//! test reads these from the DOM that headless Chromium dumps.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::compare::Comparison;
+use super::{COLUMNS, Report, TIMING_RUNS, plots, value_text};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::render::camera::Camera;
+use crate::render::film::{Frame, RenderSettings};
+use crate::render::job::{CameraSpec, RenderJob, surface_samples};
+use crate::render::modes::curvature::abs_percentile;
+use crate::render::modes::palette::diverging;
+use crate::render::modes::{Mode, ZebraParams};
+use crate::render::output::write_png;
+use crate::surface::Surface;
+
+/// File name of the page in the report folder.
+pub const PAGE: &str = "index.html";
+
+/// Folder of the thumbnails, inside the report folder.
+pub const THUMBS: &str = "thumbs";
+
+/// The modes of the thumbnails, in the page's row order.
+pub const THUMB_MODES: [&str; 2] = ["zebra", "curvature"];
+
+/// Vertical field of view of the thumbnails' camera, degrees.
+const THUMB_FOV: f64 = 30.0;
+
+/// Bright stripes per turn of the thumbnails' zebra mode.
+const THUMB_STRIPES: f64 = 8.0;
+
+/// Percentile of |H| that sets a scheme's curvature range.
+const CURVATURE_PERCENTILE: f64 = 95.0;
+
+/// Size and sampling of the thumbnails.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThumbnailOptions {
+    /// Side of each (square) thumbnail in pixels.
+    pub size: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+}
+
+impl Default for ThumbnailOptions {
+    fn default() -> Self {
+        ThumbnailOptions { size: 128, spp: 1 }
+    }
+}
+
+/// The thumbnails of one benchmark mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshThumbnails {
+    /// Benchmark mesh name.
+    pub mesh: String,
+    /// The schemes shown, in registry order.
+    pub schemes: Vec<String>,
+    /// Half-range of the mean curvature `[−r, r]` shared by the mesh's curvature thumbnails.
+    pub curvature_half_range: f64,
+    /// Side of the (square) thumbnails in pixels.
+    pub size: u32,
+    /// Milliseconds spent rendering (both modes, every scheme) and writing the PNGs.
+    pub ms: f64,
+}
+
+/// The thumbnail's path relative to the report folder (as the page references it).
+pub fn thumbnail_name(mesh: &str, scheme: &str, mode: &str) -> String {
+    format!("{THUMBS}/{mesh}-{scheme}-{mode}.png")
+}
+
+/// The thumbnail's path inside `out_dir`.
+pub fn thumbnail_path(out_dir: &Path, mesh: &str, scheme: &str, mode: &str) -> PathBuf {
+    out_dir.join(thumbnail_name(mesh, scheme, mode))
+}
+
+/// Renders the zebra and curvature thumbnails of every surface built on `mesh` into
+/// `out_dir/thumbs/` (the folder must exist), from one camera framing all of them.
+pub fn render_thumbnails(
+    mesh_name: &str,
+    mesh: &Mesh,
+    surfaces: &[(String, Surface)],
+    out_dir: &Path,
+    options: &ThumbnailOptions,
+) -> Result<MeshThumbnails> {
+    let start = std::time::Instant::now();
+    let samples: Vec<_> = surfaces
+        .iter()
+        .flat_map(|(_, s)| surface_samples(s))
+        .collect();
+    let camera = Camera::frame_points(&samples, Camera::DEFAULT_VIEW, THUMB_FOV, 1.0)?;
+    let job = |mode: Mode| RenderJob {
+        settings: RenderSettings {
+            width: options.size,
+            height: options.size,
+            spp: options.spp,
+            mode,
+            progress: false,
+            ..RenderSettings::default()
+        },
+        camera: CameraSpec {
+            eye: Some(camera.eye),
+            target: Some(camera.target),
+            up: Some(camera.up()),
+            fov_deg: THUMB_FOV,
+            orthographic: false,
+        },
+        ..RenderJob::default()
+    };
+    // Half the default stripe count: the default's stripes alias at thumbnail size.
+    let zebra = job(Mode::Zebra(ZebraParams {
+        stripes: THUMB_STRIPES,
+        ..ZebraParams::default()
+    }));
+    // One render per surface: the zebra image, and the mean curvature seen through each pixel
+    // centre (the frame's geometry record, the EXR's `H`), which the curvature thumbnail shows.
+    let mut means = Vec::with_capacity(surfaces.len());
+    let mut ranges = Vec::new();
+    for (scheme, surface) in surfaces {
+        let (frame, _) = zebra.render(surface, mesh)?;
+        write_png(
+            &frame,
+            &thumbnail_path(out_dir, mesh_name, scheme, THUMB_MODES[0]),
+        )?;
+        let pixels: Vec<Option<f64>> = frame
+            .geometry
+            .iter()
+            .map(|g| g.map(|g| g.mean).filter(|h| h.is_finite()))
+            .collect();
+        let mut curved: Vec<f64> = pixels
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|h| *h != 0.0)
+            .collect();
+        let r = abs_percentile(&mut curved, CURVATURE_PERCENTILE);
+        if r > 0.0 && r.is_finite() {
+            ranges.push(r);
+        }
+        means.push(pixels);
+    }
+    // Flat surfaces (no curvature in view) do not vote; nothing curved at all gives [−1, 1].
+    ranges.sort_by(f64::total_cmp);
+    let half_range = ranges.get(ranges.len() / 2).copied().unwrap_or(1.0);
+    let background = RenderSettings::default().background.as_vec3().to_array();
+    for ((scheme, _), pixels) in surfaces.iter().zip(&means) {
+        let frame = Frame {
+            width: options.size,
+            height: options.size,
+            rgb: pixels
+                .iter()
+                .map(|h| match h {
+                    Some(h) => diverging(h / half_range).as_vec3().to_array(),
+                    None => background,
+                })
+                .collect(),
+            geometry: Vec::new(),
+        };
+        write_png(
+            &frame,
+            &thumbnail_path(out_dir, mesh_name, scheme, THUMB_MODES[1]),
+        )?;
+    }
+    Ok(MeshThumbnails {
+        mesh: mesh_name.to_string(),
+        schemes: surfaces.iter().map(|(s, _)| s.clone()).collect(),
+        curvature_half_range: half_range,
+        size: options.size,
+        ms: start.elapsed().as_secs_f64() * 1e3,
+    })
+}
+
+/// The baseline a page is compared against: where it was read from, the report, and the
+/// comparison of the new report with it.
+pub struct Baseline<'a> {
+    /// The path given to `--baseline`, as shown on the page.
+    pub path: &'a Path,
+    /// The baseline report.
+    pub report: &'a Report,
+    /// The new report compared with the baseline ([`super::compare::compare`]).
+    pub comparison: &'a Comparison,
+}
+
+/// Text with `&`, `<`, `>`, `"` and `'` escaped for HTML text and attribute values.
+pub fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// The inline style sheet.
+const STYLE: &str = "
+body { font: 14px/1.4 system-ui, sans-serif; margin: 1.5em; color: #222; }
+h1 { font-size: 1.5em; } h2 { margin-top: 1.6em; } h3 { margin-bottom: 0.3em; }
+table { border-collapse: collapse; margin: 0.4em 0 1em; font-variant-numeric: tabular-nums; }
+th, td { border: 1px solid #ccc; padding: 2px 6px; text-align: right; white-space: nowrap; }
+th:first-child, td:first-child { text-align: left; }
+thead th { background: #f0f0f0; cursor: pointer; user-select: none; position: sticky; top: 0; }
+th[data-dir=asc]::after { content: ' \\25B2'; } th[data-dir=desc]::after { content: ' \\25BC'; }
+tr.worse td { background: #fde2e2; }
+.scroll { overflow-x: auto; }
+.plots img { width: 480px; max-width: 100%; margin: 0 0.5em 0.5em 0; border: 1px solid #ddd; }
+.thumbs td, .thumbs th { border: none; text-align: center; padding: 2px; font-weight: normal; }
+.thumbs thead th { background: none; cursor: default; position: static; }
+.thumbs img { display: block; image-rendering: auto; }
+#page-errors:empty { display: none; }
+#page-errors { color: #a00; }
+.note { color: #555; }
+";
+
+/// The first script: records errors of every kind before anything else runs.
+const ERROR_CAPTURE: &str = "
+window.pageErrors = [];
+function pageError(message) { window.pageErrors.push(String(message)); }
+window.addEventListener('error', function (ev) {
+  var t = ev.target;
+  if (t && t !== window && t.tagName) {
+    pageError('failed to load ' + t.tagName.toLowerCase() + ' ' + (t.getAttribute('src') || ''));
+  } else {
+    pageError(ev.message + ' (' + ev.filename + ':' + ev.lineno + ')');
+  }
+}, true);
+window.addEventListener('unhandledrejection', function (ev) {
+  pageError('unhandled rejection: ' + ev.reason);
+});
+(function () {
+  var original = console.error;
+  console.error = function () {
+    pageError(Array.prototype.join.call(arguments, ' '));
+    original.apply(console, arguments);
+  };
+})();
+";
+
+/// The last script: sortable tables and the self-check after `load`.
+const PAGE_SCRIPT: &str = "
+function cellKey(row, column) {
+  var cell = row.cells[column];
+  if (!cell.hasAttribute('data-v')) { return cell.textContent; }
+  var v = cell.getAttribute('data-v');
+  return v === '' ? null : Number(v);
+}
+function sortBy(th) {
+  var column = th.cellIndex;
+  var table = th.closest('table');
+  var body = table.tBodies[0];
+  var ascending = th.getAttribute('data-dir') !== 'asc';
+  Array.prototype.forEach.call(th.parentNode.cells, function (h) { h.removeAttribute('data-dir'); });
+  th.setAttribute('data-dir', ascending ? 'asc' : 'desc');
+  var rows = Array.prototype.slice.call(body.rows);
+  rows.sort(function (a, b) {
+    var x = cellKey(a, column), y = cellKey(b, column);
+    if (x === null) { return y === null ? 0 : 1; }
+    if (y === null) { return -1; }
+    var d = (typeof x === 'number' && typeof y === 'number') ? x - y : String(x).localeCompare(String(y));
+    return ascending ? d : -d;
+  });
+  rows.forEach(function (r) { body.appendChild(r); });
+}
+document.querySelectorAll('table.sortable thead th').forEach(function (th) {
+  th.title = 'sort by this column';
+  th.addEventListener('click', function () { sortBy(th); });
+});
+window.addEventListener('load', function () {
+  var images = Array.prototype.slice.call(document.images);
+  var loaded = images.filter(function (i) { return i.complete && i.naturalWidth > 0; });
+  images.forEach(function (i) {
+    if (!(i.complete && i.naturalWidth > 0)) { pageError('image not shown: ' + i.getAttribute('src')); }
+  });
+  document.getElementById('page-errors').textContent = window.pageErrors.join('\\n');
+  var b = document.body;
+  b.setAttribute('data-tables', String(document.querySelectorAll('table.sortable').length));
+  b.setAttribute('data-images', String(loaded.length));
+  b.setAttribute('data-errors', String(window.pageErrors.length));
+  b.setAttribute('data-ready', 'true');
+});
+";
+
+/// One numeric or text cell of a metrics table: the shown text and, for numbers, the exact
+/// value to sort by in `data-v` (empty for a missing figure, which sorts last).
+fn figure_cell(value: Option<&serde_json::Value>) -> String {
+    match value {
+        Some(serde_json::Value::Number(n)) => format!(
+            "<td data-v=\"{}\">{}</td>",
+            n,
+            escape(&value_text(value).unwrap_or_default())
+        ),
+        Some(serde_json::Value::String(s)) => format!("<td>{}</td>", escape(s)),
+        _ => "<td data-v=\"\">-</td>".to_string(),
+    }
+}
+
+/// A number of a comparison as a cell (`-` when missing).
+fn change_cell(x: Option<f64>) -> String {
+    match x {
+        Some(x) => format!("<td data-v=\"{x:e}\">{x:.3e}</td>"),
+        None => "<td data-v=\"\">-</td>".to_string(),
+    }
+}
+
+/// The meshes of a report, in record order.
+fn meshes(report: &Report) -> Vec<&str> {
+    let mut meshes: Vec<&str> = Vec::new();
+    for r in &report.records {
+        if !meshes.contains(&r.mesh.as_str()) {
+            meshes.push(&r.mesh);
+        }
+    }
+    meshes
+}
+
+/// The page for `report`, with the thumbnails `thumbnails` (written beforehand) and, when given,
+/// the changes against `baseline`.
+pub fn to_html(
+    report: &Report,
+    thumbnails: &[MeshThumbnails],
+    baseline: Option<&Baseline>,
+) -> String {
+    let commit = report.describe.as_deref().unwrap_or(&report.commit);
+    let mut out = String::new();
+    let _ = write!(
+        out,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <title>smoothlab results {}</title>\n<script>{ERROR_CAPTURE}</script>\n\
+         <style>{STYLE}</style>\n</head>\n<body>\n<h1>smoothlab results</h1>\n\
+         <pre id=\"page-errors\"></pre>\n",
+        escape(commit)
+    );
+    let _ = write!(
+        out,
+        "<p>commit <code>{}</code>, {}",
+        escape(commit),
+        escape(&report.date)
+    );
+    if let Some(version) = &report.tool_version {
+        let _ = write!(out, ", smoothlab {}", escape(version));
+    }
+    out += ".";
+    if let Some(machine) = &report.machine {
+        let _ = write!(
+            out,
+            " Timings (ms, median of up to {TIMING_RUNS} runs) measured on {}.",
+            escape(&machine.describe())
+        );
+    }
+    out += " Lengths relative to the bounding-box diagonal, angles in radians. \
+            Files: <a href=\"metrics.json\">metrics.json</a>, \
+            <a href=\"metrics.csv\">metrics.csv</a>, <a href=\"metrics.md\">metrics.md</a>. \
+            Click a column header to sort.</p>\n<nav><a href=\"#tables\">tables</a> · \
+            <a href=\"#plots\">plots</a> · <a href=\"#thumbnails\">zebra and curvature</a>";
+    if baseline.is_some() {
+        out += " · <a href=\"#baseline\">changes against the baseline</a>";
+    }
+    out += "</nav>\n";
+    if let Some(b) = baseline {
+        baseline_section(&mut out, b);
+    }
+    out += "<h2 id=\"tables\">Metrics</h2>\n";
+    for mesh in meshes(report) {
+        let _ = write!(
+            out,
+            "<h3 id=\"table-{0}\">{0}</h3>\n<div class=\"scroll\"><table class=\"sortable\">\
+             <thead><tr><th>scheme</th>",
+            escape(mesh)
+        );
+        for c in COLUMNS {
+            let _ = write!(out, "<th>{}</th>", escape(c));
+        }
+        out += "</tr></thead>\n<tbody>\n";
+        for r in report.records.iter().filter(|r| r.mesh == mesh) {
+            let _ = write!(out, "<tr><td>{}</td>", escape(&r.scheme));
+            for c in COLUMNS {
+                out += &figure_cell(r.figures.get(*c));
+            }
+            out += "</tr>\n";
+        }
+        out += "</tbody></table></div>\n";
+    }
+    out += "<h2 id=\"plots\">Plots</h2>\n<div class=\"plots\">\n";
+    for (key, title, _) in plots::PLOTS {
+        let _ = writeln!(
+            out,
+            "<img src=\"figures/{}.svg\" alt=\"{}\" title=\"{}\">",
+            escape(key),
+            escape(title),
+            escape(title)
+        );
+    }
+    out += "</div>\n<h2 id=\"thumbnails\">Zebra stripes and mean curvature</h2>\n\
+            <p class=\"note\">Exact ray tracing of each scheme's surface from one camera per mesh. \
+            Curvature: mean curvature H on a diverging scale over [−r, r] (blue negative, red \
+            positive; H is negative on convex regions), r shared by the schemes of a mesh.</p>\n";
+    for t in thumbnails {
+        let _ = write!(
+            out,
+            "<h3 id=\"thumbs-{0}\">{0}</h3>\n<p class=\"note\">curvature range r = {1:.3e}</p>\n\
+             <div class=\"scroll\"><table class=\"thumbs\"><thead><tr><th></th>",
+            escape(&t.mesh),
+            t.curvature_half_range
+        );
+        for s in &t.schemes {
+            let _ = write!(out, "<th>{}</th>", escape(s));
+        }
+        out += "</tr></thead>\n<tbody>\n";
+        for mode in THUMB_MODES {
+            let _ = write!(out, "<tr><th>{mode}</th>");
+            for s in &t.schemes {
+                let _ = write!(
+                    out,
+                    "<td><img src=\"{}\" width=\"{size}\" height=\"{size}\" alt=\"{} {} {}\" \
+                     loading=\"eager\"></td>",
+                    escape(&thumbnail_name(&t.mesh, s, mode)),
+                    escape(&t.mesh),
+                    escape(s),
+                    mode,
+                    size = t.size
+                );
+            }
+            out += "</tr>\n";
+        }
+        out += "</tbody></table></div>\n";
+    }
+    let _ = write!(out, "<script>{PAGE_SCRIPT}</script>\n</body>\n</html>\n");
+    out
+}
+
+/// The section with the changes against the baseline.
+fn baseline_section(out: &mut String, b: &Baseline) {
+    let c = b.comparison;
+    let worse = c.changes.iter().filter(|c| c.regression).count();
+    let _ = write!(
+        out,
+        "<h2 id=\"baseline\">Changes against the baseline</h2>\n<p>baseline <code>{}</code>: \
+         commit <code>{}</code>, {}. {worse} regression(s) among {} change(s), judged as \
+         <code>smoothlab compare --timings</code> judges them (default tolerances).</p>\n",
+        escape(&b.path.display().to_string()),
+        escape(b.report.describe.as_deref().unwrap_or(&b.report.commit)),
+        escape(&b.report.date),
+        c.changes.len()
+    );
+    for note in &c.notes {
+        let _ = writeln!(out, "<p class=\"note\">note: {}</p>", escape(note));
+    }
+    *out += "<div class=\"scroll\"><table class=\"sortable\" id=\"baseline-changes\"><thead><tr>\
+            <th>record</th><th>figure</th><th>old</th><th>new</th><th>verdict</th></tr></thead>\n\
+            <tbody>\n";
+    for change in &c.changes {
+        let _ = writeln!(
+            out,
+            "<tr{}><td>{}</td><td>{}</td>{}{}<td>{}</td></tr>",
+            if change.regression {
+                " class=\"worse\""
+            } else {
+                ""
+            },
+            escape(&change.record),
+            escape(&change.key),
+            change_cell(change.old),
+            change_cell(change.new),
+            if change.regression { "WORSE" } else { "" }
+        );
+    }
+    *out += "</tbody></table></div>\n";
+}
+
+/// Checks that an HTML page names every file it references and that each exists under
+/// `dir`: the relative `src` attributes of `page`. Returns the first missing one as an error.
+pub fn check_references(page: &str, dir: &Path) -> Result<usize> {
+    let mut count = 0;
+    for piece in page.split("src=\"").skip(1) {
+        let Some(end) = piece.find('"') else {
+            return Err(Error::Invalid("unterminated src attribute".into()));
+        };
+        let src = &piece[..end];
+        if src.contains("://") || src.starts_with('/') {
+            return Err(Error::Invalid(format!(
+                "{src}: the page must reference files beside it only"
+            )));
+        }
+        if !dir.join(src).is_file() {
+            return Err(Error::Invalid(format!(
+                "{}: referenced by the page but missing",
+                dir.join(src).display()
+            )));
+        }
+        count += 1;
+    }
+    Ok(count)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::compare::Change;
+    use crate::report::{REPORT_VERSION, Record};
+
+    fn report() -> Report {
+        let mut figures = serde_json::Map::new();
+        figures.insert("patches".into(), 4.into());
+        figures.insert("g1_between_faces_max_rad".into(), 1.5e-3.into());
+        figures.insert("continuity_order".into(), "n/a".into());
+        Report {
+            format: "smoothlab-report".into(),
+            version: REPORT_VERSION,
+            commit: "abc".into(),
+            date: "2026-01-01T00:00:00Z".into(),
+            records: vec![Record {
+                mesh: "cube".into(),
+                scheme: "hb<&>".into(),
+                figures,
+            }],
+            describe: None,
+            dirty: None,
+            tool_version: None,
+            machine: None,
+        }
+    }
+
+    #[test]
+    fn escape_covers_markup_characters() {
+        assert_eq!(escape("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c&#39;");
+    }
+
+    #[test]
+    fn tables_carry_sort_values_and_escape_names() {
+        let page = to_html(&report(), &[], None);
+        assert!(page.contains("<td>hb&lt;&amp;&gt;</td>"), "scheme escaped");
+        assert!(page.contains("<td data-v=\"4\">4</td>"), "integer cell");
+        assert!(
+            page.contains("<td data-v=\"0.0015\">1.500e-3</td>"),
+            "float cell"
+        );
+        assert!(page.contains("<td>n/a</td>"), "text cell");
+        // A figure the record lacks sorts last (empty data-v) and shows as '-'.
+        assert!(page.contains("<td data-v=\"\">-</td>"));
+        assert_eq!(page.matches("<table class=\"sortable\"").count(), 1);
+        assert!(!page.contains("id=\"baseline\""));
+        // Every plot, no thumbnails.
+        assert_eq!(page.matches("<img ").count(), plots::PLOTS.len());
+        assert!(!page.contains("http://") && !page.contains("https://"));
+    }
+
+    #[test]
+    fn baseline_changes_are_listed_with_their_verdicts() {
+        let new = report();
+        let comparison = Comparison {
+            changes: vec![
+                Change {
+                    record: "cube / hb".into(),
+                    key: "g1_max_rad".into(),
+                    old: Some(0.1),
+                    new: Some(0.2),
+                    regression: true,
+                },
+                Change {
+                    record: "cube / pn".into(),
+                    key: "construct_ms".into(),
+                    old: Some(10.0),
+                    new: None,
+                    regression: false,
+                },
+            ],
+            notes: vec!["timings <not> judged".into()],
+        };
+        let page = to_html(
+            &new,
+            &[],
+            Some(&Baseline {
+                path: Path::new("old.json"),
+                report: &new,
+                comparison: &comparison,
+            }),
+        );
+        assert!(page.contains("1 regression(s) among 2 change(s)"), "{page}");
+        assert!(page.contains(
+            "<tr class=\"worse\"><td>cube / hb</td><td>g1_max_rad</td><td data-v=\"1e-1\">\
+             1.000e-1</td><td data-v=\"2e-1\">2.000e-1</td><td>WORSE</td></tr>"
+        ));
+        assert!(page.contains("<td data-v=\"\">-</td><td></td></tr>"));
+        assert!(page.contains("note: timings &lt;not&gt; judged"));
+        assert_eq!(page.matches("<table class=\"sortable\"").count(), 2);
+    }
+
+    #[test]
+    fn missing_references_are_named() {
+        let dir = std::env::temp_dir().join(format!("smoothlab-page-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("figures")).expect("scratch");
+        std::fs::write(dir.join("figures/a.svg"), "<svg/>").expect("write");
+        let ok = "<img src=\"figures/a.svg\">";
+        assert_eq!(check_references(ok, &dir).expect("present"), 1);
+        let missing = "<img src=\"figures/a.svg\"><img src=\"thumbs/b.png\">";
+        let err = check_references(missing, &dir).expect_err("missing");
+        assert!(err.to_string().contains("thumbs/b.png"), "{err}");
+        let remote = "<img src=\"https://example.org/x.png\">";
+        assert!(check_references(remote, &dir).is_err());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

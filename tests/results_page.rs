@@ -1,0 +1,270 @@
+//! The results page (`index.html` of `smoothlab report`) in a real browser: headless Chromium
+//! loads it from disk, and the DOM it dumps after the `load` event must carry the page's own
+//! check — `data-ready`, no recorded error (script errors, failed loads, `console.error`), the
+//! expected number of sortable tables and of images that decoded. A screenshot of each page
+//! goes into the test's scratch folder (`target/tmp/results_page/…`).
+//!
+//! Chromium is found as `$SMOOTHLAB_CHROMIUM`, else `chromium` or `chromium-browser` on the
+//! `PATH`. Without it the tests fail with the way to install it (`apt-get install -y
+//! chromium` on Debian; `.ci/run` does so), unless `SMOOTHLAB_SKIP_BROWSER_TESTS=1` asks to
+//! skip them.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use smoothlab::report::{self, page, plots};
+
+mod common;
+
+fn scratch(test: &str) -> PathBuf {
+    common::scratch("results_page", test)
+}
+
+/// The Chromium binary, or None when the tests are explicitly skipped; panics with the way to
+/// install it otherwise.
+fn chromium() -> Option<PathBuf> {
+    if let Some(path) = std::env::var_os("SMOOTHLAB_CHROMIUM") {
+        return Some(PathBuf::from(path));
+    }
+    let found = std::env::var_os("PATH").and_then(|paths| {
+        std::env::split_paths(&paths)
+            .flat_map(|dir| ["chromium", "chromium-browser"].map(|name| dir.join(name)))
+            .find(|p| p.is_file())
+    });
+    if found.is_some() {
+        return found;
+    }
+    if std::env::var("SMOOTHLAB_SKIP_BROWSER_TESTS").is_ok_and(|v| v == "1") {
+        eprintln!("browser test skipped: SMOOTHLAB_SKIP_BROWSER_TESTS=1 and no Chromium found");
+        return None;
+    }
+    panic!(
+        "headless Chromium is needed to test the results page and was not found on the PATH: \
+         install it (Debian: `apt-get install -y chromium`), point SMOOTHLAB_CHROMIUM at the \
+         binary, or set SMOOTHLAB_SKIP_BROWSER_TESTS=1 to skip the browser tests"
+    );
+}
+
+/// What the page reported about itself in the browser.
+#[derive(Debug)]
+struct PageCheck {
+    ready: bool,
+    tables: usize,
+    images: usize,
+    errors: usize,
+    messages: String,
+}
+
+/// The value of attribute `name` in the `<body …>` tag of `dom`.
+fn body_attribute<'a>(dom: &'a str, name: &str) -> Option<&'a str> {
+    let start = dom.find("<body")?;
+    let tag = &dom[start..start + dom[start..].find('>')?];
+    let key = format!("{name}=\"");
+    let from = tag.find(&key)? + key.len();
+    Some(&tag[from..from + tag[from..].find('"')?])
+}
+
+/// Loads `page` in headless Chromium: the DOM after `load` (the page's self-check) and a
+/// screenshot into `shot`.
+fn open_in_browser(browser: &Path, page: &Path, shot: &Path) -> PageCheck {
+    let url = format!(
+        "file://{}",
+        page.canonicalize().expect("page path").display()
+    );
+    let profile = shot.with_extension("profile");
+    let run = |extra: &[&str]| {
+        let out = Command::new(browser)
+            .args([
+                "--headless",
+                "--disable-gpu",
+                "--no-sandbox",
+                "--no-first-run",
+                "--hide-scrollbars",
+                "--virtual-time-budget=20000",
+                "--window-size=1280,1600",
+            ])
+            .arg(format!("--user-data-dir={}", profile.display()))
+            .args(extra)
+            .arg(&url)
+            .output()
+            .expect("run chromium");
+        assert!(
+            out.status.success(),
+            "chromium failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out
+    };
+    let dom = String::from_utf8(run(&["--dump-dom"]).stdout).expect("utf-8 DOM");
+    run(&[&format!("--screenshot={}", shot.display())]);
+    let png = std::fs::read(shot).expect("screenshot written");
+    assert!(png.starts_with(b"\x89PNG"), "screenshot is a PNG");
+    eprintln!("screenshot: {}", shot.display());
+    let number = |name: &str| {
+        body_attribute(&dom, name)
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(usize::MAX)
+    };
+    let messages = dom
+        .split("<pre id=\"page-errors\">")
+        .nth(1)
+        .and_then(|rest| rest.split("</pre>").next())
+        .unwrap_or("(no page-errors element)")
+        .to_string();
+    PageCheck {
+        ready: body_attribute(&dom, "data-ready") == Some("true"),
+        tables: number("data-tables"),
+        images: number("data-images"),
+        errors: number("data-errors"),
+        messages,
+    }
+}
+
+/// The page must have run its check with no error and shown every table and image.
+fn assert_page_ok(check: &PageCheck, tables: usize, images: usize) {
+    assert!(check.ready, "the page's script did not finish: {check:?}");
+    assert_eq!(check.errors, 0, "errors in the page: {}", check.messages);
+    assert_eq!(check.tables, tables, "sortable tables: {check:?}");
+    assert_eq!(check.images, images, "images shown: {check:?}");
+}
+
+/// Meshes of a report, in order.
+fn mesh_count(report: &report::Report) -> usize {
+    let mut meshes: Vec<&str> = report.records.iter().map(|r| r.mesh.as_str()).collect();
+    meshes.dedup();
+    meshes.len()
+}
+
+/// The committed `results/index.html` (the acceptance check of `.ci/run`).
+#[test]
+fn committed_results_page_renders_in_a_browser() {
+    let Some(browser) = chromium() else { return };
+    let results = Path::new(env!("CARGO_MANIFEST_DIR")).join("results");
+    let recorded = report::read(&results.join("metrics.json")).expect("results/metrics.json");
+    let html = std::fs::read_to_string(results.join(page::PAGE)).expect("results/index.html");
+    page::check_references(&html, &results).expect("every referenced file is committed");
+    let dir = scratch("committed");
+    let check = open_in_browser(
+        &browser,
+        &results.join(page::PAGE),
+        &dir.join("results.png"),
+    );
+    assert_page_ok(
+        &check,
+        mesh_count(&recorded),
+        plots::PLOTS.len() + page::THUMB_MODES.len() * recorded.records.len(),
+    );
+}
+
+/// `report --baseline`: a bad baseline is refused before any work; a good one adds the table of
+/// changes to a page that renders cleanly, and a second summary line.
+#[test]
+fn a_report_with_a_baseline_renders_in_a_browser() {
+    let dir = scratch("baseline");
+    let out_dir = dir.join("out");
+    let out_str = out_dir.to_str().expect("utf-8");
+    // A metrics --json style list is no report: one error line naming the file.
+    let bad = dir.join("list.json");
+    std::fs::write(&bad, "[{\"scheme\":\"hb\"}]").expect("write");
+    let out = common::smoothlab(&[
+        "report",
+        "--out",
+        out_str,
+        "--baseline",
+        bad.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.starts_with("error: ") && stderr.contains("list.json: not a smoothlab report"),
+        "{stderr}"
+    );
+    assert!(!out_dir.join(page::PAGE).exists(), "nothing written");
+
+    // The committed report, with one quality figure made better than it is now: the new run
+    // must flag it as a regression on the page.
+    let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("results/metrics.json");
+    let mut old = report::read(&committed).expect("results/metrics.json");
+    let target = old
+        .records
+        .iter_mut()
+        .find(|r| r.mesh == "torus" && r.scheme == "hb")
+        .expect("torus / hb recorded");
+    target
+        .figures
+        .insert("bending_energy".into(), serde_json::json!(1e-3));
+    let baseline = dir.join("old.json");
+    std::fs::write(&baseline, serde_json::to_string(&old).expect("json")).expect("write");
+    let out = common::smoothlab(&[
+        "report",
+        "--out",
+        out_str,
+        "--baseline",
+        baseline.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 2, "{stdout}");
+    assert!(lines[0].starts_with("report: "), "{stdout}");
+    assert!(
+        lines[1].starts_with(&format!("baseline {}: ", baseline.display())),
+        "{stdout}"
+    );
+    let new = report::read(&out_dir.join("metrics.json")).expect("new report");
+    let html = std::fs::read_to_string(out_dir.join(page::PAGE)).expect("page");
+    assert!(
+        html.contains(
+            "<tr class=\"worse\"><td>torus / hb</td><td>bending_energy</td><td data-v=\"1e-3\">"
+        ),
+        "the injected regression is on the page"
+    );
+    let thumbs = std::fs::read_dir(out_dir.join(page::THUMBS))
+        .expect("thumbs")
+        .count();
+    assert_eq!(thumbs, page::THUMB_MODES.len() * new.records.len());
+    let Some(browser) = chromium() else { return };
+    let check = open_in_browser(&browser, &out_dir.join(page::PAGE), &dir.join("page.png"));
+    assert_page_ok(
+        &check,
+        mesh_count(&new) + 1,
+        plots::PLOTS.len() + page::THUMB_MODES.len() * new.records.len(),
+    );
+}
+
+/// The check can fail: the committed page copied without its images and with a script error
+/// reports both.
+#[test]
+fn the_browser_check_catches_a_broken_page() {
+    let Some(browser) = chromium() else { return };
+    let dir = scratch("broken");
+    let results = Path::new(env!("CARGO_MANIFEST_DIR")).join("results");
+    let html = std::fs::read_to_string(results.join(page::PAGE)).expect("results/index.html");
+    let broken = html.replacen(
+        "</body>",
+        "<script>undefinedFunctionOfTheTest();</script></body>",
+        1,
+    );
+    assert_ne!(broken, html, "script injected");
+    let path = dir.join(page::PAGE);
+    std::fs::write(&path, broken).expect("write");
+    let check = open_in_browser(&browser, &path, &dir.join("broken.png"));
+    assert!(check.ready, "{check:?}");
+    assert_eq!(check.images, 0, "{check:?}");
+    assert!(check.errors > 1, "{check:?}");
+    assert!(
+        check.messages.contains("undefinedFunctionOfTheTest"),
+        "{}",
+        check.messages
+    );
+    assert!(
+        check.messages.contains("failed to load img thumbs/"),
+        "{}",
+        check.messages
+    );
+}
