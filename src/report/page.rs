@@ -30,7 +30,7 @@ use crate::render::camera::Camera;
 use crate::render::film::{Frame, RenderSettings};
 use crate::render::job::{CameraSpec, RenderJob, surface_samples};
 use crate::render::modes::curvature::abs_percentile;
-use crate::render::modes::palette::diverging;
+use crate::render::modes::palette::rdbu;
 use crate::render::modes::{Mode, ZebraParams};
 use crate::render::output::write_png;
 use crate::surface::Surface;
@@ -169,7 +169,11 @@ pub fn render_thumbnails(
             rgb: pixels
                 .iter()
                 .map(|h| match h {
-                    Some(h) => diverging(h / half_range).as_vec3().to_array(),
+                    // Convex positive (red), as the curvature mode's default: H of the
+                    // outward patch normal is negative on convex regions.
+                    Some(h) => rdbu((0.5 - 0.5 * h / half_range).clamp(0.0, 1.0))
+                        .as_vec3()
+                        .to_array(),
                     None => background,
                 })
                 .collect(),
@@ -417,8 +421,8 @@ pub fn to_html(
     }
     out += "</div>\n<h2 id=\"thumbnails\">Zebra stripes and mean curvature</h2>\n\
             <p class=\"note\">Exact ray tracing of each scheme's surface from one camera per mesh. \
-            Curvature: mean curvature H on a diverging scale over [−r, r] (blue negative, red \
-            positive; H is negative on convex regions), r shared by the schemes of a mesh.</p>\n";
+            Curvature: mean curvature H on a diverging scale over [−r, r], convex positive (red) and \
+            concave negative (blue) for the outward normal, r shared by the schemes of a mesh.</p>\n";
     for t in thumbnails {
         let _ = write!(
             out,
