@@ -5,9 +5,12 @@
 //! direction ([`Environment::pdf`]), so that light and BRDF samples can be combined by multiple
 //! importance sampling.
 //!
-//! The studio is sampled analytically as a mixture of emitters: each soft box uniformly over
-//! the rectangle its angular extent spans on its tangent plane (density `1 / (A cos³θ)`), the
-//! sky uniformly over the sphere, chosen in proportion to their power. A map is sampled through
+//! The studio is sampled analytically as a mixture of emitters: each soft box uniformly in the
+//! two angles that define it (density `1 / (4 α β cos³θ sec²x sec²y)` per solid angle, within
+//! a factor 1.6 of uniform over the widest box), the sky cosine-weighted about the shading
+//! normal. The emitter is chosen in proportion to its power times a bound of its cosine at the
+//! shading point (zero for a box wholly below the horizon, which no BRDF sample can reach
+//! either), as pbrt-v4's light sampler weighs lights by their orientation bounds. A map is sampled through
 //! a piecewise-constant 2-D distribution over its texels (luminance × `sin θ`, marginal over
 //! rows, conditional within a row), density `p(u, v) / (2π² sin θ)` per solid angle.
 
@@ -27,6 +30,8 @@ pub struct LatLongMap {
     texels: Vec<[f32; 3]>,
     /// Sampling distribution over texels; None for a black map.
     distribution: Option<Distribution2D>,
+    /// Mean luminance over the sphere.
+    mean_luminance: f64,
 }
 
 impl LatLongMap {
@@ -86,11 +91,18 @@ impl LatLongMap {
             })
             .collect();
         let distribution = Distribution2D::new(&weights, width, height);
+        // Texel solid angles are ∝ sin θ: the mean is Σ L sin θ / Σ sin θ.
+        let sines: f64 = (0..height)
+            .map(|y| ((y as f64 + 0.5) / height as f64 * PI).sin())
+            .sum::<f64>()
+            * width as f64;
+        let mean_luminance = weights.iter().sum::<f64>() / sines;
         Ok(LatLongMap {
             width,
             height,
             texels,
             distribution,
+            mean_luminance,
         })
     }
 
@@ -264,17 +276,22 @@ const SOFT_BOXES: [(DVec3, f64, f64, f64); 3] = [
 
 /// Share of the sky in the studio's light selection, relative to its power: the sky is dim
 /// and smooth, so BRDF samples find most of it; the rest goes to the soft boxes.
-const SKY_SELECTION: f64 = 0.5;
+const SKY_SELECTION: f64 = 0.25;
 
-/// One soft box as an emitter: frame, the half-sides of its rectangle on the tangent plane at
-/// unit distance, and that rectangle's area.
+/// One soft box as an emitter: frame, its angular half-extents, the half-sides of the rectangle
+/// they span on the tangent plane at unit distance, the angular area `4 α β`, the half-angle
+/// of a cone about the centre holding the box, and its power (radiance × angular area).
 struct SoftBox {
     centre: DVec3,
+    spread: f64,
+    power: f64,
     a: DVec3,
     b: DVec3,
+    half_a: f64,
+    half_b: f64,
     half_x: f64,
     half_y: f64,
-    area: f64,
+    angular_area: f64,
 }
 
 impl SoftBox {
@@ -283,24 +300,32 @@ impl SoftBox {
         let c = centre.normalize();
         let (a, b) = c.any_orthonormal_pair();
         let (half_x, half_y) = (half_a.tan(), half_b.tan());
+        let (_, _, _, radiance) = SOFT_BOXES[k];
         SoftBox {
             centre: c,
+            // The corners are the farthest points from the centre.
+            spread: (half_x * half_x + half_y * half_y).sqrt().atan(),
+            power: radiance * 4.0 * half_a * half_b,
             a,
             b,
+            half_a,
+            half_b,
             half_x,
             half_y,
-            area: 4.0 * half_x * half_y,
+            angular_area: 4.0 * half_a * half_b,
         }
     }
 
-    /// A direction uniform over the rectangle.
+    /// A direction uniform in the box's angles `x = atan(d·a / d·c)`, `y = atan(d·b / d·c)`.
     fn sample(&self, r1: f64, r2: f64) -> DVec3 {
-        let x = (2.0 * r1 - 1.0) * self.half_x;
-        let y = (2.0 * r2 - 1.0) * self.half_y;
+        let x = ((2.0 * r1 - 1.0) * self.half_a).tan();
+        let y = ((2.0 * r2 - 1.0) * self.half_b).tan();
         (self.centre + self.a * x + self.b * y).normalize()
     }
 
-    /// Solid-angle density of [`SoftBox::sample`] at `d`: `1 / (A cos³θ)` inside, 0 outside.
+    /// Solid-angle density of [`SoftBox::sample`] at `d`, 0 outside the box: with `X = tan x`,
+    /// `Y = tan y` the point on the tangent plane, `dω = dX dY cos³θ` and `dX = (1 + X²) dx`,
+    /// so `p = 1 / (4 α β cos³θ (1 + X²) (1 + Y²))`.
     fn pdf(&self, d: DVec3) -> f64 {
         let cos = d.dot(self.centre);
         if cos <= 0.0 {
@@ -310,33 +335,33 @@ impl SoftBox {
         if x.abs() > self.half_x || y.abs() > self.half_y {
             return 0.0;
         }
-        1.0 / (self.area * cos * cos * cos)
+        1.0 / (self.angular_area * cos * cos * cos * (1.0 + x * x) * (1.0 + y * y))
     }
 }
 
-/// The studio's emitters (three soft boxes, then the sky) and their selection probabilities.
-struct StudioLights {
-    boxes: [SoftBox; 3],
-    /// Selection probabilities of the boxes and (last) the sky; they sum to 1.
-    select: [f64; 4],
+fn soft_boxes() -> &'static [SoftBox; 3] {
+    static BOXES: std::sync::OnceLock<[SoftBox; 3]> = std::sync::OnceLock::new();
+    BOXES.get_or_init(|| [SoftBox::new(0), SoftBox::new(1), SoftBox::new(2)])
 }
 
-fn studio_lights() -> &'static StudioLights {
-    static LIGHTS: std::sync::OnceLock<StudioLights> = std::sync::OnceLock::new();
-    LIGHTS.get_or_init(|| {
-        let boxes = [SoftBox::new(0), SoftBox::new(1), SoftBox::new(2)];
-        // Power: radiance × solid angle (≈ the angular rectangle), and the mean sky × 4π.
-        let mut select = [0.0; 4];
-        for (k, (_, half_a, half_b, radiance)) in SOFT_BOXES.iter().enumerate() {
-            select[k] = radiance * 4.0 * half_a * half_b;
-        }
-        select[3] = SKY_SELECTION * 0.07 * 4.0 * PI;
-        let total: f64 = select.iter().sum();
-        for s in &mut select {
-            *s /= total;
-        }
-        StudioLights { boxes, select }
-    })
+/// Selection probabilities of the three boxes and (last) the sky at a point of unit normal
+/// `normal`: power × the largest cosine any direction of the emitter makes with the normal
+/// (zero when the whole box is below the horizon); the sky's power is the mean sky over the
+/// hemisphere times π, scaled by [`SKY_SELECTION`].
+fn studio_selection(normal: DVec3) -> [f64; 4] {
+    let mut select = [0.0; 4];
+    for (s, b) in select.iter_mut().zip(soft_boxes()) {
+        let angle = normal.dot(b.centre).clamp(-1.0, 1.0).acos();
+        let closest = (angle - b.spread).max(0.0);
+        *s = if closest < std::f64::consts::FRAC_PI_2 {
+            b.power * closest.cos()
+        } else {
+            0.0
+        };
+    }
+    select[3] = SKY_SELECTION * 0.07 * PI;
+    let total: f64 = select.iter().sum();
+    select.map(|s| s / total)
 }
 
 /// A direction sampled towards the light.
@@ -377,26 +402,51 @@ impl Environment {
         }
     }
 
-    /// A direction drawn in proportion to the light from three uniform numbers (the first
-    /// chooses the emitter for the studio, the last two place the direction), or None when the
-    /// environment is black.
-    pub fn sample(&self, r: [f64; 3]) -> Option<LightSample> {
+    /// Mean luminance of the radiance over the sphere of directions.
+    pub fn mean_luminance(&self) -> f64 {
+        match self {
+            Environment::Map(map) => map.mean_luminance,
+            Environment::Studio => {
+                // Midpoint quadrature over a 512 × 256 lat-long grid, once.
+                static MEAN: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+                *MEAN.get_or_init(|| {
+                    let (w, h) = (512, 256);
+                    let (mut sum, mut weight) = (0.0, 0.0);
+                    for y in 0..h {
+                        let v = (f64::from(y) + 0.5) / f64::from(h);
+                        let sin = (v * PI).sin();
+                        for x in 0..w {
+                            let d = uv_to_direction((f64::from(x) + 0.5) / f64::from(w), v);
+                            sum += luminance(self.radiance(d)) * sin;
+                            weight += sin;
+                        }
+                    }
+                    sum / weight
+                })
+            }
+        }
+    }
+
+    /// A direction drawn in proportion to the light seen from a point of unit normal `normal`,
+    /// from three uniform numbers (the first chooses the emitter for the studio, the last two
+    /// place the direction), or None when the environment is black.
+    pub fn sample(&self, normal: DVec3, r: [f64; 3]) -> Option<LightSample> {
         let (dir, pdf) = match self {
             Environment::Map(map) => map.sample(r)?,
             Environment::Studio => {
-                let lights = studio_lights();
+                let select = studio_selection(normal);
                 let mut k = 0;
-                let mut acc = lights.select[0];
-                while k < 3 && r[0] >= acc {
+                let mut acc = select[0];
+                while k < 3 && (r[0] >= acc || select[k] == 0.0) {
                     k += 1;
-                    acc += lights.select[k];
+                    acc += select[k];
                 }
                 let dir = if k < 3 {
-                    lights.boxes[k].sample(r[1], r[2])
+                    soft_boxes()[k].sample(r[1], r[2])
                 } else {
-                    uniform_sphere(r[1], r[2])
+                    cosine_hemisphere(normal, r[1], r[2])
                 };
-                (dir, self.pdf(dir))
+                (dir, self.pdf(normal, dir))
             }
         };
         (pdf > 0.0 && pdf.is_finite()).then(|| LightSample {
@@ -406,25 +456,34 @@ impl Environment {
         })
     }
 
-    /// Solid-angle density with which [`Environment::sample`] draws direction `d` (unit).
-    pub fn pdf(&self, d: DVec3) -> f64 {
+    /// Solid-angle density with which [`Environment::sample`] draws direction `d` (unit) at a
+    /// point of unit normal `normal`.
+    pub fn pdf(&self, normal: DVec3, d: DVec3) -> f64 {
         match self {
             Environment::Map(map) => map.pdf(d),
             Environment::Studio => {
-                let lights = studio_lights();
-                let boxes: f64 = lights
-                    .boxes
+                let select = studio_selection(normal);
+                let boxes: f64 = soft_boxes()
                     .iter()
-                    .zip(lights.select)
-                    .map(|(b, p)| p * b.pdf(d))
+                    .zip(select)
+                    .map(|(b, p)| if p > 0.0 { p * b.pdf(d) } else { 0.0 })
                     .sum();
-                boxes + lights.select[3] / (4.0 * PI)
+                boxes + select[3] * normal.dot(d).max(0.0) / PI
             }
         }
     }
 }
 
+/// A cosine-weighted direction about unit `n`.
+fn cosine_hemisphere(n: DVec3, r1: f64, r2: f64) -> DVec3 {
+    let (a, b) = n.any_orthonormal_pair();
+    let phi = TAU * r1;
+    let r = r2.sqrt();
+    (a * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - r2).max(0.0).sqrt()).normalize()
+}
+
 /// A direction uniform on the unit sphere.
+#[cfg(test)]
 fn uniform_sphere(r1: f64, r2: f64) -> DVec3 {
     let z = 1.0 - 2.0 * r1;
     let r = (1.0 - z * z).max(0.0).sqrt();
@@ -456,8 +515,11 @@ mod tests {
         LatLongMap::from_texels(w, h, texels).expect("map")
     }
 
+    /// Shading normals the tests look from: up, down (the top box below the horizon), sideways.
+    const NORMALS: [DVec3; 3] = [DVec3::Y, DVec3::NEG_Y, DVec3::new(0.6, 0.0, -0.8)];
+
     /// `∫ pdf dω = 1` by stratified quadrature over the sphere in (z, φ).
-    fn integral_of_pdf(env: &Environment) -> f64 {
+    fn integral_of_pdf(env: &Environment, normal: DVec3) -> f64 {
         let n = 1000;
         let mut sum = 0.0;
         for i in 0..n {
@@ -465,7 +527,7 @@ mod tests {
                 let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
                 let phi = TAU * (j as f64 + 0.5) / n as f64;
                 let r = (1.0 - z * z).sqrt();
-                sum += env.pdf(DVec3::new(r * phi.cos(), r * phi.sin(), z));
+                sum += env.pdf(normal, DVec3::new(r * phi.cos(), r * phi.sin(), z));
             }
         }
         sum * 4.0 * PI / (n * n) as f64
@@ -473,35 +535,68 @@ mod tests {
 
     #[test]
     fn densities_integrate_to_one() {
-        let studio = integral_of_pdf(&Environment::Studio);
-        assert!((studio - 1.0).abs() < 0.01, "studio ∫pdf = {studio}");
-        let map = integral_of_pdf(&Environment::Map(Arc::new(test_map())));
+        for normal in NORMALS {
+            let studio = integral_of_pdf(&Environment::Studio, normal);
+            assert!(
+                (studio - 1.0).abs() < 0.01,
+                "studio at {normal}: ∫pdf = {studio}"
+            );
+        }
+        let map = integral_of_pdf(&Environment::Map(Arc::new(test_map())), DVec3::Y);
         assert!((map - 1.0).abs() < 0.01, "map ∫pdf = {map}");
     }
 
-    /// The light-sampling estimate `L / pdf` of `∫ L dω` agrees with uniform-sphere quadrature,
-    /// and every sample's stated pdf is `Environment::pdf` at its direction.
+    /// The light-sampling estimate `L cos⁺ / pdf` of the irradiance `∫ L cos⁺ dω` at a point
+    /// agrees with uniform-sphere quadrature for each normal, and every sample's stated pdf is
+    /// `Environment::pdf` at its direction.
     #[test]
-    fn light_sampling_estimates_the_total_power() {
+    fn light_sampling_estimates_the_irradiance() {
         for env in [Environment::Studio, Environment::Map(Arc::new(test_map()))] {
-            let n = 200_000u32;
-            let (mut sampled, mut uniform_est) = (DVec3::ZERO, DVec3::ZERO);
-            for i in 0..n {
-                let r = [
-                    uniform(3, 0, i, 0),
-                    uniform(3, 0, i, 1),
-                    uniform(3, 0, i, 2),
-                ];
-                let s = env.sample(r).expect("a sample");
-                assert!((s.dir.length() - 1.0).abs() < 1e-12);
-                assert_eq!(s.pdf, env.pdf(s.dir));
-                sampled += s.radiance / s.pdf;
-                let d = uniform_sphere(uniform(4, 0, i, 0), uniform(4, 0, i, 1));
-                uniform_est += env.radiance(d) * 4.0 * PI;
+            for normal in NORMALS {
+                let n = 200_000u32;
+                let (mut sampled, mut uniform_est) = (DVec3::ZERO, DVec3::ZERO);
+                for i in 0..n {
+                    let r = [
+                        uniform(3, 0, i, 0),
+                        uniform(3, 0, i, 1),
+                        uniform(3, 0, i, 2),
+                    ];
+                    let s = env.sample(normal, r).expect("a sample");
+                    assert!((s.dir.length() - 1.0).abs() < 1e-12);
+                    assert_eq!(s.pdf, env.pdf(normal, s.dir));
+                    sampled += s.radiance * normal.dot(s.dir).max(0.0) / s.pdf;
+                    let d = uniform_sphere(uniform(4, 0, i, 0), uniform(4, 0, i, 1));
+                    uniform_est += env.radiance(d) * normal.dot(d).max(0.0) * 4.0 * PI;
+                }
+                let (a, b) = (sampled / f64::from(n), uniform_est / f64::from(n));
+                let rel = ((a - b).abs() / b).max_element();
+                assert!(
+                    rel < 0.02,
+                    "{env:?} at {normal}: light sampling {a}, uniform {b}"
+                );
             }
-            let (a, b) = (sampled / f64::from(n), uniform_est / f64::from(n));
-            let rel = ((a - b).abs() / b).max_element();
-            assert!(rel < 0.02, "{env:?}: light sampling {a}, uniform {b}");
+        }
+    }
+
+    /// The mean luminance is that of uniform directions.
+    #[test]
+    fn mean_luminance_is_the_average_over_the_sphere() {
+        for env in [Environment::Studio, Environment::Map(Arc::new(test_map()))] {
+            let n = 400_000u32;
+            let sum: f64 = (0..n)
+                .map(|i| {
+                    luminance(
+                        env.radiance(uniform_sphere(uniform(6, 0, i, 0), uniform(6, 0, i, 1))),
+                    )
+                })
+                .sum();
+            let mean = sum / f64::from(n);
+            let rel = (env.mean_luminance() - mean).abs() / mean;
+            assert!(
+                rel < 0.03,
+                "{env:?}: {} vs sampled {mean}",
+                env.mean_luminance()
+            );
         }
     }
 

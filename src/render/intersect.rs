@@ -351,10 +351,12 @@ impl<'s> Tracer<'s> {
                     counters.accepted_iterations += u64::from(iterations);
                     counters.accepted_iterations_max =
                         counters.accepted_iterations_max.max(iterations);
-                    // A steep ray meets the leaf once: this is the root.
-                    if !start.may_meet_twice() {
-                        return hit;
-                    }
+                }
+                // A steep ray meets the leaf once: this is its only root, inside the ray's
+                // interval or not (a secondary ray leaving the surface meets the leaf it
+                // starts on just behind its origin, and has no other root there).
+                if !start.may_meet_twice() {
+                    return hit;
                 }
                 hit
             }
