@@ -83,7 +83,7 @@ def timed(spp, seed):
 spp = a.spp
 if a.seconds is not None:
     timed(2, a.seed + 1000)  # warm-up: JIT compilation, file loading
-    probe = 8
+    probe = 32
     _, dt = timed(probe, a.seed + 2000)
     spp = max(1, round(a.seconds * probe / dt))
 img, dt = timed(spp, a.seed)
