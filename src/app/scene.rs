@@ -293,6 +293,10 @@ pub struct ShadedSection {
     pub bounces: Option<u32>,
     /// "studio" or the path of a lat-long EXR.
     pub environment: Option<String>,
+    /// Next-event estimation with MIS (true, default) or BRDF sampling only.
+    pub light_sampling: Option<bool>,
+    /// First bounce after which Russian roulette may end a path.
+    pub rr_depth: Option<u32>,
 }
 
 impl SceneFile {
@@ -682,6 +686,12 @@ impl SceneFile {
         }
         if let Some(b) = s.bounces {
             p.max_bounces = b.max(1);
+        }
+        if let Some(l) = s.light_sampling {
+            p.light_sampling = l;
+        }
+        if let Some(d) = s.rr_depth {
+            p.rr_depth = d;
         }
         if let Some(env) = &s.environment
             && env != "studio"

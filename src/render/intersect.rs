@@ -181,6 +181,24 @@ impl<'s> Tracer<'s> {
             .map(|hit| self.to_world(hit))
     }
 
+    /// Whether the ray meets the surface at some `t ∈ (t_min, t_max)`: the traversal stops at
+    /// the first leaf holding such a root (any-hit, for shadow rays), with the same
+    /// watertightness as [`Tracer::closest_hit`].
+    pub fn occluded(
+        &self,
+        ray: &Ray64,
+        t_min: f64,
+        t_max: f64,
+        counters: &mut IntersectCounters,
+    ) -> bool {
+        let (ray, t_min, t_max) = self.to_unit(ray, t_min, t_max);
+        let planes = RayPlanes::new(&ray);
+        any_in_bvh(&self.bvh.bvh, self.bvh.padding, &ray, t_min, t_max, |id| {
+            self.intersect_leaf(&self.bvh.leaves[id], &ray, &planes, t_min, t_max, counters)
+                .is_some()
+        })
+    }
+
     /// A world ray and interval in the unit frame.
     fn to_unit(&self, ray: &Ray64, t_min: f64, t_max: f64) -> (Ray64, f64, f64) {
         let unit = Ray64 {
@@ -333,10 +351,12 @@ impl<'s> Tracer<'s> {
                     counters.accepted_iterations += u64::from(iterations);
                     counters.accepted_iterations_max =
                         counters.accepted_iterations_max.max(iterations);
-                    // A steep ray meets the leaf once: this is the root.
-                    if !start.may_meet_twice() {
-                        return hit;
-                    }
+                }
+                // A steep ray meets the leaf once: this is its only root, inside the ray's
+                // interval or not (a secondary ray leaving the surface meets the leaf it
+                // starts on just behind its origin, and has no other root there).
+                if !start.may_meet_twice() {
+                    return hit;
                 }
                 hit
             }
@@ -475,6 +495,38 @@ pub(crate) fn closest_in_bvh(
     best
 }
 
+/// Whether `hit(primitive)` holds for some primitive of `bvh` whose box the ray enters in
+/// `(t_min, t_max)`: obvhs' miss traversal, which stops at the first primitive reporting a hit.
+/// The traversal ray is set back and padded as in [`closest_in_bvh`].
+pub(crate) fn any_in_bvh(
+    bvh: &CwBvh,
+    padding: f64,
+    ray: &Ray64,
+    t_min: f64,
+    t_max: f64,
+    mut hit: impl FnMut(usize) -> bool,
+) -> bool {
+    let setback = TRAVERSAL_SETBACK;
+    let traversal = Ray::new(
+        (ray.origin - ray.dir * setback).as_vec3a(),
+        ray.dir.as_vec3a() + Vec3A::ZERO,
+        (t_min + setback - padding).max(0.0) as f32,
+        if t_max.is_finite() {
+            (t_max + setback + padding) as f32
+        } else {
+            f32::INFINITY
+        },
+    );
+    // The closure's distance only has to be below the ray's t_max for obvhs to stop.
+    !bvh.ray_traverse_miss(traversal, |_, id| {
+        if hit(id) {
+            f32::NEG_INFINITY
+        } else {
+            f32::INFINITY
+        }
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -600,6 +652,41 @@ mod tests {
         }
         assert!(hits > 2000, "most rays aim inside the sphere: {hits}");
         assert!((t_sum_bvh - t_sum_brute).abs() <= 1e-12 * t_sum_brute);
+    }
+
+    /// The any-hit query agrees with the closest-hit query on every ray, including rays that
+    /// start on the surface (shadow rays) and rays whose interval ends before the surface.
+    #[test]
+    fn occluded_agrees_with_closest_hit() {
+        let surface = octahedron_sphere(4, 1.3, 1);
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
+        let mut counters = IntersectCounters::default();
+        let (mut blocked, mut free) = (0, 0);
+        for i in 0..3000u64 {
+            let (origin, t_max) = match i % 3 {
+                0 => (sphere_direction(5, i) * 3.0, f64::INFINITY),
+                // From a point on the surface, outwards or inwards.
+                1 => {
+                    let p = surface.patches[(i % 32) as usize].eval(0.3, 0.2);
+                    (p, f64::INFINITY)
+                }
+                _ => (sphere_direction(5, i) * 3.0, 1.5),
+            };
+            let ray = Ray64::new(origin, sphere_direction(6, i) * 0.9 - origin * 0.5);
+            let t_min = 1e-7;
+            let closest = tracer.closest_hit(&ray, t_min, t_max, &mut counters);
+            let any = tracer.occluded(&ray, t_min, t_max, &mut counters);
+            assert_eq!(
+                any,
+                closest.is_some(),
+                "ray {i}: {ray:?} closest {closest:?}"
+            );
+            if any { blocked += 1 } else { free += 1 }
+        }
+        assert!(
+            blocked > 500 && free > 500,
+            "{blocked} blocked, {free} free"
+        );
     }
 
     /// Every accepted hit lies on its ray and on its patch, far below the 1e-9 × diagonal

@@ -9,6 +9,7 @@
 pub mod bvh;
 pub mod camera;
 pub mod curves;
+pub mod environment;
 pub(crate) mod evaluate;
 pub mod film;
 pub mod interaction;

@@ -18,6 +18,27 @@ pub fn uniform(seed: u64, pixel: u64, sample: u32, dimension: u32) -> f64 {
     (mix(key) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
 
+/// Samples per pixel the Owen-scrambled Sobol' points cover (the `sobol_burley` limit); later
+/// samples of a pixel use [`uniform`].
+pub const SOBOL_SAMPLES: u32 = 1 << 16;
+
+/// Four numbers in `[0, 1)` of dimension set `set` of sample `sample` of pixel `pixel`: the
+/// first four dimensions of an Owen-scrambled Sobol' sequence (Burley's hash-based scrambling)
+/// whose scramble and shuffle are seeded by (seed, pixel, set), so each set of four dimensions
+/// is stratified over a pixel's samples (its 2-D projections are (0, 2)-sequences) and
+/// decorrelated from the other sets and pixels ("padding"). Deterministic per (seed, pixel,
+/// sample, set), like [`uniform`].
+pub fn sobol_4d(seed: u64, pixel: u64, sample: u32, set: u32) -> [f64; 4] {
+    if sample >= SOBOL_SAMPLES {
+        return std::array::from_fn(|k| uniform(seed, pixel, sample, 4 * set + k as u32));
+    }
+    let key = mix(mix(seed ^ 0x5851_f42d_4c95_7f2d) ^ pixel.wrapping_mul(0x2545_f491_4f6c_dd1d))
+        ^ mix(u64::from(set).wrapping_add(0x1405_7b7e_f767_814f));
+    let key = mix(key);
+    let scramble = (key ^ (key >> 32)) as u32;
+    sobol_burley::sample_4d(sample, 0, scramble).map(f64::from)
+}
+
 /// A direction uniform on the unit sphere for (seed, index): z uniform in [−1, 1] and the
 /// azimuth uniform (Archimedes), from dimensions 0 and 1 of sample 0.
 pub fn sphere_direction(seed: u64, index: u64) -> DVec3 {
@@ -78,6 +99,51 @@ mod tests {
         }
         let mean = sum / 10_000.0;
         assert!((mean - 0.5).abs() < 0.02, "mean {mean}");
+    }
+
+    /// Dimensions 0 and 1 of a set form a (0, 2)-sequence over a pixel's first 16 samples (one
+    /// point in every elementary interval of area 1/16: 4×4 cells, 16×1, 1×16, 8×2, 2×8 strips)
+    /// and every dimension alone is stratified (one point in each sixteenth), in every pixel and
+    /// set.
+    #[test]
+    fn sobol_sets_are_stratified() {
+        for pixel in [0u64, 7, 12_345] {
+            for set in [0u32, 1, 9] {
+                let points: Vec<[f64; 4]> = (0..16).map(|s| sobol_4d(3, pixel, s, set)).collect();
+                for log_x in 0..=4u32 {
+                    let (nx, ny) = (1usize << log_x, 1usize << (4 - log_x));
+                    let mut cells = vec![0; 16];
+                    for p in &points {
+                        let (cx, cy) = ((p[0] * nx as f64) as usize, (p[1] * ny as f64) as usize);
+                        cells[cy * nx + cx] += 1;
+                    }
+                    assert!(
+                        cells.iter().all(|&c| c == 1),
+                        "pixel {pixel} set {set} {nx}×{ny}: {cells:?}"
+                    );
+                }
+                for k in 0..4 {
+                    let mut cells = vec![0; 16];
+                    for p in &points {
+                        cells[(p[k] * 16.0) as usize] += 1;
+                    }
+                    assert!(cells.iter().all(|&c| c == 1), "dimension {k}: {cells:?}");
+                }
+            }
+        }
+        assert_ne!(
+            sobol_4d(3, 0, 0, 0),
+            sobol_4d(3, 1, 0, 0),
+            "pixels decorrelated"
+        );
+        assert_ne!(
+            sobol_4d(3, 0, 0, 0),
+            sobol_4d(3, 0, 0, 1),
+            "sets decorrelated"
+        );
+        assert_eq!(sobol_4d(3, 5, 2, 1), sobol_4d(3, 5, 2, 1), "deterministic");
+        let late = sobol_4d(3, 5, SOBOL_SAMPLES + 1, 1);
+        assert!(late.iter().all(|x| (0.0..1.0).contains(x)), "{late:?}");
     }
 
     #[test]

@@ -21,6 +21,17 @@ pub trait SurfaceTracer: Sync {
         t_max: f64,
         counters: &mut IntersectCounters,
     ) -> Option<Hit>;
+    /// Whether anything lies on the ray with `t ∈ (t_min, t_max)` (a shadow ray): stops at the
+    /// first hit found, not the closest. The default asks for the closest hit.
+    fn occluded(
+        &self,
+        ray: &Ray64,
+        t_min: f64,
+        t_max: f64,
+        counters: &mut IntersectCounters,
+    ) -> bool {
+        self.closest_hit(ray, t_min, t_max, counters).is_some()
+    }
     /// The full local geometry at a hit, evaluated once per shaded sample.
     fn shading_point(&self, hit: &Hit, ray: &Ray64) -> ShadingPoint;
     /// Which edges of patch `patch` lie on mesh-face edges (bit e for edge e).
@@ -50,6 +61,16 @@ impl SurfaceTracer for Tracer<'_> {
         counters: &mut IntersectCounters,
     ) -> Option<Hit> {
         Tracer::closest_hit(self, ray, t_min, t_max, counters)
+    }
+
+    fn occluded(
+        &self,
+        ray: &Ray64,
+        t_min: f64,
+        t_max: f64,
+        counters: &mut IntersectCounters,
+    ) -> bool {
+        Tracer::occluded(self, ray, t_min, t_max, counters)
     }
 
     fn shading_point(&self, hit: &Hit, ray: &Ray64) -> ShadingPoint {
