@@ -41,6 +41,7 @@ pub mod schemes;
 pub mod surface;
 #[doc(hidden)]
 pub mod testing;
+pub mod text;
 pub mod tolerance;
 
 pub use error::{Error, Result};

@@ -21,6 +21,7 @@ const BELOW: &[(&str, &[&str])] = &[
     ("linalg", &["error", "tolerance"]),
     ("files", &["error", "tolerance"]),
     ("budget", &["error", "tolerance"]),
+    ("text", &[]),
     ("bezier", &["geom", "linalg"]),
     ("mesh", &["geom", "linalg", "files", "budget"]),
     ("blend", &["bezier"]),
@@ -28,7 +29,7 @@ const BELOW: &[(&str, &[&str])] = &[
     ("schemes", &["surface", "mesh"]),
     ("metrics", &["surface", "mesh"]),
     ("export", &["surface", "mesh", "files", "budget"]),
-    ("render", &["surface", "mesh", "files", "budget"]),
+    ("render", &["surface", "mesh", "files", "budget", "text"]),
     ("report", &["schemes", "metrics", "export", "render"]),
     ("app", &["report"]),
 ];
