@@ -27,6 +27,9 @@ pub struct ZebraParams {
     pub stripes: f64,
     /// Fraction of each period that is bright.
     pub duty: f64,
+    /// Shift of the stripes, in periods (0 to 1 moves them by one period; used by stripe
+    /// sweeps).
+    pub phase: f64,
 }
 
 impl Default for ZebraParams {
@@ -35,6 +38,7 @@ impl Default for ZebraParams {
             axis: DVec3::Y,
             stripes: 16.0,
             duty: 0.5,
+            phase: 0.0,
         }
     }
 }
@@ -47,7 +51,7 @@ impl ZebraParams {
         let axis = self.axis.normalize_or(DVec3::Y);
         let (b1, b2) = axis.any_orthonormal_pair();
         let angle = reflected.dot(b2).atan2(reflected.dot(b1));
-        let phase = fract(self.stripes * angle / std::f64::consts::TAU);
+        let phase = fract(self.stripes * angle / std::f64::consts::TAU - self.phase);
         DVec3::splat(if phase < self.duty { BRIGHT } else { DARK })
     }
 }
