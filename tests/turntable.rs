@@ -74,18 +74,40 @@ fn a_turntable_writes_its_frames_and_gif_identically_for_any_thread_count() {
         runs.push(frames);
     }
     assert!(runs[0] == runs[1], "frames differ between 1 and 2 threads");
-    // Frame 0 is the plain render; the other views differ from it.
-    let mut args = vec![mesh, "-o", "still"];
+    // The automatic framing keeps the surface inside every view: the border is background.
+    for k in 0..4 {
+        let frame = pixels(&dir.join(format!("spin1-{k:03}.png")));
+        let background = *frame.get_pixel(0, 0);
+        let (w, h) = frame.dimensions();
+        let border = frame
+            .enumerate_pixels()
+            .filter(|(x, y, _)| *x == 0 || *y == 0 || *x == w - 1 || *y == h - 1);
+        assert!(
+            border.clone().all(|(_, _, p)| *p == background),
+            "frame {k} is cut"
+        );
+        assert!(
+            frame.pixels().any(|p| *p != background),
+            "frame {k} is empty"
+        );
+    }
+    // With an eye given, frame 0 is the single render; the other views differ from it.
+    let mut args = vec![mesh, "--eye", "0.5,0.8,3", "-o", "still"];
     args.extend(COMMON);
     let out = render(&dir, &args, "2");
     assert!(out.status.success());
     let still = pixels(&dir.join("still.png"));
-    assert_eq!(pixels(&dir.join("spin1-000.png")), still);
+    let mut args = vec![mesh, "--eye", "0.5,0.8,3", "--turntable", "4", "-o", "eye"];
+    args.extend(COMMON);
+    assert!(render(&dir, &args, "2").status.success());
+    assert!(
+        pixels(&dir.join("eye-000.png")) == still,
+        "frame 0 is the still"
+    );
     for k in 1..4 {
-        assert_ne!(
-            pixels(&dir.join(format!("spin1-{k:03}.png"))),
-            still,
-            "frame {k}"
+        assert!(
+            pixels(&dir.join(format!("eye-{k:03}.png"))) != still,
+            "frame {k} repeats the still"
         );
     }
 }

@@ -10,7 +10,8 @@
 //!
 //! The surface does not change between frames, so the BVH (or tessellation) is built once and
 //! every frame is traced through it. Frames are rendered one after the other, each split into
-//! the renderer's fixed tiles, so they are bit-identical for any thread count. A curvature
+//! the renderer's fixed tiles, so they are bit-identical for any thread count. An automatic
+//! framing is widened so that the surface stays in frame in every view of a turntable. A curvature
 //! mode with an automatic range takes the range of the first frame for every frame, so the
 //! colours of the frames compare. A progress bar over the frames shows on standard error when
 //! it is a terminal.
@@ -26,10 +27,10 @@ use image::{Delay, RgbaImage};
 use crate::error::{Error, Result};
 use crate::files::{check_writable, write_atomic};
 use crate::mesh::Mesh;
-use crate::render::camera::{Camera, unit};
+use crate::render::camera::{Camera, Projection, unit};
 use crate::render::film::{Frame, RenderSettings, render};
 use crate::render::intersect::{NewtonSettings, Tracer};
-use crate::render::job::{Geometry, RenderJob, check_bvh_size};
+use crate::render::job::{Geometry, RenderJob, check_bvh_size, surface_samples};
 use crate::render::modes::{CurvatureParams, CurvatureRange, Mode, ZebraParams};
 use crate::render::output::{output_stem, srgb8, with_suffix, write_png};
 use crate::render::stats::RenderStats;
@@ -162,6 +163,51 @@ fn turntable_axis(animation: &Animation, job: &RenderJob, camera: &Camera) -> DV
     }
 }
 
+/// The camera of frame 0: the job's; for a turntable framed automatically (no eye, no target),
+/// moved back along its view until every view of the turn frames the whole surface, as
+/// automatic framing frames the first.
+pub fn first_camera(
+    job: &RenderJob,
+    animation: &Animation,
+    surface: &Surface,
+    aspect: f64,
+) -> Result<Camera> {
+    let camera = job.camera.camera(surface, aspect)?;
+    let Animation::Turntable { frames, .. } = *animation else {
+        return Ok(camera);
+    };
+    if job.camera.eye.is_some() || job.camera.target.is_some() {
+        return Ok(camera);
+    }
+    let axis = turntable_axis(animation, job, &camera);
+    let samples = surface_samples(surface);
+    let fov = job.camera.fov_deg;
+    let back = camera.eye - camera.target;
+    let mut distance = back.length();
+    for k in 1..frames {
+        let turned = camera.orbit(axis, TAU * f64::from(k) / f64::from(frames))?;
+        let fitted = Camera::frame_points_with_up(
+            &samples,
+            turned.eye - turned.target,
+            turned.up(),
+            fov,
+            aspect,
+        )?;
+        distance = distance.max(fitted.eye.distance(fitted.target));
+    }
+    let perspective = Camera::look_at(
+        camera.target + back * (distance / back.length()),
+        camera.target,
+        camera.up(),
+        Projection::Perspective { fov_deg: fov },
+    )?;
+    if job.camera.orthographic {
+        perspective.orthographic_of(fov)
+    } else {
+        Ok(perspective)
+    }
+}
+
 /// Adds the statistics of one more frame: counts add up, the slowest Newton solve is the
 /// largest, the mean iteration count is weighted by hits; the build figures are the tracer's.
 fn accumulate(total: &mut RenderStats, frame: &RenderStats) {
@@ -221,7 +267,7 @@ pub fn render_animation(
     settings.curves = job.curves.tubes(surface, mesh)?;
     settings.progress = false;
     let aspect = f64::from(settings.width) / f64::from(settings.height);
-    let camera = job.camera.camera(surface, aspect)?;
+    let camera = first_camera(job, animation, surface, aspect)?;
     match &job.geometry {
         Geometry::Tessellated(n) => {
             let tracer = TessellatedTracer::new(surface, *n)?;
@@ -326,7 +372,7 @@ mod tests {
             DVec3::new(0.0, 1.0, 4.0),
             DVec3::ZERO,
             DVec3::Y,
-            crate::render::camera::Projection::Perspective { fov_deg: 30.0 },
+            Projection::Perspective { fov_deg: 30.0 },
         )
         .expect("camera");
         let settings = RenderSettings::default();
@@ -361,7 +407,7 @@ mod tests {
             DVec3::new(0.0, 1.0, 4.0),
             DVec3::ZERO,
             DVec3::Y,
-            crate::render::camera::Projection::Perspective { fov_deg: 30.0 },
+            Projection::Perspective { fov_deg: 30.0 },
         )
         .expect("camera");
         let turntable = Animation::Turntable {
@@ -373,7 +419,7 @@ mod tests {
             DVec3::new(0.0, 4.0, 0.0),
             DVec3::ZERO,
             DVec3::Z,
-            crate::render::camera::Projection::Perspective { fov_deg: 30.0 },
+            Projection::Perspective { fov_deg: 30.0 },
         )
         .expect("camera");
         assert_eq!(turntable_axis(&turntable, &job, &above), above.up());
