@@ -4,7 +4,9 @@
 //! can be centred or wrapped before they are drawn. [`ascent`] and [`line_height`] place lines;
 //! [`FONT_FAMILY`] names the font for vector output (SVG) that must match the raster.
 //!
-//! Positions are in pixels and may be fractional (glyphs are placed with sub-pixel offsets);
+//! Sizes are em sizes in pixels, as CSS and SVG `font-size` mean them (the full height of a
+//! line, ascent + descent, is about 1.16 em for this font), so an SVG `<text>` with the same
+//! `font-size` and font matches the raster. Positions are in pixels and may be fractional (glyphs are placed with sub-pixel offsets);
 //! the same call always paints the same pixels, whatever the thread count.
 
 use std::sync::OnceLock;
@@ -28,24 +30,28 @@ fn font() -> &'static FontRef<'static> {
     })
 }
 
-/// Distance from the top of a line of `px_size` pixels to its baseline, pixels.
-///
-/// `px_size` is the font's full height (ascent + descent), as in CSS `font-size` terms of
-/// `ab_glyph`'s [`PxScale`].
-pub fn ascent(px_size: f32) -> f32 {
-    font().as_scaled(PxScale::from(px_size)).ascent()
+/// The `ab_glyph` scale (which measures ascent + descent) of em size `px_size`.
+fn scale(px_size: f32) -> PxScale {
+    let f = font();
+    let em = f.units_per_em().unwrap_or(2048.0);
+    PxScale::from(px_size * f.height_unscaled() / em)
 }
 
-/// Height of one line of `px_size` pixels (ascent + descent + line gap), pixels.
+/// Distance from the top of a line of em size `px_size` to its baseline, pixels.
+pub fn ascent(px_size: f32) -> f32 {
+    font().as_scaled(scale(px_size)).ascent()
+}
+
+/// Height of one line of em size `px_size` (ascent + descent + line gap), pixels.
 pub fn line_height(px_size: f32) -> f32 {
-    let f = font().as_scaled(PxScale::from(px_size));
+    let f = font().as_scaled(scale(px_size));
     f.ascent() - f.descent() + f.line_gap()
 }
 
-/// Advance width of `text` at `px_size` pixels, kerning included: the distance from the
+/// Advance width of `text` at em size `px_size`, pixels, kerning included: the distance from the
 /// first glyph's origin to the pen position after the last glyph.
 pub fn text_width(px_size: f32, text: &str) -> f32 {
-    let f = font().as_scaled(PxScale::from(px_size));
+    let f = font().as_scaled(scale(px_size));
     let mut width = 0.0;
     let mut previous = None;
     for c in text.chars() {
@@ -59,12 +65,12 @@ pub fn text_width(px_size: f32, text: &str) -> f32 {
     width
 }
 
-/// Paints `text` in colour `rgb` into `img`, the line's top-left corner at `(x, y)` (the
-/// baseline is at `y + ascent(px_size)`), blending by glyph coverage. Pixels outside the image
-/// are skipped; characters the font lacks show as its missing-glyph box.
+/// Paints `text` at em size `px_size` in colour `rgb` into `img`, the line's top-left corner at
+/// `(x, y)` (the baseline is at `y + ascent(px_size)`), blending by glyph coverage. Pixels
+/// outside the image are skipped; characters the font lacks show as its missing-glyph box.
 pub fn draw_text(img: &mut RgbImage, x: f32, y: f32, px_size: f32, rgb: [u8; 3], text: &str) {
-    let scale = PxScale::from(px_size);
-    let f = font().as_scaled(scale);
+    let px_scale = scale(px_size);
+    let f = font().as_scaled(px_scale);
     let baseline = y + f.ascent();
     let (w, h) = (i64::from(img.width()), i64::from(img.height()));
     let mut caret = x;
@@ -75,7 +81,7 @@ pub fn draw_text(img: &mut RgbImage, x: f32, y: f32, px_size: f32, rgb: [u8; 3],
             caret += f.kern(p, id);
         }
         previous = Some(id);
-        let glyph = id.with_scale_and_position(scale, point(caret, baseline));
+        let glyph = id.with_scale_and_position(px_scale, point(caret, baseline));
         caret += f.h_advance(id);
         let Some(outline) = font().outline_glyph(glyph) else {
             continue; // a space
@@ -121,6 +127,19 @@ mod tests {
         assert!(FontRef::try_from_slice(FONT_BYTES).is_ok());
         assert!(ascent(20.0) > 10.0 && ascent(20.0) < 20.0);
         assert!(line_height(20.0) >= 20.0);
+        // An em of DejaVu Sans: its capital M is about 0.73 em tall (1493 of 2048 units).
+        let mut img = RgbImage::from_pixel(100, 100, Rgb([0, 0, 0]));
+        draw_text(&mut img, 10.0, 10.0, 40.0, [255, 255, 255], "M");
+        let rows: Vec<u32> = img
+            .enumerate_pixels()
+            .filter(|(_, _, p)| p.0[0] > 127)
+            .map(|(_, y, _)| y)
+            .collect();
+        let tall = rows.iter().max().unwrap_or(&0) - rows.iter().min().unwrap_or(&0) + 1;
+        assert!(
+            (tall as f32 - 0.729 * 40.0).abs() <= 1.0,
+            "M is {tall} px tall"
+        );
     }
 
     #[test]

@@ -51,7 +51,7 @@ pub struct TextItem {
     pub x: f32,
     /// Baseline, pixels from the top.
     pub baseline: f32,
-    /// Font size (full height), pixels.
+    /// Font size (em, as SVG `font-size`), pixels.
     pub size: f32,
     /// What `x` marks.
     pub anchor: Anchor,
@@ -87,9 +87,10 @@ pub struct SheetLayout {
     pub texts: Vec<TextItem>,
 }
 
-/// Label font size for cells of height `cell_height`: 9 % of it, between 11 and 28 pixels.
+/// Label font size (em, pixels) for cells of height `cell_height`: 8 % of it, between 10 and
+/// 24 pixels.
 pub fn label_size(cell_height: u32) -> f32 {
-    (0.09 * cell_height as f32).clamp(11.0, 28.0).round()
+    (0.08 * cell_height as f32).clamp(10.0, 24.0).round()
 }
 
 /// `text` broken at spaces into lines no wider than `max_width` pixels at `size` (a longer
