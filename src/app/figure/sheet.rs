@@ -1,5 +1,5 @@
-//! A labelled grid of equally sized images: column labels above, row labels at the left
-//! (both wrapped at spaces to fit), an optional title, dark gutters. One [`SheetLayout`] places
+//! A labelled grid of equally sized images: column labels above, row labels at the left, an
+//! optional title (all wrapped at spaces to fit), dark gutters. One [`SheetLayout`] places
 //! everything; it is drawn twice: as a raster ([`compose`], text by [`crate::text`] in the
 //! embedded DejaVu Sans) and as SVG ([`svg`]: the cells embedded as PNG, every label a
 //! `<text>` element in the same font at the same place), so a paper can scale the labels.
@@ -136,10 +136,14 @@ pub fn layout(count: usize, labels: &SheetLabels, cell: [u32; 2]) -> SheetLayout
     } else {
         GUTTER
     };
-    let title_height = if labels.title.is_empty() {
+    let width = left + cols * (cw + GUTTER);
+    // The title wraps to the sheet's width.
+    let title_line = line_height(title_size).ceil() as u32;
+    let title_lines = wrap(&labels.title, title_size, (width - 2 * GUTTER) as f32);
+    let title_height = if title_lines.is_empty() {
         0
     } else {
-        line_height(title_size).ceil() as u32 + GUTTER
+        title_lines.len() as u32 * title_line + GUTTER
     };
     // Column labels wrap to the cell width; the header is as tall as the longest.
     let column_lines: Vec<Vec<String>> = labels
@@ -149,14 +153,13 @@ pub fn layout(count: usize, labels: &SheetLabels, cell: [u32; 2]) -> SheetLayout
         .collect();
     let header_lines = column_lines.iter().map(Vec::len).max().unwrap_or(1).max(1) as u32;
     let top = title_height + GUTTER + header_lines * line;
-    let width = left + cols * (cw + GUTTER);
     let height = top + rows * (ch + GUTTER);
     let mut texts = Vec::new();
-    if !labels.title.is_empty() {
+    for (k, l) in title_lines.iter().enumerate() {
         texts.push(TextItem {
-            text: labels.title.clone(),
+            text: l.clone(),
             x: GUTTER as f32,
-            baseline: GUTTER as f32 + ascent(title_size),
+            baseline: (GUTTER + k as u32 * title_line) as f32 + ascent(title_size),
             size: title_size,
             anchor: Anchor::Start,
         });
@@ -410,6 +413,31 @@ mod tests {
                 t.text
             );
         }
+    }
+
+    #[test]
+    fn a_long_title_wraps_to_the_sheet_width() {
+        let labels = SheetLabels {
+            title: "HB00 Fig. 2: loop94 on the deformed icosahedron, two choices of alpha".into(),
+            rows: vec!["row".into()],
+            columns: vec!["a".into(), "b".into()],
+        };
+        let placed = layout(2, &labels, [60, 60]);
+        let size = placed.texts[0].size;
+        let title: Vec<&TextItem> = placed.texts.iter().filter(|t| t.size == size).collect();
+        assert!(title.len() > 1, "one line");
+        for t in &title {
+            assert!(
+                t.left() + text_width(t.size, &t.text) <= placed.width as f32,
+                "{}",
+                t.text
+            );
+        }
+        let joined: Vec<&str> = title.iter().map(|t| t.text.as_str()).collect();
+        assert_eq!(joined.join(" "), labels.title);
+        // The cells start below the last title line.
+        let last = title.last().map_or(0.0, |t| t.top() + line_height(t.size));
+        assert!(placed.cells[0][1] as f32 >= last);
     }
 
     #[test]
