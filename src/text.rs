@@ -161,7 +161,7 @@ mod tests {
             let span = (max - min + 1) as f32;
             assert!(count > 0, "{text}: no ink");
             // Ink starts near the origin and ends within the advance (side bearings aside).
-            assert!(min >= 9 && min <= 13, "{text}: starts at {min}");
+            assert!((9..=13).contains(&min), "{text}: starts at {min}");
             assert!(
                 span <= width + 2.0 && span >= 0.7 * width,
                 "{text}: {span} vs {width}"
