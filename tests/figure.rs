@@ -1,5 +1,6 @@
-//! End-to-end tests of `smoothlab figure SPEC.toml`: a small grid writes its labelled PNG and one
-//! EXR per cell; bad specs fail with one line naming the key or name at fault.
+//! End-to-end tests of `smoothlab figure SPEC.toml`: a small grid writes its labelled PNG, its
+//! SVG and one EXR per cell; the labels read right in both; bad specs fail with one line naming
+//! the key or name at fault.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -82,9 +83,202 @@ fn a_small_figure_writes_its_grid_and_cells() {
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
-        stdout.contains("grid.png") && stdout.contains("6 EXR"),
+        stdout.contains("grid.png") && stdout.contains("grid.svg") && stdout.contains("6 EXR"),
         "{stdout}"
     );
+}
+
+/// One `<text>` of a figure's SVG.
+struct SvgText {
+    text: String,
+    x: f32,
+    baseline: f32,
+    size: f32,
+    middle: bool,
+    fill: [u8; 3],
+}
+
+/// `#rrggbb` as bytes.
+fn parse_hex(text: &str) -> [u8; 3] {
+    let h = text.trim_start_matches('#');
+    let byte = |k: usize| u8::from_str_radix(&h[2 * k..2 * k + 2], 16).expect("hex colour");
+    [byte(0), byte(1), byte(2)]
+}
+
+/// The labels and cell rectangles of a figure's SVG (which must parse as XML).
+fn read_svg(text: &str) -> (Vec<SvgText>, Vec<[u32; 4]>, [u32; 2]) {
+    let doc = roxmltree::Document::parse(text).expect("the SVG parses as XML");
+    let root = doc.root_element();
+    assert_eq!(root.tag_name().name(), "svg");
+    let number = |n: &roxmltree::Node, key: &str| -> f32 {
+        n.attribute(key)
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("{key} of {n:?}"))
+    };
+    let size = [
+        number(&root, "width") as u32,
+        number(&root, "height") as u32,
+    ];
+    let mut texts = Vec::new();
+    let mut cells = Vec::new();
+    for node in root.descendants().filter(|n| n.is_element()) {
+        match node.tag_name().name() {
+            "text" => {
+                let fill = node
+                    .ancestors()
+                    .find_map(|a| a.attribute("fill"))
+                    .expect("fill");
+                texts.push(SvgText {
+                    text: node.text().unwrap_or("").to_string(),
+                    x: number(&node, "x"),
+                    baseline: number(&node, "y"),
+                    size: number(&node, "font-size"),
+                    middle: node.attribute("text-anchor") == Some("middle"),
+                    fill: parse_hex(fill),
+                });
+                let family = node
+                    .ancestors()
+                    .find_map(|a| a.attribute("font-family"))
+                    .expect("font-family");
+                assert!(family.starts_with(smoothlab::text::FONT_FAMILY), "{family}");
+            }
+            "image" => {
+                let href = node.attribute("href").expect("href");
+                assert!(href.starts_with("data:image/png;base64,"));
+                cells.push(["x", "y", "width", "height"].map(|k| number(&node, k) as u32));
+            }
+            _ => {}
+        }
+    }
+    (texts, cells, size)
+}
+
+/// Draws `texts` as the SVG places them with the crate's rasteriser onto `background`.
+fn draw_svg_texts(texts: &[SvgText], size: [u32; 2], background: [u8; 3]) -> image::RgbImage {
+    use smoothlab::text::{ascent, draw_text, text_width};
+    let mut img = image::RgbImage::from_pixel(size[0], size[1], image::Rgb(background));
+    for t in texts {
+        let left = if t.middle {
+            t.x - 0.5 * text_width(t.size, &t.text)
+        } else {
+            t.x
+        };
+        draw_text(
+            &mut img,
+            left,
+            t.baseline - ascent(t.size),
+            t.size,
+            t.fill,
+            &t.text,
+        );
+    }
+    img
+}
+
+/// The labels read "isophote", "piper", "fang-mann", "gk" in the SVG (vector text) and in the
+/// PNG: every pixel outside the cells is what the rasteriser paints for the SVG's strings at
+/// the SVG's positions, and a misspelt label would paint different pixels.
+#[test]
+fn labels_read_right_in_png_and_svg() {
+    let dir = scratch("labels");
+    let spec = r#"
+mesh = "icosahedron"
+output = "labels"
+size = [160, 60]
+spp = 1
+exr = false
+[[schemes]]
+name = "piper"
+[[schemes]]
+name = "fang-mann"
+[[schemes]]
+name = "gk"
+[[modes]]
+name = "isophote"
+[[modes]]
+name = "curvature"
+label = "mean curvature"
+"#;
+    let out = figure(&dir, spec);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = std::fs::read_to_string(dir.join("labels.svg")).expect("svg");
+    let png = image::open(dir.join("labels.png")).expect("png").to_rgb8();
+    let (texts, cells, size) = read_svg(&svg);
+    assert_eq!(size, [png.width(), png.height()]);
+    assert_eq!(cells.len(), 6);
+    let strings: Vec<&str> = texts.iter().map(|t| t.text.as_str()).collect();
+    for label in ["isophote", "piper", "fang-mann", "gk"] {
+        assert!(strings.contains(&label), "{label} missing from {strings:?}");
+    }
+    let curvature = strings
+        .iter()
+        .find(|s| s.starts_with("mean curvature ±"))
+        .expect("curvature label with its range");
+    assert!(
+        curvature
+            .trim_start_matches("mean curvature ±")
+            .parse::<f64>()
+            .is_ok(),
+        "{curvature}"
+    );
+    let outside = |x: u32, y: u32| {
+        !cells
+            .iter()
+            .any(|[cx, cy, w, h]| x >= *cx && x < cx + w && y >= *cy && y < cy + h)
+    };
+    let background = *png.get_pixel(0, 0);
+    let drawn = draw_svg_texts(&texts, size, background.0);
+    let mismatched = png
+        .enumerate_pixels()
+        .filter(|(x, y, p)| outside(*x, *y) && drawn.get_pixel(*x, *y) != *p)
+        .count();
+    assert_eq!(mismatched, 0, "label pixels differ from the SVG's text");
+    let ink = png
+        .enumerate_pixels()
+        .filter(|(x, y, p)| outside(*x, *y) && **p != background)
+        .count();
+    assert!(ink > 200, "labels leave ink: {ink}");
+    // The old bitmap spellings paint other pixels.
+    for (right, wrong) in [("isophote", "isoPhote"), ("piper", "Piper"), ("gk", "9k")] {
+        let mut misspelt: Vec<SvgText> = Vec::new();
+        for t in &texts {
+            misspelt.push(SvgText {
+                text: if t.text == right {
+                    wrong.into()
+                } else {
+                    t.text.clone()
+                },
+                ..*t
+            });
+        }
+        let other = draw_svg_texts(&misspelt, size, background.0);
+        assert!(
+            png.enumerate_pixels()
+                .any(|(x, y, p)| outside(x, y) && other.get_pixel(x, y) != p),
+            "{wrong} would look like {right}"
+        );
+    }
+    // The cells of the SVG are the cells of the PNG.
+    let doc = roxmltree::Document::parse(&svg).expect("xml");
+    use base64::Engine as _;
+    for (node, [cx, cy, w, h]) in doc
+        .descendants()
+        .filter(|n| n.has_tag_name("image"))
+        .zip(&cells)
+    {
+        let data = node.attribute("href").expect("href");
+        let bytes = base64::engine::general_purpose::STANDARD
+            .decode(data.trim_start_matches("data:image/png;base64,"))
+            .expect("base64");
+        let cell = image::load_from_memory(&bytes).expect("cell png").to_rgb8();
+        assert_eq!(cell.dimensions(), (*w, *h));
+        let crop = image::imageops::crop_imm(&png, *cx, *cy, *w, *h).to_image();
+        assert_eq!(cell, crop);
+    }
 }
 
 #[test]

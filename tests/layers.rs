@@ -21,7 +21,7 @@ const BELOW: &[(&str, &[&str])] = &[
     ("linalg", &["error", "tolerance"]),
     ("files", &["error", "tolerance"]),
     ("budget", &["error", "tolerance"]),
-    ("text", &["error"]),
+    ("text", &[]),
     ("bezier", &["geom", "linalg"]),
     ("mesh", &["geom", "linalg", "files", "budget"]),
     ("blend", &["bezier"]),

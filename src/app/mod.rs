@@ -13,6 +13,7 @@ pub mod gallery;
 pub mod render;
 pub mod scene;
 pub mod toml_input;
+pub mod turntable;
 
 use std::path::Path;
 

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use crate::app::parse_weld_tolerance;
 use crate::app::scene::SceneFile;
+use crate::app::turntable;
 use crate::error::{Error, Result};
 use crate::files::check_writable;
 use crate::mesh::Mesh;
@@ -256,6 +257,17 @@ pub struct RenderArgs {
     /// The command line as typed, recorded in the PNG and EXR (set by the binary).
     #[arg(skip)]
     pub command_line: Option<String>,
+    /// Render N views around an axis through the target (a full turn): writes NAME-000.png …
+    /// and the looping NAME.gif instead of NAME.png and NAME.exr.
+    #[arg(long, value_name = "N")]
+    pub turntable: Option<u32>,
+    /// Axis of --turntable `X,Y,Z` (default: the camera's up, --up or +Y).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub turntable_axis: Option<[f64; 3]>,
+    /// Zebra mode: move the stripes over one period in N frames at a fixed camera; writes
+    /// NAME-000.png … and the looping NAME.gif.
+    #[arg(long, value_name = "N")]
+    pub sweep: Option<u32>,
 }
 
 /// Parses `X,Y,Z`.
@@ -343,6 +355,15 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     if args.seed.is_some() {
         r.seed = args.seed;
     }
+    if args.turntable.is_some() {
+        r.turntable = args.turntable;
+    }
+    if args.turntable_axis.is_some() {
+        r.turntable_axis = args.turntable_axis;
+    }
+    if args.sweep.is_some() {
+        r.sweep = args.sweep;
+    }
     apply_mode_options(args, &mut scene);
     let c = &mut scene.camera;
     if args.eye.is_some() {
@@ -425,11 +446,13 @@ fn apply_mode_options(args: &RenderArgs, scene: &mut SceneFile) {
 }
 
 /// Runs `smoothlab render`: checks the output paths, loads the mesh, builds the scheme,
-/// renders, writes `NAME.png`, `NAME.exr` and the statistics. Returns the statistics and the
-/// loading warnings (one line each, without the `warning:` prefix).
+/// renders, writes `NAME.png`, `NAME.exr` (or, for a turntable or sweep, the frames and the
+/// GIF of [`crate::app::turntable`]) and the statistics. Returns the statistics (of all frames
+/// together) and the loading warnings (one line each, without the `warning:` prefix).
 pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     let scene = scene_of(args)?;
     let job = scene.job()?;
+    let animation = scene.animation()?;
     let mesh_path = scene
         .mesh
         .clone()
@@ -453,20 +476,31 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     });
     // Every output path is checked before the (possibly long) work.
     let outputs = prepare_outputs(&name)?;
+    let frames = animation
+        .map(|a| turntable::prepare_animation(&name, a.frames()))
+        .transpose()?;
     if let Some(path) = &args.stats {
         check_writable(path)?;
     }
     let (mesh, report) = Mesh::load_with(&mesh_path, &load_options)?;
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
-    let (frame, stats) = job.render(&surface, &mesh)?;
-    let options = OutputOptions {
-        exr,
-        meta: OutputMeta {
-            command: args.command_line.clone(),
-            camera: Some(job.camera_of(&surface)?),
-        },
+    let stats = match (animation, frames) {
+        (Some(animation), Some((pngs, gif))) => {
+            turntable::render_animation(&job, &animation, &surface, &mesh, &pngs, &gif)?
+        }
+        _ => {
+            let (frame, stats) = job.render(&surface, &mesh)?;
+            let options = OutputOptions {
+                exr,
+                meta: OutputMeta {
+                    command: args.command_line.clone(),
+                    camera: Some(job.camera_of(&surface)?),
+                },
+            };
+            write_outputs_with(&frame, &outputs, &options)?;
+            stats
+        }
     };
-    write_outputs_with(&frame, &outputs, &options)?;
     if let Some(path) = &args.stats {
         stats.write_json(path)?;
     }
@@ -533,6 +567,27 @@ mod tests {
         assert_eq!(scene.render.size, Some([32, 16]));
         assert_eq!(scene.camera.ortho, Some(true));
         assert_eq!(scene.weld_tolerance, None);
+        let spin = scene_of(&RenderArgs {
+            turntable: Some(12),
+            turntable_axis: Some([0.0, 0.0, 1.0]),
+            ..args.clone()
+        })
+        .expect("scene");
+        assert_eq!(
+            spin.animation().expect("valid"),
+            Some(turntable::Animation::Turntable {
+                frames: 12,
+                axis: Some(glam::DVec3::Z)
+            })
+        );
+        let sweep = RenderArgs {
+            sweep: Some(6),
+            ..args.clone()
+        };
+        let err = scene_of(&sweep)
+            .and_then(|s| s.animation())
+            .expect_err("isophote");
+        assert!(err.to_string().contains("isophote"), "{err}");
         let welded = scene_of(&RenderArgs {
             weld_tolerance: Some(0.0),
             ..args.clone()

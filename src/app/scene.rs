@@ -26,6 +26,9 @@
 //! curve_edge = 4              # only the curves of this mesh edge
 //! exr = true                  # false: the PNG only
 //! exr_compression = "rle"     # none rle zip zips piz pxr24 b44 b44a
+//! turntable = 36              # 36 views around the axis: out/ico-zebra-000.png … and .gif
+//! turntable_axis = [0.0, 1.0, 0.0]  # default: the camera's up
+//! # sweep = 12                # or: zebra stripes moved over one period in 12 frames
 //! [zebra]
 //! axis = "view"               # view, view-horizontal or a world direction [0.0, 1.0, 0.0]
 //! stripes = 16                # bright stripes per full turn, or:
@@ -53,6 +56,7 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::app::toml_input::{self, exact};
+use crate::app::turntable::Animation;
 use crate::error::{Error, Result};
 use crate::mesh::{LoadOptions, check_weld_tolerance};
 use crate::render::bvh::SubdivisionCriterion;
@@ -178,6 +182,13 @@ pub struct RenderSection {
     pub exr: Option<bool>,
     /// EXR compression (see [`ExrCompression::NAMES`]).
     pub exr_compression: Option<String>,
+    /// Render this many views around an axis (see [`crate::app::turntable`]).
+    pub turntable: Option<u32>,
+    /// Axis of the turntable (default: the camera's up).
+    #[serde(default, deserialize_with = "exact")]
+    pub turntable_axis: Option<[f64; 3]>,
+    /// Move the zebra stripes over one period in this many frames.
+    pub sweep: Option<u32>,
 }
 
 /// `[bvh]`
@@ -421,6 +432,42 @@ impl SceneFile {
             Some(name) => ExrCompression::by_name(name)
                 .map(Some)
                 .map_err(|e| Error::Invalid(format!("render.exr_compression: {e}"))),
+        }
+    }
+
+    /// The turntable or stripe sweep of `render.turntable` / `render.sweep`, if any, checked:
+    /// not both, a frame count in range, a non-zero axis only with a turntable, a sweep only
+    /// in zebra mode.
+    pub fn animation(&self) -> Result<Option<Animation>> {
+        let r = &self.render;
+        let axis = r
+            .turntable_axis
+            .map(|a| direction("render.turntable_axis (--turntable-axis)", a))
+            .transpose()?;
+        match (r.turntable, r.sweep) {
+            (Some(_), Some(_)) => Err(Error::Invalid(
+                "render.turntable (--turntable) and render.sweep (--sweep) exclude each other"
+                    .into(),
+            )),
+            (Some(n), None) => Ok(Some(Animation::Turntable {
+                frames: Animation::check_frames("render.turntable (--turntable)", n)?,
+                axis,
+            })),
+            (None, sweep) if axis.is_some() => Err(Error::Invalid(format!(
+                "render.turntable_axis (--turntable-axis) needs render.turntable (--turntable){}",
+                if sweep.is_some() { ", not a sweep" } else { "" }
+            ))),
+            (None, Some(n)) => {
+                let frames = Animation::check_frames("render.sweep (--sweep)", n)?;
+                let mode = r.mode.as_deref().unwrap_or("zebra");
+                if mode != "zebra" {
+                    return Err(Error::Invalid(format!(
+                        "render.sweep (--sweep) moves zebra stripes; mode '{mode}' has none"
+                    )));
+                }
+                Ok(Some(Animation::Sweep { frames }))
+            }
+            (None, None) => Ok(None),
         }
     }
 
@@ -846,5 +893,42 @@ mod tests {
                 .to_string()
                 .contains("sparkle")
         );
+    }
+
+    #[test]
+    fn turntable_and_sweep_keys_are_checked() {
+        let animation = |text: &str| SceneFile::parse(text).expect("parses").animation();
+        assert_eq!(animation("").expect("none"), None);
+        assert_eq!(
+            animation("[render]\nturntable = 36\nturntable_axis = [0, 2, 0]").expect("ok"),
+            Some(Animation::Turntable {
+                frames: 36,
+                axis: Some(DVec3::Y)
+            })
+        );
+        assert_eq!(
+            animation("[render]\nsweep = 8").expect("ok"),
+            Some(Animation::Sweep { frames: 8 })
+        );
+        for (text, fragment) in [
+            ("[render]\nturntable = 0", "render.turntable"),
+            ("[render]\nturntable = 4\nsweep = 4", "exclude"),
+            (
+                "[render]\nturntable = 4\nturntable_axis = [0, 0, 0]",
+                "turntable_axis",
+            ),
+            (
+                "[render]\nturntable_axis = [0, 1, 0]",
+                "needs render.turntable",
+            ),
+            ("[render]\nmode = \"isophote\"\nsweep = 4", "isophote"),
+            ("[render]\nsweep = 100000", "render.sweep"),
+        ] {
+            let err = animation(text).expect_err(text).to_string();
+            assert!(
+                err.contains(fragment) && !err.contains('\n'),
+                "{text}: {err}"
+            );
+        }
     }
 }

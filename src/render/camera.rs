@@ -286,9 +286,67 @@ impl Camera {
     }
 }
 
+impl Camera {
+    /// The camera turned by `angle` radians about the line through the target along `axis`
+    /// (right-handed): eye and image frame rotate together, so the target stays in the centre
+    /// and its distance, the projection and the tilt against the axis are kept. An angle of 0
+    /// gives the camera itself; a zero or non-finite axis or angle is an error.
+    pub fn orbit(&self, axis: DVec3, angle: f64) -> Result<Camera> {
+        let axis = unit(axis)
+            .filter(|a| a.is_finite())
+            .ok_or_else(|| Error::Invalid(format!("orbit axis {axis} must be non-zero")))?;
+        if !angle.is_finite() {
+            return Err(Error::Invalid(format!(
+                "orbit angle {angle} must be finite"
+            )));
+        }
+        if angle == 0.0 {
+            return Ok(*self);
+        }
+        let turn = glam::DQuat::from_axis_angle(axis, angle);
+        Camera::look_at(
+            self.target + turn * (self.eye - self.target),
+            self.target,
+            turn * self.up,
+            self.projection,
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_orbit_keeps_distance_and_target_and_closes_after_a_turn() {
+        let cam = Camera::look_at(
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(0.5, 0.0, -1.0),
+            DVec3::Y,
+            Projection::Perspective { fov_deg: 40.0 },
+        )
+        .expect("camera");
+        assert_eq!(cam.orbit(DVec3::Y, 0.0).expect("orbit"), cam);
+        let quarter = cam
+            .orbit(DVec3::Y, std::f64::consts::FRAC_PI_2)
+            .expect("orbit");
+        assert_eq!(quarter.target, cam.target);
+        let (d0, d1) = (cam.eye - cam.target, quarter.eye - quarter.target);
+        assert!((d0.length() - d1.length()).abs() < 1e-12);
+        // About the vertical: the height is kept and the horizontal offset turns by 90°.
+        assert!((d0.y - d1.y).abs() < 1e-12);
+        assert!((d0.x * d1.x + d0.z * d1.z).abs() < 1e-12);
+        // Right-handed: +z turns towards +x about +y.
+        assert!((d1.x - d0.z).abs() < 1e-12 && (d1.z + d0.x).abs() < 1e-12);
+        assert!((quarter.up().dot(quarter.forward())).abs() < 1e-12);
+        let round = (0..8).try_fold(cam, |c, _| {
+            c.orbit(DVec3::new(1.0, 1.0, 0.0), std::f64::consts::FRAC_PI_4)
+        });
+        let round = round.expect("orbit");
+        assert!(round.eye.distance(cam.eye) < 1e-12 && round.up().distance(cam.up()) < 1e-12);
+        assert!(cam.orbit(DVec3::ZERO, 1.0).is_err());
+        assert!(cam.orbit(DVec3::Y, f64::NAN).is_err());
+    }
 
     #[test]
     fn centre_ray_looks_at_target() {

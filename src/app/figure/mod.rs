@@ -7,7 +7,6 @@
 //! in view): one fixed range for all cells so colours compare, and a scheme with sharp creases
 //! saturates instead of washing out the others.
 
-pub mod font;
 pub mod sheet;
 pub mod spec;
 
@@ -25,7 +24,7 @@ use crate::render::modes::{CurvatureRange, Mode, Overlay};
 use crate::render::stats::RenderStats;
 use crate::surface::Surface;
 
-pub use sheet::{SheetLabels, compose};
+pub use sheet::{SheetLabels, compose, svg};
 
 /// One surface of a figure (a row, or a column when transposed).
 #[derive(Clone, Debug)]
@@ -118,6 +117,8 @@ pub struct Figure {
     pub cells: Vec<FigureCell>,
     /// The labelled sheet.
     pub sheet: image::RgbImage,
+    /// The same sheet as SVG (cells embedded as PNG, labels as text).
+    pub svg: String,
     /// The curvature half-range used, if any cell shows curvature.
     pub curvature_half_range: Option<f64>,
 }
@@ -260,7 +261,7 @@ pub fn render_figure(job: &FigureJob) -> Result<Figure> {
         .modes
         .iter()
         .map(|m| match (&m.mode, half_range) {
-            (Mode::Curvature(_), Some(r)) => format!("{} +-{}", m.label, short_number(r)),
+            (Mode::Curvature(_), Some(r)) => format!("{} ±{}", m.label, short_number(r)),
             _ => m.label.clone(),
         })
         .collect();
@@ -276,9 +277,11 @@ pub fn render_figure(job: &FigureJob) -> Result<Figure> {
     };
     let frames: Vec<&Frame> = cells.iter().map(|c| &c.frame).collect();
     let sheet = compose(&frames, &labels, job.size);
+    let svg = svg(&frames, &labels, job.size)?;
     Ok(Figure {
         cells,
         sheet,
+        svg,
         curvature_half_range: half_range,
     })
 }

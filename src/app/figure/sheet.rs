@@ -1,17 +1,24 @@
-//! A labelled grid of equally sized images: column labels above, row labels at the left
-//! (wrapped at spaces to fit), an optional title, dark gutters. Text uses the built-in
-//! bitmap font, so sheets need no font files.
+//! A labelled grid of equally sized images: column labels above, row labels at the left, an
+//! optional title (all wrapped at spaces to fit), dark gutters. One [`SheetLayout`] places
+//! everything; it is drawn twice: as a raster ([`compose`], text by [`crate::text`] in the
+//! embedded DejaVu Sans) and as SVG ([`svg`]: the cells embedded as PNG, every label a
+//! `<text>` element in the same font at the same place), so a paper can scale the labels.
 
+use std::fmt::Write as _;
+use std::io::Cursor;
+
+use base64::Engine as _;
 use image::{Rgb, RgbImage};
 
-use crate::app::figure::font::{ADVANCE, draw_text, text_height, text_width};
+use crate::error::{Error, Result};
 use crate::render::film::Frame;
 use crate::render::output::srgb8;
+use crate::text::{FONT_FAMILY, ascent, draw_text, line_height, text_width};
 
 /// Background of the sheet (sRGB).
-const BACKGROUND: [u8; 3] = [24, 24, 24];
+pub const BACKGROUND: [u8; 3] = [24, 24, 24];
 /// Label colour (sRGB).
-const INK: [u8; 3] = [235, 235, 235];
+pub const INK: [u8; 3] = [235, 235, 235];
 /// Gutter between cells and around the sheet, pixels.
 const GUTTER: u32 = 4;
 
@@ -26,18 +33,73 @@ pub struct SheetLabels {
     pub columns: Vec<String>,
 }
 
-/// Font scale for cells of height `cell_height`: 2 from 160 pixels up, else 1.
-fn font_scale(cell_height: u32) -> u32 {
-    if cell_height >= 160 { 2 } else { 1 }
+/// Where a label's `x` is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Anchor {
+    /// At the start of the text.
+    Start,
+    /// At the middle of the text.
+    Middle,
 }
 
-/// `text` broken at spaces into lines of at most `max_chars` characters (a longer word gets a
-/// line of its own).
-pub fn wrap(text: &str, max_chars: usize) -> Vec<String> {
+/// One line of text of a sheet.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextItem {
+    /// The text.
+    pub text: String,
+    /// Anchor position, pixels from the left.
+    pub x: f32,
+    /// Baseline, pixels from the top.
+    pub baseline: f32,
+    /// Font size (em, as SVG `font-size`), pixels.
+    pub size: f32,
+    /// What `x` marks.
+    pub anchor: Anchor,
+}
+
+impl TextItem {
+    /// Left end of the text as drawn.
+    pub fn left(&self) -> f32 {
+        match self.anchor {
+            Anchor::Start => self.x,
+            Anchor::Middle => self.x - 0.5 * text_width(self.size, &self.text),
+        }
+    }
+
+    /// Top of the line as drawn (the `y` of [`draw_text`]).
+    pub fn top(&self) -> f32 {
+        self.baseline - ascent(self.size)
+    }
+}
+
+/// Everything placed on a sheet.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SheetLayout {
+    /// Sheet width, pixels.
+    pub width: u32,
+    /// Sheet height, pixels.
+    pub height: u32,
+    /// Top-left corner of each cell, in the order of the frames.
+    pub cells: Vec<[u32; 2]>,
+    /// Cell size.
+    pub cell: [u32; 2],
+    /// Every line of text.
+    pub texts: Vec<TextItem>,
+}
+
+/// Label font size (em, pixels) for cells of height `cell_height`: 8 % of it, between 10 and
+/// 24 pixels.
+pub fn label_size(cell_height: u32) -> f32 {
+    (0.08 * cell_height as f32).clamp(10.0, 24.0).round()
+}
+
+/// `text` broken at spaces into lines no wider than `max_width` pixels at `size` (a longer
+/// word gets a line of its own).
+pub fn wrap(text: &str, size: f32, max_width: f32) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     for word in text.split_whitespace() {
         match lines.last_mut() {
-            Some(line) if line.chars().count() + 1 + word.chars().count() <= max_chars => {
+            Some(line) if text_width(size, &format!("{line} {word}")) <= max_width => {
                 line.push(' ');
                 line.push_str(word);
             }
@@ -47,21 +109,26 @@ pub fn wrap(text: &str, max_chars: usize) -> Vec<String> {
     lines
 }
 
-/// Composes `frames` (row-major, `labels.rows.len()` × `labels.columns.len()`, all
-/// `cell_width` × `cell_height`) into one labelled sheet.
-pub fn compose(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> RgbImage {
+/// Places `count` cells of size `cell` (row-major, `labels.columns.len()` per row) and the
+/// labels.
+pub fn layout(count: usize, labels: &SheetLabels, cell: [u32; 2]) -> SheetLayout {
     let [cw, ch] = cell;
     let cols = labels.columns.len().max(1) as u32;
-    let rows = frames.len().div_ceil(cols as usize).max(1) as u32;
-    let scale = font_scale(ch);
-    let line = text_height(scale) + 2 * scale;
+    let rows = count.div_ceil(cols as usize).max(1) as u32;
+    let size = label_size(ch);
+    let title_size = (1.25 * size).round();
+    let line = line_height(size).ceil() as u32;
     // Row labels get at most 60 % of a cell's width, wrapped to fit.
-    let max_chars = ((cw * 3 / 5) / (ADVANCE * scale)).max(6) as usize;
-    let wrapped: Vec<Vec<String>> = labels.rows.iter().map(|l| wrap(l, max_chars)).collect();
+    let max_width = (0.6 * cw as f32).max(text_width(size, "mmmmmm"));
+    let wrapped: Vec<Vec<String>> = labels
+        .rows
+        .iter()
+        .map(|l| wrap(l, size, max_width))
+        .collect();
     let label_width = wrapped
         .iter()
         .flatten()
-        .map(|l| text_width(l, scale))
+        .map(|l| text_width(size, l).ceil() as u32)
         .max()
         .unwrap_or(0);
     let left = if label_width > 0 {
@@ -69,59 +136,179 @@ pub fn compose(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> RgbIm
     } else {
         GUTTER
     };
-    let title_height = if labels.title.is_empty() {
+    let width = left + cols * (cw + GUTTER);
+    // The title wraps to the sheet's width.
+    let title_line = line_height(title_size).ceil() as u32;
+    let title_lines = wrap(&labels.title, title_size, (width - 2 * GUTTER) as f32);
+    let title_height = if title_lines.is_empty() {
         0
     } else {
-        line + GUTTER
+        title_lines.len() as u32 * title_line + GUTTER
     };
-    let top = title_height + line + GUTTER;
-    let width = left + cols * (cw + GUTTER);
+    // Column labels wrap to the cell width; the header is as tall as the longest.
+    let column_lines: Vec<Vec<String>> = labels
+        .columns
+        .iter()
+        .map(|l| wrap(l, size, cw as f32))
+        .collect();
+    let header_lines = column_lines.iter().map(Vec::len).max().unwrap_or(1).max(1) as u32;
+    let top = title_height + GUTTER + header_lines * line;
     let height = top + rows * (ch + GUTTER);
-    let mut sheet = RgbImage::from_pixel(width, height, Rgb(BACKGROUND));
-    if !labels.title.is_empty() {
-        draw_text(
-            &mut sheet,
-            i64::from(GUTTER),
-            i64::from(GUTTER),
-            &labels.title,
-            scale,
-            INK,
-        );
+    let mut texts = Vec::new();
+    for (k, l) in title_lines.iter().enumerate() {
+        texts.push(TextItem {
+            text: l.clone(),
+            x: GUTTER as f32,
+            baseline: (GUTTER + k as u32 * title_line) as f32 + ascent(title_size),
+            size: title_size,
+            anchor: Anchor::Start,
+        });
     }
-    for (c, label) in labels.columns.iter().enumerate() {
+    for (c, lines) in column_lines.iter().enumerate() {
         let x0 = left + c as u32 * (cw + GUTTER);
-        let tw = text_width(label, scale);
-        let x = i64::from(x0) + (i64::from(cw) - i64::from(tw)).max(0) / 2;
-        draw_text(
-            &mut sheet,
-            x,
-            i64::from(title_height + GUTTER),
-            label,
-            scale,
-            INK,
-        );
+        // The last line sits right above the cells.
+        let first = title_height + GUTTER + (header_lines - lines.len() as u32) * line;
+        for (k, l) in lines.iter().enumerate() {
+            texts.push(TextItem {
+                text: l.clone(),
+                x: x0 as f32 + 0.5 * cw as f32,
+                baseline: (first + k as u32 * line) as f32 + ascent(size),
+                size,
+                anchor: Anchor::Middle,
+            });
+        }
     }
     for (r, lines) in wrapped.iter().enumerate() {
         let y0 = top + r as u32 * (ch + GUTTER);
         let block = lines.len() as u32 * line;
-        let mut y = i64::from(y0) + (i64::from(ch) - i64::from(block)).max(0) / 2;
+        let mut y = y0 + ch.saturating_sub(block) / 2;
         for l in lines {
-            draw_text(&mut sheet, i64::from(GUTTER), y, l, scale, INK);
-            y += i64::from(line);
+            texts.push(TextItem {
+                text: l.clone(),
+                x: GUTTER as f32,
+                baseline: y as f32 + ascent(size),
+                size,
+                anchor: Anchor::Start,
+            });
+            y += line;
         }
     }
-    for (k, frame) in frames.iter().enumerate() {
-        let (c, r) = (k as u32 % cols, k as u32 / cols);
-        let (x0, y0) = (left + c * (cw + GUTTER), top + r * (ch + GUTTER));
-        let bytes = srgb8(frame);
+    let cells = (0..count as u32)
+        .map(|k| {
+            let (c, r) = (k % cols, k / cols);
+            [left + c * (cw + GUTTER), top + r * (ch + GUTTER)]
+        })
+        .collect();
+    SheetLayout {
+        width,
+        height,
+        cells,
+        cell,
+        texts,
+    }
+}
+
+/// The 8-bit sRGB image of a frame.
+fn frame_image(frame: &Frame) -> RgbImage {
+    RgbImage::from_raw(frame.width, frame.height, srgb8(frame))
+        .unwrap_or_else(|| RgbImage::new(frame.width, frame.height))
+}
+
+/// Composes `frames` (row-major, `labels.rows.len()` × `labels.columns.len()`, all
+/// `cell_width` × `cell_height`) into one labelled sheet.
+pub fn compose(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> RgbImage {
+    let layout = layout(frames.len(), labels, cell);
+    let mut sheet = RgbImage::from_pixel(layout.width, layout.height, Rgb(BACKGROUND));
+    for t in &layout.texts {
+        draw_text(&mut sheet, t.left(), t.top(), t.size, INK, &t.text);
+    }
+    let [cw, ch] = cell;
+    for (frame, [x0, y0]) in frames.iter().zip(&layout.cells) {
+        let img = frame_image(frame);
         for y in 0..frame.height.min(ch) {
             for x in 0..frame.width.min(cw) {
-                let i = ((y * frame.width + x) * 3) as usize;
-                sheet.put_pixel(x0 + x, y0 + y, Rgb([bytes[i], bytes[i + 1], bytes[i + 2]]));
+                sheet.put_pixel(x0 + x, y0 + y, *img.get_pixel(x, y));
             }
         }
     }
     sheet
+}
+
+/// `text` with the XML special characters escaped.
+fn xml_escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// `#rrggbb` of an sRGB colour.
+fn hex(rgb: [u8; 3]) -> String {
+    format!("#{:02x}{:02x}{:02x}", rgb[0], rgb[1], rgb[2])
+}
+
+/// The sheet of [`compose`] as SVG: the same size and places, each cell an `<image>` holding
+/// its PNG as a data URI, each label a `<text>` in [`FONT_FAMILY`] (positions in pixels, one
+/// SVG user unit per pixel).
+pub fn svg(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> Result<String> {
+    let layout = layout(frames.len(), labels, cell);
+    let (w, h) = (layout.width, layout.height);
+    let mut out = String::new();
+    let _ = writeln!(out, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        out,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">"#
+    );
+    if !labels.title.is_empty() {
+        let _ = writeln!(out, "<title>{}</title>", xml_escape(&labels.title));
+    }
+    let _ = writeln!(
+        out,
+        r#"<rect x="0" y="0" width="{w}" height="{h}" fill="{}"/>"#,
+        hex(BACKGROUND)
+    );
+    for (k, (frame, [x, y])) in frames.iter().zip(&layout.cells).enumerate() {
+        let mut png = Cursor::new(Vec::new());
+        frame_image(frame)
+            .write_to(&mut png, image::ImageFormat::Png)
+            .map_err(|e| Error::Invalid(format!("figure cell {k} to PNG: {e}")))?;
+        let data = base64::engine::general_purpose::STANDARD.encode(png.get_ref());
+        let _ = writeln!(
+            out,
+            r#"<image x="{x}" y="{y}" width="{}" height="{}" href="data:image/png;base64,{data}"/>"#,
+            frame.width.min(cell[0]),
+            frame.height.min(cell[1])
+        );
+    }
+    let _ = writeln!(
+        out,
+        r#"<g font-family="{FONT_FAMILY}, sans-serif" fill="{}">"#,
+        hex(INK)
+    );
+    for t in &layout.texts {
+        let anchor = match t.anchor {
+            Anchor::Start => "start",
+            Anchor::Middle => "middle",
+        };
+        let _ = writeln!(
+            out,
+            r#"<text x="{}" y="{}" font-size="{}" text-anchor="{anchor}">{}</text>"#,
+            t.x,
+            t.baseline,
+            t.size,
+            xml_escape(&t.text)
+        );
+    }
+    let _ = writeln!(out, "</g>\n</svg>");
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -139,12 +326,16 @@ mod tests {
 
     #[test]
     fn words_wrap_at_spaces() {
-        assert_eq!(wrap("hb g0=-3.7 g1=4.6", 10), vec!["hb g0=-3.7", "g1=4.6"]);
+        let wide = text_width(12.0, "hb g0=-3.7");
         assert_eq!(
-            wrap("averyveryverylongword x", 5),
+            wrap("hb g0=-3.7 g1=4.6", 12.0, wide),
+            vec!["hb g0=-3.7", "g1=4.6"]
+        );
+        assert_eq!(
+            wrap("averyveryverylongword x", 12.0, 10.0),
             vec!["averyveryverylongword", "x"]
         );
-        assert!(wrap("   ", 5).is_empty());
+        assert!(wrap("   ", 12.0, 50.0).is_empty());
     }
 
     #[test]
@@ -177,10 +368,91 @@ mod tests {
         let (w, h) = (sheet.width(), sheet.height());
         assert_eq!(sheet.get_pixel(w - GUTTER - 1, h - GUTTER - 1).0, [255; 3]);
         // Label ink exists left of the first column.
+        let first = layout(6, &labels, [40, 30]).cells[0][0];
         let ink = sheet
             .enumerate_pixels()
-            .filter(|(x, _, p)| *x < GUTTER + 30 && p.0 == INK)
+            .filter(|(x, _, p)| *x < first && p.0 != BACKGROUND)
             .count();
         assert!(ink > 0);
+    }
+
+    #[test]
+    fn the_raster_draws_each_label_where_the_layout_puts_it() {
+        let frames: Vec<Frame> = (0..2).map(|_| flat_frame(60, 50, 0.0)).collect();
+        let refs: Vec<&Frame> = frames.iter().collect();
+        let labels = SheetLabels {
+            title: String::new(),
+            rows: vec!["gk".into()],
+            columns: vec!["isophote".into(), "fang-mann".into()],
+        };
+        let sheet = compose(&refs, &labels, [60, 50]);
+        let placed = layout(2, &labels, [60, 50]);
+        for t in &placed.texts {
+            // The ink of the label spans its measured width (side bearings aside).
+            let (x0, x1) = (
+                t.left().floor() as u32,
+                (t.left() + text_width(t.size, &t.text)),
+            );
+            let (y0, y1) = (t.top().floor() as u32, t.top() + line_height(t.size));
+            let columns: Vec<u32> = sheet
+                .enumerate_pixels()
+                .filter(|(x, y, p)| {
+                    *x >= x0.saturating_sub(1)
+                        && (*x as f32) <= x1 + 1.0
+                        && *y >= y0
+                        && (*y as f32) <= y1
+                        && p.0 != BACKGROUND
+                })
+                .map(|(x, _, _)| x)
+                .collect();
+            let span = columns.iter().max().unwrap_or(&0) - columns.iter().min().unwrap_or(&0);
+            let width = text_width(t.size, &t.text);
+            assert!(
+                span as f32 >= 0.7 * width && span as f32 <= width + 1.0,
+                "{}: ink {span} vs width {width}",
+                t.text
+            );
+        }
+    }
+
+    #[test]
+    fn a_long_title_wraps_to_the_sheet_width() {
+        let labels = SheetLabels {
+            title: "HB00 Fig. 2: loop94 on the deformed icosahedron, two choices of alpha".into(),
+            rows: vec!["row".into()],
+            columns: vec!["a".into(), "b".into()],
+        };
+        let placed = layout(2, &labels, [60, 60]);
+        let size = placed.texts[0].size;
+        let title: Vec<&TextItem> = placed.texts.iter().filter(|t| t.size == size).collect();
+        assert!(title.len() > 1, "one line");
+        for t in &title {
+            assert!(
+                t.left() + text_width(t.size, &t.text) <= placed.width as f32,
+                "{}",
+                t.text
+            );
+        }
+        let joined: Vec<&str> = title.iter().map(|t| t.text.as_str()).collect();
+        assert_eq!(joined.join(" "), labels.title);
+        // The cells start below the last title line.
+        let last = title.last().map_or(0.0, |t| t.top() + line_height(t.size));
+        assert!(placed.cells[0][1] as f32 >= last);
+    }
+
+    #[test]
+    fn the_svg_places_the_same_labels() {
+        let frames: Vec<Frame> = (0..2).map(|_| flat_frame(20, 20, 0.5)).collect();
+        let refs: Vec<&Frame> = frames.iter().collect();
+        let labels = SheetLabels {
+            title: "a < b & c".into(),
+            rows: vec!["piper".into()],
+            columns: vec!["isophote".into(), "gk".into()],
+        };
+        let text = svg(&refs, &labels, [20, 20]).expect("svg");
+        assert!(text.contains(">isophote</text>") && text.contains(">piper</text>"));
+        assert!(text.contains("a &lt; b &amp; c"));
+        assert_eq!(text.matches("<image ").count(), 2);
+        assert!(text.contains("data:image/png;base64,"));
     }
 }

@@ -1,6 +1,7 @@
 //! Figure spec files (TOML) for `smoothlab figure SPEC.toml`: a mesh, schemes with parameters,
 //! modes with parameters and curve overlays, one camera, one cell size and sample count, one
-//! curvature range, an output stem. Writes `STEM.png` (the labelled grid) and one
+//! curvature range, an output stem. Writes `STEM.png` (the labelled grid), `STEM.svg` (the
+//! same grid with the cells embedded as PNG and the labels as vector text) and one
 //! `STEM-<row>-<column>-<scheme>-<mode>.exr` per cell (the channels of the render command).
 //!
 //! ```toml
@@ -40,7 +41,7 @@ use crate::app::figure::{
 use crate::app::scene::{CameraSection, SceneFile};
 use crate::app::toml_input::{self, exact};
 use crate::error::{Error, Result};
-use crate::files::{check_writable, create_folder};
+use crate::files::{check_writable, create_folder, write_atomic};
 use crate::mesh::Mesh;
 use crate::mesh::generate::SCENES;
 use crate::render::camera::Projection;
@@ -332,6 +333,8 @@ impl FigureSpec {
 pub struct FigureFiles {
     /// The labelled grid.
     pub png: PathBuf,
+    /// The labelled grid as SVG.
+    pub svg: PathBuf,
     /// One EXR per cell (empty when `exr = false`).
     pub exrs: Vec<PathBuf>,
     /// The rendered figure.
@@ -346,6 +349,11 @@ fn slug(text: &str) -> String {
 }
 
 impl FigureSpec {
+    /// The SVG of the spec: `STEM.svg` beside `STEM.png`.
+    pub fn svg_file(&self) -> PathBuf {
+        with_suffix(&output_stem(&self.output), "svg")
+    }
+
     /// The files of the spec: the sheet `STEM.png` and, unless `exr = false`, one
     /// `STEM-<row>-<column>-<scheme>-<mode>.exr` per cell in sheet order (row-major). The stem
     /// is [`output_stem`] of `output`.
@@ -388,10 +396,11 @@ impl FigureSpec {
 pub fn run_figure_spec(path: &Path) -> Result<FigureFiles> {
     let spec = FigureSpec::load(path)?;
     let (png, exrs) = spec.output_files();
+    let svg = spec.svg_file();
     if let Some(folder) = png.parent() {
         create_folder(folder)?;
     }
-    for file in std::iter::once(&png).chain(&exrs) {
+    for file in [&png, &svg].into_iter().chain(&exrs) {
         check_writable(file)?;
     }
     let dir = path.parent().unwrap_or(Path::new(""));
@@ -400,16 +409,22 @@ pub fn run_figure_spec(path: &Path) -> Result<FigureFiles> {
         .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
     let figure = render_figure(&job)?;
     write_rgb_png(&figure.sheet, &png)?;
+    write_atomic(&svg, figure.svg.as_bytes())?;
     // Cells come in sheet order, as the names do.
     for (cell, exr) in figure.cells.iter().zip(&exrs) {
         write_exr(&cell.frame, exr)?;
     }
-    Ok(FigureFiles { png, exrs, figure })
+    Ok(FigureFiles {
+        png,
+        svg,
+        exrs,
+        figure,
+    })
 }
 
 /// One summary per figure for the terminal.
 pub fn figure_summary(files: &FigureFiles) -> String {
-    let mut out = format!("wrote {}", files.png.display());
+    let mut out = format!("wrote {}, {}", files.png.display(), files.svg.display());
     if !files.exrs.is_empty() {
         out += &format!(" and {} EXR cells", files.exrs.len());
     }

@@ -9,7 +9,7 @@ use glam::DVec3;
 use crate::geom::Curvature;
 use crate::render::interaction::ShadingPoint;
 use crate::render::modes::palette;
-use crate::text::{draw_text, text_width};
+use crate::text::{draw_text_linear, text_width};
 
 /// Which curvature to show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -370,7 +370,7 @@ pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &Curva
         }
         if with_text {
             let tw = text_width(font, label);
-            draw_text(
+            draw_text_linear(
                 rgb,
                 width,
                 x0 as f32 - 5.0 - tw,
@@ -389,7 +389,7 @@ pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &Curva
             }
             let left = right - text_width(font, text);
             darken(rgb, left - 3.0, y - 1.0, w as f32, y + 1.2 * font);
-            draw_text(rgb, width, left, y, font, white, text);
+            draw_text_linear(rgb, width, left, y, font, white, text);
         };
         line(rgb, margin as f32, title);
         line(rgb, margin as f32 + 1.15 * font, units);

@@ -80,6 +80,9 @@ pub struct ZebraParams {
     /// Box-filter the stripes over each sample's screen footprint (see
     /// [`crate::render::modes::stripes`]); false: point samples.
     pub filter: bool,
+    /// Shift of the stripes, in periods (0 to 1 moves them by one period; used by stripe
+    /// sweeps).
+    pub shift: f64,
 }
 
 impl Default for ZebraParams {
@@ -92,6 +95,7 @@ impl Default for ZebraParams {
             dark: DVec3::splat(DARK),
             view_up: DVec3::Y,
             filter: true,
+            shift: 0.0,
         }
     }
 }
@@ -120,7 +124,7 @@ impl ZebraParams {
                 theta * c / across
             }
         };
-        self.stripes * angle / std::f64::consts::TAU
+        self.stripes * angle / std::f64::consts::TAU - self.shift
     }
 
     /// Bright or dark stripe at the hit, box-filtered over `footprint` when given.

@@ -1,0 +1,432 @@
+//! Turntables and stripe sweeps of `smoothlab render`: a series of frames of one surface,
+//! written as `NAME-000.png`, `NAME-001.png`, … and one looping animated `NAME.gif`.
+//!
+//! - A **turntable** (`--turntable N`, scene key `render.turntable`) turns the camera about the
+//!   line through its target along an axis (`--turntable-axis X,Y,Z`, `render.turntable_axis`;
+//!   default the camera's up, `--up` or +Y) in N equal steps of a full turn: reflection lines
+//!   sliding across a seam show a break far better than one view.
+//! - A **stripe sweep** (`--sweep N`, `render.sweep`, zebra mode only) keeps the camera and
+//!   moves the zebra stripes over one period in N steps ([`ZebraParams::phase`] = k / N).
+//!
+//! The surface does not change between frames, so the BVH (or tessellation) is built once and
+//! every frame is traced through it. Frames are rendered one after the other, each split into
+//! the renderer's fixed tiles, so they are bit-identical for any thread count. An automatic
+//! framing is widened so that the surface stays in frame in every view of a turntable. A curvature
+//! mode with an automatic range takes the range of the first frame for every frame, so the
+//! colours of the frames compare. A progress bar over the frames shows on standard error when
+//! it is a terminal.
+
+use std::f64::consts::TAU;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use image::codecs::gif::{GifEncoder, Repeat};
+use image::{Delay, RgbaImage};
+
+use crate::error::{Error, Result};
+use crate::files::{check_writable, write_atomic};
+use crate::mesh::Mesh;
+use crate::render::camera::{Camera, Projection, unit};
+use crate::render::film::{Frame, RenderSettings, render};
+use crate::render::intersect::{NewtonSettings, Tracer};
+use crate::render::job::{Geometry, RenderJob, check_bvh_size, surface_samples};
+use crate::render::modes::{CurvatureParams, CurvatureRange, Mode, ZebraParams};
+use crate::render::output::{output_stem, srgb8, with_suffix, write_png};
+use crate::render::stats::RenderStats;
+use crate::render::tessellate::TessellatedTracer;
+use crate::render::trace::SurfaceTracer;
+use crate::surface::Surface;
+
+/// The most frames of a turntable or sweep.
+pub const MAX_FRAMES: u32 = 3600;
+
+/// Time each frame of the animated GIF shows, milliseconds (12.5 frames per second).
+pub const FRAME_DELAY_MS: u32 = 80;
+
+/// Speed of the GIF colour quantiser (1 best … 30 fastest; 10 is the `gif` crate's
+/// recommended balance).
+const GIF_SPEED: i32 = 10;
+
+/// A series of frames instead of one image.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Animation {
+    /// The camera turns about an axis through the target.
+    Turntable {
+        /// Number of frames (views), evenly spread over a full turn.
+        frames: u32,
+        /// The axis (unit); `None`: the camera's up.
+        axis: Option<DVec3>,
+    },
+    /// The zebra stripes move over one period at a fixed camera.
+    Sweep {
+        /// Number of frames, evenly spread over one period.
+        frames: u32,
+    },
+}
+
+impl Animation {
+    /// Number of frames.
+    pub fn frames(&self) -> u32 {
+        match *self {
+            Animation::Turntable { frames, .. } | Animation::Sweep { frames } => frames,
+        }
+    }
+
+    /// Checks a frame count given by `key` (the scene key and its flag).
+    pub fn check_frames(key: &str, frames: u32) -> Result<u32> {
+        if (1..=MAX_FRAMES).contains(&frames) {
+            Ok(frames)
+        } else {
+            Err(Error::Invalid(format!(
+                "{key} = {frames} must be in 1..={MAX_FRAMES}"
+            )))
+        }
+    }
+}
+
+/// The files of an animation of `frames` frames named `name`: the frames `STEM-000.png` …
+/// (at least three digits, more when needed, so they sort in order) and `STEM.gif`, where
+/// `STEM` is [`output_stem`] of `name`.
+pub fn animation_files(name: &Path, frames: u32) -> (Vec<PathBuf>, PathBuf) {
+    let stem = output_stem(name);
+    let digits = frames.saturating_sub(1).to_string().len().max(3);
+    let base = stem
+        .file_name()
+        .map_or("render".into(), |s| s.to_string_lossy().into_owned());
+    let pngs = (0..frames)
+        .map(|k| stem.with_file_name(format!("{base}-{k:0digits$}.png")))
+        .collect();
+    (pngs, with_suffix(&stem, "gif"))
+}
+
+/// [`animation_files`], each checked writable (the folder must exist: see
+/// [`crate::render::output::prepare_outputs`], which creates it).
+pub fn prepare_animation(name: &Path, frames: u32) -> Result<(Vec<PathBuf>, PathBuf)> {
+    let (pngs, gif) = animation_files(name, frames);
+    for file in pngs.iter().chain([&gif]) {
+        check_writable(file)?;
+    }
+    Ok((pngs, gif))
+}
+
+/// The camera and settings of frame `k` of `animation`, from the first frame's camera and
+/// settings.
+pub fn frame_view(
+    animation: &Animation,
+    k: u32,
+    camera: &Camera,
+    axis: DVec3,
+    settings: &RenderSettings,
+) -> Result<(Camera, RenderSettings)> {
+    match *animation {
+        Animation::Turntable { frames, .. } => {
+            let angle = TAU * f64::from(k) / f64::from(frames);
+            Ok((camera.orbit(axis, angle)?, settings.clone()))
+        }
+        Animation::Sweep { frames } => {
+            let Mode::Zebra(p) = &settings.mode else {
+                return Err(Error::Invalid(format!(
+                    "a stripe sweep needs mode zebra, not '{}'",
+                    settings.mode.name()
+                )));
+            };
+            let mode = Mode::Zebra(ZebraParams {
+                shift: f64::from(k) / f64::from(frames),
+                ..*p
+            });
+            Ok((
+                *camera,
+                RenderSettings {
+                    mode,
+                    ..settings.clone()
+                },
+            ))
+        }
+    }
+}
+
+/// The turntable axis: the given one, else the camera spec's up (+Y when unset), else — when
+/// that is parallel to the view — the camera's image up.
+fn turntable_axis(animation: &Animation, job: &RenderJob, camera: &Camera) -> DVec3 {
+    if let Animation::Turntable {
+        axis: Some(axis), ..
+    } = animation
+    {
+        return *axis;
+    }
+    let up = job.camera.up.and_then(unit).unwrap_or(DVec3::Y);
+    if up.cross(camera.forward()).length() > 1e-9 {
+        up
+    } else {
+        camera.up()
+    }
+}
+
+/// The camera of frame 0: the job's; for a turntable framed automatically (no eye, no target),
+/// moved back along its view until every view of the turn frames the whole surface, as
+/// automatic framing frames the first.
+pub fn first_camera(
+    job: &RenderJob,
+    animation: &Animation,
+    surface: &Surface,
+    aspect: f64,
+) -> Result<Camera> {
+    let camera = job.camera.camera(surface, aspect)?;
+    let Animation::Turntable { frames, .. } = *animation else {
+        return Ok(camera);
+    };
+    if job.camera.eye.is_some() || job.camera.target.is_some() {
+        return Ok(camera);
+    }
+    let axis = turntable_axis(animation, job, &camera);
+    let samples = surface_samples(surface);
+    let fov = job.camera.fov_deg;
+    let back = camera.eye - camera.target;
+    let mut distance = back.length();
+    for k in 1..frames {
+        let turned = camera.orbit(axis, TAU * f64::from(k) / f64::from(frames))?;
+        let fitted = Camera::frame_points_with_up(
+            &samples,
+            turned.eye - turned.target,
+            turned.up(),
+            fov,
+            aspect,
+        )?;
+        distance = distance.max(fitted.eye.distance(fitted.target));
+    }
+    let perspective = Camera::look_at(
+        camera.target + back * (distance / back.length()),
+        camera.target,
+        camera.up(),
+        Projection::Perspective { fov_deg: fov },
+    )?;
+    if job.camera.orthographic {
+        perspective.orthographic_of(fov)
+    } else {
+        Ok(perspective)
+    }
+}
+
+/// Adds the statistics of one more frame: counts add up, the slowest Newton solve is the
+/// largest, the mean iteration count is weighted by hits; the build figures are the tracer's.
+fn accumulate(total: &mut RenderStats, frame: &RenderStats) {
+    let hits = total.hits + frame.hits;
+    if hits > 0 {
+        total.newton_iter_mean = (total.newton_iter_mean * total.hits as f64
+            + frame.newton_iter_mean * frame.hits as f64)
+            / hits as f64;
+    }
+    total.rays += frame.rays;
+    total.hits = hits;
+    total.misses += frame.misses;
+    total.newton_iter_max = total.newton_iter_max.max(frame.newton_iter_max);
+    total.newton_failures += frame.newton_failures;
+    total.render_ms += frame.render_ms;
+    total.newton_runs += frame.newton_runs;
+    total.fallback_roots += frame.fallback_roots;
+    total.newton_unconverged += frame.newton_unconverged;
+    total.newton_undecided += frame.newton_undecided;
+    total.bvh_build_ms = frame.bvh_build_ms;
+    total.leaves = frame.leaves;
+    total.memory_bytes = frame.memory_bytes;
+    total.patches = frame.patches;
+    total.curvature_half_range = frame.curvature_half_range;
+}
+
+/// A progress bar over `frames` frames on standard error, hidden when it is not a terminal.
+fn progress_bar(animation: &Animation) -> indicatif::ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(u64::from(animation.frames()));
+    let what = match animation {
+        Animation::Turntable { .. } => "turntable",
+        Animation::Sweep { .. } => "sweep",
+    };
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "{prefix} {bar:40} {pos}/{len} frames {elapsed} (eta {eta})",
+    ) {
+        bar.set_style(style);
+    }
+    bar.set_prefix(what);
+    bar
+}
+
+/// Renders every frame of `animation` of `surface` (built on `mesh`) with `job`, writes them to
+/// `pngs` and the looping GIF to `gif`, and returns the statistics of all frames together.
+pub fn render_animation(
+    job: &RenderJob,
+    animation: &Animation,
+    surface: &Surface,
+    mesh: &Mesh,
+    pngs: &[PathBuf],
+    gif: &Path,
+) -> Result<RenderStats> {
+    let mut settings = job.settings.clone();
+    settings.curves = job.curves.tubes(surface, mesh)?;
+    settings.progress = false;
+    let aspect = f64::from(settings.width) / f64::from(settings.height);
+    let camera = first_camera(job, animation, surface, aspect)?;
+    match &job.geometry {
+        Geometry::Tessellated(n) => {
+            let tracer = TessellatedTracer::new(surface, *n)?;
+            render_frames(&tracer, job, animation, &camera, settings, pngs, gif)
+        }
+        Geometry::Exact {
+            criterion,
+            max_leaves,
+        } => {
+            check_bvh_size(surface, criterion, *max_leaves)?;
+            let tracer = Tracer::new(surface, criterion, NewtonSettings::default())?;
+            render_frames(&tracer, job, animation, &camera, settings, pngs, gif)
+        }
+    }
+}
+
+/// The frame as an RGBA image (opaque).
+fn rgba(frame: &Frame) -> RgbaImage {
+    let rgb = srgb8(frame);
+    let bytes = rgb
+        .chunks_exact(3)
+        .flat_map(|p| [p[0], p[1], p[2], 255])
+        .collect();
+    RgbaImage::from_raw(frame.width, frame.height, bytes)
+        .unwrap_or_else(|| RgbaImage::new(frame.width, frame.height))
+}
+
+/// [`render_animation`] through one built tracer.
+fn render_frames<T: SurfaceTracer>(
+    tracer: &T,
+    job: &RenderJob,
+    animation: &Animation,
+    camera: &Camera,
+    mut settings: RenderSettings,
+    pngs: &[PathBuf],
+    gif: &Path,
+) -> Result<RenderStats> {
+    if u16::try_from(settings.width).is_err() || u16::try_from(settings.height).is_err() {
+        return Err(Error::Invalid(format!(
+            "an animated GIF is at most 65535 pixels per side, not {}x{}",
+            settings.width, settings.height
+        )));
+    }
+    let axis = turntable_axis(animation, job, camera);
+    let gif_error = |e: image::ImageError| Error::Invalid(format!("{}: {e}", gif.display()));
+    let bar = progress_bar(animation);
+    let mut total = RenderStats::default();
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = GifEncoder::new_with_speed(&mut bytes, GIF_SPEED);
+        encoder.set_repeat(Repeat::Infinite).map_err(gif_error)?;
+        for (k, png) in (0..animation.frames()).zip(pngs) {
+            let (view, frame_settings) = frame_view(animation, k, camera, axis, &settings)?;
+            let (frame, stats) = render(tracer, &view, &frame_settings)?;
+            if k == 0
+                && let (Mode::Curvature(p), Some(r)) = (&settings.mode, stats.curvature_half_range)
+                && matches!(p.range, CurvatureRange::Auto { .. })
+            {
+                // Every frame in the colours of the first.
+                settings.mode = Mode::Curvature(CurvatureParams {
+                    range: CurvatureRange::Fixed(r),
+                    ..*p
+                });
+            }
+            accumulate(&mut total, &stats);
+            write_png(&frame, png)?;
+            let delay = Delay::from_numer_denom_ms(FRAME_DELAY_MS, 1);
+            encoder
+                .encode_frame(image::Frame::from_parts(rgba(&frame), 0, 0, delay))
+                .map_err(gif_error)?;
+            bar.inc(1);
+        }
+    }
+    bar.finish_and_clear();
+    write_atomic(gif, &bytes)?;
+    Ok(total)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_files_are_numbered_in_order() {
+        let (pngs, gif) = animation_files(Path::new("out/spin.png"), 3);
+        assert_eq!(
+            pngs,
+            ["out/spin-000.png", "out/spin-001.png", "out/spin-002.png"].map(PathBuf::from)
+        );
+        assert_eq!(gif, PathBuf::from("out/spin.gif"));
+        let (pngs, _) = animation_files(Path::new("spin"), 1001);
+        assert_eq!(pngs[1000], PathBuf::from("spin-1000.png"));
+        assert_eq!(pngs[7], PathBuf::from("spin-0007.png"));
+        assert!(Animation::check_frames("render.turntable", 0).is_err());
+        assert!(Animation::check_frames("render.turntable", MAX_FRAMES + 1).is_err());
+        assert_eq!(Animation::check_frames("render.sweep", 36).ok(), Some(36));
+    }
+
+    #[test]
+    fn views_turn_the_camera_or_move_the_stripes() {
+        let camera = Camera::look_at(
+            DVec3::new(0.0, 1.0, 4.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            Projection::Perspective { fov_deg: 30.0 },
+        )
+        .expect("camera");
+        let settings = RenderSettings::default();
+        let turntable = Animation::Turntable {
+            frames: 4,
+            axis: None,
+        };
+        let (first, s0) = frame_view(&turntable, 0, &camera, DVec3::Y, &settings).expect("view");
+        assert_eq!(first, camera);
+        assert_eq!(s0.mode, settings.mode);
+        let (half, _) = frame_view(&turntable, 2, &camera, DVec3::Y, &settings).expect("view");
+        assert!(half.eye.distance(DVec3::new(0.0, 1.0, -4.0)) < 1e-12);
+        let sweep = Animation::Sweep { frames: 4 };
+        let (same, s3) = frame_view(&sweep, 3, &camera, DVec3::Y, &settings).expect("view");
+        assert_eq!(same, camera);
+        let Mode::Zebra(z) = s3.mode else {
+            panic!("zebra expected");
+        };
+        assert_eq!(z.shift, 0.75);
+        let diffuse = RenderSettings {
+            mode: Mode::by_name("diffuse").expect("mode"),
+            ..settings
+        };
+        let err = frame_view(&sweep, 1, &camera, DVec3::Y, &diffuse).expect_err("no stripes");
+        assert!(err.to_string().contains("diffuse"), "{err}");
+    }
+
+    #[test]
+    fn the_default_axis_is_the_up_unless_it_is_the_view() {
+        let job = RenderJob::default();
+        let side = Camera::look_at(
+            DVec3::new(0.0, 1.0, 4.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            Projection::Perspective { fov_deg: 30.0 },
+        )
+        .expect("camera");
+        let turntable = Animation::Turntable {
+            frames: 4,
+            axis: None,
+        };
+        assert_eq!(turntable_axis(&turntable, &job, &side), DVec3::Y);
+        let above = Camera::look_at(
+            DVec3::new(0.0, 4.0, 0.0),
+            DVec3::ZERO,
+            DVec3::Z,
+            Projection::Perspective { fov_deg: 30.0 },
+        )
+        .expect("camera");
+        assert_eq!(turntable_axis(&turntable, &job, &above), above.up());
+        let given = Animation::Turntable {
+            frames: 4,
+            axis: Some(DVec3::X),
+        };
+        assert_eq!(turntable_axis(&given, &job, &side), DVec3::X);
+    }
+}
