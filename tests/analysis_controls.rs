@@ -6,9 +6,8 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Output;
 
-use common::{scratch, smoothlab};
+use common::{assert_fails_naming, path_str, scratch, smoothlab, stderr};
 
 fn ico() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -22,26 +21,6 @@ fn deformed() -> String {
         .join("scenes/deformed-icosahedron.obj")
         .display()
         .to_string()
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-fn path_str(p: &Path) -> &str {
-    p.to_str().expect("utf-8 path")
-}
-
-/// Fails unless `out` failed with one `error:` line containing every fragment.
-fn assert_fails_naming(out: &Output, fragments: &[&str]) {
-    let err = stderr(out);
-    assert_eq!(out.status.code(), Some(1), "exit code; stderr: {err}");
-    let lines: Vec<&str> = err.lines().collect();
-    assert_eq!(lines.len(), 1, "one line expected: {err}");
-    assert!(lines[0].starts_with("error: "), "{err}");
-    for f in fragments {
-        assert!(lines[0].contains(f), "'{f}' missing from: {err}");
-    }
 }
 
 /// Renders `input` with a small image and `extra` options to `dir/name`; returns the stem.

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use common::smoothlab;
+use common::{assert_fails_naming, path_str, smoothlab, stderr};
 
 mod common;
 
@@ -17,24 +17,6 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write test file");
     path
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// Asserts a clean failure: exit code 1, one stderr line `error: …` containing every
-/// fragment, no panic.
-fn assert_fails_naming(out: &Output, fragments: &[&str]) {
-    let err = stderr(out);
-    assert_eq!(out.status.code(), Some(1), "exit code; stderr: {err}");
-    let lines: Vec<&str> = err.lines().collect();
-    assert_eq!(lines.len(), 1, "one line expected: {err}");
-    assert!(lines[0].starts_with("error: "), "{err}");
-    for f in fragments {
-        assert!(lines[0].contains(f), "'{f}' missing from: {err}");
-    }
-    assert!(!err.contains("panicked"), "{err}");
 }
 
 /// A regular tetrahedron, consistently oriented (outward).
@@ -616,10 +598,6 @@ fn scaled_octahedron(dir: &Path, scale: f64) -> PathBuf {
         })
         .collect();
     write(dir, &format!("octahedron-{scale:e}.obj"), &scaled)
-}
-
-fn path_str(p: &Path) -> &str {
-    p.to_str().expect("utf-8 path")
 }
 
 /// Absurd scheme parameters make huge or non-finite surfaces: refused right after the

@@ -469,18 +469,7 @@ pub(crate) fn closest_in_bvh(
     mut hit_of: impl FnMut(usize, f64) -> Option<Hit>,
 ) -> Option<Hit> {
     let setback = TRAVERSAL_SETBACK;
-    // `+ 0.0` turns −0.0 into +0.0: obvhs picks the slab order from `d < 0` but the
-    // inverse direction from the sign bit, and the two disagree on −0.0.
-    let traversal = Ray::new(
-        (ray.origin - ray.dir * setback).as_vec3a(),
-        ray.dir.as_vec3a() + Vec3A::ZERO,
-        (t_min + setback - padding).max(0.0) as f32,
-        if t_max.is_finite() {
-            (t_max + setback + padding) as f32
-        } else {
-            f32::INFINITY
-        },
-    );
+    let traversal = traversal_ray(ray, t_min, t_max, padding);
     let mut best: Option<Hit> = None;
     let mut best_t = t_max;
     let mut record = RayHit::none();
@@ -495,6 +484,25 @@ pub(crate) fn closest_in_bvh(
     best
 }
 
+/// The f32 ray obvhs traverses for the f64 `ray` on `(t_min, t_max)`: started
+/// [`TRAVERSAL_SETBACK`] behind the origin (obvhs' node test ignores distances below its own
+/// epsilon) and widened by `padding` at both ends.
+fn traversal_ray(ray: &Ray64, t_min: f64, t_max: f64, padding: f64) -> Ray {
+    let setback = TRAVERSAL_SETBACK;
+    // `+ 0.0` turns −0.0 into +0.0: obvhs picks the slab order from `d < 0` but the
+    // inverse direction from the sign bit, and the two disagree on −0.0.
+    Ray::new(
+        (ray.origin - ray.dir * setback).as_vec3a(),
+        ray.dir.as_vec3a() + Vec3A::ZERO,
+        (t_min + setback - padding).max(0.0) as f32,
+        if t_max.is_finite() {
+            (t_max + setback + padding) as f32
+        } else {
+            f32::INFINITY
+        },
+    )
+}
+
 /// Whether `hit(primitive)` holds for some primitive of `bvh` whose box the ray enters in
 /// `(t_min, t_max)`: obvhs' miss traversal, which stops at the first primitive reporting a hit.
 /// The traversal ray is set back and padded as in [`closest_in_bvh`].
@@ -506,17 +514,7 @@ pub(crate) fn any_in_bvh(
     t_max: f64,
     mut hit: impl FnMut(usize) -> bool,
 ) -> bool {
-    let setback = TRAVERSAL_SETBACK;
-    let traversal = Ray::new(
-        (ray.origin - ray.dir * setback).as_vec3a(),
-        ray.dir.as_vec3a() + Vec3A::ZERO,
-        (t_min + setback - padding).max(0.0) as f32,
-        if t_max.is_finite() {
-            (t_max + setback + padding) as f32
-        } else {
-            f32::INFINITY
-        },
-    );
+    let traversal = traversal_ray(ray, t_min, t_max, padding);
     // The closure's distance only has to be below the ray's t_max for obvhs to stop.
     !bvh.ray_traverse_miss(traversal, |_, id| {
         if hit(id) {

@@ -45,3 +45,27 @@ pub fn smoothlab_with_stdout(args: &[&str], stdout: std::process::Stdio) -> Outp
 }
 
 pub mod mesh_files;
+
+/// The standard error of a finished run, as text.
+pub fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// `p` as UTF-8 (every test path is).
+pub fn path_str(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+/// Fails unless `out` failed (exit code 1) with one `error:` line containing every fragment,
+/// and no panic.
+pub fn assert_fails_naming(out: &Output, fragments: &[&str]) {
+    let err = stderr(out);
+    assert_eq!(out.status.code(), Some(1), "exit code; stderr: {err}");
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "one line expected: {err}");
+    assert!(lines[0].starts_with("error: "), "{err}");
+    for f in fragments {
+        assert!(lines[0].contains(f), "'{f}' missing from: {err}");
+    }
+    assert!(!err.contains("panicked"), "{err}");
+}

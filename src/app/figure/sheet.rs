@@ -13,6 +13,7 @@ use image::{Rgb, RgbImage};
 use crate::error::{Error, Result};
 use crate::render::film::Frame;
 use crate::render::output::srgb8;
+use crate::report::page::escape;
 use crate::text::{FONT_FAMILY, ascent, draw_text, line_height, text_width};
 
 /// Background of the sheet (sRGB).
@@ -234,21 +235,6 @@ pub fn compose(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> RgbIm
     sheet
 }
 
-/// `text` with the XML special characters escaped.
-fn xml_escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
 
 /// `#rrggbb` of an sRGB colour.
 fn hex(rgb: [u8; 3]) -> String {
@@ -268,7 +254,7 @@ pub fn svg(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> Result<St
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">"#
     );
     if !labels.title.is_empty() {
-        let _ = writeln!(out, "<title>{}</title>", xml_escape(&labels.title));
+        let _ = writeln!(out, "<title>{}</title>", escape(&labels.title));
     }
     let _ = writeln!(
         out,
@@ -304,7 +290,7 @@ pub fn svg(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> Result<St
             t.x,
             t.baseline,
             t.size,
-            xml_escape(&t.text)
+            escape(&t.text)
         );
     }
     let _ = writeln!(out, "</g>\n</svg>");
