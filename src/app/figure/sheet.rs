@@ -235,7 +235,6 @@ pub fn compose(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> RgbIm
     sheet
 }
 
-
 /// `#rrggbb` of an sRGB colour.
 fn hex(rgb: [u8; 3]) -> String {
     format!("#{:02x}{:02x}{:02x}", rgb[0], rgb[1], rgb[2])
