@@ -9,7 +9,8 @@ use crate::error::{Error, Result};
 pub const MAX_TESS: usize = 4096;
 
 /// Environment variable that sets the memory limit in bytes (instead of the system's
-/// available memory); it can raise the limit as well as lower it.
+/// available memory); it can raise the limit as well as lower it. It bounds the whole
+/// process: what the process already holds counts against it.
 pub const MEMORY_LIMIT_VAR: &str = "SMOOTHLAB_MEMORY_LIMIT";
 
 /// The memory limit in bytes and where it comes from: [`MEMORY_LIMIT_VAR`] when set,
@@ -29,23 +30,52 @@ pub fn memory_limit() -> Result<Option<(f64, &'static str)>> {
 
 /// `MemAvailable` of a `/proc/meminfo` text, in bytes.
 fn mem_available(meminfo: &str) -> Option<f64> {
-    let line = meminfo.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024.0)
+    status_kib(meminfo, "MemAvailable:").map(|kib| kib * 1024.0)
 }
 
-/// Fails with [`Error::TooLarge`] when `bytes` (the estimate for `what`) exceeds the
-/// [`memory_limit`]; `remedy` says how to need less.
+/// Fails with [`Error::TooLarge`] when `bytes` (the estimate for `what`) does not fit in the
+/// [`memory_limit`]; `remedy` says how to need less. The system's available memory already
+/// excludes what this process holds; a limit set by [`MEMORY_LIMIT_VAR`] is for the whole
+/// process, so the process's resident memory is added to the estimate.
 pub fn check_memory(what: &str, bytes: f64, remedy: &str) -> Result<()> {
-    match memory_limit()? {
-        Some((limit, source)) if bytes > limit => Err(Error::TooLarge {
-            what: what.to_string(),
-            estimate: format_bytes(bytes),
-            limit: format!("{} ({source})", format_bytes(limit)),
-            remedy: format!("{remedy}, or set {MEMORY_LIMIT_VAR} (bytes) to raise the limit"),
-        }),
-        _ => Ok(()),
+    let Some((limit, source)) = memory_limit()? else {
+        return Ok(());
+    };
+    let held = if source == MEMORY_LIMIT_VAR {
+        resident_bytes().unwrap_or(0.0)
+    } else {
+        0.0
+    };
+    if bytes + held <= limit {
+        return Ok(());
     }
+    let estimate = if held > 0.0 {
+        format!(
+            "{} (+ {} the process already holds)",
+            format_bytes(bytes),
+            format_bytes(held)
+        )
+    } else {
+        format_bytes(bytes)
+    };
+    Err(Error::TooLarge {
+        what: what.to_string(),
+        estimate,
+        limit: format!("{} ({source})", format_bytes(limit)),
+        remedy: format!("{remedy}, or set {MEMORY_LIMIT_VAR} (bytes) to raise the limit"),
+    })
+}
+
+/// The resident memory of this process (`VmRSS` of `/proc/self/status`, Linux), in bytes.
+pub fn resident_bytes() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    status_kib(&status, "VmRSS:").map(|kib| kib * 1024.0)
+}
+
+/// The value in KiB of the `/proc` line starting with `key` (e.g. `MemAvailable:`).
+fn status_kib(text: &str, key: &str) -> Option<f64> {
+    let line = text.lines().find(|l| l.starts_with(key))?;
+    line.split_whitespace().nth(1)?.parse().ok()
 }
 
 /// `bytes` in GB or MB with three significant digits.
@@ -66,6 +96,13 @@ mod tests {
         let text = "MemTotal:       32000000 kB\nMemFree:  100 kB\nMemAvailable:   2000000 kB\n";
         assert_eq!(mem_available(text), Some(2_048_000_000.0));
         assert_eq!(mem_available("MemTotal: 5 kB\n"), None);
+    }
+
+    #[test]
+    fn this_process_holds_some_resident_memory() {
+        let held = resident_bytes().expect("VmRSS of /proc/self/status");
+        // At least the test binary's touched pages, and less than the whole machine.
+        assert!(held > 1e5 && held < 1e12, "{held}");
     }
 
     #[test]

@@ -862,14 +862,18 @@ fn bvh_settings_and_size_are_bounded() {
         ],
     );
     assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
-    let fine = scene("fine", "max_leaves = 100000");
-    // Above the construction's estimate (8 faces × 3.8 kB), below the BVH's.
-    let out = render(&fine, &[("SMOOTHLAB_MEMORY_LIMIT", "100000")]);
+    let fine = scene(
+        "fine",
+        "max_depth = 8\nflatness = 1e-4\nmax_leaves = 100000000",
+    );
+    // Above the construction's estimate (8 faces × 3.8 kB) and what the process holds, below
+    // the BVH's (about 1.6 GB).
+    let out = render(&fine, &[("SMOOTHLAB_MEMORY_LIMIT", "5e8")]);
     assert_fails_naming(
         &out,
-        &["BVH of scheme 'hb'", "MB", "SMOOTHLAB_MEMORY_LIMIT"],
+        &["BVH of scheme 'hb'", "GB", "SMOOTHLAB_MEMORY_LIMIT"],
     );
-    let out = render(&fine, &[]);
+    let out = render(&scene("default", ""), &[]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
 }
 
@@ -899,6 +903,10 @@ fn construction_beyond_the_memory_limit_is_refused_before_it_starts() {
     );
     let out = metrics("1e8");
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    // The limit is for the whole process: 1 MB above the construction's estimate is less
+    // than the construction plus what the process already holds (the binary, the mesh).
+    let out = metrics("4.8e6");
+    assert_fails_naming(&out, &["building scheme 'hb' on", "already holds"]);
 }
 
 /// The 12 × 8 torus with both seams written twice, the copies differing by rounding.
