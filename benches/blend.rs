@@ -3,7 +3,9 @@
 //!   rational weights with their derivatives), every patch of the deformed icosahedron at the
 //!   same parameter points;
 //! - primary-ray throughput of the exact renderer (closest hit, one thread) on the same torus
-//!   mesh built with `hb`, `fang-mann t=2` and `nielson`, with the same camera rays.
+//!   mesh built with `hb`, `fang-mann t=2` and `nielson`, with the same camera rays;
+//! - the same on the deformed icosahedron (20 blend patches, 128² rays), where most rays pass
+//!   close to few, large leaves and the in-leaf search of an undecided Newton run dominates.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -103,9 +105,37 @@ fn primary_rays(c: &mut Criterion) {
     group.finish();
 }
 
+fn primary_rays_deformed(c: &mut Criterion) {
+    let surfaces: Vec<(&str, Surface)> = [
+        ("nielson", "nielson", vec![]),
+        ("fang-mann-t2", "fang-mann", vec![("t", "2")]),
+    ]
+    .into_iter()
+    .map(|(label, scheme, p)| (label, surface(scheme, &p)))
+    .collect();
+    let rays = camera_rays(&surfaces[0].1, 128);
+    let mut group = ray_throughput_group(c, "primary_rays_deformed_icosahedron", rays.len(), 4);
+    for (label, surface) in &surfaces {
+        let tracer = Tracer::with_default_settings(surface).expect("tracer");
+        let (hits, counters) = trace_all(&tracer, &rays);
+        println!(
+            "{label}: {} leaves; {hits}/{} rays hit; Newton runs {}, unconverged {}, failures {}, \
+             undecided pieces {}",
+            tracer.leaf_count(),
+            rays.len(),
+            counters.newton_runs,
+            counters.newton_unconverged,
+            counters.newton_failures,
+            counters.undecided,
+        );
+        group.bench_function(*label, |b| b.iter(|| trace_all(&tracer, black_box(&rays))));
+    }
+    group.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(Duration::from_secs(2));
-    targets = jet_throughput, primary_rays
+    targets = jet_throughput, primary_rays, primary_rays_deformed
 }
 criterion_main!(benches);

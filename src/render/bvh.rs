@@ -89,7 +89,8 @@ pub struct Leaf {
     /// Largest `edge_normals[e] · (x, y)` over the control points (and so the sub-patch), grown
     /// by [`PRISM_PAD`].
     pub edge_hi: [f32; 3],
-    /// Start of the leaf's power-form coefficients in [`PatchBvh::power`].
+    /// Start of the leaf's power-form coefficients in [`PatchBvh::power`]; for a blend leaf
+    /// (no power form), its entry in [`PatchBvh::blend_second_bounds`].
     pub power: u32,
     /// Degree of the power form; 0 when the leaf has none (the patch is then evaluated whole).
     pub degree: u8,
@@ -346,6 +347,12 @@ pub struct PatchBvh {
     pub padding: f64,
     /// Power-form coefficients of all leaves, each leaf's run starting at [`Leaf::power`].
     pub power: Vec<DVec3>,
+    /// Per blend leaf (at [`Leaf::power`]): a proved bound on `|D²S_i(δ, δ)|` over the leaf
+    /// for unit leaf-local directions δ and each of the blend's three polynomial sub-surfaces
+    /// `S_i` ([`second_derivative_bounds`] of their sub-nets, tangential plus normal part).
+    /// The blend is a convex combination of them, which lets the in-leaf search exclude a
+    /// sub-triangle with a proof ([`crate::render::newton::taylor_excludes`]).
+    pub blend_second_bounds: Vec<f64>,
 }
 
 impl PatchBvh {
@@ -376,7 +383,7 @@ impl PatchBvh {
         let padding = box_padding(&scene);
         // Per-patch subdivision is independent; collecting in patch order keeps the leaf list
         // (and so the BVH) identical for any thread count.
-        let per_patch: Vec<Vec<(Leaf, Aabb, Vec<DVec3>)>> = surface
+        let per_patch: Vec<Vec<LeafParts>> = surface
             .patches
             .par_iter()
             .enumerate()
@@ -388,22 +395,30 @@ impl PatchBvh {
         let mut leaves = Vec::new();
         let mut boxes = Vec::new();
         let mut local_forms = Vec::new();
-        for (leaf, b, form) in per_patch.into_iter().flatten() {
+        let mut sub_bounds = Vec::new();
+        for (leaf, b, form, sub) in per_patch.into_iter().flatten() {
             leaves.push(leaf);
             boxes.push(outward_f32(&b, padding));
             local_forms.push(form);
+            sub_bounds.push(sub);
         }
         let bvh = build_cwbvh(&boxes, build_params(), &mut Duration::default());
         // Leaves and their coefficients in traversal order, so that neighbouring BVH leaves
         // are neighbours in memory too.
         let mut power = Vec::with_capacity(local_forms.iter().map(Vec::len).sum());
+        let mut blend_second_bounds = Vec::new();
         let leaves = bvh
             .primitive_indices
             .iter()
             .map(|&i| {
                 let mut leaf = leaves[i as usize];
-                leaf.power = power.len() as u32;
-                power.extend_from_slice(&local_forms[i as usize]);
+                if let Some(sub) = sub_bounds[i as usize] {
+                    leaf.power = blend_second_bounds.len() as u32;
+                    blend_second_bounds.push(sub);
+                } else {
+                    leaf.power = power.len() as u32;
+                    power.extend_from_slice(&local_forms[i as usize]);
+                }
                 leaf
             })
             .collect();
@@ -413,6 +428,7 @@ impl PatchBvh {
             build_time: start.elapsed(),
             padding,
             power,
+            blend_second_bounds,
         })
     }
 
@@ -422,6 +438,7 @@ impl PatchBvh {
             + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
             + std::mem::size_of_val(self.leaves.as_slice())
             + std::mem::size_of_val(self.power.as_slice())
+            + std::mem::size_of_val(self.blend_second_bounds.as_slice())
     }
 }
 
@@ -433,13 +450,17 @@ pub fn build_params() -> BvhBuildParams {
     params
 }
 
+/// One leaf as subdivision makes it: the leaf, its box, its power form (empty for a blend) and,
+/// for a blend, the proved bound of [`PatchBvh::blend_second_bounds`].
+type LeafParts = (Leaf, Aabb, Vec<DVec3>, Option<f64>);
+
 /// Leaves of one patch: recursive 4-split of the control net until [`is_leaf`], each with its
 /// box and its power-form coefficients.
 fn subdivide_patch(
     patch: u32,
     net: &TriangleBezier,
     criterion: &SubdivisionCriterion,
-) -> Vec<(Leaf, Aabb, Vec<DVec3>)> {
+) -> Vec<LeafParts> {
     let mut out = Vec::new();
     let mut stack = vec![(UV_CORNERS, net.clone(), 0u32)];
     while let Some((tri, piece, depth)) = stack.pop() {
@@ -456,7 +477,7 @@ fn subdivide_patch(
             } else {
                 Vec::new()
             };
-            out.push((leaf, piece.control_bounds(), form));
+            out.push((leaf, piece.control_bounds(), form, None));
             continue;
         }
         let child_tris = split4(tri);
@@ -478,7 +499,7 @@ fn subdivide_blend(
     patch: &Patch,
     blend: &BlendPatch,
     criterion: &SubdivisionCriterion,
-) -> Vec<(Leaf, Aabb, Vec<DVec3>)> {
+) -> Vec<LeafParts> {
     let mut out = Vec::new();
     let mut stack = vec![(UV_CORNERS, blend.sub_surfaces().clone(), 0u32)];
     while let Some((tri, nets, depth)) = stack.pop() {
@@ -490,9 +511,18 @@ fn subdivide_blend(
                 .iter()
                 .fold(Aabb::EMPTY, |b, n| b.union(n.control_bounds()));
             let mut leaf = Leaf::new(patch_index, tri, corners, &nets.each_ref());
-            leaf.second_bound = sampled_second_bounds(blend, tri, leaf.normal()).map(f32_up);
+            let normal = leaf.normal();
+            leaf.second_bound = sampled_second_bounds(blend, tri, normal).map(f32_up);
+            // Rounded up like the leaves' own bounds, so that it stays a bound.
+            let sub = nets
+                .iter()
+                .map(|n| {
+                    let [tangential, along] = second_derivative_bounds(n, normal);
+                    f64::from(f32_up(tangential + along))
+                })
+                .fold(0.0, f64::max);
             // No power form: Newton evaluates the blend itself.
-            out.push((leaf, bounds, Vec::new()));
+            out.push((leaf, bounds, Vec::new(), Some(sub)));
             continue;
         }
         let child_tris = split4(tri);

@@ -29,9 +29,15 @@ pub fn point_and_tangents(patch: &Patch, u: f64, v: f64) -> (DVec3, DVec3, DVec3
         let jet = patch.jet(u, v);
         return (jet.p, jet.du, jet.dv);
     };
+    net_point_and_tangents(net, u, v)
+}
+
+/// [`point_and_tangents`] of a Bézier triangle: de Casteljau on the stack up to degree
+/// [`MAX_STACK_DEGREE`], its jet above.
+pub fn net_point_and_tangents(net: &TriangleBezier, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
     let d = net.degree();
     if d == 0 || d > MAX_STACK_DEGREE {
-        let jet = patch.jet(u, v);
+        let jet = net.jet(u, v);
         return (jet.p, jet.du, jet.dv);
     }
     let w = DVec3::new(1.0 - u - v, u, v);

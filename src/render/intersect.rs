@@ -24,11 +24,16 @@ use glam::{DVec2, DVec3, Vec3A};
 use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray, RayHit};
 
+use crate::blend::BlendPatch;
 use crate::geom::Aabb;
 use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion};
-use crate::render::evaluate::{local_point_and_tangents, point_and_tangents};
+use crate::render::evaluate::{
+    local_point_and_tangents, net_point_and_tangents, point_and_tangents,
+};
 pub use crate::render::newton::NewtonSettings;
-use crate::render::newton::{Newton, PieceBounds, Start, newton, planar_start, search};
+use crate::render::newton::{
+    Newton, PieceBounds, Start, newton, planar_start, search, taylor_excludes,
+};
 pub use crate::render::ray::{Ray64, RayPlanes, ray_enters_box};
 use crate::surface::{Patch, Surface};
 
@@ -300,10 +305,24 @@ impl<'s> Tracer<'s> {
         t_max: f64,
         counters: &mut IntersectCounters,
     ) -> Option<Hit> {
-        let c = &self.bvh.power[leaf.power as usize..];
+        // A blend leaf's index points into `blend_second_bounds`, not at a power form.
+        let c = self
+            .bvh
+            .power
+            .get(leaf.power as usize..)
+            .unwrap_or_default();
         macro_rules! solve_with {
             ($eval:expr) => {
-                self.solve_piece($eval, leaf, bounds, start, query, t_max, counters)
+                self.solve_piece(
+                    $eval,
+                    |_| false,
+                    leaf,
+                    bounds,
+                    start,
+                    query,
+                    t_max,
+                    counters,
+                )
             };
         }
         match leaf.degree {
@@ -316,16 +335,34 @@ impl<'s> Tracer<'s> {
             _ => {
                 let patch = &self.unit.patches[leaf.patch as usize];
                 let tri = leaf.tri();
-                solve_with!(|x| local_jet(patch, tri, x))
+                let eval = |x| local_jet(patch, tri, x);
+                match (
+                    patch.as_blend(),
+                    self.bvh.blend_second_bounds.get(leaf.power as usize),
+                ) {
+                    (Some(blend), Some(&second)) => {
+                        // Rounding of the residual: a few ulps of the coordinates, the ray's
+                        // origin included.
+                        let margin = self.tolerance
+                            + 64.0 * f64::EPSILON * query.ray.origin.abs().max_element();
+                        let exclude = |sub: [DVec2; 3]| {
+                            blend_excludes(blend, tri, sub, query.planes, second, margin)
+                        };
+                        self.solve_piece(eval, exclude, leaf, bounds, start, query, t_max, counters)
+                    }
+                    _ => solve_with!(eval),
+                }
             }
         }
     }
 
-    /// [`Tracer::solve_leaf`] with the leaf's evaluator `eval` in leaf-local `(s, t)`.
+    /// [`Tracer::solve_leaf`] with the leaf's evaluator `eval` in leaf-local `(s, t)` and the
+    /// search's extra exclusion test `exclude` (see [`search`]).
     #[allow(clippy::too_many_arguments)]
     fn solve_piece(
         &self,
         eval: impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
+        exclude: impl Fn([DVec2; 3]) -> bool,
         leaf: &Leaf,
         bounds: &PieceBounds,
         start: Start,
@@ -376,6 +413,7 @@ impl<'s> Tracer<'s> {
             query.planes,
             self.tolerance,
             &self.newton,
+            exclude,
             |st, p| {
                 let limit = best.map_or(t_max, |h| h.t);
                 if let Some(hit) = self.accept(leaf.patch, tri, st, p, query, limit) {
@@ -431,6 +469,38 @@ struct Query<'a> {
     ray: &'a Ray64,
     planes: &'a RayPlanes,
     t_min: f64,
+}
+
+/// True when the blend over the sub-triangle `sub` (leaf-local `(s, t)`) of the leaf `tri`
+/// cannot meet the ray of `planes`: each of its three polynomial sub-surfaces, projected to the
+/// ray's planes, is bounded about `sub`'s centroid by Taylor's theorem with the proved bound
+/// `second` on their second derivatives over the leaf ([`PatchBvh::blend_second_bounds`]), and
+/// the blend is a convex combination of them at every point ([`taylor_excludes`]). A proof,
+/// unlike the blend's own sampled bound.
+///
+/// [`PatchBvh::blend_second_bounds`]: crate::render::bvh::PatchBvh::blend_second_bounds
+fn blend_excludes(
+    blend: &BlendPatch,
+    tri: [DVec2; 3],
+    sub: [DVec2; 3],
+    planes: &RayPlanes,
+    second: f64,
+    margin: f64,
+) -> bool {
+    let y = (sub[0] + sub[1] + sub[2]) / 3.0;
+    let size = sub
+        .iter()
+        .map(|c| (*c - y).length_squared())
+        .fold(0.0, f64::max)
+        .sqrt();
+    let (e1, e2) = (tri[1] - tri[0], tri[2] - tri[0]);
+    let uv = tri[0] + e1 * y.x + e2 * y.y;
+    let parts = blend.sub_surfaces().each_ref().map(|net| {
+        let (p, su, sv) = net_point_and_tangents(net, uv.x, uv.y);
+        let (ss, tt) = (su * e1.x + sv * e1.y, su * e2.x + sv * e2.y);
+        (planes.residual(p), planes.project(ss), planes.project(tt))
+    });
+    taylor_excludes(&parts, sub, y, size, second, margin)
 }
 
 /// `S`, `∂S/∂s`, `∂S/∂t` of `patch` at the local coordinates `x = (s, t)` of its sub-triangle

@@ -18,6 +18,12 @@
 //!   `J(x)`. `|x − x*|` is at most the distance from `x` to the farthest corner of `T` and at
 //!   most `|x − x₀| + r_A / cos θ`; a target further than the bound outside `T` proves that `T`
 //!   holds no root.
+//! - **The residual's Taylor bound** ([`taylor_excludes`]). `F(x) = F(y) + J(y)(x − y) + R`
+//!   with `|R| ≤ M |x − y|² / 2`; when some direction keeps that above the tolerance over a
+//!   triangle, it holds no root. It needs no division by `σ`, so it settles the rays that pass
+//!   just beside a silhouette, where `J` is nearly singular and Newton's bound is useless. For a
+//!   blend, whose `M` is only sampled, the caller applies it to the three polynomial
+//!   sub-surfaces with their proved bounds instead (the blend is their convex combination).
 //!
 //! Otherwise the iterate is projected back onto `T` (projection onto a convex set containing
 //! the root never increases the distance to it), so iterates stay where the bounds hold and
@@ -219,6 +225,21 @@ pub fn newton(
             if outside > error * (1.0 + 1e-9) + 1e-12 {
                 return Newton::NoRoot;
             }
+            // The Newton bound divides by σ, which vanishes at a silhouette; the residual's own
+            // Taylor bound over `T` (every point of `T` within `farthest_corner_distance` of
+            // `x`) does not.
+            if bounds.proved
+                && taylor_excludes(
+                    &[(f, ju, jv)],
+                    [DVec2::ZERO, DVec2::X, DVec2::Y],
+                    x,
+                    farthest_corner_distance(x),
+                    2.0 * half_m,
+                    tolerance,
+                )
+            {
+                return Newton::NoRoot;
+            }
         }
         let next = project_to_unit_triangle(target);
         if outside > 0.0 && (next - x).length_squared() < 1e-4 * step.length_squared() {
@@ -230,13 +251,18 @@ pub fn newton(
 }
 
 /// The search of a piece whose Newton run was undecided: the unit triangle is split into four
-/// recursively (`depth` levels); a sub-triangle Δ is excluded when the Newton target `x_N` from
-/// its centroid `y` lies further outside Δ than `M ρ² / (2σ)`, `ρ` the distance from `y` to
-/// Δ's farthest corner (a root in Δ is within that of `x_N`, see the module documentation);
-/// otherwise, if that target lies in Δ, Newton runs from `y` over the whole piece, and a
-/// sub-triangle still open is split. Every root found goes to `visit(s, t, p)`. Returns the number of sub-triangles left
-/// undecided at the last level (0: every root of the piece was visited), or `None` when a run
-/// proved that the piece holds no root.
+/// recursively (`depth` levels); a sub-triangle Δ is excluded when the residual's Taylor bound
+/// about its centroid `y` keeps it away from zero ([`taylor_excludes`], with a proved bound
+/// only), or when the Newton
+/// target `x_N` from `y` lies further outside Δ than `M ρ² / (2σ)`, `ρ` the distance from `y`
+/// to Δ's farthest corner (a root in Δ is within that of `x_N`, see the module documentation),
+/// or when `exclude(Δ)` says so (a caller's own certified test: for a blend, [`taylor_excludes`]
+/// on its three polynomial sub-surfaces); otherwise, if that target lies in Δ, Newton runs from `y`
+/// over the whole piece, and a sub-triangle still open is split. Every root found goes to
+/// `visit(s, t, p)`. Returns the number of sub-triangles left undecided at the last level (0:
+/// every root of the piece was visited), or `None` when a run proved that the piece holds no
+/// root.
+#[allow(clippy::too_many_arguments)]
 pub fn search(
     eval: impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
     bounds: &PieceBounds,
@@ -244,6 +270,7 @@ pub fn search(
     planes: &RayPlanes,
     tolerance: f64,
     settings: &NewtonSettings,
+    exclude: impl Fn([DVec2; 3]) -> bool,
     mut visit: impl FnMut(DVec2, DVec3),
 ) -> Option<u64> {
     // Every root lies within `radius` of `from` (the affine bound of the start).
@@ -275,6 +302,13 @@ pub fn search(
         // close together (grazing) finds the nearer root too.
         let unique = once || sigma > 2.0 * half_m * size * (1.0 + 1e-9);
         let root_here = f.length_squared() <= tolerance * tolerance;
+        // Only a proved bound excludes by Taylor here; a blend's caller passes its own test.
+        if !root_here
+            && bounds.proved
+            && taylor_excludes(&[(f, ju, jv)], tri, y, size, 2.0 * half_m, tolerance)
+        {
+            continue;
+        }
         if root_here {
             visit(y, p);
             if unique || level == settings.fallback_depth {
@@ -296,6 +330,9 @@ pub fn search(
             // Deep down, a root near the edge of Δ may have its target just outside: run too.
             // Deep down, a root near an edge of Δ may have its target just across it: run too.
             promising = outside == 0.0 || (level >= 4 && outside <= size);
+        }
+        if !root_here && exclude(tri) {
+            continue;
         }
         if promising {
             let start = Start::At {
@@ -341,6 +378,50 @@ pub fn search(
         }
     }
     Some(undecided)
+}
+
+/// True when no point of the triangle `tri` (centroid `y`, every point within `size` of `y`)
+/// can hold a root: the residual there lies in the convex hull of `parts` — maps `G_i` given
+/// by their value `G_i(y)` and partial derivatives `(∂G_i/∂s, ∂G_i/∂t)` at `y`, each with
+/// `|D²G_i(δ, δ)| ≤ second` for unit δ over `tri` — and some unit direction `n` keeps all of
+/// them above `margin`.
+///
+/// By Taylor's theorem `n·G_i(x) ≥ n·G_i(y) + n·J_i (x − y) − ½ second |x − y|²`, and the linear
+/// term is smallest at a corner of `tri`. A point with `|F| ≤ margin` has `n·F ≤ margin`, so a
+/// lower bound above `margin` (grown by a relative 1e-9 and 1e-12 for rounding) for every part
+/// excludes the triangle. The directions tried are the residual's at `y` (the sum of the parts)
+/// and the two coordinate axes on its side. Unlike the Newton bound it does not divide by the
+/// Jacobian's smallest singular value, so it still excludes a triangle near a silhouette, where
+/// that Jacobian is nearly singular.
+pub fn taylor_excludes(
+    parts: &[(DVec2, DVec2, DVec2)],
+    tri: [DVec2; 3],
+    y: DVec2,
+    size: f64,
+    second: f64,
+    margin: f64,
+) -> bool {
+    let sum = parts.iter().fold(DVec2::ZERO, |a, p| a + p.0);
+    let drop = 0.5 * second * size * size;
+    let limit = margin * (1.0 + 1e-9) + 1e-12;
+    if !drop.is_finite() {
+        return false;
+    }
+    let offsets = tri.map(|c| c - y);
+    let clears = |n: DVec2| {
+        parts.iter().all(|&(g, js, jt)| {
+            let (a, b) = (n.dot(js), n.dot(jt));
+            let linear = offsets
+                .iter()
+                .map(|o| a * o.x + b * o.y)
+                .fold(f64::INFINITY, f64::min);
+            n.dot(g) + linear - drop > limit
+        })
+    };
+    let n = sum.normalize_or_zero();
+    (n != DVec2::ZERO && clears(n))
+        || (sum.x != 0.0 && clears(DVec2::new(sum.x.signum(), 0.0)))
+        || (sum.y != 0.0 && clears(DVec2::new(0.0, sum.y.signum())))
 }
 
 /// Distance from `x` to the triangle `tri` (0 inside): through the affine map onto the unit
@@ -404,6 +485,70 @@ pub fn distance_to_unit_triangle(x: DVec2) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A quadratic map with `|D²G(δ, δ)| ≤ 2 · 1.5` for unit δ, and its derivatives.
+    fn quadratic(x: DVec2, shift: DVec2) -> (DVec2, DVec2, DVec2) {
+        let g = DVec2::new(x.x * x.x + 0.5 * x.x * x.y, x.y - 0.75 * x.y * x.y) - shift;
+        let gs = DVec2::new(2.0 * x.x + 0.5 * x.y, 0.0);
+        let gt = DVec2::new(0.5 * x.x, 1.0 - 1.5 * x.y);
+        (g, gs, gt)
+    }
+
+    #[test]
+    fn taylor_exclusion_never_excludes_a_root_and_excludes_far_triangles() {
+        // |D²G| ≤ |(2, 0.5; 0.5, 0)| + 1.5 ≤ 2.07 + 1.5 for unit directions: 4 bounds it.
+        let second = 4.0;
+        let mut excluded = 0;
+        let mut tested = 0;
+        for i in 0..40 {
+            for j in 0..40 {
+                let shift = DVec2::new(i as f64 / 20.0 - 0.5, j as f64 / 20.0 - 0.5);
+                for tri in [
+                    [DVec2::ZERO, DVec2::new(0.25, 0.0), DVec2::new(0.0, 0.25)],
+                    [
+                        DVec2::new(0.25, 0.25),
+                        DVec2::new(0.5, 0.25),
+                        DVec2::new(0.25, 0.5),
+                    ],
+                ] {
+                    let y = (tri[0] + tri[1] + tri[2]) / 3.0;
+                    let size = tri.iter().map(|c| (*c - y).length()).fold(0.0, f64::max);
+                    let part = quadratic(y, shift);
+                    let says = taylor_excludes(&[part], tri, y, size, second, 1e-10);
+                    tested += 1;
+                    if !says {
+                        continue;
+                    }
+                    excluded += 1;
+                    // A dense sample of the triangle: no point comes near a root.
+                    for a in 0..=16 {
+                        for b in 0..=16 - a {
+                            let x = tri[0]
+                                + (tri[1] - tri[0]) * (a as f64 / 16.0)
+                                + (tri[2] - tri[0]) * (b as f64 / 16.0);
+                            let g = quadratic(x, shift).0;
+                            assert!(g.length() > 1e-10, "excluded {tri:?} holds {x} ({g})");
+                        }
+                    }
+                }
+            }
+        }
+        // Most shifts put the root far from these small triangles.
+        assert!(excluded > tested / 2, "{excluded} of {tested} excluded");
+        // A triangle holding the root is never excluded.
+        let tri = [DVec2::ZERO, DVec2::new(0.5, 0.0), DVec2::new(0.0, 0.5)];
+        let y = (tri[0] + tri[1] + tri[2]) / 3.0;
+        let shift = quadratic(DVec2::new(0.1, 0.1), DVec2::ZERO).0;
+        let size = tri.iter().map(|c| (*c - y).length()).fold(0.0, f64::max);
+        assert!(!taylor_excludes(
+            &[quadratic(y, shift)],
+            tri,
+            y,
+            size,
+            second,
+            1e-10
+        ));
+    }
 
     #[test]
     fn projection_onto_the_unit_triangle() {
