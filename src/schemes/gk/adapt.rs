@@ -607,6 +607,26 @@ pub(crate) mod tests {
         a.nets(&f, differences)
     }
 
+    /// The largest violation `|g − M f|` of the C^k conditions by the corrections `nets`.
+    pub(crate) fn condition_residual(
+        a: &Adaptation,
+        nets: &[Vec<DVec3>],
+        differences: &[Vec<DVec3>],
+    ) -> f64 {
+        let count = point_count(a.degree);
+        let mut f = vec![DVec3::ZERO; a.free_of.iter().filter(|&&x| x != usize::MAX).count()];
+        for (t, net) in nets.iter().enumerate() {
+            for (i, x) in net.iter().enumerate() {
+                if a.free_of[t * count + i] != usize::MAX {
+                    f[a.free_of[t * count + i]] = *x;
+                }
+            }
+        }
+        a.residual(&f, differences)
+            .iter()
+            .fold(0.0f64, |m, r| m.max(r.length()))
+    }
+
     /// The system is block-circulant as built: with P the rotation by one sector (of the
     /// conditions), `‖P G P⁻¹ − G‖_max / ‖G‖_max` is at rounding level (measured 0: the blocks
     /// are computed by the same operations), and sectors two or more apart do not couple —

@@ -333,8 +333,10 @@ mod tests {
     }
 
     /// The largest change of the Fourier solve of the adaptation against the dense solve of
-    /// the whole system, relative to the largest correction, on a jittered valence-n fan.
-    fn fourier_against_dense(n: usize, k: usize) -> f64 {
+    /// the whole system, relative to the largest correction, on a jittered valence-n fan; and
+    /// the largest violation of the C^k conditions by each solve, relative to the same scale.
+    fn fourier_against_dense(n: usize, k: usize) -> [f64; 3] {
+        use crate::schemes::gk::adapt::tests::{condition_residual, dense_apply};
         let (mut positions, faces) = crate::mesh::generate::valence_fan(n).unwrap();
         let mut rng = crate::testing::Rng::new(1000 * n as u64 + k as u64);
         for p in &mut positions {
@@ -350,9 +352,9 @@ mod tests {
         let prepared = prepare_hole(m, &control, k, v).unwrap();
         let degree = 2 * prepared.planar.inner.degree();
         let adaptation = Adaptation::get(n, k, degree).unwrap();
-        let fast = adaptation.apply(&prepared.differences);
-        let dense =
-            crate::schemes::gk::adapt::tests::dense_apply(&adaptation, &prepared.differences);
+        let d = &prepared.differences;
+        let fast = adaptation.apply(d);
+        let dense = dense_apply(&adaptation, d);
         let scale = dense
             .iter()
             .flatten()
@@ -366,21 +368,40 @@ mod tests {
             scale > 0.0,
             "n = {n}, k = {k}: the jittered fan needs a correction"
         );
-        change / scale
+        [
+            change / scale,
+            condition_residual(&adaptation, &fast, d) / scale,
+            condition_residual(&adaptation, &dense, d) / scale,
+        ]
     }
 
     /// The adaptation's solve per Fourier mode reproduces the dense solve of the whole system
-    /// to 1e-12 of the correction, for k = 1..4 and some valences (the test below runs them
-    /// all).
+    /// (to 1e-12 of the correction for k ≤ 3; at k = 4, whose reduced system is the worst
+    /// conditioned, to 1e-11: measured 2.7e-12 at n = 3), and meets the C^k conditions at
+    /// least as well as the dense solve, for some valences (the ignored test below runs
+    /// 3..=24).
     #[test]
     fn fourier_solve_reproduces_the_dense_solve() {
         for n in [3, 4, 5, 7, 8] {
             for k in 1..=4 {
-                let rel = fourier_against_dense(n, k);
-                eprintln!("n = {n}, k = {k}: Fourier vs dense {rel:.1e}");
-                assert!(rel <= 1e-12, "n = {n}, k = {k}: {rel:e}");
+                check_fourier_against_dense(n, k);
             }
         }
+    }
+
+    fn check_fourier_against_dense(n: usize, k: usize) -> f64 {
+        let [rel, fast, dense] = fourier_against_dense(n, k);
+        eprintln!(
+            "n = {n}, k = {k}: Fourier vs dense {rel:.1e}; condition residual {fast:.1e} \
+             (dense {dense:.1e})"
+        );
+        let bound = if k <= 3 { 1e-12 } else { 1e-11 };
+        assert!(rel <= bound, "n = {n}, k = {k}: {rel:e}");
+        assert!(
+            fast <= 2.0 * dense.max(1e-15),
+            "n = {n}, k = {k}: {fast:e} vs {dense:e}"
+        );
+        rel
     }
 
     /// The same for every valence 3..=24 (the dense solve takes minutes at valence 24).
@@ -390,10 +411,7 @@ mod tests {
         let mut worst = 0.0f64;
         for k in 1..=4 {
             for n in 3..=24 {
-                let rel = fourier_against_dense(n, k);
-                eprintln!("n = {n}, k = {k}: Fourier vs dense {rel:.1e}");
-                worst = worst.max(rel);
-                assert!(rel <= 1e-12, "n = {n}, k = {k}: {rel:e}");
+                worst = worst.max(check_fourier_against_dense(n, k));
             }
         }
         eprintln!("worst {worst:.1e}");
