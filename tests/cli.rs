@@ -788,16 +788,18 @@ fn bipyramid(n: usize) -> String {
     text
 }
 
-/// gk refuses a vertex above its documented valence limit at once, naming it.
+/// gk refuses a vertex above its valence limit (`--param max_valence`, default 1000) at once,
+/// naming the vertex, its valence, the limit, the estimated cost and how to raise it; the
+/// parameter lowers and raises the limit, and valence 200 builds.
 #[test]
-fn gk_refuses_huge_valences_by_vertex() {
+fn gk_refuses_valences_above_its_limit_by_vertex() {
     let dir = scratch("gk_valence");
-    let mesh = write(&dir, "bipyramid-200.obj", &bipyramid(200));
+    let huge = write(&dir, "bipyramid-1200.obj", &bipyramid(1200));
     let start = std::time::Instant::now();
-    for (k, max) in [("1", 64), ("4", 16)] {
+    for k in ["1", "4"] {
         let out = smoothlab(&[
             "metrics",
-            path_str(&mesh),
+            path_str(&huge),
             "--scheme",
             "gk",
             "--param",
@@ -807,13 +809,29 @@ fn gk_refuses_huge_valences_by_vertex() {
             &out,
             &[
                 &format!("k={k}"),
-                &format!("up to {max}"),
-                "vertex 0 has valence 200",
+                "vertex 0 has valence 1200",
+                "above max_valence=1000",
+                "MB",
+                "--param max_valence=1200",
             ],
         );
     }
     assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
     let mesh = write(&dir, "bipyramid-17.obj", &bipyramid(17));
+    let metrics = |params: &[&str]| {
+        let mut args = vec!["metrics", path_str(&mesh), "--scheme", "gk"];
+        for p in params {
+            args.extend(["--param", p]);
+        }
+        smoothlab(&args)
+    };
+    let out = metrics(&["k=1", "max_valence=16"]);
+    assert_fails_naming(&out, &["vertex 0 has valence 17", "above max_valence=16"]);
+    let out = metrics(&["k=1", "max_valence=2.5"]);
+    assert_fails_naming(&out, &["max_valence", "whole number"]);
+    let out = metrics(&["k=1", "max_valence=17"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let mesh = write(&dir, "bipyramid-200.obj", &bipyramid(200));
     let out = smoothlab(&[
         "metrics",
         path_str(&mesh),

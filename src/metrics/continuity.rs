@@ -763,6 +763,28 @@ pub fn joint_order(surface: &Surface, joint: &Joint, diag: f64) -> i32 {
     })
 }
 
+/// Per order m: (difference, scale, floor) of the height coefficients at fraction `s`.
+#[cfg(test)]
+pub(crate) fn diagnose(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> Vec<[f64; 3]> {
+    let floor = rounding_floor(surface, joint, s);
+    let (_, point) = exact_point(surface, joint, s, MAX_ORDER);
+    let Some(mut point) = point else {
+        return Vec::new();
+    };
+    (1..=point.limit)
+        .map(|m| {
+            let [ha, hb] = point.heights_at(m);
+            let (mut diff, mut mag) = (0.0_f64, 0.0_f64);
+            for i in 0..=m {
+                let k = term(i, m - i);
+                diff = diff.max((ha.0[k] - hb.0[k]).abs());
+                mag = mag.max(ha.0[k].abs()).max(hb.0[k].abs());
+            }
+            [diff, mag.max(diag.powi(1 - m as i32)), floor[m]]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -144,9 +144,22 @@ pub fn placed_multiple(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> R
     Ok(start + shift)
 }
 
-/// Fills the hole of irregular vertex `v`.
-pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filling> {
-    let n = mesh.valence(v);
+/// What the adaptation of one hole starts from.
+struct Prepared {
+    rings: Rings,
+    planar: PlaneSector,
+    /// The surface ring `r`, per sector and ring triangle (degree d).
+    #[cfg(test)]
+    ring: Vec<[TriangleBezier; 3]>,
+    q: Quadratic,
+    /// `r` elevated to degree 2d, `3s + τ` order.
+    elevated: Vec<TriangleBezier>,
+    /// `D = q ∘ x − E(r)`, `3s + τ` order.
+    differences: Vec<Vec<DVec3>>,
+}
+
+/// The ring, q and the differences the adaptation corrects, for irregular vertex `v`.
+fn prepare_hole(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Prepared> {
     let (rings, planar, x_ring) = charts(mesh, k, v)?;
     let multiple = control
         .multiple(v)
@@ -173,9 +186,27 @@ pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filli
                 .collect()
         })
         .collect();
+    Ok(Prepared {
+        rings,
+        planar,
+        #[cfg(test)]
+        ring,
+        q,
+        elevated,
+        differences,
+    })
+}
+
+/// Fills the hole of irregular vertex `v`.
+pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filling> {
+    let n = mesh.valence(v);
+    let prepared = prepare_hole(mesh, control, k, v)?;
+    let (rings, planar, q) = (&prepared.rings, &prepared.planar, &prepared.q);
+    let (elevated, differences) = (&prepared.elevated, &prepared.differences);
+    let d = planar.inner.degree();
     let adaptation = Adaptation::get(n, k, 2 * d)
-        .ok_or_else(|| refusal(v, "the adaptation conditions are dependent"))?;
-    let corrections = adaptation.apply(&differences);
+        .ok_or_else(|| refusal(v, "the adaptation's thin-plate fairing is singular"))?;
+    let corrections = adaptation.apply(differences);
 
     let mut patches = Vec::with_capacity(4 * n);
     for s in 0..n {
@@ -212,7 +243,7 @@ pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filli
     Ok(Filling {
         patches,
         #[cfg(test)]
-        ring,
+        ring: prepared.ring,
     })
 }
 
@@ -299,6 +330,93 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The largest change of the Fourier solve of the adaptation against the dense solve of
+    /// the whole system, relative to the largest correction, on a jittered valence-n fan; and
+    /// the largest violation of the C^k conditions by each solve, relative to the same scale.
+    fn fourier_against_dense(n: usize, k: usize) -> [f64; 3] {
+        use crate::schemes::gk::adapt::tests::{condition_residual, dense_apply};
+        let (mut positions, faces) = crate::mesh::generate::valence_fan(n).unwrap();
+        let mut rng = crate::testing::Rng::new(1000 * n as u64 + k as u64);
+        for p in &mut positions {
+            *p += rng.point(0.0) * 0.1;
+        }
+        let (mesh, _) = Mesh::from_triangles(positions, faces).unwrap();
+        let net = prepare(&mesh, k).unwrap();
+        let m = &net.mesh;
+        let control = crate::schemes::gk::control_net(m, k).unwrap();
+        let v = (0..m.vertex_count() as u32)
+            .find(|&v| m.valence(v) == n)
+            .unwrap();
+        let prepared = prepare_hole(m, &control, k, v).unwrap();
+        let degree = 2 * prepared.planar.inner.degree();
+        let adaptation = Adaptation::get(n, k, degree).unwrap();
+        let d = &prepared.differences;
+        let fast = adaptation.apply(d);
+        let dense = dense_apply(&adaptation, d);
+        let scale = dense
+            .iter()
+            .flatten()
+            .fold(0.0f64, |s, x| s.max(x.length()));
+        let change = fast
+            .iter()
+            .flatten()
+            .zip(dense.iter().flatten())
+            .fold(0.0f64, |s, (a, b)| s.max((*a - *b).length()));
+        assert!(
+            scale > 0.0,
+            "n = {n}, k = {k}: the jittered fan needs a correction"
+        );
+        [
+            change / scale,
+            condition_residual(&adaptation, &fast, d) / scale,
+            condition_residual(&adaptation, &dense, d) / scale,
+        ]
+    }
+
+    /// The adaptation's solve per Fourier mode meets the C^k conditions at least as well as
+    /// the dense solve of the whole system (within a factor 2) and reproduces it to 1e-10 of
+    /// the correction, for valences 3, 4, 5 (the ignored test below runs 3..=24). The two
+    /// solves differ by the conditioning of the reduced system, which grows with n and k, not
+    /// by the split: measured 2.7e-12 (k = 4, n = 3), 1.5e-12 (k = 3, n = 4) and 1.7e-11
+    /// (k = 4, n = 5), the Fourier solve's condition residual 6.9e-12 there against the dense
+    /// solve's 1.0e-11.
+    #[test]
+    fn fourier_solve_reproduces_the_dense_solve() {
+        for n in [3, 4, 5] {
+            for k in 1..=4 {
+                check_fourier_against_dense(n, k);
+            }
+        }
+    }
+
+    fn check_fourier_against_dense(n: usize, k: usize) -> f64 {
+        let [rel, fast, dense] = fourier_against_dense(n, k);
+        eprintln!(
+            "n = {n}, k = {k}: Fourier vs dense {rel:.1e}; condition residual {fast:.1e} \
+             (dense {dense:.1e})"
+        );
+        assert!(rel <= 1e-10, "n = {n}, k = {k}: {rel:e}");
+        assert!(
+            fast <= 2.0 * dense.max(1e-15),
+            "n = {n}, k = {k}: {fast:e} vs {dense:e}"
+        );
+        rel
+    }
+
+    /// The same for every valence 3..=24 (the dense solve takes minutes at valence 24; not yet
+    /// run to the end: the dense reference's own error grows with n and may pass 1e-10).
+    #[test]
+    #[ignore = "minutes: the dense reference solve is O(n³)"]
+    fn fourier_solve_reproduces_the_dense_solve_at_valences_3_to_24() {
+        let mut worst = 0.0f64;
+        for k in 1..=4 {
+            for n in 3..=24 {
+                worst = worst.max(check_fourier_against_dense(n, k));
+            }
+        }
+        eprintln!("worst {worst:.1e}");
     }
 
     /// The surface net and the plane net coalesce alike: a control net laid out as the plane
