@@ -985,7 +985,9 @@ fn rounding_seams_are_welded_with_a_warning_by_every_command() {
         ),
         &boundary,
     );
-    let closed_only = ["render", mesh, "--scheme", "gk", "--mode", "normals", "--size", "8x8"];
+    let closed_only = [
+        "render", mesh, "--scheme", "gk", "--mode", "normals", "--size", "8x8",
+    ];
     assert_fails_naming(&smoothlab(&[&closed_only[..], &zero].concat()), &boundary);
 }
 

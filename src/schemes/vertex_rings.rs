@@ -105,10 +105,7 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
 
     /// As [`HalfEdgeTable::build`] for a mesh that may have boundaries: `per_vertex` gets each
     /// vertex's [`Fan`] (boundary flag, angle steps of the vertex and its neighbours).
-    pub fn build_open(
-        mesh: &Mesh,
-        per_vertex: impl Fn(&Fan, &mut [T]) + Sync,
-    ) -> HalfEdgeTable<T> {
+    pub fn build_open(mesh: &Mesh, per_vertex: impl Fn(&Fan, &mut [T]) + Sync) -> HalfEdgeTable<T> {
         let positions = mesh.positions();
         let steps: Vec<f64> = (0..mesh.vertex_count() as u32)
             .map(|v| fan_angle_step(mesh, v))
@@ -222,7 +219,10 @@ pub fn fan_angle_step(mesh: &Mesh, v: u32) -> f64 {
         let positions = mesh.positions();
         let ring = mesh.one_ring(v);
         let at = positions[v as usize];
-        let (a, b) = (positions[ring[0] as usize] - at, positions[ring[1] as usize] - at);
+        let (a, b) = (
+            positions[ring[0] as usize] - at,
+            positions[ring[1] as usize] - at,
+        );
         a.angle_between(b)
     }
 }
@@ -326,11 +326,11 @@ pub fn open_fan_cross_data(
     }
     let mut t0 = DVec3::ZERO;
     for j in 0..faces {
-        let sign = if j % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = if j.is_multiple_of(2) { 1.0 } else { -1.0 };
         t0 += sign * (0.5 * (r[j] + r[j + 1]) - sigma[j]);
     }
     t0 /= faces as f64;
-    let twist = |j: usize| sigma[j] + if j % 2 == 0 { t0 } else { -t0 };
+    let twist = |j: usize| sigma[j] + if j.is_multiple_of(2) { t0 } else { -t0 };
     (0..n)
         .map(|j| {
             if j < faces {

@@ -53,7 +53,9 @@ pub fn open_test_meshes() -> Vec<(String, Mesh)> {
 /// `scenes/bunny-open.obj`: the scanned bunny with its base cut open.
 pub fn open_bunny() -> Mesh {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bunny-open.obj");
-    Mesh::load_obj(&path).expect("scenes/bunny-open.obj loads").0
+    Mesh::load_obj(&path)
+        .expect("scenes/bunny-open.obj loads")
+        .0
 }
 
 /// `spec`'s parameters with the given overrides.

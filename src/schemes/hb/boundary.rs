@@ -1,7 +1,7 @@
 //! HB00 on open meshes: the data of the edges leaving a boundary vertex. HB00 names boundaries
 //! as future work (§10); the rules here are the half-ring analogue of its vertex rules, chosen
 //! so that the interior G¹ conditions (eqs. 19, 21, (II_T)) hold unchanged on every interior
-//! edge, the macro-patch construction of [`super::macro_patch`] runs as it is, and a planar mesh
+//! edge, the macro-patch construction of [`mod@super::macro_patch`] runs as it is, and a planar mesh
 //! gives exactly its plane.
 //!
 //! A boundary vertex `v` of valence n has neighbours `p_0..p_{n−1}` and n − 1 faces
@@ -29,8 +29,7 @@ use glam::DVec3;
 use super::vertex::{BETA_RANGE, GAMMA2_RANGE, HalfEdgeData, ShapeParams, ShapeRule, half_edges};
 use crate::mesh::Mesh;
 use crate::schemes::vertex_rings::{
-    Fan, HalfEdgeTable, half_ring_tangent_basis, open_fan_cross_data,
-    open_loop_point,
+    Fan, HalfEdgeTable, half_ring_tangent_basis, open_fan_cross_data, open_loop_point,
 };
 
 /// Pass 1 of HB00 on a mesh that may be open: interior vertices by the closed rule of
@@ -71,7 +70,11 @@ fn boundary_shape(
         for (t, c) in unit_tangent.iter().zip(&chords) {
             let len = c.length();
             let sin = (c.dot(normal).abs() / len.max(f64::MIN_POSITIVE)).min(1.0);
-            let arc = if sin > 0.0 { len * sin.asin() / sin } else { len };
+            let arc = if sin > 0.0 {
+                len * sin.asin() / sin
+            } else {
+                len
+            };
             let q = t.length() / arc.max(f64::MIN_POSITIVE);
             num += q;
             den += q * q;
@@ -98,8 +101,8 @@ fn boundary_shape(
         tangential.push((r1 / 6.0, w - w_normal * normal));
     }
     let weight = PLANAR_FALLBACK * (scale / nf).powi(2);
-    let g2 = ((num + weight * reference / nf) / (den + weight))
-        .clamp(GAMMA2_RANGE[0], GAMMA2_RANGE[1]);
+    let g2 =
+        ((num + weight * reference / nf) / (den + weight)).clamp(GAMMA2_RANGE[0], GAMMA2_RANGE[1]);
     let (mut uu, mut uw) = (0.0, 0.0);
     for (u, w) in &tangential {
         uu += u.length_squared();
@@ -164,8 +167,8 @@ mod tests {
     use crate::schemes::hb::{SPEC, build, max_corner_mismatch};
     use crate::schemes::{Params, SchemeSpec};
     use crate::testing::{
-        JointFigures, assert_g1_joints, max_smoothness_defect_inside_faces, mesh,
-        open_test_meshes, params,
+        JointFigures, assert_g1_joints, max_smoothness_defect_inside_faces, mesh, open_test_meshes,
+        params,
     };
     use crate::tolerance::POSITION_REL;
 
@@ -194,7 +197,10 @@ mod tests {
              C1 defect {c1:.1e}"
         );
         if p.number("alpha").expect("alpha") == 1.0 {
-            assert!(interpolation <= 1e-12, "interpolation {interpolation} on {label}");
+            assert!(
+                interpolation <= 1e-12,
+                "interpolation {interpolation} on {label}"
+            );
         }
         assert!(mismatch <= 1e-12, "twist mismatch {mismatch} on {label}");
         assert!(c1 <= POSITION_REL, "C1 defect inside faces {c1} on {label}");
@@ -238,7 +244,10 @@ mod tests {
                 triangles.0.iter().map(|&p| tilt * p + DVec3::ONE).collect(),
                 triangles.1.clone(),
             );
-            for pairs in [&[][..], &[("beta", "0.4"), ("gamma0", "0.2"), ("gamma1", "0.5")]] {
+            for pairs in [
+                &[][..],
+                &[("beta", "0.4"), ("gamma0", "0.2"), ("gamma1", "0.5")],
+            ] {
                 let p = params(&SPEC, pairs);
                 let surface = build(&mesh(triangles.clone()), &p).expect("builds");
                 let off = surface
@@ -255,7 +264,10 @@ mod tests {
                     .flat_map(|patch| patch.as_bezier().expect("Bézier").points().to_vec())
                     .map(|x| (x - DVec3::ONE).dot(normal).abs())
                     .fold(0.0, f64::max);
-                assert!(off <= 1e-14, "{name} {pairs:?}: off the tilted plane by {off}");
+                assert!(
+                    off <= 1e-14,
+                    "{name} {pairs:?}: off the tilted plane by {off}"
+                );
             }
         }
     }

@@ -5,11 +5,11 @@
 //!
 //! At a boundary vertex `v` of valence n (neighbours `p_0..p_{n−1}`, edges 0 and n − 1 on the
 //! boundary): the angle step `θ = π/(n − 1)` for n ≥ 3, the face angle for a corner (n = 2)
-//! ([`crate::schemes::vertex_rings::fan_angle_step`]); tangents `r¹_j = 4(f¹ − f⁰) = 2β (A cos jθ
-//! + B sin jθ)` from [`half_ring_tangent_basis`] (on a regular ring, `2β` times the fit is the
-//! closed rule `(4β/n) Σ cos(θ(j−i)) p_j`); `f²` Loop's point, the chord midpoint on a boundary
-//! edge ([`open_loop_point`]); twists and `V` from [`open_fan_cross_data`] with `V'(0) =
-//! 3(v¹ − v⁰)` (the cubic `V` of eq. 4). Interior vertices keep the closed rule, reading their
+//! ([`crate::schemes::vertex_rings::fan_angle_step`]); tangents
+//! `r¹_j = 4(f¹ − f⁰) = 2β (A cos jθ + B sin jθ)` from [`half_ring_tangent_basis`] (on a regular
+//! ring, `2β` times the fit is the closed rule `(4β/n) Σ cos(θ(j−i)) p_j`); `f²` Loop's point,
+//! the chord midpoint on a boundary edge ([`open_loop_point`]); twists and `V` from
+//! [`open_fan_cross_data`] with `V'(0) = 3(v¹ − v⁰)` (the cubic `V` of eq. 4). Interior vertices keep the closed rule, reading their
 //! neighbours' orders from the fan so that `Ψ` is linear to the neighbour's `Ψ(0)`.
 
 use glam::DVec3;
@@ -89,9 +89,15 @@ mod tests {
              {interpolation:.1e}, twist/f² defect {defect:.1e}"
         );
         assert!(gap <= 1e-12, "G0 gap {gap} on {label}");
-        assert!(g1 <= crate::tolerance::NORMAL_RAD, "normal jump {g1} rad on {label}");
+        assert!(
+            g1 <= crate::tolerance::NORMAL_RAD,
+            "normal jump {g1} rad on {label}"
+        );
         if p.number("alpha").expect("alpha") == 1.0 {
-            assert!(interpolation <= 1e-12, "interpolation {interpolation} on {label}");
+            assert!(
+                interpolation <= 1e-12,
+                "interpolation {interpolation} on {label}"
+            );
         }
         assert!(defect <= 1e-12, "twist/f² defect {defect} on {label}");
     }
@@ -99,7 +105,11 @@ mod tests {
     #[test]
     fn g1_and_interpolation_on_open_meshes() {
         for (name, mesh) in open_test_meshes() {
-            for pairs in [&[][..], &[("beta", "0.5")], &[("alpha", "0.7"), ("beta", "0.3")]] {
+            for pairs in [
+                &[][..],
+                &[("beta", "0.5")],
+                &[("alpha", "0.7"), ("beta", "0.3")],
+            ] {
                 check(&name, &mesh, &params(&SPEC, pairs));
             }
         }
