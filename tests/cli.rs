@@ -130,15 +130,15 @@ fn moebius_strip_is_not_orientable() {
 }
 
 #[test]
-fn open_mesh_is_refused_by_hb_by_name() {
-    let dir = scratch("open-hb");
+fn open_mesh_is_refused_by_gk_by_name() {
+    let dir = scratch("open-gk");
     let open: String = TETRAHEDRON
         .lines()
         .take(7)
         .map(|l| format!("{l}\n"))
         .collect();
-    let out = metrics_of(&dir, "open.obj", &open, &["--scheme", "hb"]);
-    assert_fails_naming(&out, &["'hb'", "boundary edge"]);
+    let out = metrics_of(&dir, "open.obj", &open, &["--scheme", "gk"]);
+    assert_fails_naming(&out, &["'gk'", "boundary edge"]);
 }
 
 #[test]
