@@ -130,15 +130,15 @@ fn moebius_strip_is_not_orientable() {
 }
 
 #[test]
-fn open_mesh_is_refused_by_hb_by_name() {
-    let dir = scratch("open-hb");
+fn open_mesh_is_refused_by_gk_by_name() {
+    let dir = scratch("open-gk");
     let open: String = TETRAHEDRON
         .lines()
         .take(7)
         .map(|l| format!("{l}\n"))
         .collect();
-    let out = metrics_of(&dir, "open.obj", &open, &["--scheme", "hb"]);
-    assert_fails_naming(&out, &["'hb'", "boundary edge"]);
+    let out = metrics_of(&dir, "open.obj", &open, &["--scheme", "gk"]);
+    assert_fails_naming(&out, &["'gk'", "boundary edge"]);
 }
 
 #[test]
@@ -239,7 +239,7 @@ fn metrics_json_has_the_contract_keys() {
 }
 
 #[test]
-fn all_on_an_open_mesh_skips_hb_with_a_warning() {
+fn all_on_an_open_mesh_skips_gk_with_a_warning() {
     let dir = scratch("all-open");
     let open: String = TETRAHEDRON
         .lines()
@@ -256,7 +256,7 @@ fn all_on_an_open_mesh_skips_hb_with_a_warning() {
     let err = stderr(&out);
     assert!(out.status.success(), "{err}");
     assert!(
-        err.contains("warning: skipped") && err.contains("'hb'"),
+        err.contains("warning: skipped") && err.contains("'gk'"),
         "{err}"
     );
     let value: serde_json::Value =
@@ -267,7 +267,7 @@ fn all_on_an_open_mesh_skips_hb_with_a_warning() {
         .iter()
         .filter_map(|m| m["scheme"].as_str())
         .collect();
-    // Every scheme that takes open meshes (flat, pn and the blends), in registry order.
+    // Every scheme that takes open meshes (all but gk), in registry order.
     let open_capable: Vec<&str> = smoothlab::schemes::SCHEMES
         .iter()
         .filter(|s| !s.needs_closed_mesh)
@@ -986,14 +986,14 @@ fn rounding_seams_are_welded_with_a_warning_by_every_command() {
     let boundary = ["needs a closed mesh", "boundary edge"];
     let zero = ["--weld-tolerance", "0"];
     assert_fails_naming(
-        &smoothlab(&[&["metrics", mesh, "--scheme", "hb"][..], &zero].concat()),
+        &smoothlab(&[&["metrics", mesh, "--scheme", "gk"][..], &zero].concat()),
         &boundary,
     );
     assert_fails_naming(
         &smoothlab(
             &[
                 &[
-                    "export", mesh, "--scheme", "hb", "--format", "bv", "-o", json,
+                    "export", mesh, "--scheme", "gk", "--format", "bv", "-o", json,
                 ][..],
                 &zero,
             ]
@@ -1004,14 +1004,17 @@ fn rounding_seams_are_welded_with_a_warning_by_every_command() {
     assert_fails_naming(
         &smoothlab(
             &[
-                &["sample", mesh, "--scheme", "hb", "--json", json][..],
+                &["sample", mesh, "--scheme", "gk", "--json", json][..],
                 &zero,
             ]
             .concat(),
         ),
         &boundary,
     );
-    assert_fails_naming(&render(&zero), &boundary);
+    let closed_only = [
+        "render", mesh, "--scheme", "gk", "--mode", "normals", "--size", "8x8",
+    ];
+    assert_fails_naming(&smoothlab(&[&closed_only[..], &zero].concat()), &boundary);
 }
 
 #[test]
@@ -1021,7 +1024,7 @@ fn scene_key_weld_tolerance_and_the_flag_that_overrides_it() {
     let scene = write(
         &dir,
         "torus.toml",
-        "mesh = \"torus.obj\"\nweld_tolerance = 0.0\n[scheme]\nname = \"hb\"\n\
+        "mesh = \"torus.obj\"\nweld_tolerance = 0.0\n[scheme]\nname = \"gk\"\n\
          [render]\nmode = \"normals\"\nsize = [8, 8]\nspp = 1\n",
     );
     let image = dir.join("torus");

@@ -484,6 +484,11 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     }
     let (mesh, report) = Mesh::load_with(&mesh_path, &load_options)?;
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
+    // The back of an open surface shows: tint it in the quality modes.
+    let mut job = job;
+    if !mesh.is_closed() {
+        job.settings.mode = job.settings.mode.with_back_faces_tinted();
+    }
     let stats = match (animation, frames) {
         (Some(animation), Some((pngs, gif))) => {
             turntable::render_animation(&job, &animation, &surface, &mesh, &pngs, &gif)?

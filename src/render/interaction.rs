@@ -29,6 +29,12 @@ pub struct ShadingPoint {
 }
 
 impl ShadingPoint {
+    /// True if the patch normal faces away from the eye: the hit is on the back of the surface
+    /// (on a closed surface seen from outside, never).
+    pub fn is_back_face(&self) -> bool {
+        self.normal.dot(self.view) > 0.0
+    }
+
     /// Evaluates the full local geometry of `hit` on `jet` (from the hit's patch).
     pub fn new(hit: Hit, face: u32, piece: u8, jet: Jet, ray: &Ray64) -> ShadingPoint {
         ShadingPoint::with_normal(hit, face, piece, jet, jet.normal(), ray)

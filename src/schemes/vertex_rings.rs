@@ -73,7 +73,7 @@ impl RingFourier {
     }
 }
 
-/// Per-directed-edge data of a closed mesh, computed vertex by vertex.
+/// Per-directed-edge data of a mesh, computed vertex by vertex.
 pub struct HalfEdgeTable<T> {
     /// `offsets[v] + i` is the edge `v → one_ring(v)[i]`.
     offsets: Vec<usize>,
@@ -89,6 +89,53 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
         mesh: &Mesh,
         per_vertex: impl Fn(DVec3, &[DVec3], &[usize], &mut [T]) + Sync,
     ) -> HalfEdgeTable<T> {
+        let positions = mesh.positions();
+        Self::build_indexed(
+            mesh,
+            |(ring_points, ring_valence): &mut (Vec<DVec3>, Vec<usize>), v, out| {
+                let ring = mesh.one_ring(v as u32);
+                ring_points.clear();
+                ring_points.extend(ring.iter().map(|&p| positions[p as usize]));
+                ring_valence.clear();
+                ring_valence.extend(ring.iter().map(|&p| mesh.valence(p)));
+                per_vertex(positions[v], ring_points, ring_valence, out);
+            },
+        )
+    }
+
+    /// As [`HalfEdgeTable::build`] for a mesh that may have boundaries: `per_vertex` gets each
+    /// vertex's [`Fan`] (boundary flag, angle steps of the vertex and its neighbours).
+    pub fn build_open(mesh: &Mesh, per_vertex: impl Fn(&Fan, &mut [T]) + Sync) -> HalfEdgeTable<T> {
+        let positions = mesh.positions();
+        let steps: Vec<f64> = (0..mesh.vertex_count() as u32)
+            .map(|v| fan_angle_step(mesh, v))
+            .collect();
+        let orders: Vec<usize> = (0..mesh.vertex_count() as u32)
+            .map(|v| fan_order(mesh, v))
+            .collect();
+        Self::build_indexed(mesh, |_: &mut (), v, out| {
+            let ring = mesh.one_ring(v as u32);
+            let ring_points: Vec<DVec3> = ring.iter().map(|&p| positions[p as usize]).collect();
+            let ring_order: Vec<usize> = ring.iter().map(|&p| orders[p as usize]).collect();
+            let ring_step: Vec<f64> = ring.iter().map(|&p| steps[p as usize]).collect();
+            let fan = Fan {
+                position: positions[v],
+                boundary: mesh.is_boundary_vertex(v as u32),
+                step: steps[v],
+                ring: &ring_points,
+                ring_order: &ring_order,
+                ring_step: &ring_step,
+            };
+            per_vertex(&fan, out);
+        })
+    }
+
+    /// The table's layout, filled by `fill(scratch, v, out)` for every vertex in parallel
+    /// (`scratch`: buffers reused within a thread).
+    fn build_indexed<S: Default + Send>(
+        mesh: &Mesh,
+        fill: impl Fn(&mut S, usize, &mut [T]) + Sync,
+    ) -> HalfEdgeTable<T> {
         let nv = mesh.vertex_count();
         let mut offsets = Vec::with_capacity(nv + 1);
         let mut total = 0;
@@ -97,7 +144,6 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
             total += mesh.valence(v as u32);
         }
         offsets.push(total);
-        let positions = mesh.positions();
         let mut data = vec![T::default(); total];
         let mut slices: Vec<&mut [T]> = Vec::with_capacity(nv);
         let mut rest = data.as_mut_slice();
@@ -106,17 +152,10 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
             slices.push(head);
             rest = tail;
         }
-        slices.into_par_iter().enumerate().for_each_init(
-            || (Vec::new(), Vec::new()),
-            |(ring_points, ring_valence), (v, out)| {
-                let ring = mesh.one_ring(v as u32);
-                ring_points.clear();
-                ring_points.extend(ring.iter().map(|&p| positions[p as usize]));
-                ring_valence.clear();
-                ring_valence.extend(ring.iter().map(|&p| mesh.valence(p)));
-                per_vertex(positions[v], ring_points, ring_valence, out);
-            },
-        );
+        slices
+            .into_par_iter()
+            .enumerate()
+            .for_each_init(S::default, |scratch, (v, out)| fill(scratch, v, out));
         // (v, ring[j], ring[j+1]) is ring_faces(v)[j].
         let faces = mesh.faces();
         let mut corner_ring = vec![0u32; 3 * faces.len()];
@@ -164,6 +203,147 @@ impl<T> HalfEdgeTable<T> {
             ]
         })
     }
+}
+
+/// The angle step `θ` of the fan around vertex `v` on a mesh that may be open: `2π/n` at an
+/// interior vertex of valence n (the `θ` of [`phi0`], [`psi0`]); at a boundary vertex of
+/// valence n ≥ 3, whose n − 1 faces are taken to span a half plane (a boundary that is smooth
+/// through `v`), `π/(n − 1)`, written `2π/(2(n − 1))` so that it is bit for bit the step of an
+/// interior vertex of order `2(n − 1)` ([`fan_order`]); at a boundary vertex of valence 2 (a
+/// corner: one face, two boundary edges), the angle of that face at `v`.
+pub fn fan_angle_step(mesh: &Mesh, v: u32) -> f64 {
+    let n = mesh.valence(v);
+    if !mesh.is_boundary_vertex(v) || n >= 3 {
+        2.0 * PI / fan_order(mesh, v) as f64
+    } else {
+        let positions = mesh.positions();
+        let ring = mesh.one_ring(v);
+        let at = positions[v as usize];
+        let (a, b) = (
+            positions[ring[0] as usize] - at,
+            positions[ring[1] as usize] - at,
+        );
+        a.angle_between(b)
+    }
+}
+
+/// The order whose `θ = 2π/order` a vertex's fan uses ([`fan_angle_step`]): the valence at an
+/// interior vertex, `2(n − 1)` at a boundary vertex of valence n (a half fan); 0 for a corner
+/// (valence 2 on the boundary), whose step is its face angle and no order.
+pub fn fan_order(mesh: &Mesh, v: u32) -> usize {
+    let n = mesh.valence(v);
+    match (mesh.is_boundary_vertex(v), n) {
+        (false, _) => n,
+        (true, 2) => 0,
+        (true, _) => 2 * (n - 1),
+    }
+}
+
+/// The fan of one vertex of a mesh that may be open, as [`HalfEdgeTable::build_open`] hands it
+/// to the per-vertex rule.
+pub struct Fan<'a> {
+    /// Position of the vertex.
+    pub position: DVec3,
+    /// True on the boundary: `(v, ring[0])` and `(v, ring[n−1])` are boundary edges and
+    /// `(v, ring[j], ring[j+1])`, `j < n − 1`, the faces.
+    pub boundary: bool,
+    /// The vertex's angle step ([`fan_angle_step`]).
+    pub step: f64,
+    /// Positions of the one-ring (`Mesh::one_ring` order).
+    pub ring: &'a [DVec3],
+    /// [`fan_order`] of every neighbour (what the closed-mesh rules call its valence).
+    pub ring_order: &'a [usize],
+    /// [`fan_angle_step`] of every neighbour.
+    pub ring_step: &'a [f64],
+}
+
+/// Tangent basis `(A, B)` of a boundary vertex from its half-ring [HB00 eq. 12, half-ring
+/// analogue]: the tangents of the edges are `r¹_j ∝ A cos(jθ) + B sin(jθ)`, the general
+/// solution of the vertex system `r¹_{j+1} + r¹_{j−1} = 2 cos θ r¹_j` (HB00 eq. 5) on the
+/// n − 2 interior edges of an open fan. For n ≥ 3 (`θ = π/(n−1)`) the boundary tangent is
+/// fixed by the two boundary neighbours, `A = (p_0 − p_{n−1})/2` (so `r¹_{n−1} = −r¹_0`: the
+/// boundary curve is smooth through the vertex), and `B` is the least-squares fit of the
+/// chords `p_j − v` of the interior edges by `A cos(jθ) + B sin(jθ)`. For a corner (n = 2, θ the
+/// face angle) both chords are met exactly. On a planar regular half-ring `p_j = v + ρ(cos jθ,
+/// sin jθ)` the fit is exact, which gives linear precision with β = 1/3 as at interior vertices.
+pub fn half_ring_tangent_basis(v: DVec3, ring: &[DVec3], theta: f64) -> (DVec3, DVec3) {
+    let n = ring.len();
+    let (s, c) = theta.sin_cos();
+    if n == 2 {
+        let a = ring[0] - v;
+        return (a, (ring[1] - v - c * a) / s);
+    }
+    let a = 0.5 * (ring[0] - ring[n - 1]);
+    let (mut num, mut den) = (DVec3::ZERO, 0.0);
+    for (j, p) in ring.iter().enumerate().take(n - 1).skip(1) {
+        let (sj, cj) = (theta * j as f64).sin_cos();
+        num += sj * (*p - v - cj * a);
+        den += sj * sj;
+    }
+    (a, num / den)
+}
+
+/// Loop's point of edge `v → p_j` at a boundary vertex with half-ring `ring` [HB00 eqs. 2, 15]:
+/// `d_j = (2v + p_{j−1} + 2p_j + p_{j+1})/6` on an interior edge (the same as at an interior
+/// vertex, and the same from the edge's other end); on a boundary edge, whose second face is
+/// missing, its curve analogue, the chord midpoint `(v + p_j)/2` — what `d_j` is on a regular
+/// planar ring, and again symmetric in the two ends.
+pub fn open_loop_point(v: DVec3, ring: &[DVec3], j: usize) -> DVec3 {
+    let n = ring.len();
+    if j == 0 || j == n - 1 {
+        0.5 * (v + ring[j])
+    } else {
+        (2.0 * v + ring[j - 1] + 2.0 * ring[j] + ring[j + 1]) / 6.0
+    }
+}
+
+/// Cross-boundary data at a boundary vertex from its tangents and second derivatives
+/// [HB00 eqs. 19, 21, (II_T), open-fan analogue]. Inputs per edge j (`r1[j]`, `r2[j]`: first
+/// and second derivative of the boundary curve at `v`; `psi_slope[j] = Ψ'(0)` over the whole
+/// edge), `c = Φ(0)`, `s = Ψ(0)` and `phi_slope = Φ'(0)`; the tangents must solve the vertex
+/// system on the interior edges ([`half_ring_tangent_basis`]). Returns per edge `(V(0), V'(0))`.
+///
+/// Face j lies between edges j and j + 1: it is the "+" side of edge j and the "−" side of
+/// edge j + 1. The twist `t_j` of face j must satisfy (II_T), `t_j + t_{j−1} = 2 R_j` with
+/// `R_j = Φ'(0) r¹_j + Φ(0) r²_j`, on every interior edge 1 ≤ j ≤ n − 2. Unlike the closed ring,
+/// the chain is open and always solvable, with one free value: the solution with `t_0 = 0`
+/// is `σ_j`, and `t_j = σ_j + (−1)^j t_0`. `t_0` is the least-squares choice closest to the
+/// smooth estimate `τ_j = ½(R_j + R_{j+1})` (what (II_T) gives when neighbouring twists are
+/// equal). Then (19) and (21) are solved for `V(0)` and `V'(0)` on the side of the edge that has
+/// a face — the "+" side except on the last boundary edge.
+pub fn open_fan_cross_data(
+    r1: &[DVec3],
+    r2: &[DVec3],
+    psi_slope: &[f64],
+    (c, s, phi_slope): (f64, f64, f64),
+) -> Vec<(DVec3, DVec3)> {
+    let n = r1.len();
+    let r: Vec<DVec3> = (0..n).map(|j| phi_slope * r1[j] + c * r2[j]).collect();
+    let faces = n - 1;
+    let mut sigma = vec![DVec3::ZERO; faces];
+    for j in 1..faces {
+        sigma[j] = 2.0 * r[j] - sigma[j - 1];
+    }
+    let mut t0 = DVec3::ZERO;
+    for j in 0..faces {
+        let sign = if j.is_multiple_of(2) { 1.0 } else { -1.0 };
+        t0 += sign * (0.5 * (r[j] + r[j + 1]) - sigma[j]);
+    }
+    t0 /= faces as f64;
+    let twist = |j: usize| sigma[j] + if j.is_multiple_of(2) { t0 } else { -t0 };
+    (0..n)
+        .map(|j| {
+            if j < faces {
+                // "+" side, face j: (19) r¹_{j+1} = Φ r¹_j + Ψ V(0); (21) t_j = R_j + Ψ' V(0) + Ψ V'(0).
+                let v0 = (r1[j + 1] - c * r1[j]) / s;
+                (v0, (twist(j) - r[j] - psi_slope[j] * v0) / s)
+            } else {
+                // "−" side, face j − 1: r¹_{j−1} = Φ r¹_j − Ψ V(0); t_{j−1} = R_j − Ψ' V(0) − Ψ V'(0).
+                let v0 = (c * r1[j] - r1[j - 1]) / s;
+                (v0, (r[j] - psi_slope[j] * v0 - twist(j - 1)) / s)
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]

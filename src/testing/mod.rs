@@ -11,5 +11,5 @@ pub mod surfaces;
 pub use rng::Rng;
 pub use schemes::{
     JointFigures, assert_g1_joints, closed_test_meshes, max_smoothness_defect_inside_faces, mesh,
-    params, unit_icosphere_accuracy,
+    open_bunny, open_test_meshes, params, unit_icosphere_accuracy,
 };

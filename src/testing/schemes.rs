@@ -26,6 +26,38 @@ pub fn closed_test_meshes() -> Vec<(String, Mesh)> {
     out
 }
 
+/// Open meshes (with boundaries) for the schemes that take them: the lifted hexagonal disk, the
+/// unit hemisphere, a cylinder open at both ends, the scanned bunny with its base cut open
+/// (`scenes/bunny-open.obj`, boundary valences 2 to 8), half fans whose centre is a boundary
+/// vertex of valence 2..=8 (their ends are corners of valence 2) and wheels whose centre is an
+/// interior vertex of valence 3..=12 with every neighbour on the boundary.
+pub fn open_test_meshes() -> Vec<(String, Mesh)> {
+    let mut out = vec![
+        ("disk-3".to_string(), mesh(generate::disk(3))),
+        ("hemisphere".to_string(), mesh(generate::hemisphere(9, 4))),
+        (
+            "open-cylinder".to_string(),
+            mesh(generate::open_cylinder(10, 3)),
+        ),
+        ("bunny-open".to_string(), open_bunny()),
+    ];
+    for n in 2..=8 {
+        out.push((format!("half-fan-{n}"), mesh(generate::half_fan(n))));
+    }
+    for m in 3..=12 {
+        out.push((format!("wheel-{m}"), mesh(generate::wheel(m))));
+    }
+    out
+}
+
+/// `scenes/bunny-open.obj`: the scanned bunny with its base cut open.
+pub fn open_bunny() -> Mesh {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bunny-open.obj");
+    Mesh::load_obj(&path)
+        .expect("scenes/bunny-open.obj loads")
+        .0
+}
+
 /// `spec`'s parameters with the given overrides.
 pub fn params(spec: &SchemeSpec, pairs: &[(&str, &str)]) -> Params {
     let user: Vec<(String, String)> = pairs

@@ -222,6 +222,12 @@ pub fn render_figure(job: &FigureJob) -> Result<Figure> {
             }
             other => other.clone(),
         };
+        // The back of an open surface shows: tint it in the quality modes.
+        let mode = if job.mesh.is_closed() {
+            mode
+        } else {
+            mode.with_back_faces_tinted()
+        };
         let camera = match m.view {
             View::Common => job.camera,
             View::EdgeSide { edge } => edge_side_camera(&job.mesh, edge, aspect)?,

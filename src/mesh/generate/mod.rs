@@ -15,9 +15,11 @@
 pub mod analytic;
 pub mod bad;
 mod grids;
+mod open;
 mod scenes;
 
 pub use grids::{disk, genus2, torus};
+pub use open::{half_fan, hemisphere, open_cylinder, wheel};
 pub use scenes::{SCANNED_SCENES, SCENES, ScannedMesh, SceneMesh};
 
 use std::f64::consts::TAU;

@@ -196,6 +196,9 @@ pub struct CurvatureParams {
     pub map: Option<CurvatureMap>,
     /// Sign convention of the signed quantities.
     pub sign: CurvatureSign,
+    /// Shade hits on the back of the surface with
+    /// [`crate::render::modes::palette::back_face`]; set for open surfaces, whose back shows.
+    pub tint_back_faces: bool,
 }
 
 impl Default for CurvatureParams {
@@ -207,6 +210,7 @@ impl Default for CurvatureParams {
             half_range: 1.0,
             map: None,
             sign: CurvatureSign::Convex,
+            tint_back_faces: false,
         }
     }
 }
@@ -248,9 +252,14 @@ impl CurvatureParams {
 
     /// Colour of the hit; singular points (no curvature) are black.
     pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
-        match &sp.curvature {
+        let colour = match &sp.curvature {
             Some(c) => self.colour_of(self.quantity.value_signed(c, self.sign)),
             None => DVec3::ZERO,
+        };
+        if self.tint_back_faces && sp.is_back_face() {
+            super::palette::back_face(colour)
+        } else {
+            colour
         }
     }
 }

@@ -89,6 +89,23 @@ impl Mode {
         }
     }
 
+    /// The mode with back-face hits tinted ([`palette::back_face`]) where it shows surface
+    /// quality (zebra, curvature): what an open surface is rendered with, so that its other
+    /// side stands out. Other modes are returned as they are.
+    pub fn with_back_faces_tinted(&self) -> Mode {
+        match self {
+            Mode::Zebra(p) => Mode::Zebra(ZebraParams {
+                tint_back_faces: true,
+                ..*p
+            }),
+            Mode::Curvature(p) => Mode::Curvature(CurvatureParams {
+                tint_back_faces: true,
+                ..*p
+            }),
+            other => other.clone(),
+        }
+    }
+
     /// True for the stripe modes, which filter their stripes over the sample's
     /// [`Footprint`] when given one.
     pub fn uses_footprint(&self) -> bool {
@@ -131,4 +148,46 @@ impl Mode {
 /// Fractional part in `[0, 1)`, also for negative numbers.
 pub(crate) fn fract(x: f64) -> f64 {
     x - x.floor()
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::geom::Jet;
+    use crate::render::intersect::{Hit, Ray64};
+
+    /// A hit at the origin with patch normal +z, seen along `dir`.
+    fn hit(dir: DVec3) -> ShadingPoint {
+        let jet = Jet {
+            p: DVec3::ZERO,
+            du: DVec3::X,
+            dv: DVec3::Y,
+            ..Jet::default()
+        };
+        let ray = Ray64::new(DVec3::new(0.0, 0.0, -dir.z.signum()), dir);
+        let hit = Hit {
+            t: 1.0,
+            patch: 0,
+            u: 0.0,
+            v: 0.0,
+        };
+        ShadingPoint::new(hit, 0, 0, jet, &ray)
+    }
+
+    /// Back faces change colour only with the tint on, front faces never.
+    #[test]
+    fn back_faces_are_tinted_only_when_asked_and_only_on_the_back() {
+        let (front, back) = (hit(-DVec3::Z), hit(DVec3::Z));
+        assert!(!front.is_back_face() && back.is_back_face());
+        for mode in [
+            Mode::Zebra(ZebraParams::default()),
+            Mode::Curvature(CurvatureParams::default()),
+        ] {
+            let tinted = mode.with_back_faces_tinted();
+            assert_eq!(tinted.shade(&front), mode.shade(&front), "{}", mode.name());
+            assert_ne!(tinted.shade(&back), mode.shade(&back), "{}", mode.name());
+        }
+    }
 }

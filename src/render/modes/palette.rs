@@ -25,6 +25,15 @@ pub fn linear_to_srgb(x: f64) -> f64 {
     }
 }
 
+/// The colour of a back-face hit on an open surface, from the front-face colour `c`: mostly
+/// desaturated, darkened and turned sepia, so that where an open surface shows its other side
+/// reads at once in zebra and curvature images (whose front colours are grey stripes and a
+/// blue–red map), while the stripes and the curvature's light/dark order stay visible.
+pub fn back_face(c: DVec3) -> DVec3 {
+    let luma = c.dot(DVec3::new(0.2126, 0.7152, 0.0722));
+    (0.25 * c + DVec3::splat(0.75 * luma)) * DVec3::new(0.85, 0.62, 0.38)
+}
+
 /// Linear RGB of a `colorous` gradient at `t ∈ [0, 1]` (clamped).
 fn gradient(g: colorous::Gradient, t: f64) -> DVec3 {
     let t = if t.is_finite() {

@@ -83,6 +83,9 @@ pub struct ZebraParams {
     /// Shift of the stripes, in periods (0 to 1 moves them by one period; used by stripe
     /// sweeps).
     pub shift: f64,
+    /// Shade hits on the back of the surface (patch normal facing away from the eye) with
+    /// [`crate::render::modes::palette::back_face`]; set for open surfaces, whose back shows.
+    pub tint_back_faces: bool,
 }
 
 impl Default for ZebraParams {
@@ -96,6 +99,7 @@ impl Default for ZebraParams {
             view_up: DVec3::Y,
             filter: true,
             shift: 0.0,
+            tint_back_faces: false,
         }
     }
 }
@@ -135,7 +139,12 @@ impl ZebraParams {
             _ => 0.0,
         };
         let bright = filtered_square_wave(phase, width, self.duty);
-        self.dark.lerp(self.bright, bright)
+        let colour = self.dark.lerp(self.bright, bright);
+        if self.tint_back_faces && sp.is_back_face() {
+            super::palette::back_face(colour)
+        } else {
+            colour
+        }
     }
 }
 

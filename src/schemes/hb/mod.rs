@@ -27,6 +27,7 @@
 //! minimiser (`free=energy`, as in the paper's colour plate); `free=zero-twist` is the cheap
 //! alternative.
 
+pub(crate) mod boundary;
 pub(crate) mod energy;
 pub(crate) mod macro_patch;
 pub(crate) mod vertex;
@@ -81,7 +82,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
             help: "six free points per face: energy (thin-plate minimiser) | zero-twist",
         },
     ],
-    needs_closed_mesh: true,
+    needs_closed_mesh: false,
     bytes_per_face: 3800.0,
     build,
 };
@@ -135,8 +136,12 @@ fn shape_params(params: &Params) -> Result<(ShapeRule, FreeRule)> {
     Ok((ShapeRule { alpha, beta, gamma }, free))
 }
 
-/// Pass 1 for the whole mesh, parallel over vertices.
+/// Pass 1 for the whole mesh, parallel over vertices; on an open mesh the boundary vertices
+/// follow [`boundary`].
 fn half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> HalfEdgeTable<HalfEdgeData> {
+    if !mesh.is_closed() {
+        return boundary::open_half_edge_table(mesh, rule);
+    }
     HalfEdgeTable::build(mesh, |v, ring, valences, out| {
         half_edges(v, ring, valences, &rule.at_vertex(v, ring), out)
     })

@@ -23,6 +23,7 @@
 //! the curvature error. Fig. 14's β = 0.1 has short tangents that crease the surface along the
 //! edges (regularity 0.04 on the icosahedron).
 
+pub(crate) mod boundary;
 pub(crate) mod patch;
 pub(crate) mod vertex;
 
@@ -52,7 +53,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
             help: "β of eq. 2 (> 0): tangent magnitude (default chosen by accuracy on analytic meshes; 0.5 gives linear precision)",
         },
     ],
-    needs_closed_mesh: true,
+    needs_closed_mesh: false,
     bytes_per_face: 1400.0,
     build,
 };
@@ -64,6 +65,9 @@ fn shape(params: &Params) -> Result<LoopShape> {
 }
 
 fn table(mesh: &Mesh, shape: &LoopShape) -> HalfEdgeTable<LoopHalfEdge> {
+    if !mesh.is_closed() {
+        return boundary::open_table(mesh, shape);
+    }
     HalfEdgeTable::build(mesh, |p, ring, valences, out| {
         half_edges(p, ring, valences, shape, out)
     })
