@@ -111,7 +111,11 @@ fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
         .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
         .map(|e| {
             let path = e.expect("entry").path();
-            let name = path.file_name().expect("name").to_string_lossy().into_owned();
+            let name = path
+                .file_name()
+                .expect("name")
+                .to_string_lossy()
+                .into_owned();
             (name, std::fs::read(&path).expect("read"))
         })
         .collect();
@@ -126,7 +130,13 @@ fn fifty_meshes_in_four_shards_merge_to_the_single_run() {
     let m = path_str(&meshes);
     let single = dir.join("single");
     let stdout = ok(&smoothlab(&[
-        "report", "--meshes", m, "--scheme", "flat,pn", "--out", path_str(&single),
+        "report",
+        "--meshes",
+        m,
+        "--scheme",
+        "flat,pn",
+        "--out",
+        path_str(&single),
     ]));
     assert!(stdout.contains("2 record(s) not measured"), "{stdout}");
 
@@ -149,49 +159,93 @@ fn fifty_meshes_in_four_shards_merge_to_the_single_run() {
     assert!(counts.iter().all(|c| *c > 0), "{counts:?}");
 
     let merged = dir.join("merged");
-    let parts: Vec<String> = (0..4).map(|i| path_str(&shard_dir(i)).to_string()).collect();
+    let parts: Vec<String> = (0..4)
+        .map(|i| path_str(&shard_dir(i)).to_string())
+        .collect();
     let mut merge: Vec<&str> = vec!["merge"];
     merge.extend(parts.iter().map(String::as_str));
     merge.extend(["-o", path_str(&merged)]);
     let stdout = ok(&smoothlab(&merge));
     assert!(stdout.contains("102 records (2 errors)"), "{stdout}");
 
-    let (a, b) = (records_without_timings(&single), records_without_timings(&merged));
+    let (a, b) = (
+        records_without_timings(&single),
+        records_without_timings(&merged),
+    );
     assert_eq!(a.len(), 102);
     assert!(a == b, "merged records differ from the single run");
     // The failed mesh is recorded, not dropped.
-    let broken: Vec<&serde_json::Value> = b.iter().filter(|r| r["mesh"] == "zz-broken.obj").collect();
+    let broken: Vec<&serde_json::Value> =
+        b.iter().filter(|r| r["mesh"] == "zz-broken.obj").collect();
     assert_eq!(broken.len(), 2);
-    assert!(broken[0]["error"].as_str().is_some_and(|e| e.contains("zz-broken.obj")), "{broken:?}");
+    assert!(
+        broken[0]["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("zz-broken.obj")),
+        "{broken:?}"
+    );
     let thumbs = files(&single.join("thumbs"));
     assert_eq!(thumbs.len(), 50 * 2 * 2);
     assert!(thumbs == files(&merged.join("thumbs")), "thumbnails differ");
     let report = read_json(&merged.join("metrics.json"));
     assert_eq!(report["shards"].as_array().expect("shards").len(), 4);
-    assert!(std::fs::read_to_string(merged.join("metrics.md")).expect("md").contains("## Errors"));
+    assert!(
+        std::fs::read_to_string(merged.join("metrics.md"))
+            .expect("md")
+            .contains("## Errors")
+    );
 
     // Shard 2 missing: named, its items written as errors, exit code 1.
     let incomplete = dir.join("incomplete");
     let out = smoothlab(&[
-        "merge", &parts[0], &parts[1], &parts[3], "-o", path_str(&incomplete),
+        "merge",
+        &parts[0],
+        &parts[1],
+        &parts[3],
+        "-o",
+        path_str(&incomplete),
     ]);
     assert_fails_naming(&out, &["shard 2/4 missing"]);
     let records = records_without_timings(&incomplete);
     assert_eq!(records.len(), 102);
     let lost: Vec<_> = records
         .iter()
-        .filter(|r| r["error"].as_str().is_some_and(|e| e.contains("shard 2/4 is missing")))
+        .filter(|r| {
+            r["error"]
+                .as_str()
+                .is_some_and(|e| e.contains("shard 2/4 is missing"))
+        })
         .collect();
     let part2 = read_json(&shard_dir(2).join("partial.json"));
-    assert_eq!(lost.len(), part2["report"]["records"].as_array().expect("records").len());
+    assert_eq!(
+        lost.len(),
+        part2["report"]["records"]
+            .as_array()
+            .expect("records")
+            .len()
+    );
 
     // A part of another run (another scheme list) is refused before anything is written.
     let other = dir.join("other");
     ok(&smoothlab(&[
-        "report", "--meshes", m, "--scheme", "flat", "--out", path_str(&other), "--shard", "1/4",
+        "report",
+        "--meshes",
+        m,
+        "--scheme",
+        "flat",
+        "--out",
+        path_str(&other),
+        "--shard",
+        "1/4",
     ]));
     let refused = dir.join("refused");
-    let out = smoothlab(&["merge", &parts[0], path_str(&other), "-o", path_str(&refused)]);
+    let out = smoothlab(&[
+        "merge",
+        &parts[0],
+        path_str(&other),
+        "-o",
+        path_str(&refused),
+    ]);
     assert_fails_naming(&out, &["work list", "not shards of one run"]);
     assert!(!refused.join("metrics.json").exists());
 }
@@ -201,7 +255,10 @@ fn a_parameter_sweep_in_two_shards_merges_to_the_single_run() {
     let dir = scratch("shard", "sweep");
     let folder = dir.join("meshes");
     std::fs::create_dir_all(&folder).expect("folder");
-    for (name, mesh) in [("ico.obj", generate::icosahedron()), ("oct.obj", generate::octahedron())] {
+    for (name, mesh) in [
+        ("ico.obj", generate::icosahedron()),
+        ("oct.obj", generate::octahedron()),
+    ] {
         std::fs::write(folder.join(name), generate::to_obj(&mesh)).expect("write");
     }
     let list = dir.join("list.txt");
@@ -209,8 +266,13 @@ fn a_parameter_sweep_in_two_shards_merges_to_the_single_run() {
     let sweep = dir.join("sweep.txt");
     std::fs::write(&sweep, "loop94:beta=0.5,0.8\n").expect("sweep file");
     let common_args = [
-        "report", "--meshes", path_str(&list), "--sweep", "hb:beta=0.2,0.33",
-        "--sweep-file", path_str(&sweep),
+        "report",
+        "--meshes",
+        path_str(&list),
+        "--sweep",
+        "hb:beta=0.2,0.33",
+        "--sweep-file",
+        path_str(&sweep),
     ];
     let single = dir.join("single");
     let mut args = common_args.to_vec();
@@ -219,7 +281,13 @@ fn a_parameter_sweep_in_two_shards_merges_to_the_single_run() {
     let records = records_without_timings(&single);
     let names: Vec<String> = records
         .iter()
-        .map(|r| format!("{} {}", r["mesh"].as_str().unwrap(), r["scheme"].as_str().unwrap()))
+        .map(|r| {
+            format!(
+                "{} {}",
+                r["mesh"].as_str().unwrap(),
+                r["scheme"].as_str().unwrap()
+            )
+        })
         .collect();
     assert_eq!(
         names,
@@ -235,7 +303,10 @@ fn a_parameter_sweep_in_two_shards_merges_to_the_single_run() {
         ]
     );
     assert_eq!(records[0]["figures"]["params"]["beta"], "0.2");
-    assert!(records[0]["figures"] != records[1]["figures"], "beta changes the surface");
+    assert!(
+        records[0]["figures"] != records[1]["figures"],
+        "beta changes the surface"
+    );
 
     let mut parts = Vec::new();
     for i in 0..2 {
@@ -247,8 +318,17 @@ fn a_parameter_sweep_in_two_shards_merges_to_the_single_run() {
         parts.push(path_str(&part.join("partial.json")).to_string());
     }
     let merged = dir.join("merged");
-    ok(&smoothlab(&["merge", &parts[0], &parts[1], "-o", path_str(&merged)]));
-    assert!(records == records_without_timings(&merged), "merged sweep differs");
+    ok(&smoothlab(&[
+        "merge",
+        &parts[0],
+        &parts[1],
+        "-o",
+        path_str(&merged),
+    ]));
+    assert!(
+        records == records_without_timings(&merged),
+        "merged sweep differs"
+    );
     assert!(files(&single.join("thumbs")) == files(&merged.join("thumbs")));
 }
 
@@ -258,8 +338,16 @@ fn a_turntable_in_three_shards_merges_bit_identically() {
     let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/deformed-icosahedron.obj");
     // Curvature with an automatic range: every shard takes the range of frame 0.
     let base = [
-        "render", path_str(&mesh), "--scheme", "pn", "--mode", "curvature", "--size", "32x24",
-        "--turntable", "36",
+        "render",
+        path_str(&mesh),
+        "--scheme",
+        "pn",
+        "--mode",
+        "curvature",
+        "--size",
+        "32x24",
+        "--turntable",
+        "36",
     ];
     let mut single = base.to_vec();
     let single_name = dir.join("single/spin");
@@ -267,31 +355,57 @@ fn a_turntable_in_three_shards_merges_bit_identically() {
     ok(&smoothlab(&single));
 
     let part_name = format!("{}/parts/spin", dir.display());
-    let args: Vec<String> = base.iter().map(|s| s.to_string()).chain(["-o".into(), part_name.clone()]).collect();
+    let args: Vec<String> = base
+        .iter()
+        .map(|s| s.to_string())
+        .chain(["-o".into(), part_name.clone()])
+        .collect();
     run_shards(&args, 3);
-    let parts: Vec<String> = (0..3).map(|i| format!("{part_name}.shard-{i}-of-3.json")).collect();
+    let parts: Vec<String> = (0..3)
+        .map(|i| format!("{part_name}.shard-{i}-of-3.json"))
+        .collect();
     let merged_name = dir.join("merged/spin");
     std::fs::create_dir_all(dir.join("merged")).expect("folder");
     let stdout = ok(&smoothlab(&[
-        "merge", &parts[2], &parts[0], &parts[1], "-o", path_str(&merged_name),
+        "merge",
+        &parts[2],
+        &parts[0],
+        &parts[1],
+        "-o",
+        path_str(&merged_name),
     ]));
     assert!(stdout.contains("merged 36 frames of 3 shards"), "{stdout}");
     let (a, b) = (files(&dir.join("single")), files(&dir.join("merged")));
     assert_eq!(a.len(), 37, "36 frames and the GIF");
     assert!(a == b, "merged frames or GIF differ from the single run");
     // In place: merging into the parts' own name writes the GIF beside the frames.
-    ok(&smoothlab(&["merge", &parts[0], &parts[1], &parts[2], "-o", &part_name]));
+    ok(&smoothlab(&[
+        "merge", &parts[0], &parts[1], &parts[2], "-o", &part_name,
+    ]));
     assert_eq!(
         std::fs::read(format!("{part_name}.gif")).expect("gif"),
         std::fs::read(dir.join("single/spin.gif")).expect("gif")
     );
 
     // A missing shard is named; no GIF is made from an incomplete set.
-    let out = smoothlab(&["merge", &parts[0], &parts[2], "-o", path_str(&dir.join("x/spin"))]);
+    let out = smoothlab(&[
+        "merge",
+        &parts[0],
+        &parts[2],
+        "-o",
+        path_str(&dir.join("x/spin")),
+    ]);
     assert_fails_naming(&out, &["shard 1/3 missing"]);
     // A deleted frame is named too.
     std::fs::remove_file(format!("{part_name}-004.png")).expect("remove");
-    let out = smoothlab(&["merge", &parts[0], &parts[1], &parts[2], "-o", path_str(&merged_name)]);
+    let out = smoothlab(&[
+        "merge",
+        &parts[0],
+        &parts[1],
+        &parts[2],
+        "-o",
+        path_str(&merged_name),
+    ]);
     assert_fails_naming(&out, &["spin-004.png", "frame 4 is missing"]);
 }
 
@@ -306,7 +420,9 @@ fn bad_shards_are_one_line_errors() {
         &["shard '4/4'", "below the count"],
     );
     assert_fails_naming(
-        &smoothlab(&["render", m, "--scheme", "flat", "--shard", "0/2", "-o", out_dir]),
+        &smoothlab(&[
+            "render", m, "--scheme", "flat", "--shard", "0/2", "-o", out_dir,
+        ]),
         &["--shard", "--turntable or --sweep"],
     );
     assert_fails_naming(
@@ -314,7 +430,13 @@ fn bad_shards_are_one_line_errors() {
         &["--sweep", "'beta' is not NAME=V1"],
     );
     assert_fails_naming(
-        &smoothlab(&["report", "--out", out_dir, "--meshes", path_str(&dir.join("none"))]),
+        &smoothlab(&[
+            "report",
+            "--out",
+            out_dir,
+            "--meshes",
+            path_str(&dir.join("none")),
+        ]),
         &["none"],
     );
     let not_part = dir.join("x.json");

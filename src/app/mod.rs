@@ -495,7 +495,7 @@ pub fn run_report_with(args: &ReportArgs) -> Result<Output> {
             .count();
         return Ok(Output {
             stdout: format!(
-                "report shard {shard}: {} of {} meshes, {} records ({errors} errors) written to {}                  in {:.1} s\n",
+                "report shard {shard}: {} of {} meshes, {} records ({errors} errors) written to {} in {:.1} s\n",
                 part.items.len(),
                 work.items.len(),
                 part.report.records.len(),

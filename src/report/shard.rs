@@ -119,18 +119,21 @@ pub fn fingerprint(text: &str) -> String {
 }
 
 /// Relative cost per mesh face of building and measuring each scheme (report work: the
-/// construction, the metrics and the two thumbnails), `flat` = 1. Measured once with
-/// `smoothlab report --meshes` on `scenes/bunny.obj` (1000 faces), one scheme at a time, on 2
-/// cores; only the ratios matter, and only for balancing shards.
+/// construction, timed up to 6 times, the metrics and the two thumbnails), `flat` = 1.
+/// Measured once: `smoothlab report --meshes LIST --scheme S` on `scenes/bunny.obj` (1000
+/// faces), one scheme at a time, wall time minus the 0.15 s a report spends on its page and
+/// plots — flat 0.29 s, pn 0.46, hb 1.36, loop94 0.93, piper 0.94, nielson 1.55, fang-mann 1.66,
+/// gk 8.26 — on 2 cores shared with other work (load about 10, so ±20 %). Only the ratios
+/// matter, and only for balancing shards.
 const SCHEME_COST: &[(&str, f64)] = &[
     ("flat", 1.0),
     ("pn", 2.0),
-    ("hb", 8.0),
+    ("hb", 9.0),
     ("loop94", 6.0),
-    ("piper", 4.0),
-    ("nielson", 20.0),
-    ("fang-mann", 20.0),
-    ("gk", 30.0),
+    ("piper", 6.0),
+    ("nielson", 10.0),
+    ("fang-mann", 11.0),
+    ("gk", 58.0),
 ];
 
 /// The relative cost per face of `scheme` ([`SCHEME_COST`]); a scheme missing from the table
