@@ -365,7 +365,6 @@ fn a_turntable_in_three_shards_merges_bit_identically() {
         .map(|i| format!("{part_name}.shard-{i}-of-3.json"))
         .collect();
     let merged_name = dir.join("merged/spin");
-    std::fs::create_dir_all(dir.join("merged")).expect("folder");
     let stdout = ok(&smoothlab(&[
         "merge",
         &parts[2],

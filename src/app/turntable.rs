@@ -25,7 +25,7 @@ use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, RgbaImage};
 
 use crate::error::{Error, Result};
-use crate::files::{check_writable, write_atomic};
+use crate::files::{check_writable, create_folder, write_atomic};
 use crate::mesh::Mesh;
 use crate::render::camera::{Camera, Projection, unit};
 use crate::render::film::{Frame, RenderSettings, render};
@@ -406,6 +406,10 @@ pub fn merge_frames(parts: &[PathBuf], name: &Path) -> Result<String> {
         }
     }
     let (pngs, gif) = animation_files(name, frames_u32);
+    // The folder of NAME is created if missing, as `render -o NAME` does.
+    if let Some(folder) = gif.parent().filter(|f| !f.as_os_str().is_empty()) {
+        create_folder(folder)?;
+    }
     for file in pngs.iter().chain([&gif]) {
         check_writable(file)?;
     }
