@@ -525,7 +525,7 @@ fn render_frames<T: SurfaceTracer>(
             let wanted = (out.wanted)(k);
             // Frame 0 fixes an automatic curvature range for every frame: rendered even when
             // another shard writes it.
-            if !wanted && !(k == 0 && auto_range) {
+            if !(wanted || k == 0 && auto_range) {
                 continue;
             }
             let (view, frame_settings) = frame_view(animation, k, camera, axis, &settings)?;

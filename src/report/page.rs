@@ -407,9 +407,9 @@ pub fn to_html(
             let _ = write!(out, "<tr><td>{}</td>", escape(&r.scheme));
             if let Some(error) = &r.error {
                 // Not measured: the error across the row.
-                let _ = write!(
+                let _ = writeln!(
                     out,
-                    "<td colspan=\"{}\" class=\"error\">error: {}</td></tr>\n",
+                    "<td colspan=\"{}\" class=\"error\">error: {}</td></tr>",
                     COLUMNS.len(),
                     escape(error)
                 );
