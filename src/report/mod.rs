@@ -371,13 +371,20 @@ pub fn measure_items(
         let (mesh, analytic) = match loaded {
             Ok(loaded) => loaded,
             Err(e) => {
+                // The error names the file, whatever part of it is at fault.
+                let mut error = e.to_string();
+                if let batch::MeshSource::File(path) = &item.source
+                    && !error.contains(&path.display().to_string())
+                {
+                    error = format!("{}: {error}", path.display());
+                }
                 for v in &item.variants {
                     progress(
                         out.records.len(),
                         total,
                         &format!("{} / {}", item.mesh, v.label()),
                     );
-                    out.records.push(error_record(&item.mesh, v, e.to_string()));
+                    out.records.push(error_record(&item.mesh, v, error.clone()));
                 }
                 continue;
             }
