@@ -62,6 +62,50 @@ enum Command {
         /// A previous report (metrics.json): the page lists the changes against it.
         #[arg(long, value_name = "OLD.json")]
         baseline: Option<PathBuf>,
+        /// Measure these meshes instead of the benchmark meshes: a folder (its .obj, .ply, .off
+        /// and .stl files) or a list file (one path per line, relative to the list). A mesh
+        /// that fails is recorded as an error; the batch goes on.
+        #[arg(long, value_name = "DIR|LIST")]
+        meshes: Option<PathBuf>,
+        /// The schemes: `all` or names separated by commas (e.g. flat,pn).
+        #[arg(long, default_value = "all")]
+        scheme: String,
+        /// A parameter sweep `SCHEME:NAME=V1,V2,…[:NAME2=…]` (every combination), measured
+        /// instead of --scheme; repeatable. Not render's --sweep (a stripe sweep).
+        #[arg(long = "sweep", value_name = "SCHEME:NAME=V1,V2")]
+        sweeps: Vec<String>,
+        /// A file of sweeps, one per line (`#` comments); repeatable.
+        #[arg(long = "sweep-file", value_name = "FILE")]
+        sweep_files: Vec<PathBuf>,
+        /// Measure only shard I of N (0 ≤ I < N, balanced by estimated cost) and write the
+        /// partial report OUT/partial.json; `smoothlab merge` combines the shards.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<smoothlab::report::shard::Shard>,
+        /// Weld vertices of --meshes files closer than this fraction of the bounding-box
+        /// diagonal (0: identical positions only).
+        #[arg(
+            long,
+            value_name = "REL",
+            default_value_t = smoothlab::mesh::DEFAULT_WELD_TOLERANCE,
+            value_parser = app::parse_weld_tolerance,
+            allow_hyphen_values = true
+        )]
+        weld_tolerance: f64,
+    },
+    /// Merge the partial results of sharded runs (`report --shard`, or `render --turntable|
+    /// --sweep --shard`) into what one process would have written; names missing shards.
+    Merge {
+        /// The parts: shard folders of `report --shard` (or their partial.json), or the
+        /// NAME.shard-I-of-N.json files of a sharded turntable or sweep.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// Output: the report folder, or the NAME of the merged frames (NAME-000.png …,
+        /// NAME.gif).
+        #[arg(short = 'o', long = "output", value_name = "OUT")]
+        output: PathBuf,
+        /// Report parts: a previous report (metrics.json) to list the changes against.
+        #[arg(long, value_name = "OLD.json")]
+        baseline: Option<PathBuf>,
     },
     /// Compare two reports (metrics.json) or two `metrics --json` outputs; exit code 1 if a
     /// quality figure (or, with --timings, a timing) got worse.
@@ -222,7 +266,30 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             &json,
         ),
         Some(Command::Schemes) => Ok(app::run_schemes()),
-        Some(Command::Report { out, baseline }) => app::run_report(&out, baseline.as_deref()),
+        Some(Command::Report {
+            out,
+            baseline,
+            meshes,
+            scheme,
+            sweeps,
+            sweep_files,
+            shard,
+            weld_tolerance,
+        }) => app::run_report_with(&app::ReportArgs {
+            out,
+            baseline,
+            meshes,
+            scheme,
+            sweeps,
+            sweep_files,
+            shard,
+            load: smoothlab::mesh::LoadOptions { weld_tolerance },
+        }),
+        Some(Command::Merge {
+            parts,
+            output,
+            baseline,
+        }) => app::merge::run_merge(&parts, &output, baseline.as_deref()),
         Some(Command::Compare {
             old,
             new,

@@ -8,8 +8,10 @@
 //! `render` and `figure` commands and the built-in gallery live in [`render`], [`scene`],
 //! [`gallery`] and [`figure`].
 
+pub mod batch;
 pub mod figure;
 pub mod gallery;
+pub mod merge;
 pub mod render;
 pub mod scene;
 pub mod toml_input;
@@ -414,15 +416,117 @@ pub fn run_default() -> Result<Output> {
 /// summary line, and with `baseline` (a previous `metrics.json`) a second one counting the
 /// changes and regressions the page lists.
 pub fn run_report(out_dir: &Path, baseline: Option<&Path>) -> Result<Output> {
-    let start = std::time::Instant::now();
-    let options = crate::report::WriteOptions {
+    run_report_with(&ReportArgs {
+        out: out_dir.to_path_buf(),
         baseline: baseline.map(Path::to_path_buf),
+        ..ReportArgs::default()
+    })
+}
+
+/// What `smoothlab report` is asked to do.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReportArgs {
+    /// The report folder (with a shard: the shard's folder).
+    pub out: std::path::PathBuf,
+    /// A previous report to list the changes against.
+    pub baseline: Option<std::path::PathBuf>,
+    /// A folder of meshes or a list of mesh files (`--meshes`); `None`: the benchmark meshes.
+    pub meshes: Option<std::path::PathBuf>,
+    /// `--scheme`: `all` or a comma-separated list.
+    pub scheme: String,
+    /// `--sweep` values.
+    pub sweeps: Vec<String>,
+    /// `--sweep-file` files.
+    pub sweep_files: Vec<std::path::PathBuf>,
+    /// `--shard I/N`: measure one shard and write a partial report.
+    pub shard: Option<crate::report::shard::Shard>,
+    /// How mesh files are loaded.
+    pub load: LoadOptions,
+}
+
+impl Default for ReportArgs {
+    fn default() -> Self {
+        ReportArgs {
+            out: "results".into(),
+            baseline: None,
+            meshes: None,
+            scheme: ALL_SCHEMES.into(),
+            sweeps: Vec::new(),
+            sweep_files: Vec::new(),
+            shard: None,
+            load: LoadOptions::default(),
+        }
+    }
+}
+
+/// `smoothlab report [--meshes DIR|LIST] [--scheme …] [--sweep …] [--shard I/N]`: the report
+/// over the work list the flags describe ([`batch`]); with a shard, that shard's partial
+/// report (`OUT/partial.json`, see [`crate::report::partial`]).
+pub fn run_report_with(args: &ReportArgs) -> Result<Output> {
+    let start = std::time::Instant::now();
+    let out_dir = args.out.as_path();
+    let variants = batch::variants(&args.scheme, &args.sweeps, &args.sweep_files)?;
+    let work = match &args.meshes {
+        Some(source) => batch::mesh_work(source, &variants, &args.load)?,
+        None => crate::report::benchmark_work(&variants)?,
+    };
+    let options = crate::report::WriteOptions {
+        baseline: args.baseline.clone(),
         ..Default::default()
     };
-    let written =
-        crate::report::write_with(out_dir, &options, &crate::report::terminal_progress())?;
+    if let Some(shard) = args.shard {
+        if args.baseline.is_some() {
+            return Err(Error::Invalid(
+                "report --shard writes a partial report: give --baseline to merge instead".into(),
+            ));
+        }
+        let part = crate::report::partial::write_part(
+            out_dir,
+            &work,
+            shard,
+            &options,
+            &crate::report::terminal_progress(),
+        )?;
+        let errors = part
+            .report
+            .records
+            .iter()
+            .filter(|r| r.error.is_some())
+            .count();
+        return Ok(Output {
+            stdout: format!(
+                "report shard {shard}: {} of {} meshes, {} records ({errors} errors) written to {} in {:.1} s\n",
+                part.items.len(),
+                work.items.len(),
+                part.report.records.len(),
+                crate::report::partial::part_file(out_dir).display(),
+                start.elapsed().as_secs_f64()
+            ),
+            warnings: part.warnings,
+            failed: false,
+        });
+    }
+    let written = crate::report::write_work(
+        out_dir,
+        &work,
+        &options,
+        &crate::report::terminal_progress(),
+    )?;
+    let baseline = args.baseline.as_deref();
     let mut stdout =
         crate::report::summary_line(&written.report, out_dir, start.elapsed().as_secs_f64());
+    let errors = written
+        .report
+        .records
+        .iter()
+        .filter(|r| r.error.is_some())
+        .count();
+    if errors > 0 {
+        stdout += &format!(
+            "{errors} record(s) not measured: their errors are in {}\n",
+            out_dir.join("metrics.md").display()
+        );
+    }
     if let (Some(path), Some(comparison)) = (baseline, &written.comparison) {
         let worse = comparison.changes.iter().filter(|c| c.regression).count();
         stdout += &format!(
@@ -434,6 +538,7 @@ pub fn run_report(out_dir: &Path, baseline: Option<&Path>) -> Result<Output> {
     }
     Ok(Output {
         stdout,
+        warnings: written.warnings,
         ..Default::default()
     })
 }

@@ -268,6 +268,10 @@ pub struct RenderArgs {
     /// NAME-000.png … and the looping NAME.gif.
     #[arg(long, value_name = "N")]
     pub sweep: Option<u32>,
+    /// With --turntable or --sweep: render only shard I of N of the frames (0 ≤ I < N) and
+    /// write NAME.shard-I-of-N.json beside them; `smoothlab merge` writes the GIF.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<crate::report::shard::Shard>,
 }
 
 /// Parses `X,Y,Z`.
@@ -474,6 +478,12 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
             .map_or("render".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{mesh}-{scheme}-{mode}"))
     });
+    if args.shard.is_some() && animation.is_none() {
+        return Err(Error::Invalid(
+            "--shard splits the frames of --turntable or --sweep; a single image is one piece"
+                .into(),
+        ));
+    }
     // Every output path is checked before the (possibly long) work.
     let outputs = prepare_outputs(&name)?;
     let frames = animation
@@ -490,9 +500,19 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
         job.settings.mode = job.settings.mode.with_back_faces_tinted();
     }
     let stats = match (animation, frames) {
-        (Some(animation), Some((pngs, gif))) => {
-            turntable::render_animation(&job, &animation, &surface, &mesh, &pngs, &gif)?
-        }
+        (Some(animation), Some((pngs, gif))) => match args.shard {
+            Some(shard) => turntable::render_animation_shard(
+                &job,
+                &animation,
+                &surface,
+                &mesh,
+                &pngs,
+                &gif,
+                shard,
+                &turntable::part_path(&name, shard),
+            )?,
+            None => turntable::render_animation(&job, &animation, &surface, &mesh, &pngs, &gif)?,
+        },
         _ => {
             let (frame, stats) = job.render(&surface, &mesh)?;
             let options = OutputOptions {

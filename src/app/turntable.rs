@@ -25,7 +25,7 @@ use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, RgbaImage};
 
 use crate::error::{Error, Result};
-use crate::files::{check_writable, write_atomic};
+use crate::files::{check_writable, create_folder, write_atomic};
 use crate::mesh::Mesh;
 use crate::render::camera::{Camera, Projection, unit};
 use crate::render::film::{Frame, RenderSettings, render};
@@ -36,6 +36,7 @@ use crate::render::output::{output_stem, srgb8, with_suffix, write_png};
 use crate::render::stats::RenderStats;
 use crate::render::tessellate::TessellatedTracer;
 use crate::render::trace::SurfaceTracer;
+use crate::report::shard::{Manifest, Shard, check_parts, items_of, missing_text};
 use crate::surface::Surface;
 
 /// The most frames of a turntable or sweep.
@@ -263,6 +264,197 @@ pub fn render_animation(
     pngs: &[PathBuf],
     gif: &Path,
 ) -> Result<RenderStats> {
+    render_animation_frames(job, animation, surface, mesh, pngs, Some(gif), &|_| true)
+}
+
+/// The kind of work of partial frame sets, in their [`Manifest`].
+pub const FRAMES_KIND: &str = "frames";
+
+/// What one shard of a turntable or sweep wrote beside its frames
+/// (`STEM.shard-I-of-N.json`): which frames it rendered, and every frame's file name.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FramesPart {
+    /// Which shard of which run.
+    pub manifest: Manifest,
+    /// File names (beside this file) of every frame of the animation, in order.
+    pub frames: Vec<String>,
+    /// The frames (positions in `frames`) this shard rendered.
+    pub rendered: Vec<usize>,
+    /// File name of the animation's GIF, which `merge` writes.
+    pub gif: String,
+    /// Rays traced by this shard.
+    pub rays: u64,
+    /// Its render time, milliseconds.
+    pub render_ms: f64,
+}
+
+/// The file of `shard`'s [`FramesPart`] for an animation named `name`.
+pub fn part_path(name: &Path, shard: Shard) -> PathBuf {
+    let stem = output_stem(name);
+    let base = stem
+        .file_name()
+        .map_or("render".into(), |s| s.to_string_lossy().into_owned());
+    stem.with_file_name(format!(
+        "{base}.shard-{}-of-{}.json",
+        shard.index, shard.count
+    ))
+}
+
+/// Renders `shard`'s share of the frames of `animation` (frames dealt round-robin: every frame
+/// costs about the same) into their files `pngs` and writes its [`FramesPart`] to `part`; no
+/// GIF (`merge` writes it). The frames are the bytes the whole run writes: the camera of every
+/// view is computed as in the whole run, and an automatic curvature range still comes from
+/// frame 0, rendered (not written) by every shard that does not own it.
+#[allow(clippy::too_many_arguments)]
+pub fn render_animation_shard(
+    job: &RenderJob,
+    animation: &Animation,
+    surface: &Surface,
+    mesh: &Mesh,
+    pngs: &[PathBuf],
+    gif: &Path,
+    shard: Shard,
+    part: &Path,
+) -> Result<RenderStats> {
+    check_writable(part)?;
+    let costs = vec![1.0; pngs.len()];
+    let rendered = items_of(&costs, shard);
+    let wanted = |k: u32| rendered.binary_search(&(k as usize)).is_ok();
+    let stats = render_animation_frames(job, animation, surface, mesh, pngs, None, &wanted)?;
+    let file_name = |p: &Path| {
+        p.file_name()
+            .map_or(String::new(), |n| n.to_string_lossy().into_owned())
+    };
+    let frames: Vec<String> = pngs.iter().map(|p| file_name(p)).collect();
+    // The work: everything that decides the frames' pixels and names.
+    let work = format!(
+        "{job:?}|{animation:?}|{}|{}|{}|{frames:?}",
+        surface.scheme,
+        surface.patches.len(),
+        mesh.face_count()
+    );
+    let record = FramesPart {
+        manifest: Manifest::new(FRAMES_KIND, shard, &work, pngs.len()),
+        frames,
+        rendered,
+        gif: file_name(gif),
+        rays: stats.rays,
+        render_ms: stats.render_ms,
+    };
+    let text = serde_json::to_string_pretty(&record)
+        .map_err(|e| Error::Invalid(format!("frames part JSON: {e}")))?;
+    write_atomic(part, text.as_bytes())?;
+    Ok(stats)
+}
+
+/// A GIF encoder of the animations' settings (quantiser speed, endless loop) writing to `bytes`.
+fn gif_encoder<'a>(bytes: &'a mut Vec<u8>, gif: &Path) -> Result<GifEncoder<&'a mut Vec<u8>>> {
+    let mut encoder = GifEncoder::new_with_speed(bytes, GIF_SPEED);
+    encoder
+        .set_repeat(Repeat::Infinite)
+        .map_err(|e| Error::Invalid(format!("{}: {e}", gif.display())))?;
+    Ok(encoder)
+}
+
+/// Adds one frame to an animation's GIF.
+fn gif_frame(encoder: &mut GifEncoder<&mut Vec<u8>>, image: RgbaImage, gif: &Path) -> Result<()> {
+    let delay = Delay::from_numer_denom_ms(FRAME_DELAY_MS, 1);
+    encoder
+        .encode_frame(image::Frame::from_parts(image, 0, 0, delay))
+        .map_err(|e| Error::Invalid(format!("{}: {e}", gif.display())))
+}
+
+/// Merges the frame parts `parts` (`STEM.shard-I-of-N.json` files) of one animation: checks
+/// that they are the shards of one run and that every frame file is there, copies the frames to
+/// `name`'s frame files when `name` names other files, and writes `name`'s GIF from them, the
+/// bytes the whole run writes. Returns a line for the terminal. A missing shard is an error
+/// naming it.
+pub fn merge_frames(parts: &[PathBuf], name: &Path) -> Result<String> {
+    let mut read = Vec::new();
+    for path in parts {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let part: FramesPart = serde_json::from_str(&text).map_err(|e| {
+            Error::Invalid(format!(
+                "{}: not a smoothlab frames part: {e}",
+                path.display()
+            ))
+        })?;
+        read.push((path.clone(), part));
+    }
+    let named: Vec<(String, &Manifest)> = read
+        .iter()
+        .map(|(p, part)| (p.display().to_string(), &part.manifest))
+        .collect();
+    let (count, missing) = check_parts(&named)?;
+    if !missing.is_empty() {
+        return Err(Error::Invalid(format!(
+            "merge: {}; frames are not merged",
+            missing_text(&missing, count)
+        )));
+    }
+    let n = read[0].1.frames.len();
+    let frames_u32 =
+        u32::try_from(n).map_err(|_| Error::Invalid(format!("merge: {n} frames are too many")))?;
+    let mut sources: Vec<Option<PathBuf>> = vec![None; n];
+    for (path, part) in &read {
+        let dir = path.parent().unwrap_or(Path::new("."));
+        for &k in &part.rendered {
+            let slot = sources.get_mut(k).ok_or_else(|| {
+                Error::Invalid(format!("{}: frame {k} out of range", path.display()))
+            })?;
+            *slot = Some(dir.join(&part.frames[k]));
+        }
+    }
+    let (pngs, gif) = animation_files(name, frames_u32);
+    // The folder of NAME is created if missing, as `render -o NAME` does.
+    if let Some(folder) = gif.parent().filter(|f| !f.as_os_str().is_empty()) {
+        create_folder(folder)?;
+    }
+    for file in pngs.iter().chain([&gif]) {
+        check_writable(file)?;
+    }
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = gif_encoder(&mut bytes, &gif)?;
+        for (k, (source, png)) in sources.iter().zip(&pngs).enumerate() {
+            let source = source
+                .as_ref()
+                .ok_or_else(|| Error::Invalid(format!("merge: no shard rendered frame {k}")))?;
+            let data = std::fs::read(source).map_err(|e| {
+                Error::Invalid(format!(
+                    "{}: frame {k} is missing ({e}): its shard did not finish",
+                    source.display()
+                ))
+            })?;
+            let image = image::load_from_memory_with_format(&data, image::ImageFormat::Png)
+                .map_err(|e| Error::Invalid(format!("{}: {e}", source.display())))?
+                .to_rgba8();
+            let same = std::fs::canonicalize(source).ok() == std::fs::canonicalize(png).ok();
+            if !same {
+                write_atomic(png, &data)?;
+            }
+            gif_frame(&mut encoder, image, &gif)?;
+        }
+    }
+    write_atomic(&gif, &bytes)?;
+    Ok(format!(
+        "merged {n} frames of {count} shards: {} … and {}\n",
+        pngs.first()
+            .map_or(String::new(), |p| p.display().to_string()),
+        gif.display()
+    ))
+}
+
+/// [`render_animation`] of the frames `wanted` says, the GIF only when `gif` is given.
+fn render_animation_frames(
+    job: &RenderJob,
+    animation: &Animation,
+    surface: &Surface,
+    mesh: &Mesh,
+    pngs: &[PathBuf],
+    gif: Option<&Path>,
+    wanted: &dyn Fn(u32) -> bool,
+) -> Result<RenderStats> {
     let mut settings = job.settings.clone();
     settings.curves = job.curves.tubes(surface, mesh)?;
     settings.progress = false;
@@ -271,7 +463,8 @@ pub fn render_animation(
     match &job.geometry {
         Geometry::Tessellated(n) => {
             let tracer = TessellatedTracer::new(surface, *n)?;
-            render_frames(&tracer, job, animation, &camera, settings, pngs, gif)
+            let frames = Frames { pngs, gif, wanted };
+            render_frames(&tracer, job, animation, &camera, settings, &frames)
         }
         Geometry::Exact {
             criterion,
@@ -279,7 +472,8 @@ pub fn render_animation(
         } => {
             check_bvh_size(surface, criterion, *max_leaves)?;
             let tracer = Tracer::new(surface, criterion, NewtonSettings::default())?;
-            render_frames(&tracer, job, animation, &camera, settings, pngs, gif)
+            let frames = Frames { pngs, gif, wanted };
+            render_frames(&tracer, job, animation, &camera, settings, &frames)
         }
     }
 }
@@ -295,15 +489,21 @@ fn rgba(frame: &Frame) -> RgbaImage {
         .unwrap_or_else(|| RgbaImage::new(frame.width, frame.height))
 }
 
-/// [`render_animation`] through one built tracer.
+/// Where the frames go: every frame's file, the GIF (if written) and which frames to render.
+struct Frames<'a> {
+    pngs: &'a [PathBuf],
+    gif: Option<&'a Path>,
+    wanted: &'a dyn Fn(u32) -> bool,
+}
+
+/// [`render_animation_frames`] through one built tracer.
 fn render_frames<T: SurfaceTracer>(
     tracer: &T,
     job: &RenderJob,
     animation: &Animation,
     camera: &Camera,
     mut settings: RenderSettings,
-    pngs: &[PathBuf],
-    gif: &Path,
+    out: &Frames,
 ) -> Result<RenderStats> {
     if u16::try_from(settings.width).is_err() || u16::try_from(settings.height).is_err() {
         return Err(Error::Invalid(format!(
@@ -312,14 +512,22 @@ fn render_frames<T: SurfaceTracer>(
         )));
     }
     let axis = turntable_axis(animation, job, camera);
-    let gif_error = |e: image::ImageError| Error::Invalid(format!("{}: {e}", gif.display()));
     let bar = progress_bar(animation);
     let mut total = RenderStats::default();
     let mut bytes = Vec::new();
     {
-        let mut encoder = GifEncoder::new_with_speed(&mut bytes, GIF_SPEED);
-        encoder.set_repeat(Repeat::Infinite).map_err(gif_error)?;
-        for (k, png) in (0..animation.frames()).zip(pngs) {
+        let mut encoder = out
+            .gif
+            .map(|gif| gif_encoder(&mut bytes, gif))
+            .transpose()?;
+        let auto_range = matches!(&settings.mode, Mode::Curvature(p) if matches!(p.range, CurvatureRange::Auto { .. }));
+        for (k, png) in (0..animation.frames()).zip(out.pngs) {
+            let wanted = (out.wanted)(k);
+            // Frame 0 fixes an automatic curvature range for every frame: rendered even when
+            // another shard writes it.
+            if !(wanted || k == 0 && auto_range) {
+                continue;
+            }
             let (view, frame_settings) = frame_view(animation, k, camera, axis, &settings)?;
             let (frame, stats) = render(tracer, &view, &frame_settings)?;
             if k == 0
@@ -333,16 +541,20 @@ fn render_frames<T: SurfaceTracer>(
                 });
             }
             accumulate(&mut total, &stats);
+            if !wanted {
+                continue;
+            }
             write_png(&frame, png)?;
-            let delay = Delay::from_numer_denom_ms(FRAME_DELAY_MS, 1);
-            encoder
-                .encode_frame(image::Frame::from_parts(rgba(&frame), 0, 0, delay))
-                .map_err(gif_error)?;
+            if let (Some(encoder), Some(gif)) = (encoder.as_mut(), out.gif) {
+                gif_frame(encoder, rgba(&frame), gif)?;
+            }
             bar.inc(1);
         }
     }
     bar.finish_and_clear();
-    write_atomic(gif, &bytes)?;
+    if let Some(gif) = out.gif {
+        write_atomic(gif, &bytes)?;
+    }
     Ok(total)
 }
 

@@ -323,11 +323,13 @@ mod tests {
                 mesh: "icosahedron".into(),
                 scheme: "hb".into(),
                 figures,
+                error: None,
             }],
             describe: None,
             dirty: None,
             tool_version: None,
             machine: Some(machine("cpu A")),
+            shards: None,
         }
     }
 

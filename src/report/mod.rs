@@ -11,10 +11,13 @@
 //! spread).
 
 pub mod analytic;
+pub mod batch;
 pub mod compare;
 pub mod page;
+pub mod partial;
 pub mod plots;
 pub mod provenance;
+pub mod shard;
 
 use std::path::Path;
 use std::time::{SystemTime, UNIX_EPOCH};
@@ -102,6 +105,25 @@ pub struct Record {
     pub scheme: String,
     /// Every figure of the metrics JSON, by its key.
     pub figures: serde_json::Map<String, serde_json::Value>,
+    /// Why the record has no figures: its mesh did not load or its scheme did not build on it
+    /// (a batch records failures instead of stopping), or its shard is missing from a merge.
+    /// Absent when it was measured.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+/// One shard of a merged report: where and when it ran.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShardRun {
+    /// The shard (`I/N`).
+    pub shard: shard::Shard,
+    /// UTC date and time the shard finished.
+    pub date: String,
+    /// The machine it ran on (its timings were measured there).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub machine: Option<provenance::Machine>,
+    /// Its wall time, seconds.
+    pub seconds: f64,
 }
 
 /// A whole report.
@@ -131,6 +153,10 @@ pub struct Report {
     /// timings [`compare`] therefore judges only when forced.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub machine: Option<provenance::Machine>,
+    /// The shards a merged report was measured in (`smoothlab merge`), in shard order; absent
+    /// in reports of one process.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shards: Option<Vec<ShardRun>>,
 }
 
 impl Report {
@@ -148,15 +174,21 @@ impl Report {
             describe: Some(describe),
             tool_version: Some(provenance::tool_version()),
             machine: Some(provenance::Machine::current()),
+            shards: None,
         }
     }
 }
 
-/// Builds `scheme` on `mesh` and times it: once when the build takes [`CHEAP_BUILD_MS`] or
-/// more, else [`TIMING_RUNS`] times after that first (warm-up) build. Returns the surface, the median time (ms), the number of
-/// runs and the relative spread (None for one run).
-fn build_median_timed(scheme: &str, mesh: &Mesh) -> Result<(Surface, f64, usize, Option<f64>)> {
-    let (surface, first) = schemes::build_timed(scheme, mesh, &[])?;
+/// Builds `scheme` with `params` on `mesh` and times it: once when the build takes
+/// [`CHEAP_BUILD_MS`] or more, else [`TIMING_RUNS`] times after that first (warm-up) build.
+/// Returns the surface, the median time (ms), the number of runs and the relative spread (None
+/// for one run).
+fn build_median_timed(
+    scheme: &str,
+    mesh: &Mesh,
+    params: &[(String, String)],
+) -> Result<(Surface, f64, usize, Option<f64>)> {
+    let (surface, first) = schemes::build_timed(scheme, mesh, params)?;
     if first >= CHEAP_BUILD_MS {
         return Ok((surface, first, 1, None));
     }
@@ -164,7 +196,7 @@ fn build_median_timed(scheme: &str, mesh: &Mesh) -> Result<(Surface, f64, usize,
     // decides that the build is cheap; the timed runs follow it.
     let mut times = Vec::with_capacity(TIMING_RUNS);
     for _ in 0..TIMING_RUNS {
-        times.push(schemes::build_timed(scheme, mesh, &[])?.1);
+        times.push(schemes::build_timed(scheme, mesh, params)?.1);
     }
     times.sort_by(f64::total_cmp);
     let median = times[times.len() / 2];
@@ -176,6 +208,14 @@ fn build_median_timed(scheme: &str, mesh: &Mesh) -> Result<(Surface, f64, usize,
     Ok((surface, median, times.len(), Some(spread)))
 }
 
+/// The keys of a record's figures that are timings: they differ from run to run and are left
+/// out when runs are checked for equality (e.g. a merged report against a single run).
+pub const TIMING_KEYS: [&str; 3] = [
+    "construct_ms",
+    "construct_ms_runs",
+    "construct_ms_spread_rel",
+];
+
 /// Measures every registered scheme on every benchmark mesh it accepts.
 pub fn run() -> Result<Report> {
     run_with_progress(&|_, _, _| {})
@@ -184,76 +224,200 @@ pub fn run() -> Result<Report> {
 /// [`run`], calling `progress(done, total, "mesh / scheme")` before each record is measured
 /// and `progress(total, total, "")` at the end.
 pub fn run_with_progress(progress: &dyn Fn(usize, usize, &str)) -> Result<Report> {
-    run_measuring(progress, &mut |_, _| Ok(()))
+    let work = benchmark_work(&default_variants())?;
+    let all: Vec<usize> = (0..work.items.len()).collect();
+    let measured = measure_items(&work, &all, None, progress)?;
+    Ok(Report::stamped(measured.records))
 }
 
-/// Every scheme a benchmark mesh is measured with: those that accept the mesh, in registry
-/// order.
-fn schemes_for(bench: &BenchmarkMesh) -> impl Iterator<Item = &'static schemes::SchemeSpec> {
+/// Every registered scheme with its default parameters, in registry order.
+pub fn default_variants() -> Vec<batch::Variant> {
     SCHEMES
         .iter()
-        .filter(|spec| !spec.needs_closed_mesh || bench.mesh.is_closed())
+        .map(|s| batch::Variant::default_of(s.name))
+        .collect()
 }
 
-/// What [`run_measuring`] hands each benchmark mesh to: the mesh and the surfaces built on it
-/// (scheme name, surface; registry order).
-type EachMesh<'a> = dyn FnMut(&BenchmarkMesh, &[(String, Surface)]) -> Result<()> + 'a;
+/// The work list of the benchmark meshes with `variants` on each: every variant whose scheme
+/// accepts the mesh (a scheme that needs a closed mesh is left out on an open one).
+pub fn benchmark_work(variants: &[batch::Variant]) -> Result<batch::WorkList> {
+    let mut items = Vec::new();
+    for bench in benchmark_meshes()? {
+        let closed = bench.mesh.is_closed();
+        let variants = variants
+            .iter()
+            .filter(|v| closed || schemes::find(&v.scheme).is_ok_and(|s| !s.needs_closed_mesh))
+            .cloned()
+            .collect();
+        items.push(batch::WorkItem {
+            faces: bench.mesh.face_count(),
+            source: batch::MeshSource::Benchmark(bench.name.clone()),
+            mesh: bench.name,
+            variants,
+        });
+    }
+    Ok(batch::WorkList::new(
+        items,
+        &crate::mesh::LoadOptions::default(),
+    ))
+}
 
-/// [`run_with_progress`], handing each benchmark mesh with the surfaces built on it (scheme
-/// name, surface; registry order) to `each_mesh` once its records are measured.
-fn run_measuring(
+/// Builds and measures `variant` on `mesh` (with its analytic surface, if any): one record and
+/// the surface.
+fn measure_variant(
+    mesh_name: &str,
+    mesh: &Mesh,
+    analytic: Option<Analytic>,
+    variant: &batch::Variant,
+) -> Result<(Record, Surface)> {
+    let (surface, ms, runs, spread) = build_median_timed(&variant.scheme, mesh, &variant.params)?;
+    let metrics = Metrics::measure(&surface, mesh, ms);
+    let mut figures = match serde_json::to_value(&metrics) {
+        Ok(serde_json::Value::Object(map)) => map,
+        _ => return Err(Error::Invalid("metrics did not serialise".into())),
+    };
+    figures.insert("construct_ms_runs".into(), runs.into());
+    if let Some(spread) = spread {
+        figures.insert("construct_ms_spread_rel".into(), spread.into());
+    }
+    figures.insert("bending_energy".into(), bending_energy(&surface).into());
+    if let Some(a) = analytic {
+        let diag = mesh.bounds().diagonal();
+        let (max_d, mean_d, normal) = surface_error(&surface, &a);
+        figures.insert("distance_max_rel".into(), (max_d / diag).into());
+        figures.insert("distance_mean_rel".into(), (mean_d / diag).into());
+        figures.insert("normal_error_max_rad".into(), normal.into());
+        let k = curvature_error(&surface, &a);
+        figures.insert("gaussian_error_max_rel".into(), k.gaussian_max_rel.into());
+        figures.insert("gaussian_error_rms_rel".into(), k.gaussian_rms_rel.into());
+        figures.insert("mean_error_max_rel".into(), k.mean_max_rel.into());
+        figures.insert("mean_error_rms_rel".into(), k.mean_rms_rel.into());
+        let (kv, h_lo, h_hi) = vertex_curvature_error(&surface, mesh.faces(), &a);
+        figures.insert("vertex_mean_error_max_rel".into(), kv.mean_max_rel.into());
+        figures.insert("vertex_mean_abs_min".into(), h_lo.into());
+        figures.insert("vertex_mean_abs_max".into(), h_hi.into());
+    }
+    let record = Record {
+        mesh: mesh_name.to_string(),
+        scheme: variant.label(),
+        figures,
+        error: None,
+    };
+    Ok((record, surface))
+}
+
+/// A record that carries `error` instead of figures.
+pub fn error_record(mesh: &str, variant: &batch::Variant, error: String) -> Record {
+    Record {
+        mesh: mesh.to_string(),
+        scheme: variant.label(),
+        figures: serde_json::Map::new(),
+        error: Some(error),
+    }
+}
+
+/// What [`measure_items`] measured.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Measured {
+    /// The records, items in the order given, variants in their order.
+    pub records: Vec<Record>,
+    /// The thumbnails of every item that has a built surface (when thumbnails were asked for).
+    pub thumbnails: Vec<page::MeshThumbnails>,
+    /// Warnings (one line each), e.g. a mesh loaded with repairs or thumbnails that failed.
+    pub warnings: Vec<String>,
+}
+
+/// Measures the items `items` (positions in `work`) and, with `thumbs` (a report folder, whose
+/// `thumbs/` must exist, and the thumbnail options), renders their thumbnails. A mesh that does
+/// not load or a variant that does not build becomes records with the error; only a failure to
+/// write a file stops the run. `progress(done, total, "mesh / variant")` is called before each
+/// record and `progress(total, total, "")` at the end.
+pub fn measure_items(
+    work: &batch::WorkList,
+    items: &[usize],
+    thumbs: Option<(&Path, &page::ThumbnailOptions)>,
     progress: &dyn Fn(usize, usize, &str),
-    each_mesh: &mut EachMesh,
-) -> Result<Report> {
-    let meshes = benchmark_meshes()?;
-    let total: usize = meshes.iter().map(|bench| schemes_for(bench).count()).sum();
-    let mut records = Vec::new();
-    for bench in meshes {
+) -> Result<Measured> {
+    let needs_benchmarks = items
+        .iter()
+        .any(|&k| matches!(work.items[k].source, batch::MeshSource::Benchmark(_)));
+    let benchmarks = if needs_benchmarks {
+        benchmark_meshes()?
+    } else {
+        Vec::new()
+    };
+    let total: usize = items.iter().map(|&k| work.items[k].variants.len()).sum();
+    let mut out = Measured::default();
+    for &k in items {
+        let item = &work.items[k];
+        let loaded = match &item.source {
+            batch::MeshSource::Benchmark(name) => benchmarks
+                .iter()
+                .find(|b| &b.name == name)
+                .map(|b| (std::borrow::Cow::Borrowed(&b.mesh), b.analytic))
+                .ok_or_else(|| Error::Invalid(format!("no benchmark mesh named '{name}'"))),
+            batch::MeshSource::File(path) => {
+                Mesh::load_with(path, &work.load_options()).map(|(mesh, report)| {
+                    out.warnings.extend(
+                        report
+                            .warnings
+                            .into_iter()
+                            .map(|w| format!("{}: {w}", item.mesh)),
+                    );
+                    (std::borrow::Cow::Owned(mesh), None)
+                })
+            }
+        };
+        let (mesh, analytic) = match loaded {
+            Ok(loaded) => loaded,
+            Err(e) => {
+                // The error names the file, whatever part of it is at fault.
+                let mut error = e.to_string();
+                if let batch::MeshSource::File(path) = &item.source
+                    && !error.contains(&path.display().to_string())
+                {
+                    error = format!("{}: {error}", path.display());
+                }
+                for v in &item.variants {
+                    progress(
+                        out.records.len(),
+                        total,
+                        &format!("{} / {}", item.mesh, v.label()),
+                    );
+                    out.records.push(error_record(&item.mesh, v, error.clone()));
+                }
+                continue;
+            }
+        };
         let mut surfaces = Vec::new();
-        for spec in schemes_for(&bench) {
+        for v in &item.variants {
             progress(
-                records.len(),
+                out.records.len(),
                 total,
-                &format!("{} / {}", bench.name, spec.name),
+                &format!("{} / {}", item.mesh, v.label()),
             );
-            let (surface, ms, runs, spread) = build_median_timed(spec.name, &bench.mesh)?;
-            let metrics = Metrics::measure(&surface, &bench.mesh, ms);
-            let mut figures = match serde_json::to_value(&metrics) {
-                Ok(serde_json::Value::Object(map)) => map,
-                _ => return Err(Error::Invalid("metrics did not serialise".into())),
-            };
-            figures.insert("construct_ms_runs".into(), runs.into());
-            if let Some(spread) = spread {
-                figures.insert("construct_ms_spread_rel".into(), spread.into());
+            match measure_variant(&item.mesh, &mesh, analytic, v) {
+                Ok((record, surface)) => {
+                    out.records.push(record);
+                    surfaces.push((v.label(), surface));
+                }
+                Err(e) => out.records.push(error_record(&item.mesh, v, e.to_string())),
             }
-            figures.insert("bending_energy".into(), bending_energy(&surface).into());
-            if let Some(a) = bench.analytic {
-                let diag = bench.mesh.bounds().diagonal();
-                let (max_d, mean_d, normal) = surface_error(&surface, &a);
-                figures.insert("distance_max_rel".into(), (max_d / diag).into());
-                figures.insert("distance_mean_rel".into(), (mean_d / diag).into());
-                figures.insert("normal_error_max_rad".into(), normal.into());
-                let k = curvature_error(&surface, &a);
-                figures.insert("gaussian_error_max_rel".into(), k.gaussian_max_rel.into());
-                figures.insert("gaussian_error_rms_rel".into(), k.gaussian_rms_rel.into());
-                figures.insert("mean_error_max_rel".into(), k.mean_max_rel.into());
-                figures.insert("mean_error_rms_rel".into(), k.mean_rms_rel.into());
-                let (kv, h_lo, h_hi) = vertex_curvature_error(&surface, bench.mesh.faces(), &a);
-                figures.insert("vertex_mean_error_max_rel".into(), kv.mean_max_rel.into());
-                figures.insert("vertex_mean_abs_min".into(), h_lo.into());
-                figures.insert("vertex_mean_abs_max".into(), h_hi.into());
-            }
-            records.push(Record {
-                mesh: bench.name.clone(),
-                scheme: spec.name.to_string(),
-                figures,
-            });
-            surfaces.push((spec.name.to_string(), surface));
         }
-        each_mesh(&bench, &surfaces)?;
+        if let Some((dir, options)) = thumbs
+            && !surfaces.is_empty()
+        {
+            match page::render_thumbnails(&item.mesh, &mesh, &surfaces, dir, options) {
+                Ok(t) => out.thumbnails.push(t),
+                Err(e @ Error::Io { .. }) => return Err(e),
+                Err(e) => out
+                    .warnings
+                    .push(format!("{}: no thumbnails: {e}", item.mesh)),
+            }
+        }
     }
     progress(total, total, "");
-    Ok(Report::stamped(records))
+    Ok(out)
 }
 
 fn git_commit() -> String {
@@ -362,6 +526,25 @@ pub fn to_markdown(report: &Report) -> String {
             out += &format!("| {} | {} |\n", r.scheme, cells.join(" | "));
         }
     }
+    let errors: Vec<&Record> = report
+        .records
+        .iter()
+        .filter(|r| r.error.is_some())
+        .collect();
+    if !errors.is_empty() {
+        out += &format!(
+            "\n## Errors\n\n{} record(s) not measured:\n\n",
+            errors.len()
+        );
+        for r in errors {
+            out += &format!(
+                "- {} / {}: {}\n",
+                r.mesh,
+                r.scheme,
+                r.error.as_deref().unwrap_or_default()
+            );
+        }
+    }
     out
 }
 
@@ -387,6 +570,8 @@ pub struct Written {
     pub comparison: Option<compare::Comparison>,
     /// The thumbnails of each benchmark mesh.
     pub thumbnails: Vec<page::MeshThumbnails>,
+    /// Warnings of the run (one line each).
+    pub warnings: Vec<String>,
 }
 
 /// Runs the report and writes `metrics.{json,csv,md}` into `out_dir`, the SVG plots of
@@ -413,63 +598,101 @@ pub fn write_with(
     options: &WriteOptions,
     progress: &dyn Fn(usize, usize, &str),
 ) -> Result<Written> {
-    let baseline = options
+    write_work(
+        out_dir,
+        &benchmark_work(&default_variants())?,
+        options,
+        progress,
+    )
+}
+
+/// The baseline of `options`, read (it must be a report, see [`read`]).
+fn read_baseline(options: &WriteOptions) -> Result<Option<(&Path, Report)>> {
+    options
         .baseline
         .as_deref()
         .map(|path| read(path).map(|report| (path, report)))
-        .transpose()?;
+        .transpose()
+}
+
+/// Creates the folders of a report in `out_dir` and checks that every file of it can be
+/// written: the tables, the plots, the page and the thumbnails of `work`.
+fn prepare_report_folder(out_dir: &Path, work: &batch::WorkList) -> Result<()> {
     let figures = out_dir.join("figures");
-    let thumbs = out_dir.join(page::THUMBS);
     create_folder(&figures)?;
-    create_folder(&thumbs)?;
-    let tables = TABLES.map(|name| out_dir.join(name));
-    let page_path = out_dir.join(page::PAGE);
-    let mut outputs: Vec<std::path::PathBuf> = tables.to_vec();
+    create_folder(&out_dir.join(page::THUMBS))?;
+    let mut outputs: Vec<std::path::PathBuf> = TABLES.map(|name| out_dir.join(name)).to_vec();
     outputs.extend(plots::plot_paths(&figures));
-    outputs.push(page_path.clone());
-    for bench in benchmark_meshes()? {
-        for spec in schemes_for(&bench) {
+    outputs.push(out_dir.join(page::PAGE));
+    for item in &work.items {
+        for v in &item.variants {
             for mode in page::THUMB_MODES {
-                outputs.push(page::thumbnail_path(out_dir, &bench.name, spec.name, mode));
+                outputs.push(page::thumbnail_path(out_dir, &item.mesh, &v.label(), mode));
             }
         }
     }
     for path in &outputs {
         check_writable(path)?;
     }
-    let mut thumbnails = Vec::new();
-    let report = run_measuring(progress, &mut |bench, surfaces| {
-        thumbnails.push(page::render_thumbnails(
-            &bench.name,
-            &bench.mesh,
-            surfaces,
-            out_dir,
-            &options.thumbnails,
-        )?);
-        Ok(())
-    })?;
-    let comparison = baseline.as_ref().map(|(_, old)| {
+    Ok(())
+}
+
+/// [`write_with`] over the work list `work` (e.g. a user's meshes, `report --meshes`).
+pub fn write_work(
+    out_dir: &Path,
+    work: &batch::WorkList,
+    options: &WriteOptions,
+    progress: &dyn Fn(usize, usize, &str),
+) -> Result<Written> {
+    let baseline = read_baseline(options)?;
+    prepare_report_folder(out_dir, work)?;
+    let all: Vec<usize> = (0..work.items.len()).collect();
+    let measured = measure_items(work, &all, Some((out_dir, &options.thumbnails)), progress)?;
+    let report = Report::stamped(measured.records);
+    let comparison = write_outputs(
+        out_dir,
+        &report,
+        &measured.thumbnails,
+        baseline.as_ref().map(|(p, r)| (*p, r)),
+    )?;
+    Ok(Written {
+        report,
+        comparison,
+        thumbnails: measured.thumbnails,
+        warnings: measured.warnings,
+    })
+}
+
+/// Writes the tables, the plots and the page of `report` into `out_dir` (whose folders exist;
+/// the thumbnails `thumbnails` are already in `out_dir/thumbs/`), with the changes against
+/// `baseline` (its path and report) when given; returns that comparison.
+pub fn write_outputs(
+    out_dir: &Path,
+    report: &Report,
+    thumbnails: &[page::MeshThumbnails],
+    baseline: Option<(&Path, &Report)>,
+) -> Result<Option<compare::Comparison>> {
+    let comparison = baseline.map(|(_, old)| {
         compare::compare(
             old,
-            &report,
+            report,
             compare::Thresholds::default(),
             compare::TimingCheck::SameMachine,
         )
     });
-    plots::write_plots(&report, &figures)?;
-    let json = serde_json::to_string_pretty(&report)
+    plots::write_plots(report, &out_dir.join("figures"))?;
+    let json = serde_json::to_string_pretty(report)
         .map_err(|e| Error::Invalid(format!("report JSON: {e}")))?;
-    for (path, text) in tables
+    for (name, text) in TABLES
         .iter()
-        .zip([json, to_csv(&report), to_markdown(&report)])
+        .zip([json, to_csv(report), to_markdown(report)])
     {
-        write_atomic(path, text.as_bytes())?;
+        write_atomic(&out_dir.join(name), text.as_bytes())?;
     }
     let html = page::to_html(
-        &report,
-        &thumbnails,
+        report,
+        thumbnails,
         baseline
-            .as_ref()
             .zip(comparison.as_ref())
             .map(|((path, old), comparison)| page::Baseline {
                 path,
@@ -479,12 +702,8 @@ pub fn write_with(
             .as_ref(),
     );
     page::check_references(&html, out_dir)?;
-    write_atomic(&page_path, html.as_bytes())?;
-    Ok(Written {
-        report,
-        comparison,
-        thumbnails,
-    })
+    write_atomic(&out_dir.join(page::PAGE), html.as_bytes())?;
+    Ok(comparison)
 }
 
 /// Reads a `metrics.json` written by [`write()`]: the format must be `smoothlab-report` of
@@ -541,6 +760,7 @@ pub fn read_comparable(path: &Path) -> Result<Report> {
                     mesh: METRICS_MESH.to_string(),
                     scheme: scheme.to_string(),
                     figures,
+                    error: None,
                 });
             }
             if records.is_empty() {
@@ -556,6 +776,7 @@ pub fn read_comparable(path: &Path) -> Result<Report> {
                 dirty: None,
                 tool_version: None,
                 machine: None,
+                shards: None,
             }
         }
         _ => return Err(shape_error("neither a report nor a list of metrics")),
@@ -646,6 +867,7 @@ mod tests {
             mesh: mesh.into(),
             scheme: scheme.into(),
             figures: serde_json::Map::new(),
+            error: None,
         }
     }
 
@@ -665,6 +887,7 @@ mod tests {
             dirty: None,
             tool_version: None,
             machine: None,
+            shards: None,
         };
         check(&report).expect("valid report");
         report.version = 2;

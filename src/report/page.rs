@@ -69,7 +69,7 @@ impl Default for ThumbnailOptions {
 }
 
 /// The thumbnails of one benchmark mesh.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MeshThumbnails {
     /// Benchmark mesh name.
     pub mesh: String,
@@ -85,6 +85,8 @@ pub struct MeshThumbnails {
 
 /// The thumbnail's path relative to the report folder (as the page references it).
 pub fn thumbnail_name(mesh: &str, scheme: &str, mode: &str) -> String {
+    // A mesh named by a relative path (`report --meshes LIST`) stays inside `thumbs/`.
+    let mesh = mesh.replace(['/', '\\'], "_");
     format!("{THUMBS}/{mesh}-{scheme}-{mode}.png")
 }
 
@@ -238,6 +240,7 @@ tr.worse td { background: #fde2e2; }
 #page-errors:empty { display: none; }
 #page-errors { color: #a00; }
 .note { color: #555; }
+.error { color: #a00; text-align: left; }
 ";
 
 /// The first script: records errors of every kind before anything else runs.
@@ -402,6 +405,16 @@ pub fn to_html(
         out += "</tr></thead>\n<tbody>\n";
         for r in report.records.iter().filter(|r| r.mesh == mesh) {
             let _ = write!(out, "<tr><td>{}</td>", escape(&r.scheme));
+            if let Some(error) = &r.error {
+                // Not measured: the error across the row.
+                let _ = writeln!(
+                    out,
+                    "<td colspan=\"{}\" class=\"error\">error: {}</td></tr>",
+                    COLUMNS.len(),
+                    escape(error)
+                );
+                continue;
+            }
             for c in COLUMNS {
                 out += &figure_cell(r.figures.get(*c));
             }
@@ -541,11 +554,13 @@ mod tests {
                 mesh: "cube".into(),
                 scheme: "hb<&>".into(),
                 figures,
+                error: None,
             }],
             describe: None,
             dirty: None,
             tool_version: None,
             machine: None,
+            shards: None,
         }
     }
 
