@@ -6,7 +6,9 @@
 //! ```
 //! builds `hb` on the unit icosphere of level 6 (81,920 faces) and prints the growth of the
 //! process's peak resident memory (`VmHWM`, Linux) during the build, per face. Run one scheme
-//! per process: the peak only grows.
+//! per process: the peak only grows. It then builds the renderer's tracer (the surface in the
+//! unit frame and its BVH, default settings) and prints the peak's growth during that build per
+//! BVH leaf, the figure behind the BVH's memory estimate (`render::job::check_bvh_size`).
 
 /// The process's peak resident memory in bytes (`VmHWM` of `/proc/self/status`).
 fn peak_resident_bytes() -> f64 {
@@ -51,6 +53,19 @@ fn main() {
          (declared {declared:.0}), {:.2} s",
         mesh.face_count(),
         surface.patches.len(),
+        start.elapsed().as_secs_f64()
+    );
+    let before = peak_resident_bytes();
+    let start = std::time::Instant::now();
+    let tracer = smoothlab::render::intersect::Tracer::with_default_settings(&surface)
+        .unwrap_or_else(|e| {
+            eprintln!("error: {e}");
+            std::process::exit(1)
+        });
+    let leaves = tracer.bvh.leaves.len();
+    println!(
+        "tracer: {leaves} leaves, peak growth {:.0} B/leaf, {:.2} s",
+        (peak_resident_bytes() - before) / leaves as f64,
         start.elapsed().as_secs_f64()
     );
 }
