@@ -9,7 +9,7 @@ use crate::bezier::TriangleBezier;
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
 use crate::mesh::Mesh;
-use crate::render::bvh::{Leaf, SubdivisionCriterion};
+use crate::render::bvh::SubdivisionCriterion;
 use crate::render::camera::{Camera, Projection};
 use crate::render::curves::CurveOverlay;
 use crate::render::film::{Frame, RenderSettings, render};
@@ -228,11 +228,14 @@ pub fn estimate_leaves(surface: &Surface, criterion: &SubdivisionCriterion) -> f
         .sum()
 }
 
-/// Bytes per BVH leaf of a patch with `points` control points: the leaf record, its
-/// power-form coefficients (as many as control points), its share of the wide BVH's nodes
-/// and indices and the build's temporary box.
+/// Peak bytes per BVH leaf of a patch with `points` control points while the tracer is built:
+/// the surface's copy in the unit frame, the leaf records and power forms, the wide BVH and
+/// the builder's temporaries. Measured with `cargo run --release --example
+/// construction_memory -- SCHEME 6` (peak growth during `Tracer::new`, one leaf per patch):
+/// 2,111 B per leaf for `flat` (3 points), 3,492 for `hb` (21 points), 3,123 for `nielson`;
+/// this fit, 2000 + 80 per point, is at or above each.
 fn leaf_bytes(points: usize) -> f64 {
-    (std::mem::size_of::<Leaf>() + 24 * points + 64) as f64
+    (2000 + 80 * points) as f64
 }
 
 /// Refuses a BVH that would have more than `max_leaves` leaves or need more memory than is
