@@ -26,7 +26,7 @@
 
 use glam::DVec3;
 
-use super::vertex::{BETA_RANGE, GAMMA2_RANGE, HalfEdgeData, ShapeParams, ShapeRule, half_edges};
+use super::vertex::{HalfEdgeData, ShapeParams, ShapeRule, fit_shape, half_edges};
 use crate::mesh::Mesh;
 use crate::schemes::vertex_rings::{
     Fan, HalfEdgeTable, half_ring_tangent_basis, open_fan_cross_data, open_loop_point,
@@ -46,9 +46,6 @@ pub fn open_half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> HalfEdgeTable<Half
     })
 }
 
-/// Relative weight of the planar fallback in the fit of γ2 (as at interior vertices).
-const PLANAR_FALLBACK: f64 = 1e-16;
-
 /// Shape parameters at a boundary vertex for `auto`: the fits of
 /// [`super::vertex::adaptive_shape`] (β: tangent speed of circular arcs; γ2: normal curvature of
 /// the circles the mesh implies; γ1: no tangential acceleration) over the half-ring's edges,
@@ -60,59 +57,16 @@ fn boundary_shape(
     normal: DVec3,
     rule: &ShapeRule,
 ) -> ShapeParams {
-    let n = ring.len();
-    let nf = n as f64;
+    let nf = ring.len() as f64;
     let alpha = rule.alpha;
     let b0 = alpha * v + (1.0 - alpha) * ring.iter().sum::<DVec3>() / nf;
-    let chords: Vec<DVec3> = ring.iter().map(|&p| p - v).collect();
-    let beta = rule.beta.unwrap_or_else(|| {
-        let (mut num, mut den) = (0.0, 0.0);
-        for (t, c) in unit_tangent.iter().zip(&chords) {
-            let len = c.length();
-            let sin = (c.dot(normal).abs() / len.max(f64::MIN_POSITIVE)).min(1.0);
-            let arc = if sin > 0.0 {
-                len * sin.asin() / sin
-            } else {
-                len
-            };
-            let q = t.length() / arc.max(f64::MIN_POSITIVE);
-            num += q;
-            den += q * q;
-        }
-        let fitted = if den > 0.0 { num / den } else { 1.0 / 3.0 };
-        fitted.clamp(BETA_RANGE[0], BETA_RANGE[1])
+    let fitted = fit_shape(v, ring, b0, rule.beta, unit_tangent, normal, |j| {
+        open_loop_point(v, ring, j)
     });
-    if let Some(gamma) = rule.gamma {
-        return ShapeParams { alpha, beta, gamma };
-    }
-    let (mut num, mut den, mut reference, mut scale) = (0.0, 0.0, 0.0, 0.0);
-    let mut tangential = Vec::with_capacity(n);
-    for j in 0..n {
-        let r1 = beta * unit_tangent[j];
-        let c2 = chords[j].length_squared().max(f64::MIN_POSITIVE);
-        let kappa = 2.0 * chords[j].dot(normal) / c2;
-        let w = open_loop_point(v, ring, j) - b0;
-        let w_normal = w.dot(normal);
-        let target = kappa * r1.length_squared() / 24.0;
-        num += w_normal * target;
-        den += w_normal * w_normal;
-        reference += r1.length_squared() / (8.0 * c2);
-        scale += c2;
-        tangential.push((r1 / 6.0, w - w_normal * normal));
-    }
-    let weight = PLANAR_FALLBACK * (scale / nf).powi(2);
-    let g2 =
-        ((num + weight * reference / nf) / (den + weight)).clamp(GAMMA2_RANGE[0], GAMMA2_RANGE[1]);
-    let (mut uu, mut uw) = (0.0, 0.0);
-    for (u, w) in &tangential {
-        uu += u.length_squared();
-        uw += u.dot(*w);
-    }
-    let g1 = if uu > 0.0 { 2.0 - g2 * uw / uu } else { 2.0 };
     ShapeParams {
         alpha,
-        beta,
-        gamma: [1.0 - g1 - g2, g1, g2],
+        gamma: rule.gamma.unwrap_or(fitted.gamma),
+        ..fitted
     }
 }
 

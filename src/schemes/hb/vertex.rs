@@ -115,6 +115,30 @@ pub fn adaptive_shape(v: DVec3, ring: &[DVec3], alpha: f64, beta: Option<f64>) -
         .normalize_or_zero();
     // r¹_i for β = 1 (eq. 12).
     let unit_tangent: Vec<DVec3> = (0..n).map(|i| (6.0 / nf) * fourier.cos_sum(i)).collect();
+    // Loop's point d_i (eq. 15).
+    let loop_point =
+        |i: usize| (2.0 * v + ring[(i + n - 1) % n] + 2.0 * ring[i] + ring[(i + 1) % n]) / 6.0;
+    ShapeParams {
+        alpha,
+        ..fit_shape(v, ring, b0, beta, &unit_tangent, normal, loop_point)
+    }
+}
+
+/// The fits of [`adaptive_shape`] over the edges `v → ring[i]`, given the vertex point `b0`,
+/// the tangents `unit_tangent[i]` for β = 1, the tangent plane's `normal` and Loop's point
+/// `loop_point(i)` of each edge; shared by interior and boundary vertices. The returned α is
+/// 1: the caller's α goes in its place.
+pub(crate) fn fit_shape(
+    v: DVec3,
+    ring: &[DVec3],
+    b0: DVec3,
+    beta: Option<f64>,
+    unit_tangent: &[DVec3],
+    normal: DVec3,
+    loop_point: impl Fn(usize) -> DVec3,
+) -> ShapeParams {
+    let n = ring.len();
+    let nf = n as f64;
     let chords: Vec<DVec3> = ring.iter().map(|&p| p - v).collect();
     let beta = beta.unwrap_or_else(|| {
         let (mut num, mut den) = (0.0, 0.0);
@@ -136,8 +160,7 @@ pub fn adaptive_shape(v: DVec3, ring: &[DVec3], alpha: f64, beta: Option<f64>) -
         let r1 = beta * unit_tangent[i];
         let c2 = chords[i].length_squared().max(f64::MIN_POSITIVE);
         let kappa = 2.0 * chords[i].dot(normal) / c2;
-        let d = (2.0 * v + ring[(i + n - 1) % n] + 2.0 * ring[i] + ring[(i + 1) % n]) / 6.0;
-        let w = d - b0;
+        let w = loop_point(i) - b0;
         let w_normal = w.dot(normal);
         // 24 γ2 w·N ≈ κ |r¹|²
         let target = kappa * r1.length_squared() / 24.0;
@@ -158,7 +181,7 @@ pub fn adaptive_shape(v: DVec3, ring: &[DVec3], alpha: f64, beta: Option<f64>) -
     }
     let g1 = if uu > 0.0 { 2.0 - g2 * uw / uu } else { 2.0 };
     ShapeParams {
-        alpha,
+        alpha: 1.0,
         beta,
         gamma: [1.0 - g1 - g2, g1, g2],
     }
