@@ -162,9 +162,10 @@ pub fn edge_side_camera(mesh: &Mesh, edge: usize, aspect: f64) -> Result<Camera>
     )
 }
 
-/// The median of the automatic curvature ranges of the curved surfaces (1 if none is curved).
+/// The median of the automatic curvature ranges of the curved surfaces' tracers `curved` (1
+/// if none is curved).
 fn common_curvature_range(
-    tracers: &[Tracer<'_>],
+    curved: &[&Tracer<'_>],
     camera: &Camera,
     settings: &RenderSettings,
     mode: &Mode,
@@ -176,111 +177,82 @@ fn common_curvature_range(
         CurvatureRange::Auto { percentile } => percentile,
         CurvatureRange::Fixed(_) => 95.0,
     };
-    let mut ranges: Vec<f64> = tracers
+    let mut ranges: Vec<f64> = curved
         .iter()
-        .filter(|t| t.surface.patches.iter().any(|p| p.degree() != Some(1)))
-        .map(|t| auto_curvature_range(t, camera, settings, p.quantity, percentile))
+        .map(|&t| auto_curvature_range(t, camera, settings, p.quantity, percentile))
         .collect();
     ranges.sort_by(f64::total_cmp);
     ranges.get(ranges.len() / 2).copied().unwrap_or(1.0)
 }
 
-/// Renders every cell of `job` and composes the labelled sheet.
-pub fn render_figure(job: &FigureJob) -> Result<Figure> {
-    let [w, h] = job.size;
-    let aspect = f64::from(w) / f64::from(h);
-    let tracers = job
-        .surfaces
-        .iter()
-        .map(|s| Tracer::with_default_settings(&s.surface))
-        .collect::<Result<Vec<_>>>()?;
-    let base = RenderSettings {
-        width: w,
-        height: h,
-        spp: job.spp,
-        overlay: Overlay::default(),
-        progress: false,
-        ..RenderSettings::default()
-    };
-    let mut half_range = None;
-    let mut modes = Vec::with_capacity(job.modes.len());
-    for m in &job.modes {
-        let mode = match &m.mode {
-            Mode::Curvature(p) => {
-                let r = match (half_range, job.curvature) {
-                    (Some(r), _) => r,
-                    (None, CurvatureChoice::Fixed(r)) => r,
-                    (None, CurvatureChoice::Common) => {
-                        common_curvature_range(&tracers, &job.camera, &base, &m.mode)
-                    }
-                };
-                half_range = Some(r);
-                Mode::Curvature(crate::render::modes::CurvatureParams {
-                    range: CurvatureRange::Fixed(r),
-                    ..*p
-                })
-            }
-            other => other.clone(),
-        };
-        // The back of an open surface shows: tint it in the quality modes.
-        let mode = if job.mesh.is_closed() {
-            mode
-        } else {
-            mode.with_back_faces_tinted()
-        };
-        let camera = match m.view {
-            View::Common => job.camera,
-            View::EdgeSide { edge } => edge_side_camera(&job.mesh, edge, aspect)?,
-        };
-        modes.push((mode, camera));
+/// Whether `surface` is curved (not every patch linear): only curved surfaces take part in the
+/// common curvature range.
+fn is_curved(surface: &Surface) -> bool {
+    surface.patches.iter().any(|p| p.degree() != Some(1))
+}
+
+impl FigureJob {
+    /// Number of cells: surfaces × modes.
+    pub fn cell_count(&self) -> usize {
+        self.surfaces.len() * self.modes.len()
     }
-    let mut cells = Vec::new();
-    let (outer, inner) = if job.transpose {
-        (job.modes.len(), job.surfaces.len())
-    } else {
-        (job.surfaces.len(), job.modes.len())
-    };
-    for o in 0..outer {
-        for i in 0..inner {
-            let (s, m) = if job.transpose { (i, o) } else { (o, i) };
-            let spec = &job.modes[m];
-            let (mode, camera) = &modes[m];
-            let surface = &job.surfaces[s].surface;
-            let curves: Option<Arc<_>> = spec.curves.tubes(surface, &job.mesh)?;
-            let settings = RenderSettings {
-                mode: mode.clone(),
-                surface: spec.surface,
-                curves,
-                ..base.clone()
-            };
-            let (frame, stats) = render(&tracers[s], camera, &settings)?;
-            cells.push(FigureCell {
-                surface: s,
-                mode: m,
-                frame,
-                stats,
-            });
+
+    /// The surface and mode of the cell at sheet position `k` (row-major).
+    pub fn cell(&self, k: usize) -> (usize, usize) {
+        if self.transpose {
+            let n = self.surfaces.len().max(1);
+            (k % n, k / n)
+        } else {
+            let n = self.modes.len().max(1);
+            (k / n, k % n)
         }
     }
-    let surface_labels: Vec<String> = job.surfaces.iter().map(|s| s.label.clone()).collect();
-    let mode_labels: Vec<String> = job
-        .modes
+
+    /// The labels of the sheet, the curvature modes' with `±half_range`.
+    pub fn labels(&self, half_range: Option<f64>) -> SheetLabels {
+        let surfaces: Vec<String> = self.surfaces.iter().map(|s| s.label.clone()).collect();
+        let modes: Vec<(String, bool)> = self
+            .modes
+            .iter()
+            .map(|m| (m.label.clone(), matches!(m.mode, Mode::Curvature(_))))
+            .collect();
+        sheet_labels(&self.title, surfaces, &modes, self.transpose, half_range)
+    }
+}
+
+/// The labels of a sheet of `surfaces` × `modes` (label, whether it shows curvature): the
+/// curvature modes' labels end in `±half_range` when it is known.
+pub fn sheet_labels(
+    title: &str,
+    surfaces: Vec<String>,
+    modes: &[(String, bool)],
+    transpose: bool,
+    half_range: Option<f64>,
+) -> SheetLabels {
+    let modes: Vec<String> = modes
         .iter()
-        .map(|m| match (&m.mode, half_range) {
-            (Mode::Curvature(_), Some(r)) => format!("{} ±{}", m.label, short_number(r)),
-            _ => m.label.clone(),
+        .map(|(label, curvature)| match (curvature, half_range) {
+            (true, Some(r)) => format!("{label} ±{}", short_number(r)),
+            _ => label.clone(),
         })
         .collect();
-    let (rows, columns) = if job.transpose {
-        (mode_labels, surface_labels)
+    let (rows, columns) = if transpose {
+        (modes, surfaces)
     } else {
-        (surface_labels, mode_labels)
+        (surfaces, modes)
     };
-    let labels = SheetLabels {
-        title: job.title.clone(),
+    SheetLabels {
+        title: title.to_string(),
         rows,
         columns,
-    };
+    }
+}
+
+/// Renders every cell of `job` and composes the labelled sheet.
+pub fn render_figure(job: &FigureJob) -> Result<Figure> {
+    let all: Vec<usize> = (0..job.cell_count()).collect();
+    let (cells, half_range) = render_cells(job, &all)?;
+    let labels = job.labels(half_range);
     let frames: Vec<&Frame> = cells.iter().map(|c| &c.frame).collect();
     let sheet = compose(&frames, &labels, job.size);
     let svg = svg(&frames, &labels, job.size)?;
@@ -290,6 +262,117 @@ pub fn render_figure(job: &FigureJob) -> Result<Figure> {
         svg,
         curvature_half_range: half_range,
     })
+}
+
+/// Renders the cells of `job` at the sheet positions `wanted` (ascending), each exactly as
+/// [`render_figure`] renders it. A surface's tracer is built only when one of its cells is
+/// wanted or when the common automatic curvature range needs it (a wanted cell shows
+/// curvature). Returns the cells in sheet order and the curvature half-range: known when the
+/// figure has a curvature mode and the range is fixed or a wanted cell shows curvature.
+pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell>, Option<f64>)> {
+    let [w, h] = job.size;
+    let aspect = f64::from(w) / f64::from(h);
+    let count = job.cell_count();
+    if let Some(&k) = wanted.iter().find(|&&k| k >= count) {
+        return Err(crate::Error::Invalid(format!(
+            "figure cell {k} does not exist (the figure has {count} cells)"
+        )));
+    }
+    let first_curvature = job
+        .modes
+        .iter()
+        .find(|m| matches!(m.mode, Mode::Curvature(_)));
+    let needs_range = matches!(job.curvature, CurvatureChoice::Common)
+        && wanted
+            .iter()
+            .any(|&k| matches!(job.modes[job.cell(k).1].mode, Mode::Curvature(_)));
+    // The tracers, in surface order, of the surfaces this call needs.
+    let mut needed = vec![false; job.surfaces.len()];
+    for &k in wanted {
+        needed[job.cell(k).0] = true;
+    }
+    if needs_range {
+        for (n, s) in needed.iter_mut().zip(&job.surfaces) {
+            *n |= is_curved(&s.surface);
+        }
+    }
+    let tracers = job
+        .surfaces
+        .iter()
+        .zip(&needed)
+        .map(|(s, n)| {
+            n.then(|| Tracer::with_default_settings(&s.surface))
+                .transpose()
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let base = RenderSettings {
+        width: w,
+        height: h,
+        spp: job.spp,
+        overlay: Overlay::default(),
+        progress: false,
+        ..RenderSettings::default()
+    };
+    let half_range = match (first_curvature, job.curvature) {
+        (None, _) => None,
+        (Some(_), CurvatureChoice::Fixed(r)) => Some(r),
+        (Some(m), CurvatureChoice::Common) if needs_range => {
+            let curved: Vec<&Tracer<'_>> = tracers
+                .iter()
+                .zip(&job.surfaces)
+                .filter(|(_, s)| is_curved(&s.surface))
+                .filter_map(|(t, _)| t.as_ref())
+                .collect();
+            Some(common_curvature_range(&curved, &job.camera, &base, &m.mode))
+        }
+        (Some(_), CurvatureChoice::Common) => None,
+    };
+    let mut cameras = Vec::with_capacity(job.modes.len());
+    for m in &job.modes {
+        cameras.push(match m.view {
+            View::Common => job.camera,
+            View::EdgeSide { edge } => edge_side_camera(&job.mesh, edge, aspect)?,
+        });
+    }
+    let mut cells = Vec::with_capacity(wanted.len());
+    for &k in wanted {
+        let (s, m) = job.cell(k);
+        let spec = &job.modes[m];
+        let mode = match (&spec.mode, half_range) {
+            (Mode::Curvature(p), Some(r)) => {
+                Mode::Curvature(crate::render::modes::CurvatureParams {
+                    range: CurvatureRange::Fixed(r),
+                    ..*p
+                })
+            }
+            (other, _) => other.clone(),
+        };
+        // The back of an open surface shows: tint it in the quality modes.
+        let mode = if job.mesh.is_closed() {
+            mode
+        } else {
+            mode.with_back_faces_tinted()
+        };
+        let surface = &job.surfaces[s].surface;
+        let tracer = tracers[s].as_ref().ok_or_else(|| {
+            crate::Error::Invalid(format!("figure cell {k}: surface {s} has no tracer"))
+        })?;
+        let curves: Option<Arc<_>> = spec.curves.tubes(surface, &job.mesh)?;
+        let settings = RenderSettings {
+            mode,
+            surface: spec.surface,
+            curves,
+            ..base.clone()
+        };
+        let (frame, stats) = render(tracer, &cameras[m], &settings)?;
+        cells.push(FigureCell {
+            surface: s,
+            mode: m,
+            frame,
+            stats,
+        });
+    }
+    Ok((cells, half_range))
 }
 
 /// A number with three significant digits for labels.

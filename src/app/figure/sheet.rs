@@ -218,16 +218,23 @@ fn frame_image(frame: &Frame) -> RgbImage {
 /// Composes `frames` (row-major, `labels.rows.len()` × `labels.columns.len()`, all
 /// `cell_width` × `cell_height`) into one labelled sheet.
 pub fn compose(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> RgbImage {
-    let layout = layout(frames.len(), labels, cell);
+    let images: Vec<RgbImage> = frames.iter().map(|f| frame_image(f)).collect();
+    let images: Vec<&RgbImage> = images.iter().collect();
+    compose_images(&images, labels, cell)
+}
+
+/// [`compose`] of the cells' 8-bit sRGB images (what a frame becomes in a PNG), so that a
+/// sheet can be composed from cell files: the same bytes as from the frames.
+pub fn compose_images(images: &[&RgbImage], labels: &SheetLabels, cell: [u32; 2]) -> RgbImage {
+    let layout = layout(images.len(), labels, cell);
     let mut sheet = RgbImage::from_pixel(layout.width, layout.height, Rgb(BACKGROUND));
     for t in &layout.texts {
         draw_text(&mut sheet, t.left(), t.top(), t.size, INK, &t.text);
     }
     let [cw, ch] = cell;
-    for (frame, [x0, y0]) in frames.iter().zip(&layout.cells) {
-        let img = frame_image(frame);
-        for y in 0..frame.height.min(ch) {
-            for x in 0..frame.width.min(cw) {
+    for (img, [x0, y0]) in images.iter().zip(&layout.cells) {
+        for y in 0..img.height().min(ch) {
+            for x in 0..img.width().min(cw) {
                 sheet.put_pixel(x0 + x, y0 + y, *img.get_pixel(x, y));
             }
         }
@@ -244,7 +251,14 @@ fn hex(rgb: [u8; 3]) -> String {
 /// its PNG as a data URI, each label a `<text>` in [`FONT_FAMILY`] (positions in pixels, one
 /// SVG user unit per pixel).
 pub fn svg(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> Result<String> {
-    let layout = layout(frames.len(), labels, cell);
+    let images: Vec<RgbImage> = frames.iter().map(|f| frame_image(f)).collect();
+    let images: Vec<&RgbImage> = images.iter().collect();
+    svg_images(&images, labels, cell)
+}
+
+/// [`svg`] of the cells' 8-bit sRGB images: the same text as from the frames.
+pub fn svg_images(images: &[&RgbImage], labels: &SheetLabels, cell: [u32; 2]) -> Result<String> {
+    let layout = layout(images.len(), labels, cell);
     let (w, h) = (layout.width, layout.height);
     let mut out = String::new();
     let _ = writeln!(out, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
@@ -260,17 +274,16 @@ pub fn svg(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2]) -> Result<St
         r#"<rect x="0" y="0" width="{w}" height="{h}" fill="{}"/>"#,
         hex(BACKGROUND)
     );
-    for (k, (frame, [x, y])) in frames.iter().zip(&layout.cells).enumerate() {
+    for (k, (img, [x, y])) in images.iter().zip(&layout.cells).enumerate() {
         let mut png = Cursor::new(Vec::new());
-        frame_image(frame)
-            .write_to(&mut png, image::ImageFormat::Png)
+        img.write_to(&mut png, image::ImageFormat::Png)
             .map_err(|e| Error::Invalid(format!("figure cell {k} to PNG: {e}")))?;
         let data = base64::engine::general_purpose::STANDARD.encode(png.get_ref());
         let _ = writeln!(
             out,
             r#"<image x="{x}" y="{y}" width="{}" height="{}" href="data:image/png;base64,{data}"/>"#,
-            frame.width.min(cell[0]),
-            frame.height.min(cell[1])
+            img.width().min(cell[0]),
+            img.height().min(cell[1])
         );
     }
     let _ = writeln!(

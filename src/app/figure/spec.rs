@@ -363,16 +363,32 @@ impl FigureSpec {
         if !self.exr.unwrap_or(true) {
             return (png, Vec::new());
         }
+        let base = self.stem_name();
+        let exrs = self
+            .cell_suffixes()
+            .iter()
+            .map(|suffix| stem.with_file_name(format!("{base}{suffix}.exr")))
+            .collect();
+        (png, exrs)
+    }
+
+    /// The file name of the output stem (`figure` when it has none).
+    pub fn stem_name(&self) -> String {
+        output_stem(&self.output)
+            .file_name()
+            .map_or("figure".into(), |s| s.to_string_lossy().into_owned())
+    }
+
+    /// What follows the stem in the name of each cell's file, in sheet order (row-major):
+    /// `-<row>-<column>-<scheme>-<mode>`.
+    pub fn cell_suffixes(&self) -> Vec<String> {
         let transpose = self.transpose.unwrap_or(false);
         let (rows, columns) = if transpose {
             (self.modes.len(), self.schemes.len())
         } else {
             (self.schemes.len(), self.modes.len())
         };
-        let base = stem
-            .file_name()
-            .map_or("figure".into(), |s| s.to_string_lossy());
-        let exrs = (0..rows)
+        (0..rows)
             .flat_map(|row| (0..columns).map(move |column| (row, column)))
             .map(|(row, column)| {
                 let (scheme, mode) = if transpose {
@@ -380,14 +396,13 @@ impl FigureSpec {
                 } else {
                     (row, column)
                 };
-                stem.with_file_name(format!(
-                    "{base}-{row}-{column}-{}-{}.exr",
+                format!(
+                    "-{row}-{column}-{}-{}",
                     slug(&self.schemes[scheme].name),
                     slug(&self.modes[mode].name)
-                ))
+                )
             })
-            .collect();
-        (png, exrs)
+            .collect()
     }
 }
 
