@@ -92,15 +92,16 @@ enum Command {
         )]
         weld_tolerance: f64,
     },
-    /// Merge the partial results of sharded runs (`report --shard`, or `render --turntable|
-    /// --sweep --shard`) into what one process would have written; names missing shards.
+    /// Merge the partial results of sharded runs (`report --shard`, `render --turntable|
+    /// --sweep --shard`, `figure --shard`) into what one process would have written; names
+    /// missing shards.
     Merge {
         /// The parts: shard folders of `report --shard` (or their partial.json), or the
-        /// NAME.shard-I-of-N.json files of a sharded turntable or sweep.
+        /// NAME.shard-I-of-N.json files of a sharded turntable, sweep or figure.
         #[arg(required = true)]
         parts: Vec<PathBuf>,
-        /// Output: the report folder, or the NAME of the merged frames (NAME-000.png …,
-        /// NAME.gif).
+        /// Output: the report folder, the NAME of the merged frames (NAME-000.png …,
+        /// NAME.gif), or the STEM of the merged figure (STEM.png, STEM.svg, its cells' EXRs).
         #[arg(short = 'o', long = "output", value_name = "OUT")]
         output: PathBuf,
         /// Report parts: a previous report (metrics.json) to list the changes against.
@@ -134,6 +135,11 @@ enum Command {
         /// Figure spec files (.toml), rendered in turn.
         #[arg(required = true)]
         specs: Vec<PathBuf>,
+        /// Render only shard I of N of the cells (0 ≤ I < N, balanced by estimated cost):
+        /// writes those cells (STEM-<row>-<column>-<scheme>-<mode>.png and .exr) and
+        /// STEM.shard-I-of-N.json; `smoothlab merge` composes the sheet.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<smoothlab::report::shard::Shard>,
     },
 }
 
@@ -205,9 +211,14 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                 failed: false,
             })
         }
-        Some(Command::Figure { specs }) => {
+        Some(Command::Figure { specs, shard }) => {
             let mut stdout = String::new();
             for spec in &specs {
+                if let Some(shard) = shard {
+                    let files = smoothlab::app::figure::shard::run_figure_spec_shard(spec, shard)?;
+                    stdout += &smoothlab::app::figure::shard::shard_summary(&files);
+                    continue;
+                }
                 let files = smoothlab::app::figure::spec::run_figure_spec(spec)?;
                 stdout += &smoothlab::app::figure::spec::figure_summary(&files);
             }

@@ -4,7 +4,9 @@
 //! - `report` parts (shard folders of `report --shard I/N --out DIR`, or their
 //!   `partial.json`) become the report folder `OUT` ([`crate::report::partial::merge`]);
 //! - `frames` parts (`NAME.shard-I-of-N.json` of `render --turntable|--sweep --shard I/N`)
-//!   become the frames `OUT-000.png` … and `OUT.gif` ([`super::turntable::merge_frames`]).
+//!   become the frames `OUT-000.png` … and `OUT.gif` ([`super::turntable::merge_frames`]);
+//! - `figure` parts (`STEM.shard-I-of-N.json` of `figure SPEC --shard I/N`) become the sheet
+//!   `OUT.png`, `OUT.svg` and the cells' EXRs ([`super::figure::shard::merge_figure`]).
 //!
 //! Parts of different kinds or runs are refused before anything is written.
 
@@ -28,7 +30,7 @@ fn manifest_of(path: &Path) -> Result<Manifest> {
         .ok_or_else(|| {
             Error::Invalid(format!(
                 "{}: not a smoothlab partial result (no manifest); merge reads the output of \
-                 `report --shard` or `render --turntable|--sweep --shard`",
+                 `report --shard`, `render --turntable|--sweep --shard` or `figure --shard`",
                 file.display()
             ))
         })
@@ -96,8 +98,20 @@ pub fn run_merge(parts: &[PathBuf], out: &Path, baseline: Option<&Path>) -> Resu
                 ..Default::default()
             })
         }
+        super::figure::shard::FIGURE_KIND => {
+            if baseline.is_some() {
+                return Err(Error::Invalid(
+                    "merge: --baseline is for report parts, not figures".into(),
+                ));
+            }
+            Ok(Output {
+                stdout: super::figure::shard::merge_figure(parts, out)?,
+                ..Default::default()
+            })
+        }
         other => Err(Error::Invalid(format!(
-            "{}: unknown kind of partial result '{other}' (this build merges report and frames)",
+            "{}: unknown kind of partial result '{other}' (this build merges report, frames \
+             and figure)",
             first.display()
         ))),
     }

@@ -7,6 +7,7 @@
 //! in view): one fixed range for all cells so colours compare, and a scheme with sharp creases
 //! saturates instead of washing out the others.
 
+pub mod shard;
 pub mod sheet;
 pub mod spec;
 
@@ -24,7 +25,7 @@ use crate::render::modes::{CurvatureRange, Mode, Overlay};
 use crate::render::stats::RenderStats;
 use crate::surface::Surface;
 
-pub use sheet::{SheetLabels, compose, svg};
+pub use sheet::{SheetLabels, compose, compose_images, svg, svg_images};
 
 /// One surface of a figure (a row, or a column when transposed).
 #[derive(Clone, Debug)]
