@@ -1,7 +1,7 @@
 //! Sharded runs merged: `report --meshes` over a folder of 50 generated meshes in 4 shards,
-//! a parameter sweep in 2, and a 36-frame turntable in 3, each merged by `smoothlab merge` and
-//! compared with the single run — records equal figure for figure (timings aside), thumbnails,
-//! frames and GIF the same bytes. The shards run through GNU parallel when it is installed
+//! a parameter sweep in 2, a 36-frame turntable in 3 and the cells of a figure in 3, each
+//! merged by `smoothlab merge` and compared with the single run — records equal figure for
+//! figure (timings aside), thumbnails, frames, GIF, figure sheets and cell EXRs the same bytes. The shards run through GNU parallel when it is installed
 //! (`.ci/run` installs it), else as plain processes. A missing shard is named by `merge` and its
 //! items are written as errors; parts of different runs are refused.
 
@@ -406,6 +406,110 @@ fn a_turntable_in_three_shards_merges_bit_identically() {
         path_str(&merged_name),
     ]);
     assert_fails_naming(&out, &["spin-004.png", "frame 4 is missing"]);
+}
+
+/// A figure of flat, pn and hb on the deformed icosahedron, zebra and curvature (with the
+/// common automatic range), 64 x 48 pixels per cell, written to `output`.
+fn figure_spec(dir: &Path, name: &str, output: &str) -> PathBuf {
+    let spec = dir.join(name);
+    let text = format!(
+        r#"title = "sharded"
+mesh = "deformed-icosahedron"
+output = "{output}"
+size = [64, 48]
+spp = 2
+[[schemes]]
+name = "flat"
+[[schemes]]
+name = "pn"
+[[schemes]]
+name = "hb"
+[[modes]]
+name = "zebra"
+curves = true
+[[modes]]
+name = "curvature"
+"#
+    );
+    std::fs::write(&spec, text).expect("write spec");
+    spec
+}
+
+#[test]
+fn a_figure_in_three_shards_merges_bit_identically() {
+    let dir = scratch("shard", "figure");
+    let single = figure_spec(&dir, "single.toml", "single/fig");
+    let stdout = ok(&smoothlab(&["figure", path_str(&single)]));
+    assert!(stdout.contains("6 EXR cells"), "{stdout}");
+
+    let sharded = figure_spec(&dir, "sharded.toml", "parts/fig");
+    run_shards(&["figure".into(), path_str(&sharded).into()], 3);
+    let parts: Vec<String> = (0..3)
+        .map(|i| format!("{}/parts/fig.shard-{i}-of-3.json", dir.display()))
+        .collect();
+    // Cells in sheet order: flat, pn, hb × zebra, curvature. Balanced by cost (hb renders
+    // about 3.3 times as dear as flat, pn 1.7 times), not dealt round robin ([0, 3], [1, 4],
+    // [2, 5]): each hb cell shares a shard with a flat one, the pn cells go together.
+    let rendered: Vec<serde_json::Value> = parts
+        .iter()
+        .map(|p| read_json(Path::new(p))["rendered"].clone())
+        .collect();
+    assert_eq!(
+        rendered,
+        [
+            serde_json::json!([0, 4]),
+            serde_json::json!([1, 5]),
+            serde_json::json!([2, 3])
+        ]
+    );
+    let merged = dir.join("merged/fig");
+    let stdout = ok(&smoothlab(&[
+        "merge",
+        &parts[1],
+        &parts[2],
+        &parts[0],
+        "-o",
+        path_str(&merged),
+    ]));
+    assert!(stdout.contains("merged 6 cells of 3 shards"), "{stdout}");
+    let (a, b) = (files(&dir.join("single")), files(&dir.join("merged")));
+    let names: Vec<&str> = a.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "fig-0-0-flat-zebra.exr",
+            "fig-0-1-flat-curvature.exr",
+            "fig-1-0-pn-zebra.exr",
+            "fig-1-1-pn-curvature.exr",
+            "fig-2-0-hb-zebra.exr",
+            "fig-2-1-hb-curvature.exr",
+            "fig.png",
+            "fig.svg"
+        ]
+    );
+    for ((name, x), (other, y)) in a.iter().zip(&b) {
+        assert_eq!(name, other);
+        assert!(x == y, "{name} of the merge differs from the single run");
+    }
+    assert_eq!(a.len(), b.len());
+
+    // A missing shard is named; nothing is written.
+    let nowhere = dir.join("incomplete/fig");
+    let out = smoothlab(&["merge", &parts[0], &parts[2], "-o", path_str(&nowhere)]);
+    assert_fails_naming(&out, &["shard 1/3 missing", "not merged"]);
+    assert!(!dir.join("incomplete").exists());
+    // So is a cell whose file is gone (its shard did not finish).
+    std::fs::remove_file(dir.join("parts/fig-2-1-hb-curvature.png")).expect("remove");
+    let out = smoothlab(&[
+        "merge",
+        &parts[0],
+        &parts[1],
+        &parts[2],
+        "-o",
+        path_str(&nowhere),
+    ]);
+    assert_fails_naming(&out, &["fig-2-1-hb-curvature.png", "cell 5 is missing"]);
+    assert!(!dir.join("incomplete/fig.png").exists());
 }
 
 #[test]

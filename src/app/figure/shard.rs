@@ -294,13 +294,6 @@ pub fn merge_figure(parts: &[PathBuf], out: &Path) -> Result<String> {
     } else {
         Vec::new()
     };
-    // The folder of OUT is created if missing, as `figure` does for its output.
-    if let Some(folder) = png.parent().filter(|f| !f.as_os_str().is_empty()) {
-        create_folder(folder)?;
-    }
-    for file in [&png, &svg].into_iter().chain(&exrs) {
-        check_writable(file)?;
-    }
     let sources = sources
         .into_iter()
         .enumerate()
@@ -339,6 +332,14 @@ pub fn merge_figure(parts: &[PathBuf], out: &Path) -> Result<String> {
         let data = std::fs::read(&file).map_err(|e| lost(&file, k, &e))?;
         let same = std::fs::canonicalize(&file).ok() == std::fs::canonicalize(exr).ok();
         exr_data.push((!same).then_some(data));
+    }
+    // Every cell is there. The folder of OUT is created if missing, as `figure` does for
+    // its output.
+    if let Some(folder) = png.parent().filter(|f| !f.as_os_str().is_empty()) {
+        create_folder(folder)?;
+    }
+    for file in [&png, &svg].into_iter().chain(&exrs) {
+        check_writable(file)?;
     }
     let labels = sheet_labels(
         &first.title,
