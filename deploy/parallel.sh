@@ -10,6 +10,11 @@
 #
 #   parallel --will-cite smoothlab report --meshes MESHES --shard {}/N --out OUT/shards/{} ::: 0 … N-1 \
 #     ; smoothlab merge OUT/shards/* -o OUT
+#
+# The cells of a figure go the same way, the parts beside the figure's output STEM:
+#
+#   parallel --will-cite smoothlab figure SPEC.toml --shard {}/N ::: 0 … N-1 \
+#     ; smoothlab merge STEM.shard-*-of-N.json -o STEM
 set -uo pipefail
 n="${1:?usage: parallel.sh N OUT MESHES [report flags…]}"
 out="${2:?usage: parallel.sh N OUT MESHES [report flags…]}"

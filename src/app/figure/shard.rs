@@ -133,8 +133,9 @@ pub struct FigureShardFiles {
 }
 
 /// Renders `shard`'s share of the cells of the spec at `path` and writes them (PNG, and EXR
-/// unless `exr = false`) with the part file; every output path is checked (its folder created
-/// if missing) before rendering. The sheet is left to `smoothlab merge`.
+/// unless `exr = false`) with the part file, last; every output path is checked (its folder
+/// created if missing) before rendering, and an earlier part of this shard is removed. The
+/// sheet is left to `smoothlab merge`.
 pub fn run_figure_spec_shard(path: &Path, shard: Shard) -> Result<FigureShardFiles> {
     let spec = FigureSpec::load(path)?;
     let stem = output_stem(&spec.output);
@@ -146,6 +147,12 @@ pub fn run_figure_spec_shard(path: &Path, shard: Shard) -> Result<FigureShardFil
         create_folder(folder)?;
     }
     check_writable(&part)?;
+    // A part left by an earlier run of this shard goes first: if this run fails, `merge`
+    // names the shard as missing instead of taking the old part.
+    match std::fs::remove_file(&part) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(Error::io(&part, e)),
+        _ => {}
+    }
     let dir = path.parent().unwrap_or(Path::new(""));
     let job = spec
         .job(dir)
