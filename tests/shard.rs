@@ -448,7 +448,7 @@ fn a_figure_in_three_shards_merges_bit_identically() {
         .map(|i| format!("{}/parts/fig.shard-{i}-of-3.json", dir.display()))
         .collect();
     // Cells in sheet order: flat, pn, hb × zebra, curvature. Balanced by cost (hb renders
-    // about 3.3 times as dear as flat, pn 1.7 times), not dealt round robin ([0, 3], [1, 4],
+    // about 3.5 times as dear as flat, pn 2.3 times), not dealt round robin ([0, 3], [1, 4],
     // [2, 5]): each hb cell shares a shard with a flat one, the pn cells go together.
     let rendered: Vec<serde_json::Value> = parts
         .iter()

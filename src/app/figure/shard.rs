@@ -33,26 +33,29 @@ pub const FIGURE_KIND: &str = "figure";
 
 /// Relative cost per pixel sample of rendering each scheme's surface, `flat` = 1 — not
 /// [`crate::report::shard::scheme_cost`], which is the cost of building and measuring (gk is
-/// dear to build, not to trace). Measured once: `smoothlab figure` of `scenes/bunny.obj`, one
-/// scheme at a time, 128 × 128 pixels at 2 samples, zebra + curvature + shaded cells, the
-/// rendering milliseconds it prints — flat 150, pn 258, hb 494, loop94 615, piper 301, nielson
-/// 1692, fang-mann 1842, gk 608 — on 2 cores shared with other work (±25 %). Only the ratios
-/// matter, and only for balancing shards.
+/// dear to build, not to trace). Measured once: `smoothlab figure --shard I/20` of every scheme
+/// × zebra + curvature, one cell per shard, 128 × 128 pixels at 2 samples, the `render_ms` of
+/// each part, on `deformed-icosahedron` (20 large patches) and `scenes/bunny.obj` (1000 small
+/// ones); the table holds the geometric mean of the two ratios, which differ by up to 2× — pn
+/// 1.9 / 2.7, hb 2.4 / 5.0, loop94 3.2 / 6.3, piper 3.4 / 3.1, nielson 22.9 / 13.2, fang-mann
+/// 35.3 / 16.6, gk 4.5 / 5.2 — as do some parameters (fang-mann t = 2: 45.2 / 18.0; gk k = 1:
+/// 0.9 / 2.8), which the table leaves out. On 2 cores shared with other work (±25 %). Only the
+/// ratios matter, and only for balancing shards.
 const RENDER_COST: &[(&str, f64)] = &[
     ("flat", 1.0),
-    ("pn", 1.7),
-    ("hb", 3.3),
-    ("loop94", 4.1),
-    ("piper", 2.0),
-    ("nielson", 11.3),
-    ("fang-mann", 12.3),
-    ("gk", 4.1),
+    ("pn", 2.3),
+    ("hb", 3.5),
+    ("loop94", 4.5),
+    ("piper", 3.2),
+    ("nielson", 17.4),
+    ("fang-mann", 24.2),
+    ("gk", 4.8),
 ];
 
 /// How much dearer a `shaded` cell (the path tracer: bounces and shadow rays) is than a zebra,
-/// isophote or curvature cell of the same surface: measured as [`RENDER_COST`], one mode at a
-/// time — shaded / zebra 2.7 (flat), 2.5 (hb), 3.6 (nielson), 3.3 (gk); the other modes are
-/// within 30 % of zebra.
+/// isophote or curvature cell of the same surface: measured on `scenes/bunny.obj`, 128 × 128
+/// pixels at 2 samples, one mode at a time — shaded / zebra 2.7 (flat), 2.5 (hb), 3.6
+/// (nielson), 3.3 (gk); isophote and curvature are within 30 % of zebra.
 const SHADED_COST: f64 = 3.0;
 
 /// The relative rendering cost per pixel sample of `scheme` ([`RENDER_COST`]); a scheme
@@ -413,13 +416,13 @@ mod tests {
             [
                 samples,
                 samples * SHADED_COST,
-                samples * 11.3,
-                samples * 11.3 * SHADED_COST
+                samples * 17.4,
+                samples * 17.4 * SHADED_COST
             ]
         );
         // Transposed: modes are rows, the same cells in another order.
         let costs = cell_costs(&job(&SPEC.replace("spp = 2", "spp = 2\ntranspose = true")));
-        assert_eq!(costs[1], samples * 11.3);
+        assert_eq!(costs[1], samples * 17.4);
         assert_eq!(costs[2], samples * SHADED_COST);
         assert_eq!(render_cost("future"), render_cost("fang-mann"));
     }
