@@ -617,95 +617,110 @@ mod inner_joint_precision {
                 continue;
             }
             for k in 1..=4 {
-                let label = format!("{name} k = {k}");
-                let surface = build(&mesh, &params(&SPEC, &[("k", &k.to_string())])).unwrap();
-                let precise = precise_inner_patches(&mesh, k);
-                assert_eq!(precise.len(), surface.patches.len(), "{label}");
-                for (patch, p) in surface.patches.iter().zip(&precise) {
-                    let Some(p) = p else { continue };
-                    let stored = patch.as_bezier().unwrap();
-                    let size = stored
-                        .points()
-                        .iter()
-                        .map(|q| q.abs().max_element())
-                        .fold(0.0, f64::max);
-                    for (a, b) in p.to_net().points().iter().zip(stored.points()) {
-                        assert!(
-                            (*a - *b).abs().max_element() <= 8.0 * f64::EPSILON * size,
-                            "{label}: the double-double inner patch is not the built one"
-                        );
-                    }
-                }
-                let diag = mesh.bounds().diagonal();
-                let joints = surface.joints(mesh.faces());
-                let mut worst = [0.0f64; MAX_ORDER];
-                let mut worst_stored = [0.0f64; MAX_ORDER];
-                let (mut lowest, mut lowest_stored) = (i32::MAX, i32::MAX);
-                let (mut broken_highest, mut broken_least_jump) = (i32::MIN, f64::INFINITY);
-                let mut samples = 0;
-                for j in &joints {
-                    let (a, b) = (j.a.patch as usize, j.b.patch as usize);
-                    let (Some(pa), Some(pb)) = (&precise[a], &precise[b]) else {
-                        continue;
-                    };
-                    let mut broken = pa.clone();
-                    let d = broken.degree();
-                    let far = (j.a.edge as usize + 2) % 3;
-                    let mut index = [(d - 4) / 2; 3];
-                    index[far] = 4;
-                    index[(far + 1) % 3] = d - 4 - index[(far + 2) % 3];
-                    let size = crate::geom::Aabb::from_points(pa.to_net().points()).diagonal();
-                    broken.displace(
-                        index[0],
-                        index[1],
-                        1e-6 * size * glam::DVec3::new(0.6, -0.48, 0.64),
-                    );
-                    let stored = [a, b]
-                        .map(|p| PreciseNet::from_net(surface.patches[p].as_bezier().unwrap()));
-                    for &s in &continuity::ORDER_SAMPLES {
-                        samples += 1;
-                        let m = continuity::precise_measure([pa, pb], j, s, diag).expect("regular");
-                        lowest = lowest.min(m.order(diag));
-                        for (w, order) in worst.iter_mut().zip(1..) {
-                            *w = w.max(m.relative(order));
-                        }
-                        let m = continuity::precise_measure([&stored[0], &stored[1]], j, s, diag)
-                            .expect("regular");
-                        lowest_stored =
-                            lowest_stored.min(m.order_within(diag, continuity::tolerance));
-                        for (w, order) in worst_stored.iter_mut().zip(1..) {
-                            *w = w.max(m.relative(order));
-                        }
-                        let m = continuity::precise_measure([&broken, pb], j, s, diag)
-                            .expect("regular");
-                        broken_highest = broken_highest.max(m.order(diag));
-                        broken_least_jump = broken_least_jump.min(m.relative(4));
-                    }
-                }
-                for m in 1..=MAX_ORDER {
-                    eprintln!(
-                        "{label}: order {m}: worst relative difference {:.1e} constructed in \
-                         double-double, {:.1e} of the stored f64 nets",
-                        worst[m - 1],
-                        worst_stored[m - 1]
-                    );
-                }
-                eprintln!(
-                    "{label}: {samples} inner-joint samples: G^{lowest} constructed in \
-                     double-double, G^{lowest_stored} for the stored f64 nets read exactly (f64 tolerances, no \
-                     rounding floor); broken: at most \
-                     G^{broken_highest}, order-4 difference at least {broken_least_jump:.1e}"
-                );
-                assert!(samples > 0, "{label}");
-                // G^∞ in exact arithmetic: every measured order agrees (hence order ≥ k).
-                assert_eq!(lowest, MAX_ORDER as i32, "{label}");
-                assert_eq!(broken_highest, 3, "{label}: the broken construction");
+                // G^∞ in exact arithmetic: every measured order agrees.
+                check_inner_joints_precise(&name, &mesh, k, MAX_ORDER as i32);
+            }
+        }
+    }
+
+    /// The same at k = 4 for two holes of valence 200 (the apexes of a 200-gonal bipyramid),
+    /// where the f64 measure stops below G^4 at every inner-joint sample: G^4 at every sample
+    /// in double-double (order-4 differences ≤ 1e-13 of the scale). Order 5 is not claimed:
+    /// its differences reach 2.5e-9 of the scale there, above [`continuity::precise_tolerance`]
+    /// — the sectors are thin, and the inputs of the double-double composition are f64.
+    #[test]
+    fn inner_joints_of_valence_200_agree_in_double_double() {
+        let fan = crate::testing::mesh(crate::mesh::generate::valence_fan(200).unwrap());
+        check_inner_joints_precise("valence-fan-200", &fan, 4, 4);
+    }
+
+    /// [`inner_joints_agree_to_every_order_in_double_double`] on one mesh and order.
+    /// Every inner-joint sample of the construction must measure at least `expected`.
+    fn check_inner_joints_precise(name: &str, mesh: &Mesh, k: usize, expected: i32) {
+        let label = format!("{name} k = {k}");
+        let surface = build(mesh, &params(&SPEC, &[("k", &k.to_string())])).unwrap();
+        let precise = precise_inner_patches(mesh, k);
+        assert_eq!(precise.len(), surface.patches.len(), "{label}");
+        for (patch, p) in surface.patches.iter().zip(&precise) {
+            let Some(p) = p else { continue };
+            let stored = patch.as_bezier().unwrap();
+            let size = stored
+                .points()
+                .iter()
+                .map(|q| q.abs().max_element())
+                .fold(0.0, f64::max);
+            for (a, b) in p.to_net().points().iter().zip(stored.points()) {
                 assert!(
-                    broken_least_jump > 1e6 * worst[3],
-                    "{label}: broken {broken_least_jump:e} against {:e}",
-                    worst[3]
+                    (*a - *b).abs().max_element() <= 8.0 * f64::EPSILON * size,
+                    "{label}: the double-double inner patch is not the built one"
                 );
             }
         }
+        let diag = mesh.bounds().diagonal();
+        let joints = surface.joints(mesh.faces());
+        let mut worst = [0.0f64; MAX_ORDER];
+        let mut worst_stored = [0.0f64; MAX_ORDER];
+        let (mut lowest, mut lowest_stored) = (i32::MAX, i32::MAX);
+        let (mut broken_highest, mut broken_least_jump) = (i32::MIN, f64::INFINITY);
+        let mut samples = 0;
+        for j in &joints {
+            let (a, b) = (j.a.patch as usize, j.b.patch as usize);
+            let (Some(pa), Some(pb)) = (&precise[a], &precise[b]) else {
+                continue;
+            };
+            let mut broken = pa.clone();
+            let d = broken.degree();
+            let far = (j.a.edge as usize + 2) % 3;
+            let mut index = [(d - 4) / 2; 3];
+            index[far] = 4;
+            index[(far + 1) % 3] = d - 4 - index[(far + 2) % 3];
+            let size = crate::geom::Aabb::from_points(pa.to_net().points()).diagonal();
+            broken.displace(
+                index[0],
+                index[1],
+                1e-6 * size * glam::DVec3::new(0.6, -0.48, 0.64),
+            );
+            let stored =
+                [a, b].map(|p| PreciseNet::from_net(surface.patches[p].as_bezier().unwrap()));
+            for &s in &continuity::ORDER_SAMPLES {
+                samples += 1;
+                let m = continuity::precise_measure([pa, pb], j, s, diag).expect("regular");
+                lowest = lowest.min(m.order(diag));
+                for (w, order) in worst.iter_mut().zip(1..) {
+                    *w = w.max(m.relative(order));
+                }
+                let m = continuity::precise_measure([&stored[0], &stored[1]], j, s, diag)
+                    .expect("regular");
+                lowest_stored = lowest_stored.min(m.order_within(diag, continuity::tolerance));
+                for (w, order) in worst_stored.iter_mut().zip(1..) {
+                    *w = w.max(m.relative(order));
+                }
+                let m = continuity::precise_measure([&broken, pb], j, s, diag).expect("regular");
+                broken_highest = broken_highest.max(m.order(diag));
+                broken_least_jump = broken_least_jump.min(m.relative(4));
+            }
+        }
+        for m in 1..=MAX_ORDER {
+            eprintln!(
+                "{label}: order {m}: worst relative difference {:.1e} constructed in \
+                 double-double, {:.1e} of the stored f64 nets",
+                worst[m - 1],
+                worst_stored[m - 1]
+            );
+        }
+        eprintln!(
+            "{label}: {samples} inner-joint samples: G^{lowest} constructed in double-double, \
+             G^{lowest_stored} for the stored f64 nets read exactly (f64 tolerances, no rounding \
+             floor); broken: at most G^{broken_highest}, order-4 difference at least \
+             {broken_least_jump:.1e}"
+        );
+        assert!(samples > 0, "{label}");
+        assert!(lowest >= expected, "{label}: G^{lowest}");
+        assert_eq!(broken_highest, 3, "{label}: the broken construction");
+        assert!(
+            broken_least_jump > 1e6 * worst[3],
+            "{label}: broken {broken_least_jump:e} against {:e}",
+            worst[3]
+        );
     }
 }
