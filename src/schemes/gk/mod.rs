@@ -416,7 +416,8 @@ mod tests {
     /// the continuity order of 1600+ hole joints). At k = 4 the metrics' geometric order is
     /// left out: it measures G^3 there (every inner-joint sample stops below G^4 for lack of
     /// f64 resolution; at the lattice joints the cause is not established), while C^4 in the
-    /// lattice parametrisation is checked exactly.
+    /// lattice parametrisation is checked exactly; the inner joints are measured G^4 in
+    /// double-double by `inner_joint_precision`.
     #[test]
     #[ignore = "minutes: the metrics of two valence-200 holes"]
     fn valence_200_is_filled_c_k() {
