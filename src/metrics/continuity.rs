@@ -28,6 +28,18 @@
 //! that size is still seen. An order with a larger floor cannot be resolved in f64: the measure
 //! stops below it ([`Measured::unresolved`]) rather than claim it.
 //!
+//! High precision: [`precise_measure`] makes the same comparison in double-double
+//! ([`crate::metrics::double_double`]; the series arithmetic is generic over the scalar) on
+//! nets with double-double points ([`PreciseNet`]) — stored f64 nets read exactly, or nets a
+//! construction computed in double-double — with the tolerance [`precise_tolerance`]. At the
+//! inner joints of gk k = 4, where the f64 measure stops unresolved at order 4, it finds the
+//! same order-4 differences of the stored nets as the f64 measure (to two digits): the f64
+//! measure reads the stored surface correctly, and what leaves order 4 undetermined is the
+//! rounding of the stored control points to f64, which no measure of the stored surface
+//! undoes. So the measure of a stored surface (the metrics) stays in f64 with its floor, and
+//! the order of a construction is settled by composing it in double-double (the gk tests:
+//! G^5 there, differences ≤ 1e-15 of the scale).
+//!
 //! Cost: the order-m coefficients of the height function need the partial derivatives and the
 //! reversion up to order m only, so both are evaluated one order at a time, as far as the
 //! comparison goes. Each coefficient is computed once, its sums in the order of the full
@@ -44,6 +56,7 @@ use glam::{DVec2, DVec3};
 
 use crate::bezier::TriangleBezier;
 use crate::bezier::triangle::{de_casteljau_step, point_count};
+use crate::metrics::double_double::{DoubleDouble, Real};
 use crate::surface::{Joint, Patch, Surface, UV_CORNERS, edge_uv};
 
 /// Highest order compared (a joint that agrees to this order is reported as this order).
@@ -60,8 +73,9 @@ pub fn tolerance(m: usize) -> f64 {
 
 /// A bivariate power series truncated at total order [`MAX_ORDER`]; coefficient of `x^i y^j`
 /// at [`term`]`(i, j)` (by total order, then i descending — the order of `Patch::partials`).
+/// The scalar is f64, or [`DoubleDouble`] for the high-precision measure.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Series([f64; TERMS]);
+struct Series<T = f64>([T; TERMS]);
 
 /// Index of the coefficient of `x^i y^j`.
 fn term(i: usize, j: usize) -> usize {
@@ -69,14 +83,14 @@ fn term(i: usize, j: usize) -> usize {
     m * (m + 1) / 2 + (m - i)
 }
 
-impl Series {
-    const ZERO: Series = Series([0.0; TERMS]);
+impl<T: Real> Series<T> {
+    const ZERO: Series<T> = Series([T::ZERO; TERMS]);
 
     /// The highest total order with a non-zero coefficient (0 for a constant or zero series).
     fn top_order(&self) -> usize {
         (0..=MAX_ORDER)
             .rev()
-            .find(|&m| (0..=m).any(|i| self.0[term(i, m - i)] != 0.0))
+            .find(|&m| (0..=m).any(|i| self.0[term(i, m - i)] != T::ZERO))
             .unwrap_or(0)
     }
 
@@ -89,13 +103,13 @@ impl Series {
     fn product_coefficient(
         &self,
         low_self: usize,
-        other: &Series,
+        other: &Series<T>,
         low_other: usize,
         a: usize,
         b: usize,
-    ) -> f64 {
+    ) -> T {
         let m = a + b;
-        let mut sum = 0.0;
+        let mut sum = T::ZERO;
         for m1 in low_self..=m.saturating_sub(low_other) {
             let m2 = m - m1;
             for i1 in a.saturating_sub(m2)..=m1.min(a) {
@@ -132,20 +146,20 @@ fn frame_series(partials: &[DVec3; TERMS], frame: [DVec3; 3], order: usize) -> [
 /// from the lower orders, each computed once. Sums run in the order of a full truncated
 /// composition (term by term of the outer series, by order then power of x).
 #[derive(Clone, Debug)]
-struct HeightSeries {
+struct HeightSeries<T = f64> {
     /// `x` without its linear part.
-    x_rest: Series,
+    x_rest: Series<T>,
     /// `y` without its linear part.
-    y_rest: Series,
+    y_rest: Series<T>,
     /// The height `h(s, t)`.
-    h: Series,
+    h: Series<T>,
     /// `A⁻¹`, row-major.
-    inv: [f64; 4],
+    inv: [T; 4],
     /// `s^i t^j` at `term(i, j)` (`s` at `term(1, 0)`, `t` at `term(0, 1)`; the constant is
     /// not used), as series in `(x, y)`.
-    monomials: [Series; TERMS],
+    monomials: [Series<T>; TERMS],
     /// The height function `h(x, y)`.
-    height: Series,
+    height: Series<T>,
     /// Highest total order of a monomial that is needed.
     top: usize,
     /// Orders of `monomials` and `height` computed so far.
@@ -154,10 +168,10 @@ struct HeightSeries {
     known: usize,
 }
 
-impl HeightSeries {
+impl<T: Real> HeightSeries<T> {
     /// The reversion of the frame series `xyh`, known up to order `known` (at least 1); `None`
     /// if the linear part is singular.
-    fn new(xyh: &[Series; 3], known: usize) -> Option<HeightSeries> {
+    fn new(xyh: &[Series<T>; 3], known: usize) -> Option<HeightSeries<T>> {
         let (x, y) = (&xyh[0], &xyh[1]);
         let (a, b, c, d) = (
             x.0[term(1, 0)],
@@ -166,7 +180,7 @@ impl HeightSeries {
             y.0[term(0, 1)],
         );
         let det = a * d - b * c;
-        if det.abs() <= 1e-300 || !det.is_finite() {
+        if det.to_f64().abs() <= 1e-300 || !det.to_f64().is_finite() {
             return None;
         }
         let mut series = HeightSeries {
@@ -185,10 +199,10 @@ impl HeightSeries {
     }
 
     /// Takes the same frame series known to a higher order (the lower orders are unchanged).
-    fn extend(&mut self, xyh: &[Series; 3], known: usize) {
-        let rest = |s: &Series| {
+    fn extend(&mut self, xyh: &[Series<T>; 3], known: usize) {
+        let rest = |s: &Series<T>| {
             let mut s = *s;
-            s.0[..3].fill(0.0);
+            s.0[..3].fill(T::ZERO);
             s
         };
         self.x_rest = rest(&xyh[0]);
@@ -270,12 +284,12 @@ impl HeightSeries {
 
     /// Coefficient `k` (of order m) of `outer(s, t)` for an outer series without terms below
     /// order `low`, from the monomials (terms of the outer series in order, zero ones skipped).
-    fn compose_coefficient(&self, outer: &Series, low: usize, m: usize, k: usize) -> f64 {
-        let mut sum = 0.0;
+    fn compose_coefficient(&self, outer: &Series<T>, low: usize, m: usize, k: usize) -> T {
+        let mut sum = T::ZERO;
         for p in low..=m.min(self.top) {
             for i in 0..=p {
                 let c = outer.0[term(i, p - i)];
-                if c != 0.0 {
+                if c != T::ZERO {
                     sum += c * self.monomials[term(i, p - i)].0[k];
                 }
             }
@@ -761,6 +775,259 @@ pub fn joint_order(surface: &Surface, joint: &Joint, diag: f64) -> i32 {
         let goal = Goal::OrderUpTo(lowest);
         lowest.min(measure_with_floor(surface, joint, s, diag, Some(&nets), goal).order)
     })
+}
+
+/// A triangular Bézier net with double-double control points (`b(i,j,k)` at
+/// [`crate::bezier::triangle::index`]`(d, i, j)`, as in [`TriangleBezier`]): a stored f64 net
+/// read exactly, or a net constructed in double-double, for [`precise_measure`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct PreciseNet {
+    degree: usize,
+    points: Vec<[DoubleDouble; 3]>,
+}
+
+impl PreciseNet {
+    /// The net of degree `degree` with control points `points`; panics unless there are
+    /// `(d+1)(d+2)/2` of them.
+    pub fn new(degree: usize, points: Vec<[DoubleDouble; 3]>) -> Self {
+        assert_eq!(points.len(), point_count(degree), "degree-{degree} net");
+        PreciseNet { degree, points }
+    }
+
+    /// The f64 net `net`, exactly.
+    pub fn from_net(net: &TriangleBezier) -> Self {
+        let points = net
+            .points()
+            .iter()
+            .map(|p| p.to_array().map(DoubleDouble::from_f64))
+            .collect();
+        PreciseNet::new(net.degree(), points)
+    }
+
+    /// The net rounded to f64.
+    pub fn to_net(&self) -> TriangleBezier {
+        let points = self
+            .points
+            .iter()
+            .map(|p| DVec3::from_array(p.map(DoubleDouble::to_f64)))
+            .collect();
+        TriangleBezier::new(self.degree, points)
+    }
+
+    /// The degree.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The control points.
+    pub fn points(&self) -> &[[DoubleDouble; 3]] {
+        &self.points
+    }
+
+    /// Control point `b(i,j,k)` (`k = d − i − j`).
+    pub fn point(&self, i: usize, j: usize) -> [DoubleDouble; 3] {
+        self.points[crate::bezier::triangle::index(self.degree, i, j)]
+    }
+
+    /// Moves control point `b(i,j,k)` by `delta`.
+    pub fn displace(&mut self, i: usize, j: usize, delta: DVec3) {
+        let p = &mut self.points[crate::bezier::triangle::index(self.degree, i, j)];
+        for (c, d) in p.iter_mut().zip(delta.to_array()) {
+            *c += DoubleDouble::from_f64(d);
+        }
+    }
+}
+
+/// One de Casteljau step in double-double, as [`de_casteljau_step`] (same layout, in place).
+fn precise_step(net: &mut [[DoubleDouble; 3]], m: usize, w: [DoubleDouble; 3]) {
+    let row_start = |i: usize| (m - i) * (m - i + 1) / 2;
+    for i in (0..m).rev() {
+        let len = m - i;
+        let (head, tail) = net.split_at_mut(row_start(i));
+        let target = &mut head[row_start(i + 1)..];
+        let row_i = &tail[..=len];
+        for ((t, b_j), b_k) in target.iter_mut().zip(row_i).zip(&row_i[1..]) {
+            let old = *t;
+            *t = std::array::from_fn(|c| w[0] * old[c] + w[1] * b_j[c] + w[2] * b_k[c]);
+        }
+    }
+}
+
+/// The partial derivatives of orders `0..=MAX_ORDER` of `net` at `uv` in double-double, by
+/// the blossom steps of [`bezier_partials`].
+fn precise_partials(net: &PreciseNet, uv: DVec2) -> [[DoubleDouble; 3]; TERMS] {
+    let dd = DoubleDouble::from_f64;
+    let d = net.degree;
+    let x = [dd(1.0) - dd(uv.x) - dd(uv.y), dd(uv.x), dd(uv.y)];
+    let du = [dd(-1.0), dd(1.0), dd(0.0)];
+    let dv = [dd(-1.0), dd(0.0), dd(1.0)];
+    let mut out = [[DoubleDouble::ZERO; 3]; TERMS];
+    let mut along_u = net.points.clone();
+    for i in 0..=MAX_ORDER.min(d) {
+        if i > 0 {
+            precise_step(&mut along_u, d - i + 1, du);
+        }
+        let mut along_uv = along_u[..point_count(d - i)].to_vec();
+        for j in 0..=(MAX_ORDER - i).min(d - i) {
+            if j > 0 {
+                precise_step(&mut along_uv, d - i - j + 1, dv);
+            }
+            let m = i + j;
+            let rest = d - m;
+            let mut at_point = along_uv[..point_count(rest)].to_vec();
+            for degree in (1..=rest).rev() {
+                precise_step(&mut at_point, degree, x);
+            }
+            let falling: f64 = (d + 1 - m..=d).map(|k| k as f64).product();
+            out[term(i, j)] = at_point[0].map(|c| c * dd(falling));
+        }
+    }
+    out
+}
+
+/// [`frame_series`] in double-double for all orders (the frame's f64 vectors taken as exact).
+fn precise_frame_series(
+    partials: &[[DoubleDouble; 3]; TERMS],
+    frame: [DVec3; 3],
+) -> [Series<DoubleDouble>; 3] {
+    let dd = DoubleDouble::from_f64;
+    let factorial = |n: usize| (1..=n).map(|k| k as f64).product::<f64>();
+    std::array::from_fn(|axis| {
+        let f = frame[axis];
+        let mut s = Series::ZERO;
+        for m in 1..=MAX_ORDER {
+            for i in 0..=m {
+                let p = partials[term(i, m - i)];
+                let along = p[0] * dd(f.x) + p[1] * dd(f.y) + p[2] * dd(f.z);
+                s.0[term(i, m - i)] = along / dd(factorial(i) * factorial(m - i));
+            }
+        }
+        s
+    })
+}
+
+/// The relative tolerance of order m in [`PreciseMeasure::order`]: `1e-14 · 10^m` (1e-10 at
+/// order 4), growing one decade per order as [`tolerance`] does. Double-double arithmetic
+/// rounds at ~1e-32; what sets the tolerance is the input of a construction in double-double:
+/// its f64 data (for the gk inner patches, the rotated planar patches `x_s`, whose shared
+/// edges differ by an ulp) place the two sides' points ~1e-16 apart, which moves the
+/// height coefficients of small patches by up to ~1e-13 of their scale (measured: at most
+/// 4e-13, at order 5). A construction error of 1e-6 of a patch's size shows as 1e-5 or more.
+pub fn precise_tolerance(m: usize) -> f64 {
+    1e-14 * 10f64.powi(m as i32)
+}
+
+/// One order of the high-precision comparison: the largest difference of the two sides'
+/// order-m height coefficients and their scale (as in the f64 measure: the larger magnitude
+/// of the coefficients, or `L^{1−m}`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PreciseTerm {
+    /// `max |h_A,ij − h_B,ij|` over `i + j = m`.
+    pub difference: f64,
+    /// The scale the difference is relative to.
+    pub scale: f64,
+}
+
+/// The two sides of a joint point compared in double-double: the height functions of
+/// [`measure_at`] from double-double partial derivatives and series arithmetic, to
+/// [`MAX_ORDER`]. The frame is side A's, computed in f64 and then taken as exact: both sides
+/// are read in the same (orthonormal to ~1e-16) frame, so their height functions agree
+/// exactly where the surfaces do. Rounding in double-double is ~1e-32 relative, so what the
+/// comparison sees is the nets' own defect: for stored f64 nets, that of the stored surface
+/// (its points taken as exact); for nets constructed in double-double, that of the
+/// construction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PreciseMeasure {
+    /// `|S_A − S_B|` at the point.
+    pub gap: f64,
+    /// Orders 1..=[`MAX_ORDER`] (index m − 1).
+    pub terms: Vec<PreciseTerm>,
+}
+
+impl PreciseMeasure {
+    /// The order the sides agree to: −1 for a gap above `1e-9 L`, else the largest m such
+    /// that every order up to m differs by at most [`precise_tolerance`]`(m)` of its scale.
+    pub fn order(&self, diag: f64) -> i32 {
+        self.order_within(diag, precise_tolerance)
+    }
+
+    /// [`PreciseMeasure::order`] with the relative tolerance `tolerance(m)` of order m (e.g.
+    /// the f64 measure's [`tolerance`], to read stored f64 nets exactly against it).
+    pub fn order_within(&self, diag: f64, tolerance: impl Fn(usize) -> f64) -> i32 {
+        if self.gap > 1e-9 * diag {
+            return -1;
+        }
+        self.terms
+            .iter()
+            .zip(1..)
+            .take_while(|(t, m)| t.difference <= tolerance(*m) * t.scale)
+            .count() as i32
+    }
+
+    /// The largest `difference / scale` of order `m`.
+    pub fn relative(&self, m: usize) -> f64 {
+        let t = self.terms[m - 1];
+        t.difference / t.scale
+    }
+}
+
+/// The sides `nets` at domain points `uvs` (side A on edge `edge_a`) compared in
+/// double-double; `None` where a side is singular.
+fn precise_point(
+    nets: [&PreciseNet; 2],
+    uvs: [DVec2; 2],
+    edge_a: usize,
+    diag: f64,
+) -> Option<PreciseMeasure> {
+    let partials = [0, 1].map(|side| precise_partials(nets[side], uvs[side]));
+    let rounded = |p: [DoubleDouble; 3]| DVec3::from_array(p.map(DoubleDouble::to_f64));
+    let (du, dv) = (rounded(partials[0][1]), rounded(partials[0][2]));
+    let w = UV_CORNERS[(edge_a + 1) % 3] - UV_CORNERS[edge_a];
+    let e1 = (du * w.x + dv * w.y).try_normalize()?;
+    let n = du.cross(dv).try_normalize()?;
+    let frame = [e1, n.cross(e1), n];
+    let gap = DVec3::from_array(std::array::from_fn(|c| {
+        (partials[0][0][c] - partials[1][0][c]).to_f64()
+    }))
+    .length();
+    let [ha, hb] = partials.map(|p| {
+        let mut h = HeightSeries::new(&precise_frame_series(&p, frame), MAX_ORDER)?;
+        h.advance_to(MAX_ORDER);
+        Some(h.height)
+    });
+    let (ha, hb) = (ha?, hb?);
+    let terms = (1..=MAX_ORDER)
+        .map(|m| {
+            let (mut diff, mut mag) = (0.0_f64, 0.0_f64);
+            for i in 0..=m {
+                let k = term(i, m - i);
+                diff = diff.max((ha.0[k] - hb.0[k]).abs().to_f64());
+                mag = mag.max(ha.0[k].abs().to_f64()).max(hb.0[k].abs().to_f64());
+            }
+            PreciseTerm {
+                difference: diff,
+                scale: mag.max(diag.powi(1 - m as i32)),
+            }
+        })
+        .collect();
+    Some(PreciseMeasure { gap, terms })
+}
+
+/// The order measure of [`measure_at`] in double-double on the nets `nets` of the two sides
+/// of `joint` (side A's first) at fraction `s`; `diag` is the length scale L. `None` where a
+/// side is singular.
+pub fn precise_measure(
+    nets: [&PreciseNet; 2],
+    joint: &Joint,
+    s: f64,
+    diag: f64,
+) -> Option<PreciseMeasure> {
+    let sb = if joint.reversed { 1.0 - s } else { s };
+    let uvs = [
+        edge_uv(joint.a.edge as usize, s),
+        edge_uv(joint.b.edge as usize, sb),
+    ];
+    precise_point(nets, uvs, joint.a.edge as usize, diag)
 }
 
 /// Per order m: (difference, scale, floor) of the height coefficients at fraction `s`.

@@ -15,6 +15,7 @@
 //! (including the mean) is bit-for-bit the same for any thread count.
 
 pub mod continuity;
+pub mod double_double;
 pub mod energy;
 pub mod joints;
 pub mod network;

@@ -50,6 +50,10 @@ pub struct Filling {
     /// The surface ring `r`, per sector and ring triangle (degree d).
     #[cfg(test)]
     pub ring: Vec<[TriangleBezier; 3]>,
+    /// Per sector, the quadratic q and the planar patch `x_s` (rotated into place) of the
+    /// inner patch `q ∘ x_s`: what the high-precision tests compose in double-double.
+    #[cfg(test)]
+    pub inner: Vec<(Quadratic, TriangleBezier)>,
 }
 
 /// Rings of the net the charts of ring-2 patches reach.
@@ -244,6 +248,10 @@ pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filli
         patches,
         #[cfg(test)]
         ring: prepared.ring,
+        #[cfg(test)]
+        inner: (0..n)
+            .map(|s| (*q, rotate(&planar.inner, sector_angle(s, n))))
+            .collect(),
     })
 }
 
