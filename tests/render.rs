@@ -259,8 +259,13 @@ fn primary_ray_throughput_probe() {
     let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).expect("torus");
     let surface = smoothlab::schemes::build("hb", &mesh, &[]).expect("hb");
     let tracer = Tracer::with_default_settings(&surface).expect("tracer");
-    let camera = Camera::frame_points(&SurfaceSamples::of(&surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
-        .expect("camera");
+    let camera = Camera::frame_points(
+        &SurfaceSamples::of(&surface),
+        Camera::DEFAULT_VIEW,
+        35.0,
+        1.0,
+    )
+    .expect("camera");
     let side = 256u32;
     let rays: Vec<Ray64> = (0..side * side)
         .map(|k| {

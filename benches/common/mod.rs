@@ -31,8 +31,13 @@ pub fn parameter_spread(count: usize) -> Vec<(f64, f64)> {
 /// Camera rays through the pixel centres of a `side × side` image framing `surface` from the
 /// default view.
 pub fn camera_rays(surface: &Surface, side: u32) -> Vec<Ray64> {
-    let camera = Camera::frame_points(&SurfaceSamples::of(surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
-        .expect("camera");
+    let camera = Camera::frame_points(
+        &SurfaceSamples::of(surface),
+        Camera::DEFAULT_VIEW,
+        35.0,
+        1.0,
+    )
+    .expect("camera");
     let mut rays = Vec::with_capacity((side * side) as usize);
     for y in 0..side {
         for x in 0..side {

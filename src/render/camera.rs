@@ -478,8 +478,14 @@ mod tests {
             max: DVec3::splat(1.0),
         };
         let corners = [b.min, b.max];
-        let cam = Camera::frame_points_with_up(corners.as_slice(), Camera::DEFAULT_VIEW, DVec3::X, 35.0, 1.0)
-            .expect("framing");
+        let cam = Camera::frame_points_with_up(
+            corners.as_slice(),
+            Camera::DEFAULT_VIEW,
+            DVec3::X,
+            35.0,
+            1.0,
+        )
+        .expect("framing");
         // The image's up is +x made orthogonal to the view direction.
         let f = cam.forward();
         let expected = (DVec3::X - f * f.dot(DVec3::X)).normalize();
@@ -493,7 +499,8 @@ mod tests {
         )
         .expect_err("up along the view");
         assert!(err.to_string().contains("parallel"), "{err}");
-        let err = Camera::frame_points(corners.as_slice(), DVec3::Z, 1e-300, 1.0).expect_err("tiny fov");
+        let err =
+            Camera::frame_points(corners.as_slice(), DVec3::Z, 1e-300, 1.0).expect_err("tiny fov");
         assert!(err.to_string().contains("1e-300°"), "{err}");
     }
 

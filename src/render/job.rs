@@ -402,8 +402,8 @@ mod tests {
                 assert_eq!(lazy.bounds(), listed.as_slice().bounds(), "{name} {scheme}");
                 for from in [Camera::DEFAULT_VIEW, DVec3::X, DVec3::new(-0.3, -1.0, 0.2)] {
                     let a = Camera::frame_points(&lazy, from, 35.0, 1.5).expect("lazy");
-                    let b = Camera::frame_points(listed.as_slice(), from, 35.0, 1.5)
-                        .expect("listed");
+                    let b =
+                        Camera::frame_points(listed.as_slice(), from, 35.0, 1.5).expect("listed");
                     assert_eq!(a.eye, b.eye, "{name} {scheme} from {from}");
                 }
             }
@@ -419,7 +419,10 @@ mod tests {
         let b = a.mapped(|p| p * 0.5 + DVec3::new(0.3, -0.2, 0.1));
         let lazy = SurfaceSamples::new(&[&a, &b]);
         let listed = lazy.to_vec();
-        assert_eq!(listed.len(), (a.patches.len() + b.patches.len()) * FRAMING_POINTS);
+        assert_eq!(
+            listed.len(),
+            (a.patches.len() + b.patches.len()) * FRAMING_POINTS
+        );
         assert_eq!(lazy.bounds(), listed.as_slice().bounds());
         let f = |p: DVec3| p.x - 0.7 * p.y.abs();
         assert_eq!(

@@ -12,7 +12,6 @@ pub mod spec;
 
 use std::sync::Arc;
 
-
 use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::render::camera::{Camera, Projection};
