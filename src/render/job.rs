@@ -94,9 +94,19 @@ fn hull_points(patch: &Patch) -> impl Iterator<Item = DVec3> + '_ {
     nets.iter().flat_map(|n| n.points().iter().copied())
 }
 
-/// The surface at the three corners of `patch`'s domain (framing points themselves).
+/// The surface at the three corners of `patch`'s domain (framing points themselves). For a
+/// Bézier patch these are its corner control points: de Casteljau with the weights 0 and 1
+/// reproduces them exactly (up to the sign of a zero), so they need no evaluation.
 fn patch_corners(patch: &Patch) -> [DVec3; 3] {
-    [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)].map(|(u, v)| patch.eval(u, v))
+    match &patch.geometry {
+        PatchGeometry::Bezier(net) => {
+            let d = net.degree();
+            [net.point(d, 0), net.point(0, d), net.point(0, 0)]
+        }
+        PatchGeometry::Blend(_) => {
+            [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)].map(|(u, v)| patch.eval(u, v))
+        }
+    }
 }
 
 impl FramedPoints for SurfaceSamples<'_> {
@@ -315,9 +325,10 @@ fn relative_flatness(net: &TriangleBezier) -> f64 {
 /// depth range), i.e. `4^depth` leaves. The normal-cone test is not estimated, so this is a
 /// lower bound for strongly curved patches.
 pub fn estimate_leaves(surface: &Surface, criterion: &SubdivisionCriterion) -> f64 {
-    surface
+    // Whole numbers summed as integers: the same total for any thread count.
+    let leaves: u64 = surface
         .patches
-        .iter()
+        .par_iter()
         .map(|patch| {
             let r = match &patch.geometry {
                 PatchGeometry::Bezier(net) => relative_flatness(net),
@@ -331,9 +342,10 @@ pub fn estimate_leaves(surface: &Surface, criterion: &SubdivisionCriterion) -> f
                 f64::from(criterion.min_depth),
                 f64::from(criterion.max_depth),
             );
-            4f64.powf(depth)
+            1u64 << (2 * depth as u32)
         })
-        .sum()
+        .sum();
+    leaves as f64
 }
 
 /// Peak bytes per BVH leaf of a patch with `points` control points while the tracer is built:
