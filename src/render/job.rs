@@ -349,13 +349,13 @@ pub fn estimate_leaves(surface: &Surface, criterion: &SubdivisionCriterion) -> f
 }
 
 /// Peak bytes per BVH leaf of a patch with `points` control points while the tracer is built:
-/// the surface's copy in the unit frame, the leaf records and power forms, the wide BVH and
-/// the builder's temporaries. Measured with `cargo run --release --example
-/// construction_memory -- SCHEME 6` (peak growth during `Tracer::new`, one leaf per patch):
-/// 2,111 B per leaf for `flat` (3 points), 3,492 for `hb` (21 points), 3,123 for `nielson`;
-/// this fit, 2000 + 80 per point, is at or above each.
+/// the leaf records and power forms (or, for patches evaluated whole, their copy in the unit
+/// frame), the wide BVH and the builder's temporaries. Measured with `cargo run --release
+/// --example construction_memory -- SCHEME LEVEL` (peak growth during `Tracer::new`, one leaf
+/// per patch): 657 B per leaf for `flat` (3 points), 1,309 for `hb` (21 points), 2,598 for
+/// `nielson` (45 points); this fit, 600 + 50 per point, is at or above each.
 fn leaf_bytes(points: usize) -> f64 {
-    (2000 + 80 * points) as f64
+    (600 + 50 * points) as f64
 }
 
 /// Refuses a BVH that would have more than `max_leaves` leaves or need more memory than is
