@@ -6,8 +6,8 @@
 //! ```
 //! builds `hb` on the unit icosphere of level 6 (81,920 faces) and prints the growth of the
 //! process's peak resident memory (`VmHWM`, Linux) during the build, per face. Run one scheme
-//! per process: the peak only grows. It then builds the renderer's tracer (the surface in the
-//! unit frame and its BVH, default settings) and prints the peak's growth during that build per
+//! per process: the peak only grows. It then builds the renderer's tracer (the BVH of the surface
+//! in its unit frame, default settings) and prints the peak's growth during that build per
 //! BVH leaf, the figure behind the BVH's memory estimate (`render::job::check_bvh_size`).
 
 /// The process's peak resident memory in bytes (`VmHWM` of `/proc/self/status`).

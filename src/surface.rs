@@ -26,8 +26,9 @@ use crate::tolerance::{DIVISION_GUARD, DOMAIN_ZERO};
 pub enum PatchGeometry {
     /// A triangular Bézier patch of any degree.
     Bezier(TriangleBezier),
-    /// Three Bézier sub-surfaces blended with rational weights (Nielson, Fang–Mann).
-    Blend(BlendPatch),
+    /// Three Bézier sub-surfaces blended with rational weights (Nielson, Fang–Mann); boxed,
+    /// so that the far more common Bézier patches do not carry its size.
+    Blend(Box<BlendPatch>),
 }
 
 /// One piece of a surface.
@@ -102,19 +103,24 @@ impl Patch {
         nets.iter().flat_map(|n| n.points())
     }
 
+    /// The patch with every control point mapped by `f` (an affine map keeps every patch
+    /// kind exact: Bézier nets and blended sub-surfaces transform point by point); domain and
+    /// parametrisation unchanged.
+    pub fn mapped(&self, f: impl Fn(DVec3) -> DVec3) -> Patch {
+        let geometry = match &self.geometry {
+            PatchGeometry::Bezier(b) => PatchGeometry::Bezier(b.map_points(&f)),
+            PatchGeometry::Blend(b) => PatchGeometry::Blend(Box::new(BlendPatch::new(
+                b.family(),
+                b.sub_surfaces().each_ref().map(|n| n.map_points(&f)),
+            ))),
+        };
+        Patch { geometry, ..*self }
+    }
+
     /// The patch with every control point multiplied by `factor` (the surface scaled about
     /// the origin; domain and parametrisation unchanged).
     pub fn scaled(&self, factor: f64) -> Patch {
-        let geometry = match &self.geometry {
-            PatchGeometry::Bezier(b) => PatchGeometry::Bezier(b.map_points(|p| p * factor)),
-            PatchGeometry::Blend(b) => PatchGeometry::Blend(BlendPatch::new(
-                b.family(),
-                b.sub_surfaces()
-                    .clone()
-                    .map(|n| n.map_points(|p| p * factor)),
-            )),
-        };
-        Patch { geometry, ..*self }
+        self.mapped(|p| p * factor)
     }
 
     /// Bounds of the whole patch.
@@ -290,26 +296,10 @@ impl Surface {
     /// The same surface with every control point mapped by `f` (an affine map keeps every
     /// patch kind exact: Bézier nets and blended sub-surfaces transform point by point).
     pub fn mapped(&self, f: impl Fn(DVec3) -> DVec3) -> Surface {
-        let net = |n: &TriangleBezier| {
-            TriangleBezier::new(n.degree(), n.points().iter().map(|&p| f(p)).collect())
-        };
         Surface {
             scheme: self.scheme.clone(),
             params: self.params.clone(),
-            patches: self
-                .patches
-                .iter()
-                .map(|patch| Patch {
-                    geometry: match &patch.geometry {
-                        PatchGeometry::Bezier(n) => PatchGeometry::Bezier(net(n)),
-                        PatchGeometry::Blend(b) => PatchGeometry::Blend(BlendPatch::new(
-                            b.family(),
-                            b.sub_surfaces().each_ref().map(net),
-                        )),
-                    },
-                    ..patch.clone()
-                })
-                .collect(),
+            patches: self.patches.iter().map(|patch| patch.mapped(&f)).collect(),
         }
     }
 

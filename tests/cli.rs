@@ -885,7 +885,7 @@ fn bvh_settings_and_size_are_bounded() {
         "max_depth = 8\nflatness = 1e-4\nmax_leaves = 100000000",
     );
     // Above the construction's estimate (8 faces × 3.8 kB) and what the process holds, below
-    // the BVH's (about 1.6 GB).
+    // the BVH's (about 3.5 GB).
     let out = render(&fine, &[("SMOOTHLAB_MEMORY_LIMIT", "5e8")]);
     assert_fails_naming(
         &out,

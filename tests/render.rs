@@ -254,13 +254,18 @@ fn million_rays_stay_inside_closed_hb_surfaces() {
 #[ignore]
 fn primary_ray_throughput_probe() {
     use smoothlab::render::camera::Camera;
-    use smoothlab::render::job::surface_samples;
+    use smoothlab::render::job::SurfaceSamples;
     let sampled = smoothlab::mesh::generate::analytic::torus(60, 32, 1.0, 0.35);
     let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).expect("torus");
     let surface = smoothlab::schemes::build("hb", &mesh, &[]).expect("hb");
     let tracer = Tracer::with_default_settings(&surface).expect("tracer");
-    let camera = Camera::frame_points(&surface_samples(&surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
-        .expect("camera");
+    let camera = Camera::frame_points(
+        &SurfaceSamples::of(&surface),
+        Camera::DEFAULT_VIEW,
+        35.0,
+        1.0,
+    )
+    .expect("camera");
     let side = 256u32;
     let rays: Vec<Ray64> = (0..side * side)
         .map(|k| {

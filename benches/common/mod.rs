@@ -11,7 +11,7 @@ use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, Throughput};
 use smoothlab::render::camera::Camera;
 use smoothlab::render::intersect::IntersectCounters;
-use smoothlab::render::job::surface_samples;
+use smoothlab::render::job::SurfaceSamples;
 use smoothlab::render::{Ray64, SurfaceTracer};
 use smoothlab::surface::Surface;
 
@@ -31,8 +31,13 @@ pub fn parameter_spread(count: usize) -> Vec<(f64, f64)> {
 /// Camera rays through the pixel centres of a `side × side` image framing `surface` from the
 /// default view.
 pub fn camera_rays(surface: &Surface, side: u32) -> Vec<Ray64> {
-    let camera = Camera::frame_points(&surface_samples(surface), Camera::DEFAULT_VIEW, 35.0, 1.0)
-        .expect("camera");
+    let camera = Camera::frame_points(
+        &SurfaceSamples::of(surface),
+        Camera::DEFAULT_VIEW,
+        35.0,
+        1.0,
+    )
+    .expect("camera");
     let mut rays = Vec::with_capacity((side * side) as usize);
     for y in 0..side {
         for x in 0..side {

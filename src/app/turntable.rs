@@ -30,7 +30,7 @@ use crate::mesh::Mesh;
 use crate::render::camera::{Camera, Projection, unit};
 use crate::render::film::{Frame, RenderSettings, render};
 use crate::render::intersect::{NewtonSettings, Tracer};
-use crate::render::job::{Geometry, RenderJob, check_bvh_size, surface_samples};
+use crate::render::job::{Geometry, RenderJob, SurfaceSamples, check_bvh_size};
 use crate::render::modes::{CurvatureParams, CurvatureRange, Mode, ZebraParams};
 use crate::render::output::{output_stem, srgb8, with_suffix, write_png};
 use crate::render::stats::RenderStats;
@@ -181,7 +181,7 @@ pub fn first_camera(
         return Ok(camera);
     }
     let axis = turntable_axis(animation, job, &camera);
-    let samples = surface_samples(surface);
+    let samples = SurfaceSamples::of(surface);
     let fov = job.camera.fov_deg;
     let back = camera.eye - camera.target;
     let mut distance = back.length();

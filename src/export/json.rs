@@ -74,7 +74,7 @@ impl PatchRecord {
                 } else {
                     WeightFamily::FangMann { t }
                 };
-                PatchGeometry::Blend(BlendPatch::new(family, [net(0), net(1), net(2)]))
+                PatchGeometry::Blend(Box::new(BlendPatch::new(family, [net(0), net(1), net(2)])))
             }
             _ => PatchGeometry::Bezier(net(0)),
         }
@@ -226,14 +226,14 @@ mod tests {
             face: 9,
             piece: 0,
             domain: crate::surface::WHOLE_FACE,
-            geometry: PatchGeometry::Blend(BlendPatch::new(
+            geometry: PatchGeometry::Blend(Box::new(BlendPatch::new(
                 family,
                 [
                     cubic.clone(),
                     cubic.map_points(|p| p * 0.3),
                     cubic.map_points(|p| -p),
                 ],
-            )),
+            ))),
         };
         Surface {
             scheme: "test".into(),

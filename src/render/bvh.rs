@@ -20,6 +20,7 @@ use obvhs::cwbvh::builder::build_cwbvh;
 use rayon::prelude::*;
 
 use crate::bezier::TriangleBezier;
+use crate::bezier::triangle::point_count;
 use crate::blend::BlendPatch;
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
@@ -111,10 +112,7 @@ impl Leaf {
     /// arithmetic. The affine radius is measured against the stored (f32) corners, the plane
     /// Newton starts from.
     pub fn new(patch: u32, tri: [DVec2; 3], corners: [DVec3; 3], nets: &[&TriangleBezier]) -> Leaf {
-        let points: Vec<DVec3> = nets
-            .iter()
-            .flat_map(|n| n.points().iter().copied())
-            .collect();
+        let points = || nets.iter().flat_map(|n| n.points().iter().copied());
         let stored = corners.map(|p| p.as_vec3());
         let affine_radius = f32_up(affine_radius(stored.map(|p| p.as_dvec3()), nets));
         let origin = corners[0].as_vec3().as_dvec3();
@@ -130,7 +128,7 @@ impl Leaf {
         let frame = axes.map(|a| a.as_dvec3());
         let mut lo = DVec3::INFINITY;
         let mut hi = DVec3::NEG_INFINITY;
-        for &p in points.iter().chain(corners.iter()) {
+        for p in points().chain(corners) {
             let q = p - origin;
             let c = DVec3::new(frame[0].dot(q), frame[1].dot(q), frame[2].dot(q));
             lo = lo.min(c);
@@ -153,10 +151,9 @@ impl Leaf {
             }
             let stored = normal.as_vec2();
             let n = stored.as_dvec2();
-            let reach = points
-                .iter()
-                .chain(corners.iter())
-                .map(|&p| n.dot(flat(p)))
+            let reach = points()
+                .chain(corners)
+                .map(|p| n.dot(flat(p)))
                 .fold(f64::NEG_INFINITY, f64::max);
             edge_normals[e] = stored.to_array();
             edge_hi[e] = f32_up(reach + pad + PRISM_PAD * (hi - lo).max_element());
@@ -335,7 +332,30 @@ pub fn box_padding(scene: &Aabb) -> f64 {
     1e-5 * extent.max(f64::MIN_POSITIVE)
 }
 
-/// The patch BVH: leaves in traversal order plus the obvhs wide BVH over their boxes.
+/// The frame in which a BVH holds its surface: world point `p` is `(p − centre) × scale` there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UnitFrame {
+    /// The world point at the frame's origin.
+    pub centre: DVec3,
+    /// The scale (a power of two for the tracer's unit frame, so that applying it is exact).
+    pub scale: f64,
+}
+
+impl UnitFrame {
+    /// World coordinates themselves.
+    pub const IDENTITY: UnitFrame = UnitFrame {
+        centre: DVec3::ZERO,
+        scale: 1.0,
+    };
+
+    /// The point `p` in this frame.
+    pub fn map(&self, p: DVec3) -> DVec3 {
+        (p - self.centre) * self.scale
+    }
+}
+
+/// The patch BVH: leaves in traversal order plus the obvhs wide BVH over their boxes, all in
+/// the frame given to [`PatchBvh::build_in`].
 pub struct PatchBvh {
     /// The obvhs BVH; its primitive ids index [`PatchBvh::leaves`] directly.
     pub bvh: CwBvh,
@@ -345,6 +365,8 @@ pub struct PatchBvh {
     pub build_time: Duration,
     /// Padding added to every leaf box (world units).
     pub padding: f64,
+    /// Bounds of the surface's control points in the BVH's frame.
+    pub scene: Aabb,
     /// Power-form coefficients of all leaves, each leaf's run starting at [`Leaf::power`].
     pub power: Vec<DVec3>,
     /// Per blend leaf (at [`Leaf::power`]): a proved bound on `|D²S_i(δ, δ)|` over the leaf
@@ -353,11 +375,70 @@ pub struct PatchBvh {
     /// The blend is a convex combination of them, which lets the in-leaf search exclude a
     /// sub-triangle with a proof ([`crate::render::newton::taylor_excludes`]).
     pub blend_second_bounds: Vec<f64>,
+    /// The patches without a power form (blends, and Bézier patches above
+    /// [`MAX_POWER_DEGREE`]), in the BVH's frame: their leaves evaluate the whole patch.
+    whole: Vec<Patch>,
+    /// Per patch, its position in [`PatchBvh::whole`] (`u32::MAX`: it has power forms);
+    /// empty when no patch is evaluated whole.
+    whole_index: Vec<u32>,
+}
+
+/// Patches per work item of the parallel subdivision: large enough that the items' own
+/// buffers cost little, small enough to balance two to dozens of threads.
+const SUBDIVISION_CHUNK: usize = 512;
+
+/// What the subdivision of a run of patches produces, in patch order.
+#[derive(Default)]
+struct Pieces {
+    leaves: Vec<Leaf>,
+    boxes: Vec<obvhs::aabb::Aabb>,
+    /// Power forms of the leaves that have one, in order ([`Leaf::power`] indexes them).
+    power: Vec<DVec3>,
+    /// Blend leaves' bounds for [`PatchBvh::blend_second_bounds`] ([`Leaf::power`] indexes
+    /// them).
+    blend_second_bounds: Vec<f64>,
+    /// Patches evaluated whole, with their index in the surface.
+    whole: Vec<(u32, Patch)>,
+}
+
+impl Pieces {
+    /// Appends one leaf with its box (f32, grown by `padding`), its power form (empty if
+    /// none) and, for a blend leaf, its sub-surfaces' bound.
+    fn push(
+        &mut self,
+        mut leaf: Leaf,
+        bounds: &Aabb,
+        padding: f64,
+        power: &[DVec3],
+        sub: Option<f64>,
+    ) {
+        if let Some(sub) = sub {
+            leaf.power = self.blend_second_bounds.len() as u32;
+            self.blend_second_bounds.push(sub);
+        } else {
+            leaf.power = self.power.len() as u32;
+            self.power.extend_from_slice(power);
+        }
+        self.leaves.push(leaf);
+        self.boxes.push(outward_f32(bounds, padding));
+    }
 }
 
 impl PatchBvh {
-    /// Subdivides every patch of `surface` by `criterion` and builds the BVH.
+    /// Subdivides every patch of `surface` by `criterion` and builds the BVH, in the
+    /// surface's own coordinates.
     pub fn build(surface: &Surface, criterion: &SubdivisionCriterion) -> Result<PatchBvh> {
+        PatchBvh::build_in(surface, UnitFrame::IDENTITY, criterion)
+    }
+
+    /// [`PatchBvh::build`] with the surface mapped into `frame`, one patch at a time (the
+    /// surface is never copied whole): leaves, power forms and patches evaluated whole are in
+    /// that frame, bit for bit as if the surface had been mapped first.
+    pub fn build_in(
+        surface: &Surface,
+        frame: UnitFrame,
+        criterion: &SubdivisionCriterion,
+    ) -> Result<PatchBvh> {
         let start = Instant::now();
         if surface.patches.is_empty() {
             return Err(Error::Invalid(format!(
@@ -365,13 +446,24 @@ impl PatchBvh {
                 surface.scheme
             )));
         }
-        let scene = surface.bounds();
+        let unit_bounds = |patch: &Patch| match &patch.geometry {
+            PatchGeometry::Bezier(net) => net
+                .points()
+                .iter()
+                .fold(Aabb::EMPTY, |b, &p| b.union_point(frame.map(p))),
+            PatchGeometry::Blend(_) => patch.mapped(|p| frame.map(p)).full_bounds(),
+        };
+        let scene = surface
+            .patches
+            .par_iter()
+            .map(unit_bounds)
+            .reduce(|| Aabb::EMPTY, Aabb::union);
         if !scene.min.is_finite() || !scene.max.is_finite() {
             let bad = surface
                 .patches
                 .iter()
                 .position(|p| {
-                    let b = p.full_bounds();
+                    let b = unit_bounds(p);
                     !b.min.is_finite() || !b.max.is_finite()
                 })
                 .unwrap_or(0);
@@ -381,64 +473,178 @@ impl PatchBvh {
             )));
         }
         let padding = box_padding(&scene);
-        // Per-patch subdivision is independent; collecting in patch order keeps the leaf list
-        // (and so the BVH) identical for any thread count.
-        let per_patch: Vec<Vec<LeafParts>> = surface
+        // Per-patch subdivision is independent; chunks of patches are collected in patch
+        // order, which keeps the leaf list (and so the BVH) identical for any thread count.
+        let chunks: Vec<Pieces> = surface
             .patches
-            .par_iter()
+            .par_chunks(SUBDIVISION_CHUNK)
             .enumerate()
-            .map(|(pi, patch)| match &patch.geometry {
-                PatchGeometry::Bezier(net) => subdivide_patch(pi as u32, net, criterion),
-                PatchGeometry::Blend(blend) => subdivide_blend(pi as u32, patch, blend, criterion),
+            .map(|(c, patches)| {
+                let mut pieces = Pieces::default();
+                for (k, patch) in patches.iter().enumerate() {
+                    let index = (c * SUBDIVISION_CHUNK + k) as u32;
+                    let unit = patch.mapped(|p| frame.map(p));
+                    let whole = match &unit.geometry {
+                        PatchGeometry::Bezier(net) => {
+                            subdivide_patch(&mut pieces, index, net, criterion, padding);
+                            net.degree() > MAX_POWER_DEGREE
+                        }
+                        PatchGeometry::Blend(blend) => {
+                            subdivide_blend(&mut pieces, index, &unit, blend, criterion, padding);
+                            true
+                        }
+                    };
+                    if whole {
+                        pieces.whole.push((index, unit));
+                    }
+                }
+                pieces
             })
             .collect();
-        let mut leaves = Vec::new();
-        let mut boxes = Vec::new();
-        let mut local_forms = Vec::new();
-        let mut sub_bounds = Vec::new();
-        for (leaf, b, form, sub) in per_patch.into_iter().flatten() {
-            leaves.push(leaf);
-            boxes.push(outward_f32(&b, padding));
-            local_forms.push(form);
-            sub_bounds.push(sub);
+        let count = |f: fn(&Pieces) -> usize| chunks.iter().map(f).sum::<usize>();
+        let mut all = Pieces {
+            leaves: Vec::with_capacity(count(|p| p.leaves.len())),
+            boxes: Vec::with_capacity(count(|p| p.boxes.len())),
+            power: Vec::with_capacity(count(|p| p.power.len())),
+            blend_second_bounds: Vec::with_capacity(count(|p| p.blend_second_bounds.len())),
+            whole: Vec::with_capacity(count(|p| p.whole.len())),
+        };
+        for chunk in chunks {
+            let (power, blend) = (all.power.len() as u32, all.blend_second_bounds.len() as u32);
+            all.leaves.extend(chunk.leaves.iter().map(|leaf| Leaf {
+                power: leaf.power + if leaf.degree > 0 { power } else { blend },
+                ..*leaf
+            }));
+            all.boxes.extend_from_slice(&chunk.boxes);
+            all.power.extend_from_slice(&chunk.power);
+            all.blend_second_bounds
+                .extend_from_slice(&chunk.blend_second_bounds);
+            all.whole.extend(chunk.whole);
         }
+        let Pieces {
+            leaves,
+            boxes,
+            power,
+            blend_second_bounds: blend_bounds,
+            whole,
+        } = all;
         let bvh = build_cwbvh(&boxes, build_params(), &mut Duration::default());
+        drop(boxes);
         // Leaves and their coefficients in traversal order, so that neighbouring BVH leaves
         // are neighbours in memory too.
-        let mut power = Vec::with_capacity(local_forms.iter().map(Vec::len).sum());
-        let mut blend_second_bounds = Vec::new();
-        let leaves = bvh
-            .primitive_indices
-            .iter()
-            .map(|&i| {
-                let mut leaf = leaves[i as usize];
-                if let Some(sub) = sub_bounds[i as usize] {
-                    leaf.power = blend_second_bounds.len() as u32;
-                    blend_second_bounds.push(sub);
-                } else {
-                    leaf.power = power.len() as u32;
-                    power.extend_from_slice(&local_forms[i as usize]);
-                }
-                leaf
-            })
-            .collect();
+        let order = &bvh.primitive_indices;
+        let (leaves, power, blend_second_bounds) =
+            traversal_order(leaves, power, &blend_bounds, order);
+        let mut whole_index = Vec::new();
+        if !whole.is_empty() {
+            whole_index = vec![u32::MAX; surface.patches.len()];
+            for (k, (patch, _)) in whole.iter().enumerate() {
+                whole_index[*patch as usize] = k as u32;
+            }
+        }
         Ok(PatchBvh {
             bvh,
             leaves,
             build_time: start.elapsed(),
             padding,
+            scene,
             power,
             blend_second_bounds,
+            whole: whole.into_iter().map(|(_, patch)| patch).collect(),
+            whole_index,
         })
     }
 
-    /// Bytes held by the BVH nodes, its index list and the leaves.
+    /// Bytes held by the BVH nodes, its index list, the leaves and their evaluation data.
     pub fn memory_bytes(&self) -> usize {
         std::mem::size_of_val(self.bvh.nodes.as_slice())
             + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
             + std::mem::size_of_val(self.leaves.as_slice())
             + std::mem::size_of_val(self.power.as_slice())
             + std::mem::size_of_val(self.blend_second_bounds.as_slice())
+            + std::mem::size_of_val(self.whole_index.as_slice())
+            + self
+                .whole
+                .iter()
+                .map(|p| std::mem::size_of::<Patch>() + p.control_points().count() * 24)
+                .sum::<usize>()
+    }
+
+    /// The patch `patch` in the BVH's frame, if its leaves evaluate it whole (no power form).
+    pub fn whole_patch(&self, patch: u32) -> Option<&Patch> {
+        let k = *self.whole_index.get(patch as usize)?;
+        self.whole.get(k as usize)
+    }
+}
+
+/// `leaves` (with the power forms `power` and blend bounds `blend` they index) rearranged so
+/// that leaf `i` is the old leaf `order[i]`. When every leaf has a power form of the same
+/// size, the forms are permuted in place (no second copy of the largest array).
+fn traversal_order(
+    leaves: Vec<Leaf>,
+    mut power: Vec<DVec3>,
+    blend: &[f64],
+    order: &[u32],
+) -> (Vec<Leaf>, Vec<DVec3>, Vec<f64>) {
+    let size = |leaf: &Leaf| point_count(usize::from(leaf.degree));
+    let uniform = leaves
+        .first()
+        .filter(|first| first.degree > 0 && leaves.iter().all(|leaf| leaf.degree == first.degree));
+    if let Some(first) = uniform {
+        let block = size(first);
+        permute_blocks(&mut power, block, order);
+        let leaves = order
+            .iter()
+            .enumerate()
+            .map(|(i, &o)| Leaf {
+                power: (i * block) as u32,
+                ..leaves[o as usize]
+            })
+            .collect();
+        return (leaves, power, Vec::new());
+    }
+    let mut reordered = Vec::with_capacity(power.len());
+    let mut blend_second_bounds = Vec::new();
+    let leaves = order
+        .iter()
+        .map(|&o| {
+            let mut leaf = leaves[o as usize];
+            let at = leaf.power as usize;
+            if leaf.degree > 0 {
+                leaf.power = reordered.len() as u32;
+                reordered.extend_from_slice(&power[at..at + size(&leaf)]);
+            } else if let Some(&bound) = blend.get(at) {
+                leaf.power = blend_second_bounds.len() as u32;
+                blend_second_bounds.push(bound);
+            }
+            leaf
+        })
+        .collect();
+    (leaves, reordered, blend_second_bounds)
+}
+
+/// Rearranges `data`, blocks of `block` items, in place so that block `i` becomes the old
+/// block `order[i]` (`order` a permutation), following its cycles.
+fn permute_blocks<T: Copy>(data: &mut [T], block: usize, order: &[u32]) {
+    let mut placed = vec![false; order.len()];
+    let mut held = Vec::with_capacity(block);
+    for start in 0..order.len() {
+        if placed[start] {
+            continue;
+        }
+        held.clear();
+        held.extend_from_slice(&data[start * block..(start + 1) * block]);
+        let mut i = start;
+        loop {
+            placed[i] = true;
+            let from = order[i] as usize;
+            if from == start {
+                data[i * block..(i + 1) * block].copy_from_slice(&held);
+                break;
+            }
+            data.copy_within(from * block..(from + 1) * block, i * block);
+            i = from;
+        }
     }
 }
 
@@ -450,18 +656,15 @@ pub fn build_params() -> BvhBuildParams {
     params
 }
 
-/// One leaf as subdivision makes it: the leaf, its box, its power form (empty for a blend) and,
-/// for a blend, the proved bound of [`PatchBvh::blend_second_bounds`].
-type LeafParts = (Leaf, Aabb, Vec<DVec3>, Option<f64>);
-
-/// Leaves of one patch: recursive 4-split of the control net until [`is_leaf`], each with its
-/// box and its power-form coefficients.
+/// Leaves of one patch into `out`: recursive 4-split of the control net until [`is_leaf`],
+/// each with its box and its power-form coefficients.
 fn subdivide_patch(
+    out: &mut Pieces,
     patch: u32,
     net: &TriangleBezier,
     criterion: &SubdivisionCriterion,
-) -> Vec<LeafParts> {
-    let mut out = Vec::new();
+    padding: f64,
+) {
     let mut stack = vec![(UV_CORNERS, net.clone(), 0u32)];
     while let Some((tri, piece, depth)) = stack.pop() {
         let done = depth >= criterion.max_depth
@@ -477,7 +680,7 @@ fn subdivide_patch(
             } else {
                 Vec::new()
             };
-            out.push((leaf, piece.control_bounds(), form, None));
+            out.push(leaf, &piece.control_bounds(), padding, &form, None);
             continue;
         }
         let child_tris = split4(tri);
@@ -486,21 +689,21 @@ fn subdivide_patch(
             stack.push((child_tris[c], piece.subdivide(CHILD_CORNERS[c]), depth + 1));
         }
     }
-    out
 }
 
-/// The leaves of a blended patch: its three sub-surfaces are split along the same
+/// The leaves of a blended patch into `out`: its three sub-surfaces are split along the same
 /// sub-triangles until each of their nets passes [`is_leaf`]. The blend over a piece is a
 /// convex combination of the three sub-patches at the same parameter, so the box (and the
 /// oriented box) around all three nets contains it; the start plane is spanned by the blend's
 /// own points at the piece's corners.
 fn subdivide_blend(
+    out: &mut Pieces,
     patch_index: u32,
     patch: &Patch,
     blend: &BlendPatch,
     criterion: &SubdivisionCriterion,
-) -> Vec<LeafParts> {
-    let mut out = Vec::new();
+    padding: f64,
+) {
     let mut stack = vec![(UV_CORNERS, blend.sub_surfaces().clone(), 0u32)];
     while let Some((tri, nets, depth)) = stack.pop() {
         let done = depth >= criterion.max_depth
@@ -522,7 +725,7 @@ fn subdivide_blend(
                 })
                 .fold(0.0, f64::max);
             // No power form: Newton evaluates the blend itself.
-            out.push((leaf, bounds, Vec::new(), Some(sub)));
+            out.push(leaf, &bounds, padding, &[], Some(sub));
             continue;
         }
         let child_tris = split4(tri);
@@ -531,7 +734,6 @@ fn subdivide_blend(
             stack.push((child_tris[c], children, depth + 1));
         }
     }
-    out
 }
 /// How far, in leaf-local `(s, t)` units, a piece's root can lie from the point where a ray
 /// perpendicular to the corner plane meets that plane: `δ / σ_min(J_A)`.

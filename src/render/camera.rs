@@ -7,6 +7,31 @@ use crate::error::{Error, Result};
 use crate::geom::Aabb;
 use crate::render::intersect::Ray64;
 
+/// Points a camera keeps in view (automatic framing): their box, and the largest value over
+/// them of a convex function (the distance at which a point comes into view).
+///
+/// A plain slice of points is one; [`crate::render::job::SurfaceSamples`] is another that
+/// never stores its points. Both give the same numbers as one pass over the points in any
+/// order: a box and a maximum do not depend on the order.
+pub trait FramedPoints: Sync {
+    /// The box of the points.
+    fn bounds(&self) -> Aabb;
+    /// `max(floor, f(p))` over the points `p`, for a convex `f` whose rounding error at any
+    /// point is below `margin` (a point set may skip points whose convex hull provably stays
+    /// below the maximum).
+    fn max_convex(&self, f: &(dyn Fn(DVec3) -> f64 + Sync), floor: f64, margin: f64) -> f64;
+}
+
+impl FramedPoints for [DVec3] {
+    fn bounds(&self) -> Aabb {
+        Aabb::from_points(self)
+    }
+
+    fn max_convex(&self, f: &(dyn Fn(DVec3) -> f64 + Sync), floor: f64, _margin: f64) -> f64 {
+        self.iter().fold(floor, |m, &p| m.max(f(p)))
+    }
+}
+
 /// How the image plane maps to rays.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
@@ -157,14 +182,14 @@ impl Camera {
                 )
             })
             .collect();
-        Camera::frame_points(&corners, from, fov_deg, aspect)
+        Camera::frame_points(corners.as_slice(), from, fov_deg, aspect)
     }
 
     /// Like [`Camera::frame`] but keeps the given points in view (e.g. points sampled on a
     /// surface, which frame it tighter than its box), looking at the centre of their box.
     /// Up in the image is +y, or +z when looking along y.
-    pub fn frame_points(
-        points: &[DVec3],
+    pub fn frame_points<P: FramedPoints + ?Sized>(
+        points: &P,
         from: DVec3,
         fov_deg: f64,
         aspect: f64,
@@ -179,14 +204,14 @@ impl Camera {
 
     /// [`Camera::frame_points`] with `up` pointing up in the image (it must not be parallel to
     /// `from`).
-    pub fn frame_points_with_up(
-        points: &[DVec3],
+    pub fn frame_points_with_up<P: FramedPoints + ?Sized>(
+        points: &P,
         from: DVec3,
         up: DVec3,
         fov_deg: f64,
         aspect: f64,
     ) -> Result<Camera> {
-        let bounds = Aabb::from_points(points);
+        let bounds = points.bounds();
         if bounds.is_empty() || !bounds.min.is_finite() || !bounds.max.is_finite() {
             return Err(Error::Invalid(
                 "cannot frame an empty or non-finite set of points".into(),
@@ -213,14 +238,20 @@ impl Camera {
         let tan_h = tan_v * aspect;
         // A point c (relative to the centre) is in view from distance D when
         // |c·right| ≤ tan_h (D − c·back) and |c·up| ≤ tan_v (D − c·back).
-        let mut distance = 1e-6 * bounds.diagonal().max(crate::tolerance::DIVISION_GUARD);
-        for p in points {
-            let c = *p - center;
-            let depth = c.dot(back);
-            distance = distance
-                .max(depth + c.dot(right).abs() / tan_h)
-                .max(depth + c.dot(true_up).abs() / tan_v);
-        }
+        let floor = 1e-6 * bounds.diagonal().max(crate::tolerance::DIVISION_GUARD);
+        // The distance is convex in the point (a maximum of affine functions and their
+        // absolute values); its rounding stays far below this margin.
+        let reach = bounds.diagonal() + center.abs().max_element();
+        let margin = 1e-9 * reach * (1.0 + 1.0 / tan_h.min(tan_v));
+        let distance = points.max_convex(
+            &|p| {
+                let c = p - center;
+                let depth = c.dot(back);
+                (depth + c.dot(right).abs() / tan_h).max(depth + c.dot(true_up).abs() / tan_v)
+            },
+            floor,
+            margin,
+        );
         Camera::look_at(
             center + back * distance,
             center,
@@ -446,15 +477,21 @@ mod tests {
             min: DVec3::splat(-1.0),
             max: DVec3::splat(1.0),
         };
-        let corners: Vec<DVec3> = [b.min, b.max].to_vec();
-        let cam = Camera::frame_points_with_up(&corners, Camera::DEFAULT_VIEW, DVec3::X, 35.0, 1.0)
-            .expect("framing");
+        let corners = [b.min, b.max];
+        let cam = Camera::frame_points_with_up(
+            corners.as_slice(),
+            Camera::DEFAULT_VIEW,
+            DVec3::X,
+            35.0,
+            1.0,
+        )
+        .expect("framing");
         // The image's up is +x made orthogonal to the view direction.
         let f = cam.forward();
         let expected = (DVec3::X - f * f.dot(DVec3::X)).normalize();
         assert!((cam.up() - expected).length() < 1e-15, "up {}", cam.up());
         let err = Camera::frame_points_with_up(
-            &corners,
+            corners.as_slice(),
             Camera::DEFAULT_VIEW,
             Camera::DEFAULT_VIEW,
             35.0,
@@ -462,7 +499,8 @@ mod tests {
         )
         .expect_err("up along the view");
         assert!(err.to_string().contains("parallel"), "{err}");
-        let err = Camera::frame_points(&corners, DVec3::Z, 1e-300, 1.0).expect_err("tiny fov");
+        let err =
+            Camera::frame_points(corners.as_slice(), DVec3::Z, 1e-300, 1.0).expect_err("tiny fov");
         assert!(err.to_string().contains("1e-300°"), "{err}");
     }
 

@@ -26,7 +26,7 @@ use obvhs::ray::{Ray, RayHit};
 
 use crate::blend::BlendPatch;
 use crate::geom::Aabb;
-use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion};
+use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion, UnitFrame};
 use crate::render::evaluate::{
     local_point_and_tangents, net_point_and_tangents, point_and_tangents,
 };
@@ -100,8 +100,6 @@ impl IntersectCounters {
 pub struct Tracer<'s> {
     /// The surface (world frame).
     pub surface: &'s Surface,
-    /// The surface in the unit frame, which the BVH holds and Newton evaluates.
-    pub unit: Surface,
     /// Unit frame: world point `p` is `(p − centre) × scale` there.
     pub centre: DVec3,
     /// Unit frame scale (a power of two).
@@ -134,9 +132,8 @@ impl<'s> Tracer<'s> {
                 surface.scheme
             )));
         }
-        let unit = surface.mapped(|p| (p - centre) * scale);
-        let bvh = PatchBvh::build(&unit, criterion)?;
-        let unit_bounds = unit.bounds();
+        let bvh = PatchBvh::build_in(surface, UnitFrame { centre, scale }, criterion)?;
+        let unit_bounds = bvh.scene;
         let magnitude = unit_bounds
             .min
             .abs()
@@ -146,7 +143,6 @@ impl<'s> Tracer<'s> {
             newton.residual_tolerance * unit_bounds.diagonal() + 256.0 * f64::EPSILON * magnitude;
         Ok(Tracer {
             surface,
-            unit,
             centre,
             scale,
             bvh,
@@ -282,7 +278,11 @@ impl<'s> Tracer<'s> {
             corners: leaf.corners.map(|p| p.as_dvec3()),
             affine_radius: f64::from(leaf.affine_radius),
             second_bound: leaf.second_bound.map(f64::from),
-            proved: leaf.degree > 0 || self.unit.patches[leaf.patch as usize].as_blend().is_none(),
+            proved: leaf.degree > 0
+                || self
+                    .bvh
+                    .whole_patch(leaf.patch)
+                    .is_some_and(|p| p.as_blend().is_none()),
         };
         let start = planar_start(bounds.corners, bounds.affine_radius, ray);
         if start == Start::Outside {
@@ -333,7 +333,7 @@ impl<'s> Tracer<'s> {
             5 => solve_with!(|x| local_point_and_tangents::<5>(c, x.x, x.y)),
             6 => solve_with!(|x| local_point_and_tangents::<6>(c, x.x, x.y)),
             _ => {
-                let patch = &self.unit.patches[leaf.patch as usize];
+                let patch = self.bvh.whole_patch(leaf.patch)?;
                 let tri = leaf.tri();
                 let eval = |x| local_jet(patch, tri, x);
                 match (
@@ -608,7 +608,8 @@ mod tests {
         let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         // Leaves live in the tracer's unit frame.
         for leaf in &tracer.bvh.leaves {
-            let patch = &tracer.unit.patches[leaf.patch as usize];
+            let world = &surface.patches[leaf.patch as usize];
+            let patch = world.mapped(|p| (p - tracer.centre) * tracer.scale);
             let tri = leaf.tri();
             for k in 0..30u64 {
                 let a = uniform(5, k, 0, 0);

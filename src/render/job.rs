@@ -4,35 +4,153 @@
 //! the mesh it was built on, for the curve network).
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use crate::bezier::TriangleBezier;
 use crate::error::{Error, Result};
 use crate::geom::Aabb;
 use crate::mesh::Mesh;
 use crate::render::bvh::SubdivisionCriterion;
-use crate::render::camera::{Camera, Projection};
+use crate::render::camera::{Camera, FramedPoints, Projection};
 use crate::render::curves::CurveOverlay;
 use crate::render::film::{Frame, RenderSettings, render};
 use crate::render::intersect::{NewtonSettings, Tracer};
 use crate::render::stats::RenderStats;
 use crate::render::tessellate::TessellatedTracer;
-use crate::surface::{PatchGeometry, Surface};
+use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Default vertical field of view, degrees.
 pub const DEFAULT_FOV: f64 = 35.0;
 
-/// Points on `surface` (each patch on a 7×7 grid of its domain) for tight framing.
-pub fn surface_samples(surface: &Surface) -> Vec<DVec3> {
-    const N: u32 = 6;
-    let mut points = Vec::with_capacity(surface.patches.len() * 28);
-    for patch in &surface.patches {
-        for j in 0..=N {
-            for i in 0..=N - j {
-                points.push(patch.eval(f64::from(i) / f64::from(N), f64::from(j) / f64::from(N)));
-            }
+/// Steps of the framing grid on a patch's domain: `(i/N, j/N)`, `i + j ≤ N`.
+const FRAMING_STEPS: u32 = 6;
+
+/// Framing points per patch: the grid of [`FRAMING_STEPS`].
+const FRAMING_POINTS: usize = ((FRAMING_STEPS + 1) * (FRAMING_STEPS + 2) / 2) as usize;
+
+/// The framing points of one patch: the surface at the grid `(i/6, j/6)`, `i + j ≤ 6`, of its
+/// domain (its corners among them).
+fn patch_samples(patch: &Patch) -> [DVec3; FRAMING_POINTS] {
+    let mut points = [DVec3::ZERO; FRAMING_POINTS];
+    let mut k = 0;
+    for j in 0..=FRAMING_STEPS {
+        for i in 0..=FRAMING_STEPS - j {
+            points[k] = patch.eval(
+                f64::from(i) / f64::from(FRAMING_STEPS),
+                f64::from(j) / f64::from(FRAMING_STEPS),
+            );
+            k += 1;
         }
     }
     points
+}
+
+/// The points that frame surfaces tightly: every patch sampled on a 28-point grid of its domain
+/// ([`patch_samples`]), evaluated on demand and in parallel, never stored.
+///
+/// A patch lies in the convex hull of its control points (of its three sub-surfaces' for a
+/// blend, a convex combination of them), so a patch whose hull stays inside what the patch
+/// corners alone already reach cannot change the box or a convex maximum, and is not
+/// evaluated. The result is that of one pass over all the points: a box and a maximum do not
+/// depend on the order, so it is the same for any thread count.
+pub struct SurfaceSamples<'a> {
+    surfaces: Vec<&'a Surface>,
+}
+
+impl<'a> SurfaceSamples<'a> {
+    /// The framing points of all `surfaces` together.
+    pub fn new(surfaces: &[&'a Surface]) -> SurfaceSamples<'a> {
+        SurfaceSamples {
+            surfaces: surfaces.to_vec(),
+        }
+    }
+
+    /// The framing points of one surface.
+    pub fn of(surface: &'a Surface) -> SurfaceSamples<'a> {
+        SurfaceSamples::new(&[surface])
+    }
+
+    /// Every patch, in parallel.
+    fn patches(&self) -> impl ParallelIterator<Item = &'a Patch> + '_ {
+        self.surfaces.par_iter().flat_map(|s| s.patches.par_iter())
+    }
+
+    /// All the points, in order (patch by patch): for tests and small surfaces.
+    pub fn to_vec(&self) -> Vec<DVec3> {
+        self.surfaces
+            .iter()
+            .flat_map(|s| &s.patches)
+            .flat_map(patch_samples)
+            .collect()
+    }
+}
+
+/// The control points whose convex hull contains `patch`.
+fn hull_points(patch: &Patch) -> impl Iterator<Item = DVec3> + '_ {
+    let nets: &[TriangleBezier] = match &patch.geometry {
+        PatchGeometry::Bezier(net) => std::slice::from_ref(net),
+        PatchGeometry::Blend(blend) => blend.sub_surfaces(),
+    };
+    nets.iter().flat_map(|n| n.points().iter().copied())
+}
+
+/// The surface at the three corners of `patch`'s domain (framing points themselves). For a
+/// Bézier patch these are its corner control points: de Casteljau with the weights 0 and 1
+/// reproduces them exactly (up to the sign of a zero), so they need no evaluation.
+fn patch_corners(patch: &Patch) -> [DVec3; 3] {
+    match &patch.geometry {
+        PatchGeometry::Bezier(net) => {
+            let d = net.degree();
+            [net.point(d, 0), net.point(0, d), net.point(0, 0)]
+        }
+        PatchGeometry::Blend(_) => {
+            [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)].map(|(u, v)| patch.eval(u, v))
+        }
+    }
+}
+
+impl FramedPoints for SurfaceSamples<'_> {
+    fn bounds(&self) -> Aabb {
+        let corners = self
+            .patches()
+            .map(|p| Aabb::from_points(&patch_corners(p)))
+            .reduce(|| Aabb::EMPTY, Aabb::union);
+        // Evaluation stays within a few ulps of the hull; this margin is far above that.
+        let margin =
+            1e-9 * (corners.diagonal() + corners.min.abs().max(corners.max.abs()).max_element());
+        let (lo, hi) = (
+            corners.min + DVec3::splat(margin),
+            corners.max - DVec3::splat(margin),
+        );
+        self.patches()
+            .map(|p| {
+                let hull = p.full_bounds();
+                if hull.min.cmpge(lo).all() && hull.max.cmple(hi).all() {
+                    Aabb::EMPTY
+                } else {
+                    Aabb::from_points(&patch_samples(p))
+                }
+            })
+            .reduce(|| Aabb::EMPTY, Aabb::union)
+            .union(corners)
+    }
+
+    fn max_convex(&self, f: &(dyn Fn(DVec3) -> f64 + Sync), floor: f64, margin: f64) -> f64 {
+        let largest = |points: &[DVec3]| points.iter().fold(f64::NEG_INFINITY, |m, &p| m.max(f(p)));
+        let corners = self
+            .patches()
+            .map(|p| largest(&patch_corners(p)))
+            .reduce(|| floor, f64::max);
+        self.patches()
+            .map(|p| {
+                if hull_points(p).all(|q| f(q) < corners - margin) {
+                    corners
+                } else {
+                    largest(&patch_samples(p))
+                }
+            })
+            .reduce(|| corners, f64::max)
+    }
 }
 
 /// Where the camera of a job is: given by eye (and target, up), or framed automatically.
@@ -68,8 +186,8 @@ impl CameraSpec {
     /// sampled on the surface otherwise (with the given up, if any, pointing up in the image;
     /// around the given target, if any).
     pub fn camera(&self, surface: &Surface, aspect: f64) -> Result<Camera> {
-        let samples = surface_samples(surface);
-        let bounds = &Aabb::from_points(&samples);
+        let samples = SurfaceSamples::of(surface);
+        let bounds = &samples.bounds();
         let fov = self.fov_deg;
         let camera = match self.eye {
             Some(eye) => Camera::look_at(
@@ -207,9 +325,10 @@ fn relative_flatness(net: &TriangleBezier) -> f64 {
 /// depth range), i.e. `4^depth` leaves. The normal-cone test is not estimated, so this is a
 /// lower bound for strongly curved patches.
 pub fn estimate_leaves(surface: &Surface, criterion: &SubdivisionCriterion) -> f64 {
-    surface
+    // Whole numbers summed as integers: the same total for any thread count.
+    let leaves: u64 = surface
         .patches
-        .iter()
+        .par_iter()
         .map(|patch| {
             let r = match &patch.geometry {
                 PatchGeometry::Bezier(net) => relative_flatness(net),
@@ -223,19 +342,20 @@ pub fn estimate_leaves(surface: &Surface, criterion: &SubdivisionCriterion) -> f
                 f64::from(criterion.min_depth),
                 f64::from(criterion.max_depth),
             );
-            4f64.powf(depth)
+            1u64 << (2 * depth as u32)
         })
-        .sum()
+        .sum();
+    leaves as f64
 }
 
 /// Peak bytes per BVH leaf of a patch with `points` control points while the tracer is built:
-/// the surface's copy in the unit frame, the leaf records and power forms, the wide BVH and
-/// the builder's temporaries. Measured with `cargo run --release --example
-/// construction_memory -- SCHEME 6` (peak growth during `Tracer::new`, one leaf per patch):
-/// 2,111 B per leaf for `flat` (3 points), 3,492 for `hb` (21 points), 3,123 for `nielson`;
-/// this fit, 2000 + 80 per point, is at or above each.
+/// the leaf records and power forms (or, for patches evaluated whole, their copy in the unit
+/// frame), the wide BVH and the builder's temporaries. Measured with `cargo run --release
+/// --example construction_memory -- SCHEME LEVEL` (peak growth during `Tracer::new`, one leaf
+/// per patch): 657 B per leaf for `flat` (3 points), 1,309 for `hb` (21 points), 2,598 for
+/// `nielson` (45 points); this fit, 600 + 50 per point, is at or above each.
 fn leaf_bytes(points: usize) -> f64 {
-    (2000 + 80 * points) as f64
+    (600 + 50 * points) as f64
 }
 
 /// Refuses a BVH that would have more than `max_leaves` leaves or need more memory than is
@@ -272,4 +392,54 @@ pub fn check_bvh_size(
         leaves * leaf_bytes(points),
         "use a coarser mesh or raise bvh.flatness",
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lazily evaluated framing points give the same box and the same framing as all the
+    /// points in one list, on Bézier, blend and open surfaces, from several directions.
+    #[test]
+    fn surface_samples_frame_exactly_like_the_listed_points() {
+        let mut meshes = crate::testing::closed_test_meshes();
+        meshes.extend(crate::testing::open_test_meshes().into_iter().take(2));
+        for (name, mesh) in &meshes {
+            for scheme in ["hb", "nielson", "pn"] {
+                let Ok(surface) = crate::schemes::build(scheme, mesh, &[]) else {
+                    continue;
+                };
+                let lazy = SurfaceSamples::of(&surface);
+                let listed = lazy.to_vec();
+                assert_eq!(lazy.bounds(), listed.as_slice().bounds(), "{name} {scheme}");
+                for from in [Camera::DEFAULT_VIEW, DVec3::X, DVec3::new(-0.3, -1.0, 0.2)] {
+                    let a = Camera::frame_points(&lazy, from, 35.0, 1.5).expect("lazy");
+                    let b =
+                        Camera::frame_points(listed.as_slice(), from, 35.0, 1.5).expect("listed");
+                    assert_eq!(a.eye, b.eye, "{name} {scheme} from {from}");
+                }
+            }
+        }
+    }
+
+    /// Two surfaces framed together: the union of their points, skipping included (the
+    /// second surface is shifted so that each has patches the other's corners do not reach).
+    #[test]
+    fn surface_samples_of_several_surfaces() {
+        let mesh = crate::testing::closed_test_meshes().remove(0).1;
+        let a = crate::schemes::build("hb", &mesh, &[]).expect("hb");
+        let b = a.mapped(|p| p * 0.5 + DVec3::new(0.3, -0.2, 0.1));
+        let lazy = SurfaceSamples::new(&[&a, &b]);
+        let listed = lazy.to_vec();
+        assert_eq!(
+            listed.len(),
+            (a.patches.len() + b.patches.len()) * FRAMING_POINTS
+        );
+        assert_eq!(lazy.bounds(), listed.as_slice().bounds());
+        let f = |p: DVec3| p.x - 0.7 * p.y.abs();
+        assert_eq!(
+            lazy.max_convex(&f, -10.0, 1e-9),
+            listed.as_slice().max_convex(&f, -10.0, 1e-9)
+        );
+    }
 }

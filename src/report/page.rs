@@ -28,7 +28,7 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::render::camera::Camera;
 use crate::render::film::{Frame, RenderSettings};
-use crate::render::job::{CameraSpec, RenderJob, surface_samples};
+use crate::render::job::{CameraSpec, RenderJob, SurfaceSamples};
 use crate::render::modes::curvature::abs_percentile;
 use crate::render::modes::palette::rdbu;
 use crate::render::modes::{Mode, ZebraParams};
@@ -105,10 +105,8 @@ pub fn render_thumbnails(
     options: &ThumbnailOptions,
 ) -> Result<MeshThumbnails> {
     let start = std::time::Instant::now();
-    let samples: Vec<_> = surfaces
-        .iter()
-        .flat_map(|(_, s)| surface_samples(s))
-        .collect();
+    let surfaces_only: Vec<&Surface> = surfaces.iter().map(|(_, s)| s).collect();
+    let samples = SurfaceSamples::new(&surfaces_only);
     let camera = Camera::frame_points(&samples, Camera::DEFAULT_VIEW, THUMB_FOV, 1.0)?;
     let job = |mode: Mode| RenderJob {
         settings: RenderSettings {

@@ -13,8 +13,6 @@ pub mod spec;
 
 use std::sync::Arc;
 
-use glam::DVec3;
-
 use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::render::camera::{Camera, Projection};
@@ -126,10 +124,7 @@ pub struct Figure {
 
 /// The camera that frames all `surfaces` from the default direction.
 pub fn framing_camera(surfaces: &[&Surface], fov: f64, aspect: f64) -> Result<Camera> {
-    let samples: Vec<DVec3> = surfaces
-        .iter()
-        .flat_map(|s| crate::render::job::surface_samples(s))
-        .collect();
+    let samples = crate::render::job::SurfaceSamples::new(surfaces);
     Camera::frame_points(&samples, Camera::DEFAULT_VIEW, fov, aspect)
 }
 

@@ -268,7 +268,7 @@ pub fn build_blend(
                 face: f as u32,
                 piece: 0,
                 domain: crate::surface::WHOLE_FACE,
-                geometry: PatchGeometry::Blend(BlendPatch::new(family, subs)),
+                geometry: PatchGeometry::Blend(Box::new(BlendPatch::new(family, subs))),
             })
         })
         .collect::<Result<Vec<_>>>()?;
