@@ -101,9 +101,21 @@ fn render_command_writes_png_exr_and_stats() {
         "render_ms",
         "leaves",
         "memory_bytes",
+        "pixels",
+        "rays_per_pixel",
+        "rays_per_s",
+        "pixels_per_s",
     ] {
         assert!(json.get(key).is_some(), "stats lack '{key}': {json}");
     }
+    // 40 × 30 pixels; the rates follow from the counts.
+    assert_eq!(json["pixels"], 1200);
+    let rays = json["rays"].as_f64().expect("rays");
+    let per_pixel = json["rays_per_pixel"].as_f64().expect("rays_per_pixel");
+    assert_eq!(per_pixel, rays / 1200.0, "{json}");
+    let ms = json["render_ms"].as_f64().expect("render_ms");
+    let per_s = json["pixels_per_s"].as_f64().expect("pixels_per_s");
+    assert!((per_s * ms * 1e-3 / 1200.0 - 1.0).abs() < 1e-12, "{json}");
 
     let image = exr::prelude::read_all_flat_layers_from_file(stem.with_extension("exr"))
         .expect("EXR readable");

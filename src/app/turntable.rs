@@ -224,6 +224,7 @@ fn accumulate(total: &mut RenderStats, frame: &RenderStats) {
     total.newton_iter_max = total.newton_iter_max.max(frame.newton_iter_max);
     total.newton_failures += frame.newton_failures;
     total.render_ms += frame.render_ms;
+    total.pixels += frame.pixels;
     total.newton_runs += frame.newton_runs;
     total.fallback_roots += frame.fallback_roots;
     total.newton_unconverged += frame.newton_unconverged;
@@ -233,6 +234,7 @@ fn accumulate(total: &mut RenderStats, frame: &RenderStats) {
     total.memory_bytes = frame.memory_bytes;
     total.patches = frame.patches;
     total.curvature_half_range = frame.curvature_half_range;
+    total.set_rates();
 }
 
 /// A progress bar over `frames` frames on standard error, hidden when it is not a terminal.

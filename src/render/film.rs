@@ -171,6 +171,8 @@ pub fn render<T: SurfaceTracer>(
     stats.misses = stats.rays - stats.hits;
     stats.set_newton(&counters);
     stats.render_ms = start.elapsed().as_secs_f64() * 1e3;
+    stats.pixels = u64::from(w) * u64::from(h);
+    stats.set_rates();
     stats.bvh_build_ms = tracer.build_ms();
     stats.leaves = tracer.leaf_count() as u64;
     stats.memory_bytes = tracer.memory_bytes() as u64;

@@ -11,6 +11,15 @@ use crate::render::intersect::IntersectCounters;
 pub struct RenderStats {
     /// Rays traced (camera rays, geometry rays through pixel centres, path-tracing rays).
     pub rays: u64,
+    /// Pixels rendered (summed over the frames of an animation).
+    pub pixels: u64,
+    /// Rays per pixel: `rays / pixels` (at 1 spp a geometry ray through the pixel centre plus
+    /// a jittered colour ray, so 2; more with samples and, in `shaded` mode, bounces).
+    pub rays_per_pixel: f64,
+    /// Rays per second of `render_ms` (all threads together).
+    pub rays_per_s: f64,
+    /// Pixels per second of `render_ms` (all threads together).
+    pub pixels_per_s: f64,
     /// Rays that hit the surface.
     pub hits: u64,
     /// Rays that hit nothing.
@@ -60,6 +69,15 @@ impl RenderStats {
         self.fallback_roots = c.fallback_roots;
         self.newton_unconverged = c.newton_unconverged;
         self.newton_undecided = c.undecided;
+    }
+
+    /// Fills the rates (`rays_per_pixel`, `rays_per_s`, `pixels_per_s`) from the counts and
+    /// `render_ms`.
+    pub fn set_rates(&mut self) {
+        let per = |count: u64, over: f64| if over > 0.0 { count as f64 / over } else { 0.0 };
+        self.rays_per_pixel = per(self.rays, self.pixels as f64);
+        self.rays_per_s = per(self.rays, self.render_ms * 1e-3);
+        self.pixels_per_s = per(self.pixels, self.render_ms * 1e-3);
     }
 
     /// Writes the statistics as pretty JSON to `path` (atomically, see
