@@ -329,7 +329,9 @@ fn fold_step(f: DVec2, f_newton: DVec2) -> Option<f64> {
 /// model has one root between the iterate and the target and one behind the iterate, at
 /// `λ = (1 + √(1 − 4μ)) / 2μ < 0`).
 fn far_side_step(f: DVec2, f_target: DVec2) -> Option<f64> {
-    let mu = model_ratio(f, f_target)?;
+    // Unlike a fold step this only chooses where to start again, so `F_N` may point anywhere
+    // against `F`.
+    let mu = f_target.dot(f) / f.length_squared();
     if !(mu < 0.0) {
         return None;
     }
