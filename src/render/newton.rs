@@ -332,7 +332,7 @@ fn far_side_step(f: DVec2, f_target: DVec2) -> Option<f64> {
     // Unlike a fold step this only chooses where to start again, so `F_N` may point anywhere
     // against `F`.
     let mu = f_target.dot(f) / f.length_squared();
-    if !(mu < 0.0) {
+    if mu.is_nan() || mu >= 0.0 {
         return None;
     }
     let lambda = (1.0 + (1.0 - 4.0 * mu).sqrt()) / (2.0 * mu);
