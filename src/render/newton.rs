@@ -33,9 +33,8 @@
 //! the nearer root of the residual's quadratic model along it ([`fold_step`]), and a run that
 //! stalls on the boundary of `T` heading for a root beyond it restarts once from the model's
 //! root on the other side ([`far_side_step`]). Neither is a proof and neither needs to be: a
-//! point is accepted by its residual only. A run that reaches the
-//! iteration cap (or stalls on the boundary of `T`) without either outcome is
-//! [`Newton::Failed`]. Most such runs belong to rays that pass just outside the piece, close to
+//! point is accepted by its residual only. A run that reaches the iteration cap (or stalls on
+//! the boundary of `T`, after its restart) without either outcome is [`Newton::Failed`]. Most such runs belong to rays that pass just outside the piece, close to
 //! a root of the polynomial's extension beyond `T`; [`search`] then applies the same error bound
 //! to sub-triangles of `T` (from each one's centroid, where `|x − x*|` is at most the
 //! sub-triangle's size, so the bound shrinks four-fold per level) until every sub-triangle is
@@ -356,9 +355,9 @@ const FOLD_MU_SLACK: f64 = 0.1;
 /// over the whole piece, and a sub-triangle still open is split. With a proved bound, a
 /// sub-triangle inside the disk about a root already known — `known` (the caller's Newton root,
 /// already handled by it, not visited again) or one visited here — that holds no other root
-/// ([`RootDisks`]) is excluded too. Every root found goes to `visit(s, t, p)`. Returns the number of sub-triangles left undecided at the last level (0:
-/// every root of the piece was visited), or `None` when a run proved that the piece holds no
-/// root.
+/// ([`RootDisks`]) is excluded too. Every root found goes to `visit(s, t, p)`. Returns the
+/// number of sub-triangles left undecided at the last level (0: every root of the piece was
+/// visited), or `None` when a run proved that the piece holds no root.
 #[allow(clippy::too_many_arguments)]
 pub fn search(
     eval: impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
