@@ -67,7 +67,8 @@ pub struct IntersectCounters {
     pub newton_unconverged: u64,
     /// Real Newton failures: undecided runs where the fallback then found a root in the leaf.
     pub newton_failures: u64,
-    /// Roots found by the fallback subdivision (one per real failure).
+    /// Leaves whose hit only the fallback search found: one per real failure, plus those where
+    /// Newton's root lay outside the ray's interval and the search found another one inside.
     pub fallback_roots: u64,
     /// Pieces of the deepest fallback level that stayed undecided: a root there may have been
     /// missed. Zero in every watertightness test.
@@ -372,14 +373,15 @@ impl<'s> Tracer<'s> {
     ) -> Option<Hit> {
         let tri = leaf.tri();
         counters.newton_runs += 1;
-        let first = match newton(
+        let outcome = newton(
             &eval,
             bounds,
             start,
             query.planes,
             self.tolerance,
             &self.newton,
-        ) {
+        );
+        let first = match outcome {
             Newton::NoRoot => return None,
             Newton::Root(st, iterations, p) => {
                 let hit = self.accept(leaf.patch, tri, st, p, query, t_max);
@@ -402,6 +404,11 @@ impl<'s> Tracer<'s> {
                 None
             }
         };
+        let failed = matches!(outcome, Newton::Failed);
+        let known = match outcome {
+            Newton::Root(st, ..) => Some(st),
+            _ => None,
+        };
         // Undecided, or a root outside the ray's interval (the line meets the leaf behind the
         // origin or beyond the closest hit so far), or a grazing ray that may meet the leaf
         // again closer: search the whole leaf for its roots.
@@ -414,6 +421,7 @@ impl<'s> Tracer<'s> {
             self.tolerance,
             &self.newton,
             exclude,
+            known,
             |st, p| {
                 let limit = best.map_or(t_max, |h| h.t);
                 if let Some(hit) = self.accept(leaf.patch, tri, st, p, query, limit) {
@@ -422,8 +430,13 @@ impl<'s> Tracer<'s> {
             },
         );
         counters.undecided += undecided.unwrap_or(0);
-        if first.is_none() && best.is_some() {
+        // A failure is a Newton run that did not converge on a leaf holding a root. A run that
+        // found a root outside the ray's interval (a secondary ray meets the leaf it leaves
+        // just behind its origin) did not fail, even when the search finds another root.
+        if failed && best.is_some() {
             counters.newton_failures += 1;
+        }
+        if first.is_none() && best.is_some() {
             counters.fallback_roots += 1;
         }
         best

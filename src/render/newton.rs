@@ -27,13 +27,22 @@
 //!
 //! Otherwise the iterate is projected back onto `T` (projection onto a convex set containing
 //! the root never increases the distance to it), so iterates stay where the bounds hold and
-//! converge to a root inside `T` whenever `M |x − x*| / (2σ) < 1`. A run that reaches the
-//! iteration cap (or stalls on the boundary of `T`) without either outcome is
-//! [`Newton::Failed`]. Most such runs belong to rays that pass just outside the piece, close to
+//! converge to a root inside `T` whenever `M |x − x*| / (2σ) < 1`. Where the ray passes a fold
+//! of the surface (a silhouette: two roots close together, `σ` vanishing between them) Newton
+//! converges only linearly, halving the distance per step; a step that did so is replaced by
+//! the nearer root of the residual's quadratic model along it ([`fold_step`]), and a run that
+//! stalls on the boundary of `T` heading for a root beyond it restarts once from the model's
+//! root on the other side ([`far_side_step`]). Neither is a proof and neither needs to be: a
+//! point is accepted by its residual only. A run that reaches the iteration cap (or stalls on
+//! the boundary of `T`, after its restart) without either outcome is [`Newton::Failed`]. Most such runs belong to rays that pass just outside the piece, close to
 //! a root of the polynomial's extension beyond `T`; [`search`] then applies the same error bound
 //! to sub-triangles of `T` (from each one's centroid, where `|x − x*|` is at most the
 //! sub-triangle's size, so the bound shrinks four-fold per level) until every sub-triangle is
-//! excluded or holds a root. It evaluates the same piece, so it needs no allocation.
+//! excluded or holds a root. It evaluates the same piece, so it needs no allocation. About a
+//! root already known (Newton's, or one the search found) a disk holds no other root
+//! ([`RootDisks`]): this settles the neighbourhood of the root a secondary ray meets just behind
+//! its origin, where the ray runs within its offset of the surface and no Taylor bound can
+//! exclude anything.
 
 use glam::{DVec2, DVec3};
 
@@ -187,6 +196,9 @@ pub fn newton(
     let mut x = project_to_unit_triangle(from);
     let mut iterations = 0;
     let mut previous = f64::INFINITY;
+    // The last full Newton step when `x` is its target: `(x_prev, step, F(x_prev))`.
+    let mut last: Option<(DVec2, DVec2, DVec2)> = None;
+    let mut restarted = false;
     loop {
         let (p, ss, tt) = eval(x);
         let f = planes.residual(p);
@@ -206,6 +218,19 @@ pub fn newton(
             return Newton::Failed;
         }
         previous = residual;
+        // A Newton step that only about halved the distance to the roots: at a fold, jump to
+        // the nearer root of the residual's quadratic model along that step instead.
+        if let Some((from_x, step, f_from)) = last
+            && let Some(lambda) = fold_step(f_from, f)
+        {
+            let candidate = from_x - step * lambda;
+            if distance_to_unit_triangle(candidate) == 0.0 {
+                x = candidate;
+                last = None;
+                iterations += 1;
+                continue;
+            }
+        }
         let (ju, jv) = (planes.project(ss), planes.project(tt));
         let Some(step) = planes.newton_step(f, ss, tt) else {
             return Newton::Failed;
@@ -243,12 +268,81 @@ pub fn newton(
         }
         let next = project_to_unit_triangle(target);
         if outside > 0.0 && (next - x).length_squared() < 1e-4 * step.length_squared() {
-            // Stalled on the boundary: the target lies outside, in about the same place again.
+            // Stalled on the boundary: the target lies outside, in about the same place again:
+            // Newton heads for a root of the surface's extension beyond `T`. When the ray
+            // crosses a fold there, the root inside lies behind `x`, where the residual's
+            // quadratic model along the step puts it: one restart from there per run.
+            if !restarted {
+                restarted = true;
+                let f_target = planes.residual(eval(target).0);
+                if let Some(lambda) = far_side_step(f, f_target) {
+                    let candidate = project_to_unit_triangle(x - step * lambda);
+                    if (candidate - x).length_squared() >= 1e-4 * step.length_squared() {
+                        x = candidate;
+                        last = None;
+                        iterations += 1;
+                        continue;
+                    }
+                }
+            }
             return Newton::Failed;
         }
+        last = (outside == 0.0).then_some((x, step, f));
         x = next;
     }
 }
+
+/// The ratio `μ = F_N·F / |F|²` of the residuals at a Newton target and at its iterate (see
+/// [`fold_step`]), or None when it says nothing (`F` zero, or `F_N` mostly across `F`).
+fn model_ratio(f: DVec2, f_newton: DVec2) -> Option<f64> {
+    let mu = f_newton.dot(f) / f.length_squared();
+    let along = (f_newton - f * mu).length_squared() <= 0.25 * f_newton.length_squared();
+    (mu.is_finite() && along).then_some(mu)
+}
+
+/// The step, in units of the Newton step, to the nearer root of the quadratic model of the
+/// residual along a Newton step that converged only linearly; None when that step did well or
+/// the model has no root ahead.
+///
+/// Along the Newton step `Δ = −J(x)⁻¹F(x)` the residual is `g(λ) = F(x + λΔ)`, with
+/// `g(0) = F` and `g'(0) = −F`; with `F_N = g(1)`, the residual at the Newton target, the
+/// quadratic through these is `g(λ) ≈ (1 − λ) F + λ² F_N`, whose roots along `F` solve
+/// `μ λ² − λ + 1 = 0`. Where the ray passes a fold of the surface (a silhouette: two roots close
+/// together, a nearly singular Jacobian between them) the residual is close to quadratic along
+/// the step, Newton only halves the distance to the roots (`μ` just below ¼) and the model's
+/// nearer root `λ = 2 / (1 + √(1 − 4μ))` (in `[1, 2]`) lands next to the root that Newton
+/// would need one step per halving to reach. After a fast step `μ` is close to 0 and Newton is
+/// kept; above ¼ the model has no root (the ray passes beside the fold). Nothing here is a
+/// proof: a point is accepted only by its residual, exclusions are made from wherever the
+/// iterate stands.
+fn fold_step(f: DVec2, f_newton: DVec2) -> Option<f64> {
+    let mu = model_ratio(f, f_newton)?;
+    if !(mu > FOLD_MU_MIN && mu <= 0.25 * (1.0 + FOLD_MU_SLACK)) {
+        return None;
+    }
+    Some(2.0 / (1.0 + (1.0 - 4.0 * mu.min(0.25)).sqrt()))
+}
+
+/// The step, in units of the Newton step, to the root behind the iterate of the quadratic model
+/// of [`fold_step`], when the target's residual points against the iterate's (`μ < 0`: the
+/// model has one root between the iterate and the target and one behind the iterate, at
+/// `λ = (1 + √(1 − 4μ)) / 2μ < 0`).
+fn far_side_step(f: DVec2, f_target: DVec2) -> Option<f64> {
+    // Unlike a fold step this only chooses where to start again, so `F_N` may point anywhere
+    // against `F`.
+    let mu = f_target.dot(f) / f.length_squared();
+    if mu.is_nan() || mu >= 0.0 {
+        return None;
+    }
+    let lambda = (1.0 + (1.0 - 4.0 * mu).sqrt()) / (2.0 * mu);
+    lambda.is_finite().then_some(lambda)
+}
+
+/// The ratio `μ` (see [`fold_step`]) below which a Newton step counts as fast: quadratic
+/// convergence leaves it close to 0.
+const FOLD_MU_MIN: f64 = 0.05;
+/// Relative slack above `μ = ¼` still taken as a fold (the model's higher-order terms).
+const FOLD_MU_SLACK: f64 = 0.1;
 
 /// The search of a piece whose Newton run was undecided: the unit triangle is split into four
 /// recursively (`depth` levels); a sub-triangle Δ is excluded when the residual's Taylor bound
@@ -258,10 +352,12 @@ pub fn newton(
 /// to Δ's farthest corner (a root in Δ is within that of `x_N`, see the module documentation),
 /// or when `exclude(Δ)` says so (a caller's own certified test: for a blend, [`taylor_excludes`]
 /// on its three polynomial sub-surfaces); otherwise, if that target lies in Δ, Newton runs from `y`
-/// over the whole piece, and a sub-triangle still open is split. Every root found goes to
-/// `visit(s, t, p)`. Returns the number of sub-triangles left undecided at the last level (0:
-/// every root of the piece was visited), or `None` when a run proved that the piece holds no
-/// root.
+/// over the whole piece, and a sub-triangle still open is split. With a proved bound, a
+/// sub-triangle inside the disk about a root already known — `known` (the caller's Newton root,
+/// already handled by it, not visited again) or one visited here — that holds no other root
+/// ([`RootDisks`]) is excluded too. Every root found goes to `visit(s, t, p)`. Returns the
+/// number of sub-triangles left undecided at the last level (0: every root of the piece was
+/// visited), or `None` when a run proved that the piece holds no root.
 #[allow(clippy::too_many_arguments)]
 pub fn search(
     eval: impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
@@ -271,6 +367,7 @@ pub fn search(
     tolerance: f64,
     settings: &NewtonSettings,
     exclude: impl Fn([DVec2; 3]) -> bool,
+    known: Option<DVec2>,
     mut visit: impl FnMut(DVec2, DVec3),
 ) -> Option<u64> {
     // Every root lies within `radius` of `from` (the affine bound of the start).
@@ -280,6 +377,14 @@ pub fn search(
     let mut stack: Vec<([DVec2; 3], u32)> = Vec::new();
     let unit = [DVec2::ZERO, DVec2::X, DVec2::Y];
     stack.push((unit, 0));
+    // Disks about roots already visited that hold no other root (see [`RootDisks`]).
+    let mut disks = RootDisks::default();
+    if bounds.proved
+        && let Some(x) = known
+    {
+        let (_, ss, tt) = eval(x);
+        disks.add(x, planes.project(ss), planes.project(tt), half_m, tolerance);
+    }
     while let Some((tri, level)) = stack.pop() {
         let y = (tri[0] + tri[1] + tri[2]) / 3.0;
         let size = tri
@@ -289,6 +394,9 @@ pub fn search(
             .sqrt();
         // The sub-triangle lies in the disk of radius `size` about `y`.
         if (from - y).length() - size > radius * (1.0 + 1e-9) + 1e-12 {
+            continue;
+        }
+        if disks.cover(tri) {
             continue;
         }
         let (p, ss, tt) = eval(y);
@@ -311,6 +419,9 @@ pub fn search(
         }
         if root_here {
             visit(y, p);
+            if bounds.proved {
+                disks.add(y, ju, jv, half_m, tolerance);
+            }
             if unique || level == settings.fallback_depth {
                 continue;
             }
@@ -378,6 +489,53 @@ pub fn search(
         }
     }
     Some(undecided)
+}
+
+/// Disks about known roots of a piece that hold no other root: at a root `x*` (`|F(x*)| ≤ τ`)
+/// with Jacobian `J*` of smallest singular value `σ`, Taylor's theorem gives
+/// `|F(x)| ≥ σ r − ½ M r² − τ` at distance `r` from `x*`, positive for `ρ_lo < r < ρ_hi`
+/// (`ρ = (σ ∓ √(σ² − 2 M τ)) / M`). So every root within `ρ_hi` of `x*` lies within `ρ_lo`
+/// (about `2τ / σ`) of it: it is the same hit as `x*` up to the root tolerance, as any accepted
+/// root is. A sub-triangle inside such a disk needs no search. This settles the neighbourhood
+/// of the root that a secondary ray leaving the surface meets just behind its origin, where
+/// the Taylor bound cannot exclude anything (the ray runs within the offset of the surface).
+#[derive(Clone, Copy, Debug, Default)]
+struct RootDisks {
+    /// Centres and radii `ρ_hi` (shrunk for rounding).
+    disks: [(DVec2, f64); 4],
+    /// How many of `disks` are set.
+    count: usize,
+}
+
+impl RootDisks {
+    /// Adds the disk about the root `x` with projected tangents `ju`, `jv`, `half_m` half the
+    /// bound on the residual's second derivative and root tolerance `tolerance` (nothing when
+    /// full, or when the Jacobian is too close to singular for a disk).
+    fn add(&mut self, x: DVec2, ju: DVec2, jv: DVec2, half_m: f64, tolerance: f64) {
+        if self.count == self.disks.len() {
+            return;
+        }
+        let sigma = ju.perp_dot(jv).abs() / (ju.length_squared() + jv.length_squared()).sqrt();
+        // Rounding: the bound grows by a relative 1e-9, the tolerance by 1e-12 as well.
+        let half_m = half_m * (1.0 + 1e-9);
+        let tau = tolerance * (1.0 + 1e-9) + 1e-12;
+        let disc = sigma * sigma - 4.0 * half_m * tau;
+        if !(disc > 0.0 && half_m > 0.0 && sigma.is_finite()) {
+            return;
+        }
+        let rho = (sigma + disc.sqrt()) / (2.0 * half_m) * (1.0 - 1e-9);
+        if rho.is_finite() && rho > 0.0 {
+            self.disks[self.count] = (x, rho);
+            self.count += 1;
+        }
+    }
+
+    /// True when one disk holds the whole triangle `tri`.
+    fn cover(&self, tri: [DVec2; 3]) -> bool {
+        self.disks[..self.count]
+            .iter()
+            .any(|&(x, rho)| tri.iter().all(|c| (*c - x).length() < rho))
+    }
 }
 
 /// True when no point of the triangle `tri` (centroid `y`, every point within `size` of `y`)
@@ -548,6 +706,188 @@ mod tests {
             second,
             1e-10
         ));
+    }
+
+    /// The paraboloid cap `S(s, t) = (s, t, 1 − (s − a)² − (t − b)²)` over the unit triangle (a
+    /// quadratic Bézier patch, the osculating quadric of a unit-curvature sphere at its top),
+    /// with its derivatives.
+    fn cap(x: DVec2) -> (DVec3, DVec3, DVec3) {
+        let (a, b) = (CAP_TOP.x, CAP_TOP.y);
+        let (ds, dt) = (x.x - a, x.y - b);
+        (
+            DVec3::new(x.x, x.y, 1.0 - ds * ds - dt * dt),
+            DVec3::new(1.0, 0.0, -2.0 * ds),
+            DVec3::new(0.0, 1.0, -2.0 * dt),
+        )
+    }
+
+    /// Where the cap is highest.
+    const CAP_TOP: DVec2 = DVec2::new(0.35, 0.3);
+
+    /// The cap's certified bounds: `|S − A| ≤ s(1 − s) + t(1 − t) ≤ ½` for the affine map `A` of
+    /// the corners, whose Jacobian has singular values ≥ 1 (its first two rows are the
+    /// identity), so the affine radius is ½; `|D²S(δ, δ)| = 2` for unit δ, counted in full in
+    /// both parts of the bound.
+    fn cap_bounds() -> PieceBounds {
+        PieceBounds {
+            corners: [DVec2::ZERO, DVec2::X, DVec2::Y].map(|x| cap(x).0),
+            affine_radius: 0.5,
+            second_bound: [2.0, 2.0],
+            proved: true,
+        }
+    }
+
+    /// A ray along +x in the plane `y = b` at height `1 − h`: it meets the cap where
+    /// `(s − a)² = h`, two roots `2√h` apart that merge into the silhouette as `h → 0`, and
+    /// passes `|h|` above it for `h < 0`.
+    fn grazing_ray(h: f64) -> Ray64 {
+        Ray64::new(DVec3::new(-3.0, CAP_TOP.y, 1.0 - h), DVec3::X)
+    }
+
+    #[test]
+    fn a_ray_grazing_a_silhouette_is_settled_within_eight_iterations() {
+        let bounds = cap_bounds();
+        let settings = NewtonSettings::default();
+        let tolerance = 1e-10;
+        for k in [2, 4, 6, 8, 10, 12] {
+            let h = 10f64.powi(-k);
+            let ray = grazing_ray(h);
+            let planes = RayPlanes::new(&ray);
+            let start = planar_start(bounds.corners, bounds.affine_radius, &ray);
+            let Newton::Root(st, iterations, p) =
+                newton(&cap, &bounds, start, &planes, tolerance, &settings)
+            else {
+                panic!("h = {h:e}: no root");
+            };
+            assert!(iterations <= 8, "h = {h:e}: {iterations} iterations");
+            // On the surface: the point Newton reports is the cap's at (s, t) up to the
+            // residual's Taylor bound, and within the tolerance of the ray.
+            let on_cap = cap(st).0;
+            assert!(
+                (on_cap - p).length() <= tolerance,
+                "h = {h:e}: {p} vs {on_cap}"
+            );
+            assert!(
+                planes.residual(on_cap).length() <= 2.0 * tolerance,
+                "h = {h:e}"
+            );
+            // One of the two exact roots, to the accuracy the fold allows: |J Δ| ≥ 2√h |Δ|.
+            let error = [-1.0, 1.0]
+                .map(|side| (st - (CAP_TOP + DVec2::new(side * h.sqrt(), 0.0))).length())
+                .into_iter()
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                error <= 2.0 * tolerance / h.sqrt(),
+                "h = {h:e}: {st} is {error:e} from the roots"
+            );
+        }
+    }
+
+    #[test]
+    fn a_ray_just_outside_a_silhouette_is_certified_a_miss() {
+        let bounds = cap_bounds();
+        let settings = NewtonSettings::default();
+        let tolerance = 1e-10;
+        for k in [1, 2, 3, 4] {
+            let h = -(10f64.powi(-k));
+            let ray = grazing_ray(h);
+            let planes = RayPlanes::new(&ray);
+            let start = planar_start(bounds.corners, bounds.affine_radius, &ray);
+            let run = newton(&cap, &bounds, start, &planes, tolerance, &settings);
+            assert!(!matches!(run, Newton::Root(..)), "{h:e}: {run:?}");
+            if run == Newton::Failed {
+                let mut roots = 0;
+                let undecided = search(
+                    cap,
+                    &bounds,
+                    start,
+                    &planes,
+                    tolerance,
+                    &settings,
+                    |_| false,
+                    None,
+                    |_, _| roots += 1,
+                );
+                assert_eq!(roots, 0, "{h:e}");
+                assert!(
+                    matches!(undecided, None | Some(0)),
+                    "{h:e}: {undecided:?} pieces undecided"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_disk_about_a_root_holds_no_other_root() {
+        // The cap and a ray meeting it twice, 2√h apart: the disk about either root must not
+        // reach the other, and must reach beyond the tolerance.
+        let h = 1e-4;
+        let ray = grazing_ray(h);
+        let planes = RayPlanes::new(&ray);
+        let half_m = 0.5 * 4.0;
+        for side in [-1.0, 1.0] {
+            let root = CAP_TOP + DVec2::new(side * h.sqrt(), 0.0);
+            let other = CAP_TOP - DVec2::new(side * h.sqrt(), 0.0);
+            let (_, ss, tt) = cap(root);
+            let mut disks = RootDisks::default();
+            disks.add(root, planes.project(ss), planes.project(tt), half_m, 1e-10);
+            assert_eq!(disks.count, 1);
+            let rho = disks.disks[0].1;
+            assert!(rho > 1e-6 && rho < (other - root).length(), "{rho}");
+            let tiny = [
+                root,
+                root + DVec2::new(1e-7, 0.0),
+                root + DVec2::new(0.0, 1e-7),
+            ];
+            assert!(disks.cover(tiny));
+            let reaching = [root, other, root + DVec2::new(0.0, 1e-7)];
+            assert!(!disks.cover(reaching));
+        }
+    }
+
+    /// Rays grazing a sphere of Bézier patches along a tangent, just below the tangent plane
+    /// (two roots close together: a silhouette seen along the ray) or just above it, through
+    /// the tracer: every ray below hits, every hit lies on its ray and its patch, no ray above
+    /// hits (the surface is convex). The Newton counters are printed, not asserted: on these
+    /// rays (1e-2 to 1e-8 from the tangent plane) Newton still fails on some leaves holding
+    /// the hit, and the search leaves pieces undecided beside the rays just above.
+    #[test]
+    fn silhouette_rays_through_the_tracer() {
+        use crate::render::intersect::{IntersectCounters, Tracer};
+        use crate::render::sampler::uniform;
+        let surface = crate::testing::surfaces::octahedron_sphere(4, 1.0, 1);
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
+        let mut counters = IntersectCounters::default();
+        let (mut hits, mut worst) = (0, 0.0_f64);
+        for i in 0..4000u64 {
+            let patch = &surface.patches[(i % surface.patches.len() as u64) as usize];
+            let u = 0.05 + 0.9 * uniform(4, i, 0, 0);
+            let v = (0.95 - u) * uniform(4, i, 0, 1) + 0.025;
+            let jet = patch.jet(u, v);
+            let mut normal = jet.du.cross(jet.dv).normalize();
+            if normal.dot(jet.p) < 0.0 {
+                normal = -normal;
+            }
+            let turn = uniform(4, i, 0, 2) * std::f64::consts::TAU;
+            let (a, b) = normal.any_orthonormal_pair();
+            let dir = a * turn.cos() + b * turn.sin();
+            // 1e-2 to 1e-8 below (even i) or above (odd i) the tangent plane.
+            let depth = 10f64.powi(-((i / 2 % 7) as i32 + 2));
+            let below = i % 2 == 0;
+            let offset = if below { -depth } else { depth };
+            let ray = Ray64::new(jet.p + normal * offset - dir * 3.0, dir);
+            match tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counters) {
+                Some(hit) => {
+                    hits += 1;
+                    let p = surface.patches[hit.patch as usize].eval(hit.u, hit.v);
+                    worst = worst.max((p - ray.at(hit.t)).length());
+                }
+                None => assert!(!below, "ray {i} {depth:e} below the tangent plane missed"),
+            }
+        }
+        eprintln!("silhouette rays: {hits} hits, worst {worst:e}, {counters:?}");
+        assert_eq!(hits, 2000, "rays above the tangent plane hit");
+        assert!(worst <= tracer.root_tolerance(), "{worst:e}");
     }
 
     #[test]

@@ -40,7 +40,8 @@ pub struct RenderStats {
     pub memory_bytes: u64,
     /// Newton runs started (one per leaf the traversal reached).
     pub newton_runs: u64,
-    /// Roots found by the fallback subdivision after a failed Newton run.
+    /// Leaves whose hit only the fallback subdivision found: after a failed Newton run, or
+    /// after a run whose root lay outside the ray's interval.
     pub fallback_roots: u64,
     /// Newton runs that could neither find a root in their leaf nor prove there is none (the
     /// fallback searched the leaf; most find nothing: the ray misses that leaf).
