@@ -1,9 +1,14 @@
-//! Renderer throughput (short configurations, well under a minute in total):
+//! Renderer throughput (a few minutes in total; the job group is the longest):
 //! - BVH build over subdivided patch bounds, in patches per second, for an `hb` torus of
 //!   15 360 quintic patches;
 //! - primary-ray throughput (closest hit, one thread) on that surface;
 //! - exact patches against the tessellated path at the level whose largest normal error is
 //!   ≤ 0.01°, on a 1600-patch hb torus (the 15k-patch one would need ~16M triangles).
+//!
+//! - the BVH build of an `hb` icosphere of 81,920 faces (327,680 patches), for the cost per
+//!   10^5 patches at scale;
+//! - a whole `smoothlab render` job (OBJ read, weld and validation, hb, BVH, a 1024² zebra
+//!   image, PNG) on that icosphere.
 //!
 //! Setup prints the figures criterion does not: leaves, memory, the tessellation level chosen
 //! and its normal error, Newton statistics.
@@ -45,6 +50,48 @@ fn bvh_build(c: &mut Criterion) {
         b.iter(|| PatchBvh::build(black_box(&surface), &SubdivisionCriterion::default()))
     });
     group.finish();
+}
+
+/// The unit icosphere of 81,920 faces (`generate::analytic::sphere(6)`).
+fn icosphere_81920() -> Mesh {
+    let sampled = smoothlab::mesh::generate::analytic::sphere(6);
+    let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).expect("icosphere");
+    mesh
+}
+
+fn bvh_build_at_scale(c: &mut Criterion) {
+    let surface = smoothlab::schemes::build("hb", &icosphere_81920(), &[]).expect("hb");
+    let mut group = c.benchmark_group("bvh_build");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(surface.patches.len() as u64));
+    group.bench_function("hb_icosphere_327k_patches", |b| {
+        b.iter(|| PatchBvh::build(black_box(&surface), &SubdivisionCriterion::default()))
+    });
+    group.finish();
+}
+
+/// The whole render command on the 81,920-face icosphere, as a user runs it.
+fn render_job(c: &mut Criterion) {
+    use smoothlab::app::render::{RenderArgs, render_command};
+    let dir = std::env::temp_dir().join(format!("smoothlab-bench-job-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    let obj = dir.join("icosphere-81920.obj");
+    std::fs::write(&obj, icosphere_81920().to_obj("icosphere")).expect("write the mesh");
+    let args = RenderArgs {
+        input: obj,
+        scheme: Some("hb".into()),
+        size: Some([1024, 1024]),
+        no_exr: true,
+        output: Some(dir.join("job")),
+        ..RenderArgs::default()
+    };
+    let mut group = c.benchmark_group("render_job");
+    group.sample_size(10);
+    group.bench_function("hb_icosphere_81920_faces_1024", |b| {
+        b.iter(|| render_command(black_box(&args)).expect("render"))
+    });
+    group.finish();
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 fn primary_rays(c: &mut Criterion) {
@@ -136,7 +183,14 @@ fn ray_stats(side: u32) {
     );
 }
 
-criterion_group!(benches, bvh_build, primary_rays, exact_vs_tessellated);
+criterion_group!(
+    benches,
+    bvh_build,
+    bvh_build_at_scale,
+    primary_rays,
+    exact_vs_tessellated,
+    render_job
+);
 
 fn main() {
     if let Some(side) = std::env::var("RENDER_RAY_STATS")
