@@ -299,6 +299,9 @@ fn render_tile<T: SurfaceTracer>(
     // stripe modes filter over it, so that the samples of a pixel together cover it.
     let cell = 1.0 / f64::from(settings.spp).sqrt();
     let filtered = mode.uses_footprint();
+    // With one sample per pixel, that sample is the pixel centre and its ray is the geometry
+    // ray: one ray per pixel, not two.
+    let centre_only = settings.spp == 1;
     for y in y0..y0 + th {
         for x in x0..x0 + tw {
             let pixel = u64::from(y) * u64::from(w) + u64::from(x);
@@ -325,19 +328,28 @@ fn render_tile<T: SurfaceTracer>(
                 }
             });
             tile.geometry.push(geometry);
-            // Colour: stratified supersampling.
+            // Colour: stratified supersampling (the centre ray alone at one sample per pixel).
             let mut sum = DVec3::ZERO;
             for s in 0..settings.spp {
-                let (ox, oy) = pixel_offset(settings.seed, pixel, s, settings.spp);
+                let (ox, oy) = if centre_only {
+                    (0.5, 0.5)
+                } else {
+                    pixel_offset(settings.seed, pixel, s, settings.spp)
+                };
                 let (sx, sy) = ndc(f64::from(x) + ox, f64::from(y) + oy);
                 let ray = camera.ray(sx, sy, aspect);
-                tile.rays += 1;
-                let hit = if settings.surface {
-                    tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut tile.counters)
+                let hit = if centre_only {
+                    centre_hit
                 } else {
-                    None
+                    tile.rays += 1;
+                    let hit = if settings.surface {
+                        tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut tile.counters)
+                    } else {
+                        None
+                    };
+                    tile.hits += u64::from(hit.is_some());
+                    hit
                 };
-                tile.hits += u64::from(hit.is_some());
                 let tube = settings.curves.as_ref().and_then(|tubes| {
                     let t_max = hit.map_or(f64::INFINITY, |h| h.t);
                     tubes
@@ -443,6 +455,43 @@ mod tests {
         assert_eq!(stats_one.rays, stats_two.rays);
         assert_eq!(stats_one.newton_runs, stats_two.newton_runs);
         assert!(stats_one.hits > 0 && stats_one.misses > 0, "{stats_one:?}");
+    }
+
+    /// At one sample per pixel the colour comes from the pixel-centre ray, traced once: one
+    /// ray per pixel, and each hit pixel coloured from the normal of its geometry record.
+    #[test]
+    fn one_sample_per_pixel_traces_the_centre_ray_once() {
+        let surface = octahedron_sphere(3, 1.0, 0);
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
+        let (w, h) = (40u32, 30u32);
+        let camera = Camera::frame(&surface.bounds(), Camera::DEFAULT_VIEW, 35.0, 4.0 / 3.0)
+            .expect("camera");
+        let mut settings = small_settings(Mode::Normals);
+        (settings.width, settings.height, settings.spp) = (w, h, 1);
+        let (frame, stats) = render(&tracer, &camera, &settings).expect("render");
+        assert_eq!(stats.rays, u64::from(w * h));
+        assert_eq!(stats.rays_per_pixel, 1.0);
+        let hit_pixels = frame.geometry.iter().filter(|g| g.is_some()).count() as u64;
+        assert_eq!(stats.hits, hit_pixels);
+        for (k, g) in frame.geometry.iter().enumerate() {
+            if let Some(g) = g {
+                let expected =
+                    crate::render::modes::palette::srgb_to_linear(0.5 * (g.normal + DVec3::ONE));
+                let rgb = DVec3::from(frame.rgb[k].map(f64::from));
+                assert!(
+                    (rgb - expected).abs().max_element() < 1e-6,
+                    "pixel {k}: colour {rgb} from normal {}",
+                    g.normal
+                );
+            }
+        }
+        settings.spp = 4;
+        let (_, stats) = render(&tracer, &camera, &settings).expect("render");
+        assert_eq!(
+            stats.rays,
+            5 * u64::from(w * h),
+            "centre ray plus four samples"
+        );
     }
 
     /// The geometry record of a pixel is the exact surface point on the pixel-centre ray, and

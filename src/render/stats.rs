@@ -13,8 +13,8 @@ pub struct RenderStats {
     pub rays: u64,
     /// Pixels rendered (summed over the frames of an animation).
     pub pixels: u64,
-    /// Rays per pixel: `rays / pixels` (at 1 spp a geometry ray through the pixel centre plus
-    /// a jittered colour ray, so 2; more with samples and, in `shaded` mode, bounces).
+    /// Rays per pixel: `rays / pixels` (a geometry ray through the pixel centre plus one ray
+    /// per sample, the centre ray alone at 1 spp; more in `shaded` mode, with its bounces).
     pub rays_per_pixel: f64,
     /// Rays per second of `render_ms` (all threads together).
     pub rays_per_s: f64,
