@@ -36,7 +36,7 @@ use crate::render::output::{output_stem, srgb8, with_suffix, write_png};
 use crate::render::stats::RenderStats;
 use crate::render::tessellate::TessellatedTracer;
 use crate::render::trace::SurfaceTracer;
-use crate::report::shard::{Manifest, Shard, check_parts, items_of, missing_text};
+use crate::report::shard::{Manifest, Shard, items_of, read_complete_parts};
 use crate::surface::Surface;
 
 /// The most frames of a turntable or sweep.
@@ -372,28 +372,13 @@ fn gif_frame(encoder: &mut GifEncoder<&mut Vec<u8>>, image: RgbaImage, gif: &Pat
 /// bytes the whole run writes. Returns a line for the terminal. A missing shard is an error
 /// naming it.
 pub fn merge_frames(parts: &[PathBuf], name: &Path) -> Result<String> {
-    let mut read = Vec::new();
-    for path in parts {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let part: FramesPart = serde_json::from_str(&text).map_err(|e| {
-            Error::Invalid(format!(
-                "{}: not a smoothlab frames part: {e}",
-                path.display()
-            ))
-        })?;
-        read.push((path.clone(), part));
-    }
-    let named: Vec<(String, &Manifest)> = read
-        .iter()
-        .map(|(p, part)| (p.display().to_string(), &part.manifest))
-        .collect();
-    let (count, missing) = check_parts(&named)?;
-    if !missing.is_empty() {
-        return Err(Error::Invalid(format!(
-            "merge: {}; frames are not merged",
-            missing_text(&missing, count)
-        )));
-    }
+    let read = read_complete_parts(
+        parts,
+        "frames",
+        |part: &FramesPart| &part.manifest,
+        "frames are not merged",
+    )?;
+    let count = read[0].1.manifest.shard.count;
     let n = read[0].1.frames.len();
     let frames_u32 =
         u32::try_from(n).map_err(|_| Error::Invalid(format!("merge: {n} frames are too many")))?;

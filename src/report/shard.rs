@@ -243,6 +243,40 @@ pub fn check_parts(parts: &[(String, &Manifest)]) -> Result<(u32, Vec<u32>)> {
     Ok((first.shard.count, missing))
 }
 
+/// Reads the part files `parts` (JSON of one `kind` of partial result, e.g. "figure") and
+/// checks with [`check_parts`] that they are the shards of one run and that none is missing;
+/// a missing shard is an error ending in `not_merged`. The parts come back in the order given.
+pub fn read_complete_parts<T: serde::de::DeserializeOwned>(
+    parts: &[std::path::PathBuf],
+    kind: &str,
+    manifest: impl Fn(&T) -> &Manifest,
+    not_merged: &str,
+) -> Result<Vec<(std::path::PathBuf, T)>> {
+    let mut read = Vec::new();
+    for path in parts {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let part: T = serde_json::from_str(&text).map_err(|e| {
+            Error::Invalid(format!(
+                "{}: not a smoothlab {kind} part: {e}",
+                path.display()
+            ))
+        })?;
+        read.push((path.clone(), part));
+    }
+    let named: Vec<(String, &Manifest)> = read
+        .iter()
+        .map(|(p, part)| (p.display().to_string(), manifest(part)))
+        .collect();
+    let (count, missing) = check_parts(&named)?;
+    if !missing.is_empty() {
+        return Err(Error::Invalid(format!(
+            "merge: {}; {not_merged}",
+            missing_text(&missing, count)
+        )));
+    }
+    Ok(read)
+}
+
 /// The one-line description of missing shards, e.g. `shards 1/4, 3/4 missing`.
 pub fn missing_text(missing: &[u32], count: u32) -> String {
     let names: Vec<String> = missing.iter().map(|i| format!("{i}/{count}")).collect();

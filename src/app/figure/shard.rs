@@ -26,7 +26,7 @@ use crate::error::{Error, Result};
 use crate::files::{check_writable, create_folder, write_atomic};
 use crate::render::modes::Mode;
 use crate::render::output::{output_stem, with_suffix, write_exr, write_png, write_rgb_png};
-use crate::report::shard::{Manifest, Shard, check_parts, items_of, missing_text};
+use crate::report::shard::{Manifest, Shard, items_of, read_complete_parts};
 
 /// The kind of work of partial figures, in their [`Manifest`].
 pub const FIGURE_KIND: &str = "figure";
@@ -237,28 +237,13 @@ pub fn shard_summary(files: &FigureShardFiles) -> String {
 /// files: the bytes `smoothlab figure SPEC` writes. Returns a line for the terminal. A missing
 /// shard is an error naming it.
 pub fn merge_figure(parts: &[PathBuf], out: &Path) -> Result<String> {
-    let mut read = Vec::new();
-    for path in parts {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let part: FigurePart = serde_json::from_str(&text).map_err(|e| {
-            Error::Invalid(format!(
-                "{}: not a smoothlab figure part: {e}",
-                path.display()
-            ))
-        })?;
-        read.push((path.clone(), part));
-    }
-    let named: Vec<(String, &Manifest)> = read
-        .iter()
-        .map(|(p, part)| (p.display().to_string(), &part.manifest))
-        .collect();
-    let (count, missing) = check_parts(&named)?;
-    if !missing.is_empty() {
-        return Err(Error::Invalid(format!(
-            "merge: {}; the figure is not merged",
-            missing_text(&missing, count)
-        )));
-    }
+    let read = read_complete_parts(
+        parts,
+        "figure",
+        |part: &FigurePart| &part.manifest,
+        "the figure is not merged",
+    )?;
+    let count = read[0].1.manifest.shard.count;
     let first = &read[0].1;
     let n = first.cells.len();
     // Every cell's source files (the PNG and, when there are EXRs, the EXR), by its shard.
