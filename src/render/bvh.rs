@@ -392,8 +392,6 @@ const SUBDIVISION_CHUNK: usize = 512;
 struct Pieces {
     leaves: Vec<Leaf>,
     boxes: Vec<obvhs::aabb::Aabb>,
-    /// Power forms of the leaves that have one, in order ([`Leaf::power`] indexes them).
-    power: Vec<DVec3>,
     /// Blend leaves' bounds for [`PatchBvh::blend_second_bounds`] ([`Leaf::power`] indexes
     /// them).
     blend_second_bounds: Vec<f64>,
@@ -402,22 +400,12 @@ struct Pieces {
 }
 
 impl Pieces {
-    /// Appends one leaf with its box (f32, grown by `padding`), its power form (empty if
-    /// none) and, for a blend leaf, its sub-surfaces' bound.
-    fn push(
-        &mut self,
-        mut leaf: Leaf,
-        bounds: &Aabb,
-        padding: f64,
-        power: &[DVec3],
-        sub: Option<f64>,
-    ) {
+    /// Appends one leaf with its box (f32, grown by `padding`) and, for a blend leaf, its
+    /// sub-surfaces' bound.
+    fn push(&mut self, mut leaf: Leaf, bounds: &Aabb, padding: f64, sub: Option<f64>) {
         if let Some(sub) = sub {
             leaf.power = self.blend_second_bounds.len() as u32;
             self.blend_second_bounds.push(sub);
-        } else {
-            leaf.power = self.power.len() as u32;
-            self.power.extend_from_slice(power);
         }
         self.leaves.push(leaf);
         self.boxes.push(outward_f32(bounds, padding));
@@ -505,18 +493,16 @@ impl PatchBvh {
         let mut all = Pieces {
             leaves: Vec::with_capacity(count(|p| p.leaves.len())),
             boxes: Vec::with_capacity(count(|p| p.boxes.len())),
-            power: Vec::with_capacity(count(|p| p.power.len())),
             blend_second_bounds: Vec::with_capacity(count(|p| p.blend_second_bounds.len())),
             whole: Vec::with_capacity(count(|p| p.whole.len())),
         };
         for chunk in chunks {
-            let (power, blend) = (all.power.len() as u32, all.blend_second_bounds.len() as u32);
+            let blend = all.blend_second_bounds.len() as u32;
             all.leaves.extend(chunk.leaves.iter().map(|leaf| Leaf {
-                power: leaf.power + if leaf.degree > 0 { power } else { blend },
+                power: leaf.power + blend,
                 ..*leaf
             }));
             all.boxes.extend_from_slice(&chunk.boxes);
-            all.power.extend_from_slice(&chunk.power);
             all.blend_second_bounds
                 .extend_from_slice(&chunk.blend_second_bounds);
             all.whole.extend(chunk.whole);
@@ -524,17 +510,16 @@ impl PatchBvh {
         let Pieces {
             leaves,
             boxes,
-            power,
             blend_second_bounds: blend_bounds,
             whole,
         } = all;
         let bvh = build_cwbvh(&boxes, build_params(), &mut Duration::default());
         drop(boxes);
-        // Leaves and their coefficients in traversal order, so that neighbouring BVH leaves
-        // are neighbours in memory too.
-        let order = &bvh.primitive_indices;
-        let (leaves, power, blend_second_bounds) =
-            traversal_order(leaves, power, &blend_bounds, order);
+        // Leaves and their power forms in traversal order, so that neighbouring BVH leaves
+        // are neighbours in memory too; the forms are made only now, straight into place.
+        let (mut leaves, blend_second_bounds) =
+            traversal_order(leaves, &blend_bounds, &bvh.primitive_indices);
+        let power = power_forms(surface, frame, &mut leaves);
         let mut whole_index = Vec::new();
         if !whole.is_empty() {
             whole_index = vec![u32::MAX; surface.patches.len()];
@@ -577,50 +562,91 @@ impl PatchBvh {
     }
 }
 
-/// `leaves` (with the power forms `power` and blend bounds `blend` they index) rearranged so
-/// that leaf `i` is the old leaf `order[i]`. When every leaf has a power form of the same
-/// size, the forms are permuted in place (no second copy of the largest array).
-fn traversal_order(
-    leaves: Vec<Leaf>,
-    mut power: Vec<DVec3>,
-    blend: &[f64],
-    order: &[u32],
-) -> (Vec<Leaf>, Vec<DVec3>, Vec<f64>) {
-    let size = |leaf: &Leaf| point_count(usize::from(leaf.degree));
-    let uniform = leaves
-        .first()
-        .filter(|first| first.degree > 0 && leaves.iter().all(|leaf| leaf.degree == first.degree));
-    if let Some(first) = uniform {
-        let block = size(first);
-        permute_blocks(&mut power, block, order);
-        let leaves = order
-            .iter()
-            .enumerate()
-            .map(|(i, &o)| Leaf {
-                power: (i * block) as u32,
-                ..leaves[o as usize]
-            })
-            .collect();
-        return (leaves, power, Vec::new());
+/// `leaves` (with the blend bounds `blend` they index) rearranged so that leaf `i` is the old
+/// leaf `order[i]`; in place when there are no blend leaves.
+fn traversal_order(leaves: Vec<Leaf>, blend: &[f64], order: &[u32]) -> (Vec<Leaf>, Vec<f64>) {
+    if blend.is_empty() {
+        let mut leaves = leaves;
+        permute_blocks(&mut leaves, 1, order);
+        return (leaves, Vec::new());
     }
-    let mut reordered = Vec::with_capacity(power.len());
-    let mut blend_second_bounds = Vec::new();
+    let mut blend_second_bounds = Vec::with_capacity(blend.len());
     let leaves = order
         .iter()
         .map(|&o| {
             let mut leaf = leaves[o as usize];
-            let at = leaf.power as usize;
-            if leaf.degree > 0 {
-                leaf.power = reordered.len() as u32;
-                reordered.extend_from_slice(&power[at..at + size(&leaf)]);
-            } else if let Some(&bound) = blend.get(at) {
+            if let Some(&bound) = blend.get(leaf.power as usize).filter(|_| leaf.degree == 0) {
                 leaf.power = blend_second_bounds.len() as u32;
                 blend_second_bounds.push(bound);
             }
             leaf
         })
         .collect();
-    (leaves, reordered, blend_second_bounds)
+    (leaves, blend_second_bounds)
+}
+
+/// Leaves per work item when the power forms are made.
+const POWER_CHUNK: usize = 1024;
+
+/// The power forms of `leaves` (in their order; each leaf's [`Leaf::power`] is set to the
+/// start of its run), made in parallel straight into one array: each leaf's sub-net is
+/// rebuilt from its patch in `frame` by the same splits as [`subdivide_patch`], bit for bit.
+fn power_forms(surface: &Surface, frame: UnitFrame, leaves: &mut [Leaf]) -> Vec<DVec3> {
+    let size = |leaf: &Leaf| {
+        if leaf.degree > 0 {
+            point_count(usize::from(leaf.degree))
+        } else {
+            0
+        }
+    };
+    let mut total = 0;
+    for leaf in leaves.iter_mut().filter(|leaf| leaf.degree > 0) {
+        leaf.power = total as u32;
+        total += size(leaf);
+    }
+    let mut power = vec![DVec3::ZERO; total];
+    let mut work = Vec::new();
+    let mut rest = power.as_mut_slice();
+    for chunk in leaves.chunks(POWER_CHUNK) {
+        let (head, tail) = rest.split_at_mut(chunk.iter().map(size).sum());
+        work.push((chunk, head));
+        rest = tail;
+    }
+    work.into_par_iter().for_each(|(chunk, out)| {
+        let mut at = 0;
+        for leaf in chunk.iter().filter(|leaf| leaf.degree > 0) {
+            let PatchGeometry::Bezier(net) = &surface.patches[leaf.patch as usize].geometry else {
+                continue;
+            };
+            let piece = leaf_piece(net.map_points(|p| frame.map(p)), leaf.tri());
+            let form = power_coefficients(&piece);
+            out[at..at + form.len()].copy_from_slice(&form);
+            at += form.len();
+        }
+    });
+    power
+}
+
+/// The sub-net of `net` over the sub-triangle `target` of its domain, a piece of repeated
+/// [`split4`]s: the splits are retraced from the whole domain (the child holding `target`'s
+/// centroid at each level), each by the same [`TriangleBezier::subdivide`] as the subdivision.
+fn leaf_piece(net: TriangleBezier, target: [DVec2; 3]) -> TriangleBezier {
+    let centroid = (target[0] + target[1] + target[2]) / 3.0;
+    let (mut tri, mut piece) = (UV_CORNERS, net);
+    // A leaf is at most 23 splits deep (its corners are stored in f32).
+    for _ in 0..24 {
+        if tri == target {
+            break;
+        }
+        let children = split4(tri);
+        let Some(c) = (0..4).find(|&c| barycentric_in(children[c], centroid).min_element() > 0.0)
+        else {
+            break;
+        };
+        piece = piece.subdivide(CHILD_CORNERS[c]);
+        tri = children[c];
+    }
+    piece
 }
 
 /// Rearranges `data`, blocks of `block` items, in place so that block `i` becomes the old
@@ -674,13 +700,11 @@ fn subdivide_patch(
             let corners = [piece.point(d, 0), piece.point(0, d), piece.point(0, 0)];
             let mut leaf = Leaf::new(patch, tri, corners, &[&piece]);
             leaf.second_bound = second_derivative_bounds(&piece, leaf.normal()).map(f32_up);
-            let form = if (1..=MAX_POWER_DEGREE).contains(&d) {
+            if (1..=MAX_POWER_DEGREE).contains(&d) {
+                // Its power form is made after the BVH, in traversal order ([`power_forms`]).
                 leaf.degree = d as u8;
-                power_coefficients(&piece)
-            } else {
-                Vec::new()
-            };
-            out.push(leaf, &piece.control_bounds(), padding, &form, None);
+            }
+            out.push(leaf, &piece.control_bounds(), padding, None);
             continue;
         }
         let child_tris = split4(tri);
@@ -725,7 +749,7 @@ fn subdivide_blend(
                 })
                 .fold(0.0, f64::max);
             // No power form: Newton evaluates the blend itself.
-            out.push(leaf, &bounds, padding, &[], Some(sub));
+            out.push(leaf, &bounds, padding, Some(sub));
             continue;
         }
         let child_tris = split4(tri);
