@@ -105,7 +105,7 @@ pub struct Tracer<'s> {
     pub centre: DVec3,
     /// Unit frame scale (a power of two).
     pub scale: f64,
-    /// The BVH of [`Tracer::unit`].
+    /// The BVH of the surface in the unit frame.
     pub bvh: PatchBvh,
     /// Newton tunables.
     pub newton: NewtonSettings,
