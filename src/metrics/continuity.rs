@@ -77,6 +77,18 @@ pub fn tolerance(m: usize) -> f64 {
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Series<T = f64>([T; TERMS]);
 
+/// The largest difference between the order-`m` coefficients of the two height series `ha`
+/// and `hb`, and the largest of those coefficients in magnitude.
+fn order_difference(ha: &Series, hb: &Series, m: usize) -> (f64, f64) {
+    let (mut diff, mut mag) = (0.0_f64, 0.0_f64);
+    for i in 0..=m {
+        let k = term(i, m - i);
+        diff = diff.max((ha.0[k] - hb.0[k]).abs());
+        mag = mag.max(ha.0[k].abs()).max(hb.0[k].abs());
+    }
+    (diff, mag)
+}
+
 /// Index of the coefficient of `x^i y^j`.
 fn term(i: usize, j: usize) -> usize {
     let m = i + j;
@@ -730,12 +742,7 @@ fn measure_with_floor(
             break;
         }
         let [ha, hb] = point.heights_at(m);
-        let (mut diff, mut mag) = (0.0_f64, 0.0_f64);
-        for i in 0..=m {
-            let k = term(i, m - i);
-            diff = diff.max((ha.0[k] - hb.0[k]).abs());
-            mag = mag.max(ha.0[k].abs()).max(hb.0[k].abs());
-        }
+        let (diff, mag) = order_difference(ha, hb, m);
         let scale = mag.max(diag.powi(1 - m as i32));
         if diff > tolerance(m) * scale {
             let Some(nets) = nets else {
@@ -1041,12 +1048,7 @@ pub(crate) fn diagnose(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> V
     (1..=point.limit)
         .map(|m| {
             let [ha, hb] = point.heights_at(m);
-            let (mut diff, mut mag) = (0.0_f64, 0.0_f64);
-            for i in 0..=m {
-                let k = term(i, m - i);
-                diff = diff.max((ha.0[k] - hb.0[k]).abs());
-                mag = mag.max(ha.0[k].abs()).max(hb.0[k].abs());
-            }
+            let (diff, mag) = order_difference(ha, hb, m);
             [diff, mag.max(diag.powi(1 - m as i32)), floor[m]]
         })
         .collect()
