@@ -49,6 +49,21 @@ impl RingFourier {
         }
     }
 
+    /// The same sums with their components along the unit `normal` removed: the ring's first
+    /// harmonic seen in the plane with that normal (the centroid is kept).
+    pub fn in_plane(self, normal: DVec3) -> RingFourier {
+        RingFourier {
+            cos_part: self.cos_part.reject_from_normalized(normal),
+            sin_part: self.sin_part.reject_from_normalized(normal),
+            ..self
+        }
+    }
+
+    /// Unit normal of the plane of the first harmonic, `C × S` (zero if they are parallel).
+    pub fn normal(&self) -> DVec3 {
+        self.cos_part.cross(self.sin_part).normalize_or_zero()
+    }
+
     /// Centroid of the ring.
     pub fn mean(&self) -> DVec3 {
         self.mean

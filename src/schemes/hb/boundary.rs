@@ -26,7 +26,7 @@
 
 use glam::DVec3;
 
-use super::vertex::{HalfEdgeData, ShapeParams, ShapeRule, fit_shape, half_edges};
+use super::vertex::{HalfEdgeData, ShapeParams, ShapeRule, fit_shape};
 use crate::mesh::Mesh;
 use crate::schemes::vertex_rings::{
     Fan, HalfEdgeTable, half_ring_tangent_basis, open_fan_cross_data, open_loop_point,
@@ -40,8 +40,7 @@ pub fn open_half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> HalfEdgeTable<Half
         if fan.boundary {
             boundary_half_edges(fan, rule, out);
         } else {
-            let shape = rule.at_vertex(fan.position, fan.ring);
-            half_edges(fan.position, fan.ring, fan.ring_order, &shape, out);
+            rule.half_edges(fan.position, fan.ring, fan.ring_order, out);
         }
     })
 }

@@ -44,7 +44,7 @@ use crate::mesh::Mesh;
 use crate::schemes::{ParamSpec, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 use macro_patch::{FreeRule, HalfEdgeCurve, macro_patch, piece_domains};
-use vertex::{HalfEdgeData, ShapeRule, half_edges};
+use vertex::{HalfEdgeData, PlaneRule, ShapeRule};
 
 /// Registry entry.
 pub const SPEC: SchemeSpec = SchemeSpec {
@@ -75,6 +75,11 @@ pub const SPEC: SchemeSpec = SchemeSpec {
             name: "gamma2",
             default: "auto",
             help: "γ2 of eq. 15 (weight of Loop's point d); auto = 1 − γ0 − γ1, or per vertex if γ0, γ1 are auto too",
+        },
+        ParamSpec {
+            name: "plane",
+            default: "max",
+            help: "tangent plane at a vertex: max (normal by Max's weights, exact for rings on a sphere) | fourier (eq. 12, plane of the ring's first Fourier sums)",
         },
         ParamSpec {
             name: "free",
@@ -133,7 +138,19 @@ fn shape_params(params: &Params) -> Result<(ShapeRule, FreeRule)> {
         "zero-twist" => FreeRule::ZeroTwist,
         _ => FreeRule::Energy,
     };
-    Ok((ShapeRule { alpha, beta, gamma }, free))
+    let plane = match params.choice("plane", &["max", "fourier"])? {
+        "fourier" => PlaneRule::Fourier,
+        _ => PlaneRule::Max,
+    };
+    Ok((
+        ShapeRule {
+            alpha,
+            beta,
+            gamma,
+            plane,
+        },
+        free,
+    ))
 }
 
 /// Pass 1 for the whole mesh, parallel over vertices; on an open mesh the boundary vertices
@@ -143,7 +160,7 @@ fn half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> HalfEdgeTable<HalfEdgeData>
         return boundary::open_half_edge_table(mesh, rule);
     }
     HalfEdgeTable::build(mesh, |v, ring, valences, out| {
-        half_edges(v, ring, valences, &rule.at_vertex(v, ring), out)
+        rule.half_edges(v, ring, valences, out)
     })
 }
 

@@ -44,11 +44,68 @@ pub struct ShapeRule {
     pub beta: Option<f64>,
     /// (γ0, γ1, γ2) of eq. 15, or `None` for the per-vertex choice of [`adaptive_shape`].
     pub gamma: Option<[f64; 3]>,
+    /// Which plane the tangents span.
+    pub plane: PlaneRule,
+}
+
+/// The tangent plane of the surface at a mesh vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlaneRule {
+    /// eq. 12: the plane of the ring's first Fourier sums `C`, `S`.
+    Fourier,
+    /// The plane normal to Max's vertex normal `Σ e_i × e_{i+1} / (|e_i|² |e_{i+1}|²)`
+    /// (`e_i = p_i − v`; N. Max, *Weights for computing vertex normals from facet normals*,
+    /// 1999), exact when the one-ring lies on a sphere through `v`. The first Fourier sums are
+    /// projected into it, so eq. 12's tangents and eq. 17's twists keep their form.
+    Max,
+}
+
+impl PlaneRule {
+    /// The first Fourier sums of `ring` whose plane is this rule's tangent plane at `v`.
+    pub fn ring_fourier(self, v: DVec3, ring: &[DVec3]) -> RingFourier {
+        let fourier = RingFourier::new(ring);
+        match self {
+            PlaneRule::Fourier => fourier,
+            PlaneRule::Max => match max_normal(v, ring) {
+                Some(normal) => fourier.in_plane(normal),
+                None => fourier,
+            },
+        }
+    }
+}
+
+/// Max's vertex normal at `v` with the closed one-ring `ring` (see [`PlaneRule::Max`]); `None`
+/// when the weighted sum vanishes or is not finite.
+pub fn max_normal(v: DVec3, ring: &[DVec3]) -> Option<DVec3> {
+    let n = ring.len();
+    let sum: DVec3 = (0..n)
+        .map(|i| {
+            let (a, b) = (ring[i] - v, ring[(i + 1) % n] - v);
+            a.cross(b) / (a.length_squared() * b.length_squared())
+        })
+        .sum();
+    sum.try_normalize()
 }
 
 impl ShapeRule {
-    /// The parameters of the vertex `v` with one-ring `ring`.
-    pub fn at_vertex(&self, v: DVec3, ring: &[DVec3]) -> ShapeParams {
+    /// Fills `out[i]` with the data of edge `v → ring[i]` at an interior vertex by this rule
+    /// (eqs. 9–23); `ring_valence[i]` is the order of `ring[i]`.
+    pub fn half_edges(
+        &self,
+        v: DVec3,
+        ring: &[DVec3],
+        ring_valence: &[usize],
+        out: &mut [HalfEdgeData],
+    ) {
+        let fourier = self.plane.ring_fourier(v, ring);
+        let shape = self.at_vertex(v, ring, &fourier);
+        let edge_curvature = self.gamma.is_none();
+        half_edges(v, ring, ring_valence, &fourier, &shape, edge_curvature, out);
+    }
+
+    /// The parameters of the vertex `v` with one-ring `ring` and its first Fourier sums
+    /// `fourier` (in the vertex's tangent plane).
+    pub fn at_vertex(&self, v: DVec3, ring: &[DVec3], fourier: &RingFourier) -> ShapeParams {
         match (self.beta, self.gamma) {
             (Some(beta), Some(gamma)) => ShapeParams {
                 alpha: self.alpha,
@@ -56,7 +113,7 @@ impl ShapeRule {
                 gamma,
             },
             _ => {
-                let adaptive = adaptive_shape(v, ring, self.alpha, self.beta);
+                let adaptive = adaptive_shape(v, ring, fourier, self.alpha, self.beta);
                 ShapeParams {
                     gamma: self.gamma.unwrap_or(adaptive.gamma),
                     ..adaptive
@@ -104,15 +161,17 @@ pub const GAMMA2_RANGE: [f64; 2] = [0.0, 0.25];
 ///   of uniform speed), and γ0 = 1 − γ1 − γ2.
 ///
 /// With `beta = Some(β)`, β is kept and only the γ are chosen.
-pub fn adaptive_shape(v: DVec3, ring: &[DVec3], alpha: f64, beta: Option<f64>) -> ShapeParams {
+pub fn adaptive_shape(
+    v: DVec3,
+    ring: &[DVec3],
+    fourier: &RingFourier,
+    alpha: f64,
+    beta: Option<f64>,
+) -> ShapeParams {
     let n = ring.len();
     let nf = n as f64;
-    let fourier = RingFourier::new(ring);
     let b0 = alpha * v + (1.0 - alpha) * fourier.mean();
-    let normal = fourier
-        .cos_sum(0)
-        .cross(fourier.sin_sum(0))
-        .normalize_or_zero();
+    let normal = fourier.normal();
     // r¹_i for β = 1 (eq. 12).
     let unit_tangent: Vec<DVec3> = (0..n).map(|i| (6.0 / nf) * fourier.cos_sum(i)).collect();
     // Loop's point d_i (eq. 15).
@@ -143,11 +202,7 @@ pub(crate) fn fit_shape(
     let beta = beta.unwrap_or_else(|| {
         let (mut num, mut den) = (0.0, 0.0);
         for (t, c) in unit_tangent.iter().zip(&chords) {
-            let len = c.length();
-            let sin = (c.dot(normal).abs() / len.max(f64::MIN_POSITIVE)).min(1.0);
-            let angle = sin.asin();
-            let arc = if sin > 0.0 { len * angle / sin } else { len };
-            let q = t.length() / arc.max(f64::MIN_POSITIVE);
+            let q = t.length() / arc_length(*c, normal).max(f64::MIN_POSITIVE);
             num += q;
             den += q * q;
         }
@@ -187,6 +242,18 @@ pub(crate) fn fit_shape(
     }
 }
 
+/// Length of the circular arc from the origin to `chord` that is tangent at the origin to the
+/// plane with unit `normal`.
+fn arc_length(chord: DVec3, normal: DVec3) -> f64 {
+    let len = chord.length();
+    let sin = (chord.dot(normal).abs() / len.max(f64::MIN_POSITIVE)).min(1.0);
+    if sin > 0.0 {
+        len * sin.asin() / sin
+    } else {
+        len
+    }
+}
+
 /// The curve and cross-boundary data of one directed edge `v → p_i` that `v` determines alone.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct HalfEdgeData {
@@ -208,7 +275,9 @@ pub fn half_edges(
     v: DVec3,
     ring: &[DVec3],
     ring_valence: &[usize],
+    fourier: &RingFourier,
     shape: &ShapeParams,
+    edge_curvature: bool,
     out: &mut [HalfEdgeData],
 ) {
     let n = ring.len();
@@ -217,7 +286,6 @@ pub fn half_edges(
     let (c, s) = (theta.cos(), theta.sin());
     let ShapeParams { alpha, beta, gamma } = *shape;
 
-    let fourier = RingFourier::new(ring);
     // eq. 9/10: b0, the same for every edge at v.
     let b0 = alpha * v + (1.0 - alpha) * fourier.mean();
     // eq. 12: r¹_i = M_{u_i}(0,0) = (6β/n) Σ cos(θ(j−i)) p_j; eq. 11: b1 = b0 + r¹/6.
@@ -225,14 +293,24 @@ pub fn half_edges(
     // Φ on [0, ½] is cos θ (1 − 2u) + u (eq. 8): Φ⁰ = cos θ, Φ¹ = Φ'(0) = 1 − 2cos θ.
     let (phi_0, phi_1) = (c, 1.0 - 2.0 * c);
     let [g0, g1, g2] = gamma;
+    // eq. 15 with Loop's point d_i = (2v + p_{i−1} + 2p_i + p_{i+1}) / 6.
+    let loop_point =
+        |i: usize| (2.0 * v + ring[(i + n - 1) % n] + 2.0 * ring[i] + ring[(i + 1) % n]) / 6.0;
+    let b2_eq15 = |i: usize| g0 * b0 + g1 * (b0 + r1(i) / 6.0) + g2 * loop_point(i);
+    // Per-edge normal heights added to eq. 15's b2, and their preimages under the twist map T.
+    let (heights, heights_pre) = if edge_curvature {
+        let heights = edge_heights(v, ring, b0, fourier.normal(), |i| r1(i), b2_eq15);
+        let pre = solve_twists(&heights);
+        (heights, pre)
+    } else {
+        (Vec::new(), Vec::new())
+    };
 
     for i in 0..n {
-        let (prev, next) = (ring[(i + n - 1) % n], ring[(i + 1) % n]);
+        let next = ring[(i + 1) % n];
         let r1_i = r1(i);
         let b1 = b0 + r1_i / 6.0;
-        // eq. 15 with Loop's point d_i = (2v + p_{i−1} + 2p_i + p_{i+1}) / 6.
-        let d = (2.0 * v + prev + 2.0 * ring[i] + next) / 6.0;
-        let b2 = g0 * b0 + g1 * b1 + g2 * d;
+        let b2 = b2_eq15(i) + heights.get(i).copied().unwrap_or_default();
         // Second derivative of the boundary curve at v (eq. 14, factor re-derived: 24).
         let r2_i = 24.0 * (b2 - 2.0 * b1 + b0);
 
@@ -241,7 +319,10 @@ pub fn half_edges(
         // b̃1_i = b0 + (β/n) Σ [cos(θ(j−i)) + tan(θ/2) sin(θ(j−i))] p_j and
         // b̃2_i = γ0 b0 + γ1 b̃1_i + γ2 (v + p_i + p_{i+1}) / 3 (HB00 §6), hence eq. 17:
         let b1_pre = b0 + (beta / nf) * fourier.twist_preimage_sum(i);
-        let b2_pre = g0 * b0 + g1 * b1_pre + g2 * (v + ring[i] + next) / 3.0;
+        let b2_pre = g0 * b0
+            + g1 * b1_pre
+            + g2 * (v + ring[i] + next) / 3.0
+            + heights_pre.get(i).copied().unwrap_or_default();
         let twist = (24.0 * phi_0 - 6.0 * phi_1) * b0
             + (6.0 * phi_1 - 48.0 * phi_0) * b1_pre
             + 24.0 * phi_0 * b2_pre;
@@ -258,6 +339,68 @@ pub fn half_edges(
             phi0: c,
             psi0: s,
         };
+    }
+}
+
+/// The normal heights `λ_i N` added to eq. 15's `b2` on each edge at `v` so that every
+/// boundary curve leaving `v` starts with the normal curvature the mesh implies along its edge,
+/// `r²_i · N = κ_i |r¹_i|²` with `κ_i = 2 (p_i − v) · N / |p_i − v|²` (the circle through `v` and
+/// `p_i` tangent to the plane). HB00 §6 gives one set of shape parameters per vertex, so eq. 15
+/// alone can only give one normal curvature for all directions (measured on the torus: |H| at
+/// the vertices 1.37–2.0 against the true 0.42–1.61). For even n, (II_T) is solvable only if
+/// `Σ (−1)^i Φ⁰ r²_i = 0` (eq. 12's tangents and Loop's points meet this by symmetry), so the
+/// alternating part of the heights is removed; at n = 4 `Φ⁰ = cos(π/2) = 0` and it may stay.
+/// `b2(i)` is eq. 15's point, `r1(i)` the tangent of edge `i`.
+fn edge_heights(
+    v: DVec3,
+    ring: &[DVec3],
+    b0: DVec3,
+    normal: DVec3,
+    r1: impl Fn(usize) -> DVec3,
+    b2: impl Fn(usize) -> DVec3,
+) -> Vec<DVec3> {
+    let n = ring.len();
+    let mut lambda: Vec<f64> = (0..n)
+        .map(|i| {
+            let chord = ring[i] - v;
+            let kappa = 2.0 * chord.dot(normal) / chord.length_squared().max(f64::MIN_POSITIVE);
+            let b1 = b0 + r1(i) / 6.0;
+            let r2_normal = 24.0 * (b2(i) - 2.0 * b1 + b0).dot(normal);
+            (kappa * r1(i).length_squared() - r2_normal) / 24.0
+        })
+        .collect();
+    if n % 2 == 0 && n != 4 {
+        let alternating = (0..n).map(|i| alternate(i) * lambda[i]).sum::<f64>() / n as f64;
+        for (i, l) in lambda.iter_mut().enumerate() {
+            *l -= alternate(i) * alternating;
+        }
+    }
+    lambda.iter().map(|l| *l * normal).collect()
+}
+
+/// `(−1)^i`.
+fn alternate(i: usize) -> f64 {
+    if i % 2 == 0 { 1.0 } else { -1.0 }
+}
+
+/// Solves `½(x_i + x_{i−1}) = w_i` around a vertex (the map T of (II_T)): the unique solution
+/// for odd n; for even n, where it needs `Σ (−1)^i w_i = 0`, the one with `Σ (−1)^i x_i = 0`,
+/// as eq. 17's twists have it (n = 4 with a non-zero alternating sum: that solution of the
+/// equations with i ≥ 1).
+fn solve_twists(w: &[DVec3]) -> Vec<DVec3> {
+    let n = w.len();
+    if n % 2 == 1 {
+        // x_i = Σ_k (−1)^k w_{i−k}.
+        (0..n)
+            .map(|i| (0..n).map(|k| alternate(k) * w[(i + n - k) % n]).sum())
+            .collect()
+    } else {
+        let mut x = vec![DVec3::ZERO; n];
+        for i in 1..n {
+            x[i] = 2.0 * w[i] - x[i - 1];
+        }
+        let c = (0..n).map(|i| alternate(i) * x[i]).sum::<DVec3>() / n as f64;
+        (0..n).map(|i| x[i] - alternate(i) * c).collect()
     }
 }
 
@@ -303,16 +446,21 @@ mod tests {
     ];
 
     /// The twists solve (II_T) and V satisfies (19) and (21): the three conditions the paper
-    /// derives its formulas from, checked for orders 3..16 and several shapes.
+    /// derives its formulas from, checked for orders 3..16, several shapes, both tangent planes
+    /// and with and without the per-edge normal heights.
     #[test]
     fn twists_and_cross_boundary_data_satisfy_the_g1_conditions_at_the_vertex() {
+        let cases = SHAPES
+            .iter()
+            .flat_map(|s| [(*s, PlaneRule::Fourier, false), (*s, PlaneRule::Max, true)]);
         for n in 3..=16 {
-            for (k, shape) in SHAPES.iter().enumerate() {
+            for (k, (shape, plane, edge_curvature)) in cases.clone().enumerate() {
                 let v = DVec3::new(0.1, -0.05, 0.3);
                 let p = ring(n, (n * 7 + k) as u64);
                 let valences: Vec<usize> = (0..n).map(|i| 3 + (i * 5 + n) % 10).collect();
                 let mut he = vec![HalfEdgeData::default(); n];
-                half_edges(v, &p, &valences, shape, &mut he);
+                let fourier = plane.ring_fourier(v, &p);
+                half_edges(v, &p, &valences, &fourier, &shape, edge_curvature, &mut he);
                 let (phi_0, phi_1) = (phi0(n), 1.0 - 2.0 * phi0(n));
                 let r1 = |i: usize| 6.0 * (he[i % n].b[1] - he[i % n].b[0]);
                 let r2 = |i: usize| 24.0 * (he[i].b[2] - 2.0 * he[i].b[1] + he[i].b[0]);
@@ -341,6 +489,107 @@ mod tests {
         }
     }
 
+    /// Max's normal is the sphere's normal when the one-ring lies on a sphere through `v`,
+    /// however irregular the ring; the tangents of [`PlaneRule::Max`] lie in its plane.
+    #[test]
+    fn max_normal_is_exact_on_a_sphere() {
+        let mut rng = crate::testing::Rng::new(11);
+        for n in 3..=12 {
+            let (centre, radius) = (DVec3::new(0.3, -0.2, 0.5), 1.7);
+            let v = centre + radius * DVec3::new(0.2, 0.3, 0.9).normalize();
+            let axis = (v - centre).normalize();
+            let (e1, e2) = axis.any_orthonormal_pair();
+            let p: Vec<DVec3> = (0..n)
+                .map(|j| {
+                    let a = 2.0 * PI * (j as f64 + 0.4 * (rng.next_f64() - 0.5)) / n as f64;
+                    let polar = 0.1 + 0.4 * rng.next_f64();
+                    let dir = polar.cos() * axis + polar.sin() * (a.cos() * e1 + a.sin() * e2);
+                    centre + radius * dir
+                })
+                .collect();
+            let normal = max_normal(v, &p).expect("a normal");
+            assert!(
+                normal.cross(axis).length() <= 1e-14,
+                "n={n}: {normal} vs {axis}"
+            );
+            let fourier = PlaneRule::Max.ring_fourier(v, &p);
+            for i in 0..n {
+                assert!(fourier.cos_sum(i).dot(axis).abs() <= 1e-14, "n={n} i={i}");
+            }
+        }
+    }
+
+    /// With the per-edge normal heights, every boundary curve leaving `v` starts with the normal
+    /// curvature of the circle through `v` and its end point tangent to the plane: exactly for
+    /// odd n and n = 4; for the other even n up to a purely alternating remainder, the part
+    /// (II_T) forbids.
+    #[test]
+    fn edge_heights_give_the_edges_their_normal_curvature() {
+        let quadric = |x: f64, y: f64| 0.8 * x * x - 0.3 * x * y + 0.2 * y * y;
+        for n in 3..=12 {
+            let on_quadric: Vec<DVec3> = (0..n)
+                .map(|j| {
+                    let a = 2.0 * PI * (j as f64 + 0.2 * (j % 3) as f64) / n as f64;
+                    let (x, y) = (0.7 * a.cos(), 0.5 * a.sin());
+                    DVec3::new(x, y, quadric(x, y))
+                })
+                .collect();
+            for p in [on_quadric, ring(n, 40 + n as u64)] {
+                let v = DVec3::ZERO;
+                let fourier = PlaneRule::Max.ring_fourier(v, &p);
+                let shape = adaptive_shape(v, &p, &fourier, 1.0, None);
+                let mut he = vec![HalfEdgeData::default(); n];
+                half_edges(v, &p, &vec![6; n], &fourier, &shape, true, &mut he);
+                let normal = fourier.normal();
+                let residual: Vec<f64> = he
+                    .iter()
+                    .zip(&p)
+                    .map(|(h, q)| {
+                        let r1 = 6.0 * (h.b[1] - h.b[0]);
+                        let r2 = 24.0 * (h.b[2] - 2.0 * h.b[1] + h.b[0]);
+                        let kappa = 2.0 * (*q - v).dot(normal) / (*q - v).length_squared();
+                        r2.dot(normal) - kappa * r1.length_squared()
+                    })
+                    .collect();
+                let exact = n % 2 == 1 || n == 4;
+                for (i, r) in residual.iter().enumerate() {
+                    let left = if exact {
+                        0.0
+                    } else {
+                        alternate(i) * residual[0]
+                    };
+                    assert!((r - left).abs() <= 1e-13, "n={n} i={i}: residual {r}");
+                }
+            }
+        }
+    }
+
+    /// `solve_twists` inverts the map T of (II_T): for odd n always, for even n on right sides
+    /// with zero alternating sum, with the solution's alternating sum zero.
+    #[test]
+    fn twist_map_is_inverted() {
+        let mut rng = crate::testing::Rng::new(3);
+        let mut rnd = move || DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
+        for n in 3..=12 {
+            let mut w: Vec<DVec3> = (0..n).map(|_| rnd()).collect();
+            if n % 2 == 0 {
+                let gap = (0..n).map(|i| alternate(i) * w[i]).sum::<DVec3>() / n as f64;
+                for (i, x) in w.iter_mut().enumerate() {
+                    *x -= alternate(i) * gap;
+                }
+            }
+            let x = solve_twists(&w);
+            for i in 0..n {
+                let res = 0.5 * (x[i] + x[(i + n - 1) % n]) - w[i];
+                assert!(res.length() <= 1e-14, "n={n} i={i}: {res}");
+            }
+            if n % 2 == 0 {
+                let alt: DVec3 = (0..n).map(|i| alternate(i) * x[i]).sum();
+                assert!(alt.length() <= 1e-14, "n={n}: alternating sum {alt}");
+            }
+        }
+    }
+
     /// Tangent vectors of a Fourier one-ring satisfy r¹_{i+1} + r¹_{i−1} = 2 cos θ r¹_i, the
     /// homogeneous system (5) with Φ⁰ = cos(2π/n) (eq. 6).
     #[test]
@@ -348,7 +597,15 @@ mod tests {
         for n in 3..=16 {
             let p = ring(n, n as u64);
             let mut he = vec![HalfEdgeData::default(); n];
-            half_edges(DVec3::ZERO, &p, &vec![6; n], &SHAPES[0], &mut he);
+            half_edges(
+                DVec3::ZERO,
+                &p,
+                &vec![6; n],
+                &RingFourier::new(&p),
+                &SHAPES[0],
+                false,
+                &mut he,
+            );
             let r1 = |i: usize| he[i % n].b[1] - he[i % n].b[0];
             for i in 0..n {
                 let res = r1(i + n - 1) + r1(i + 1) - 2.0 * phi0(n) * r1(i);
@@ -369,7 +626,15 @@ mod tests {
             .collect();
         for shape in &SHAPES[..2] {
             let mut he = vec![HalfEdgeData::default(); 6];
-            half_edges(DVec3::ZERO, &p, &[6; 6], shape, &mut he);
+            half_edges(
+                DVec3::ZERO,
+                &p,
+                &[6; 6],
+                &RingFourier::new(&p),
+                shape,
+                false,
+                &mut he,
+            );
             for i in 0..6 {
                 for k in 0..3 {
                     let expected = p[i] * k as f64 / 6.0;
