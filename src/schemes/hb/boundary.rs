@@ -33,7 +33,7 @@ use crate::schemes::vertex_rings::{
 };
 
 /// Pass 1 of HB00 on a mesh that may be open: interior vertices by the closed rule of
-/// [`half_edges`] (their neighbours' orders read from [`Fan::ring_order`], so that `Ψ` is
+/// [`super::vertex::half_edges`] (their neighbours' orders read from [`Fan::ring_order`], so that `Ψ` is
 /// linear to the neighbour's `Ψ(0)`), boundary vertices by [`boundary_half_edges`].
 pub fn open_half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> HalfEdgeTable<HalfEdgeData> {
     HalfEdgeTable::build_open(mesh, |fan, out| {
@@ -70,7 +70,7 @@ fn boundary_shape(
 }
 
 /// Fills `out[j]` with the data of edge `v → p_j` at the boundary vertex of `fan` (see the
-/// module doc): the same quantities as [`half_edges`] computes at an interior vertex.
+/// module doc): the same quantities as [`super::vertex::half_edges`] computes at an interior vertex.
 pub fn boundary_half_edges(fan: &Fan, rule: &ShapeRule, out: &mut [HalfEdgeData]) {
     let (v, ring) = (fan.position, fan.ring);
     let n = ring.len();

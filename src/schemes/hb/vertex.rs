@@ -299,7 +299,7 @@ pub fn half_edges(
     let b2_eq15 = |i: usize| g0 * b0 + g1 * (b0 + r1(i) / 6.0) + g2 * loop_point(i);
     // Per-edge normal heights added to eq. 15's b2, and their preimages under the twist map T.
     let (heights, heights_pre) = if edge_curvature {
-        let heights = edge_heights(v, ring, b0, fourier.normal(), |i| r1(i), b2_eq15);
+        let heights = edge_heights(v, ring, b0, fourier.normal(), r1, b2_eq15);
         let pre = solve_twists(&heights);
         (heights, pre)
     } else {
@@ -369,7 +369,7 @@ fn edge_heights(
             (kappa * r1(i).length_squared() - r2_normal) / 24.0
         })
         .collect();
-    if n % 2 == 0 && n != 4 {
+    if n.is_multiple_of(2) && n != 4 {
         let alternating = (0..n).map(|i| alternate(i) * lambda[i]).sum::<f64>() / n as f64;
         for (i, l) in lambda.iter_mut().enumerate() {
             *l -= alternate(i) * alternating;
@@ -380,7 +380,7 @@ fn edge_heights(
 
 /// `(−1)^i`.
 fn alternate(i: usize) -> f64 {
-    if i % 2 == 0 { 1.0 } else { -1.0 }
+    if i.is_multiple_of(2) { 1.0 } else { -1.0 }
 }
 
 /// Solves `½(x_i + x_{i−1}) = w_i` around a vertex (the map T of (II_T)): the unique solution
