@@ -23,12 +23,13 @@
 //! (|H| = 0; measured on the unit icosphere of 80 faces: normal error 0.063 rad, distance
 //! 1.1e-2, against 0.0106 rad and 1.8e-3 with the per-vertex default, whose |H| at the vertices
 //! is 1.000 — results/defaults.md). With γ auto, each edge's `b2` also gets a normal height
-//! that gives its boundary curve the mesh's normal curvature along that edge (eq. 15 alone
-//! gives one per vertex; `vertex::edge_heights`). The tangent plane at a vertex is by default
+//! that starts its boundary curve with the normal curvature of one second fundamental form per
+//! vertex, fitted to those the mesh implies along the edges (eq. 15 alone gives one curvature
+//! for all directions; `vertex::edge_heights`). The tangent plane at a vertex is by default
 //! normal to Max's vertex normal (`plane=max`, [`vertex::PlaneRule`]), exact for one-rings on a
 //! sphere; `plane=fourier` is eq. 12's plane of the ring's first Fourier sums, exact on
 //! symmetric rings and affine invariant. On sphere-320 / torus-576 these bring the distance from
-//! 3.7e-3 / 3.1e-3 to 9.1e-4 / 9.4e-4 (piper 1.0e-3 / 9.1e-4). Numbers for β or the γ set them
+//! 3.7e-3 / 3.1e-3 to 9.1e-4 / 8.2e-4 (piper 1.0e-3 / 9.1e-4). Numbers for β or the γ set them
 //! at every vertex (Fig. 14: β = 0.1, γ = (−3.7, 4.6, 0.1), `plane=fourier`). The six free points default to the thin-plate
 //! minimiser (`free=energy`, as in the paper's colour plate); `free=zero-twist` is the cheap
 //! alternative.

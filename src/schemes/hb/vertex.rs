@@ -342,15 +342,17 @@ pub fn half_edges(
     }
 }
 
-/// The normal heights `λ_i N` added to eq. 15's `b2` on each edge at `v` so that every
-/// boundary curve leaving `v` starts with the normal curvature the mesh implies along its edge,
-/// `r²_i · N = κ_i |r¹_i|²` with `κ_i = 2 (p_i − v) · N / |p_i − v|²` (the circle through `v` and
-/// `p_i` tangent to the plane). HB00 §6 gives one set of shape parameters per vertex, so eq. 15
-/// alone can only give one normal curvature for all directions (measured on the torus: |H| at
-/// the vertices 1.37–2.0 against the true 0.42–1.61). For even n, (II_T) is solvable only if
-/// `Σ (−1)^i Φ⁰ r²_i = 0` (eq. 12's tangents and Loop's points meet this by symmetry), so the
-/// alternating part of the heights is removed; at n = 4 `Φ⁰ = cos(π/2) = 0` and it may stay.
-/// `b2(i)` is eq. 15's point, `r1(i)` the tangent of edge `i`.
+/// The normal heights `λ_i N` added to eq. 15's `b2` on each edge at `v` so that the boundary
+/// curves leaving `v` start with the normal curvatures of one second fundamental form fitted to
+/// those the mesh implies, `r²_i · N = II(r¹_i)`, with `II` the least squares fit to
+/// `κ_i = 2 (p_i − v) · N / |p_i − v|²` along the edges (the circle through `v` and `p_i`
+/// tangent to the plane; for n = 3 the fit interpolates). HB00 §6 gives one set of shape
+/// parameters per vertex, so eq. 15 alone can only give one normal curvature for all directions
+/// (measured on the torus: |H| at the vertices 1.37–2.0 against the true 0.42–1.61). For even
+/// n, (II_T) is solvable only if `Σ (−1)^i Φ⁰ r²_i = 0`: eq. 12's tangents, Loop's points and a
+/// quadratic form meet this by symmetry for n ≠ 4, and at n = 4 `Φ⁰ = cos(π/2) = 0`; any rounding
+/// left in the alternating part is removed. `b2(i)` is eq. 15's point, `r1(i)` the tangent of
+/// edge `i`.
 fn edge_heights(
     v: DVec3,
     ring: &[DVec3],
@@ -360,13 +362,21 @@ fn edge_heights(
     b2: impl Fn(usize) -> DVec3,
 ) -> Vec<DVec3> {
     let n = ring.len();
+    let kappa = |i: usize| {
+        let chord = ring[i] - v;
+        2.0 * chord.dot(normal) / chord.length_squared().max(f64::MIN_POSITIVE)
+    };
+    let form = SecondForm::fit(normal, (0..n).map(|i| (r1(i), kappa(i))));
     let mut lambda: Vec<f64> = (0..n)
         .map(|i| {
-            let chord = ring[i] - v;
-            let kappa = 2.0 * chord.dot(normal) / chord.length_squared().max(f64::MIN_POSITIVE);
-            let b1 = b0 + r1(i) / 6.0;
+            let r = r1(i);
+            let target = match &form {
+                Some(form) => form.at(r),
+                None => kappa(i) * r.length_squared(),
+            };
+            let b1 = b0 + r / 6.0;
             let r2_normal = 24.0 * (b2(i) - 2.0 * b1 + b0).dot(normal);
-            (kappa * r1(i).length_squared() - r2_normal) / 24.0
+            (target - r2_normal) / 24.0
         })
         .collect();
     if n.is_multiple_of(2) && n != 4 {
@@ -376,6 +386,48 @@ fn edge_heights(
         }
     }
     lambda.iter().map(|l| *l * normal).collect()
+}
+
+/// A quadratic form on the tangent plane at a vertex: the second fundamental form the one-ring
+/// implies, `II(r) = a x² + 2b xy + c y²` in an orthonormal frame of the plane.
+struct SecondForm {
+    frame: [DVec3; 2],
+    coefficients: [f64; 3],
+}
+
+impl SecondForm {
+    /// The least squares fit of `II(r_i / |r_i|) ≈ κ_i` to the normal curvatures `κ_i` along
+    /// the tangents `r_i`; `None` when the directions do not determine a form.
+    fn fit(normal: DVec3, samples: impl Iterator<Item = (DVec3, f64)>) -> Option<SecondForm> {
+        let e1 = normal.any_orthonormal_vector();
+        let frame = [e1, normal.cross(e1)];
+        let mut ata = vec![vec![0.0; 3]; 3];
+        let mut atb = vec![0.0; 3];
+        for (r, kappa) in samples {
+            let (x, y) = (r.dot(frame[0]), r.dot(frame[1]));
+            let w = 1.0 / r.length_squared().max(f64::MIN_POSITIVE);
+            let row = [x * x * w, 2.0 * x * y * w, y * y * w];
+            for a in 0..3 {
+                atb[a] += row[a] * kappa;
+                for b in 0..3 {
+                    ata[a][b] += row[a] * row[b];
+                }
+            }
+        }
+        let inverse = crate::linalg::invert(&ata)?;
+        let coefficients = std::array::from_fn(|a| (0..3).map(|b| inverse[a][b] * atb[b]).sum());
+        Some(SecondForm {
+            frame,
+            coefficients,
+        })
+    }
+
+    /// `II(r)`: the normal acceleration of a curve leaving the vertex with velocity `r`.
+    fn at(&self, r: DVec3) -> f64 {
+        let (x, y) = (r.dot(self.frame[0]), r.dot(self.frame[1]));
+        let [a, b, c] = self.coefficients;
+        a * x * x + 2.0 * b * x * y + c * y * y
+    }
 }
 
 /// `(−1)^i`.
@@ -519,46 +571,62 @@ mod tests {
         }
     }
 
-    /// With the per-edge normal heights, every boundary curve leaving `v` starts with the normal
-    /// curvature of the circle through `v` and its end point tangent to the plane: exactly for
-    /// odd n and n = 4; for the other even n up to a purely alternating remainder, the part
-    /// (II_T) forbids.
+    /// With the per-edge normal heights the boundary curves leaving `v` start with the normal
+    /// curvatures of one quadratic form (the second fundamental form fitted to the ring): on
+    /// any ring, `r²_i · N / |r¹_i|²` are values of one form; for n = 3 they are the circles'
+    /// curvatures `κ_i`; on a ring on a sphere every one is the sphere's curvature.
     #[test]
-    fn edge_heights_give_the_edges_their_normal_curvature() {
-        let quadric = |x: f64, y: f64| 0.8 * x * x - 0.3 * x * y + 0.2 * y * y;
+    fn edge_heights_give_the_edges_one_second_fundamental_form() {
+        let mut rng = crate::testing::Rng::new(5);
         for n in 3..=12 {
-            let on_quadric: Vec<DVec3> = (0..n)
+            let (centre, radius) = (DVec3::new(0.0, 0.0, -1.3), 1.3);
+            let on_sphere: Vec<DVec3> = (0..n)
                 .map(|j| {
-                    let a = 2.0 * PI * (j as f64 + 0.2 * (j % 3) as f64) / n as f64;
-                    let (x, y) = (0.7 * a.cos(), 0.5 * a.sin());
-                    DVec3::new(x, y, quadric(x, y))
+                    let a = 2.0 * PI * (j as f64 + 0.4 * (rng.next_f64() - 0.5)) / n as f64;
+                    let polar = 0.2 + 0.3 * rng.next_f64();
+                    let dir = DVec3::new(polar.sin() * a.cos(), polar.sin() * a.sin(), polar.cos());
+                    centre + radius * dir
                 })
                 .collect();
-            for p in [on_quadric, ring(n, 40 + n as u64)] {
+            for (sphere, p) in [(true, on_sphere), (false, ring(n, 40 + n as u64))] {
                 let v = DVec3::ZERO;
                 let fourier = PlaneRule::Max.ring_fourier(v, &p);
                 let shape = adaptive_shape(v, &p, &fourier, 1.0, None);
                 let mut he = vec![HalfEdgeData::default(); n];
                 half_edges(v, &p, &vec![6; n], &fourier, &shape, true, &mut he);
                 let normal = fourier.normal();
-                let residual: Vec<f64> = he
+                let samples: Vec<(DVec3, f64)> = he
                     .iter()
-                    .zip(&p)
-                    .map(|(h, q)| {
+                    .map(|h| {
                         let r1 = 6.0 * (h.b[1] - h.b[0]);
                         let r2 = 24.0 * (h.b[2] - 2.0 * h.b[1] + h.b[0]);
-                        let kappa = 2.0 * (*q - v).dot(normal) / (*q - v).length_squared();
-                        r2.dot(normal) - kappa * r1.length_squared()
+                        (r1, r2.dot(normal) / r1.length_squared())
                     })
                     .collect();
-                let exact = n % 2 == 1 || n == 4;
-                for (i, r) in residual.iter().enumerate() {
-                    let left = if exact {
-                        0.0
-                    } else {
-                        alternate(i) * residual[0]
-                    };
-                    assert!((r - left).abs() <= 1e-13, "n={n} i={i}: residual {r}");
+                // At n = 4 eq. 12's tangents are ±A, ±B: two directions do not determine a
+                // form, and each edge keeps its own κ_i.
+                let form = SecondForm::fit(normal, samples.iter().copied());
+                assert_eq!(form.is_none(), n == 4, "n={n}");
+                for (i, (r1, curvature)) in samples.iter().enumerate() {
+                    let chord = p[i] - v;
+                    let kappa = 2.0 * chord.dot(normal) / chord.length_squared();
+                    let label = format!("n={n} sphere={sphere} i={i}");
+                    if let Some(form) = &form {
+                        let of_form = form.at(*r1) / r1.length_squared();
+                        assert!(
+                            (curvature - of_form).abs() <= 1e-12,
+                            "{label}: off the form"
+                        );
+                    }
+                    if sphere {
+                        assert!(
+                            (kappa.abs() - 1.0 / radius).abs() <= 1e-12,
+                            "{label}: {kappa}"
+                        );
+                    }
+                    if sphere || n <= 4 {
+                        assert!((curvature - kappa).abs() <= 1e-12, "{label}: {curvature}");
+                    }
                 }
             }
         }
