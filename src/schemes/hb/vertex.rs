@@ -402,7 +402,7 @@ impl SecondForm {
         let e1 = normal.any_orthonormal_vector();
         let frame = [e1, normal.cross(e1)];
         let mut ata = vec![vec![0.0; 3]; 3];
-        let mut atb = vec![0.0; 3];
+        let mut atb = [0.0; 3];
         for (r, kappa) in samples {
             let (x, y) = (r.dot(frame[0]), r.dot(frame[1]));
             let w = 1.0 / r.length_squared().max(f64::MIN_POSITIVE);
