@@ -75,12 +75,17 @@ impl PlaneRule {
 }
 
 /// Max's vertex normal at `v` with the closed one-ring `ring` (see [`PlaneRule::Max`]); `None`
-/// when the weighted sum vanishes or is not finite.
+/// when the weighted sum vanishes or is not finite. The edges are divided by the longest first,
+/// so that the fourth powers neither overflow nor underflow at extreme scales.
 pub fn max_normal(v: DVec3, ring: &[DVec3]) -> Option<DVec3> {
     let n = ring.len();
+    let scale = ring.iter().map(|p| (*p - v).length()).fold(0.0, f64::max);
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
     let sum: DVec3 = (0..n)
         .map(|i| {
-            let (a, b) = (ring[i] - v, ring[(i + 1) % n] - v);
+            let (a, b) = ((ring[i] - v) / scale, (ring[(i + 1) % n] - v) / scale);
             a.cross(b) / (a.length_squared() * b.length_squared())
         })
         .sum();
@@ -564,6 +569,14 @@ mod tests {
                 normal.cross(axis).length() <= 1e-14,
                 "n={n}: {normal} vs {axis}"
             );
+            for scale in [1e-150, 1e150] {
+                let scaled: Vec<DVec3> = p.iter().map(|q| *q * scale).collect();
+                let at_scale = max_normal(v * scale, &scaled).expect("a normal at scale");
+                assert!(
+                    at_scale.cross(axis).length() <= 1e-14,
+                    "n={n} scale {scale}"
+                );
+            }
             let fourier = PlaneRule::Max.ring_fourier(v, &p);
             for i in 0..n {
                 assert!(fourier.cos_sum(i).dot(axis).abs() <= 1e-14, "n={n} i={i}");
