@@ -169,7 +169,7 @@ fn uv_to_direction(u: f64, v: f64) -> DVec3 {
 const BLOCK_GRID: (usize, usize) = (64, 32);
 
 /// Cells per edge of each cube face in the grid of normal directions ([`normal_bin`]).
-const NORMAL_BINS_PER_EDGE: usize = 8;
+const NORMAL_BINS_PER_EDGE: usize = 16;
 
 /// Normal bins in all: six cube faces.
 const NORMAL_BINS: usize = 6 * NORMAL_BINS_PER_EDGE * NORMAL_BINS_PER_EDGE;
