@@ -29,7 +29,10 @@ use crate::error::{Error, Result};
 pub struct LatLongMap {
     width: usize,
     height: usize,
-    texels: Vec<[f32; 3]>,
+    /// Per texel its R, G, B and (last) the entry of the map sampler's CDF over the texels of
+    /// its row within its block ([`MapSampler`]), so that sampling a texel brings its radiance
+    /// into the cache.
+    texels: Vec<[f32; 4]>,
     /// Sampling distributions; None for a black map.
     sampler: Option<MapSampler>,
     /// Mean luminance over the sphere.
@@ -94,8 +97,9 @@ impl LatLongMap {
             .map(|(i, t)| luminance(texel(t)) * sines[i / width])
             .collect();
         let total: f64 = weights.iter().sum();
-        let sampler =
-            (total > 0.0 && total.is_finite()).then(|| MapSampler::new(&weights, width, height));
+        let mut texels: Vec<[f32; 4]> = texels.iter().map(|&[r, g, b]| [r, g, b, 0.0]).collect();
+        let sampler = (total > 0.0 && total.is_finite())
+            .then(|| MapSampler::new(&weights, width, height, &mut texels));
         // The mean is Σ L sin θ / Σ sin θ.
         let mean_luminance = total / (sines.iter().sum::<f64>() * width as f64);
         Ok(LatLongMap {
@@ -117,11 +121,15 @@ impl LatLongMap {
 
     fn lookup(&self, d: DVec3) -> DVec3 {
         let (x, y) = self.cell(d);
-        texel(&self.texels[y * self.width + x])
+        let [r, g, b, _] = self.texels[y * self.width + x];
+        texel(&[r, g, b])
     }
 
     fn sample(&self, normal: DVec3, r: [f64; 3]) -> Option<(DVec3, f64)> {
-        let (u, v) = self.sampler.as_ref()?.sample(normal, r[1], r[2])?;
+        let (u, v) = self
+            .sampler
+            .as_ref()?
+            .sample(&self.texels, normal, r[1], r[2])?;
         let d = uv_to_direction(u, v);
         let pdf = self.pdf(normal, d);
         (pdf > 0.0).then_some((d, pdf))
@@ -136,7 +144,7 @@ impl LatLongMap {
             return 0.0;
         }
         let (x, y) = self.cell(d);
-        sampler.density(normal, x, y) / (2.0 * PI * PI * sin)
+        sampler.density(&self.texels, normal, x, y) / (2.0 * PI * PI * sin)
     }
 }
 
@@ -199,8 +207,6 @@ struct MapSampler {
     /// The block column of each texel column, the block row of each texel row.
     block_of_col: Vec<u32>,
     block_of_row: Vec<u32>,
-    /// Per texel, the CDF over the columns of its row within its block (index `y · width + x`).
-    row_cdf: Vec<f32>,
     /// Per block column and texel row, the CDF over the rows of the block (index
     /// `bx · height + y`).
     block_rows_cdf: Vec<f32>,
@@ -211,8 +217,9 @@ struct MapSampler {
 
 impl MapSampler {
     /// The distributions of the non-negative texel `weights` (power, row-major), whose sum is
-    /// positive and finite.
-    fn new(weights: &[f64], width: usize, height: usize) -> MapSampler {
+    /// positive and finite; the CDFs within the rows of the blocks go to the last entry of
+    /// `texels`.
+    fn new(weights: &[f64], width: usize, height: usize, texels: &mut [[f32; 4]]) -> MapSampler {
         let (bw, bh) = (BLOCK_GRID.0.min(width), BLOCK_GRID.1.min(height));
         let edges = |n: usize, blocks: usize| -> Vec<usize> {
             (0..=blocks).map(|b| b * n / blocks).collect()
@@ -227,14 +234,20 @@ impl MapSampler {
         };
         let (block_of_col, block_of_row) = (owner(&col_edges, width), owner(&row_edges, height));
         // Within each block row segment: the CDF over its texels, and its sum.
-        let mut row_cdf = vec![0f32; width * height];
         let mut segment_sums = vec![0f64; bw * height];
+        let mut segment_cdf = Vec::new();
         for y in 0..height {
             for bx in 0..bw {
                 let (x0, x1) = (col_edges[bx], col_edges[bx + 1]);
                 let row = &weights[y * width + x0..y * width + x1];
-                segment_sums[bx * height + y] =
-                    fill_cdf(row, &mut row_cdf[y * width + x0..y * width + x1]);
+                segment_cdf.resize(row.len(), 0.0);
+                segment_sums[bx * height + y] = fill_cdf(row, &mut segment_cdf);
+                for (t, c) in texels[y * width + x0..y * width + x1]
+                    .iter_mut()
+                    .zip(&segment_cdf)
+                {
+                    t[3] = *c;
+                }
             }
         }
         // Within each block: the CDF over its rows, and the block's power.
@@ -303,7 +316,6 @@ impl MapSampler {
             row_edges,
             block_of_col,
             block_of_row,
-            row_cdf,
             block_rows_cdf,
             bins,
         }
@@ -322,7 +334,7 @@ impl MapSampler {
 
     /// A point `(u, v)` of the unit square, drawn for a shading point of unit normal `normal`
     /// from two uniform numbers; None when no light reaches that normal's bin.
-    fn sample(&self, normal: DVec3, r1: f64, r2: f64) -> Option<(f64, f64)> {
+    fn sample(&self, texels: &[[f32; 4]], normal: DVec3, r1: f64, r2: f64) -> Option<(f64, f64)> {
         let (bw, _) = self.block_grid();
         let (marginal, conditional) = self.bin(normal_bin(normal));
         if marginal[0].is_nan() {
@@ -337,7 +349,7 @@ impl MapSampler {
             f1,
         );
         let y = y0 + dy;
-        let (dx, fx) = invert_cdf(&self.row_cdf[y * self.width + x0..y * self.width + x1], f2);
+        let (dx, fx) = invert_cdf(&texels[y * self.width + x0..y * self.width + x1], f2);
         Some((
             ((x0 + dx) as f64 + fx) / self.width as f64,
             (y as f64 + fy) / self.height as f64,
@@ -346,7 +358,7 @@ impl MapSampler {
 
     /// The density over the unit square of [`MapSampler::sample`] in texel `(x, y)` for a
     /// shading point of unit normal `normal`.
-    fn density(&self, normal: DVec3, x: usize, y: usize) -> f64 {
+    fn density(&self, texels: &[[f32; 4]], normal: DVec3, x: usize, y: usize) -> f64 {
         let (bw, _) = self.block_grid();
         let (marginal, conditional) = self.bin(normal_bin(normal));
         if marginal[0].is_nan() {
@@ -361,7 +373,7 @@ impl MapSampler {
         }
         let rows =
             &self.block_rows_cdf[bx * self.height + y0..bx * self.height + self.row_edges[by + 1]];
-        let cols = &self.row_cdf[y * self.width + x0..y * self.width + self.col_edges[bx + 1]];
+        let cols = &texels[y * self.width + x0..y * self.width + self.col_edges[bx + 1]];
         block
             * cell_probability(rows, y - y0)
             * cell_probability(cols, x - x0)
@@ -387,20 +399,46 @@ fn fill_cdf(weights: &[f64], cdf: &mut [f32]) -> f64 {
     total
 }
 
+/// An entry of an inclusive CDF: an `f32`, or the last of a texel's four.
+trait CdfEntry {
+    /// The CDF's value.
+    fn cdf(&self) -> f32;
+}
+
+impl CdfEntry for f32 {
+    fn cdf(&self) -> f32 {
+        *self
+    }
+}
+
+impl CdfEntry for [f32; 4] {
+    fn cdf(&self) -> f32 {
+        self[3]
+    }
+}
+
 /// The probability of cell `i` of an inclusive CDF: the difference of its entries in `f64`.
-fn cell_probability(cdf: &[f32], i: usize) -> f64 {
-    let below = if i == 0 { 0.0 } else { f64::from(cdf[i - 1]) };
-    f64::from(cdf[i]) - below
+fn cell_probability<T: CdfEntry>(cdf: &[T], i: usize) -> f64 {
+    let below = if i == 0 {
+        0.0
+    } else {
+        f64::from(cdf[i - 1].cdf())
+    };
+    f64::from(cdf[i].cdf()) - below
 }
 
 /// The cell `i` of an inclusive CDF with `cdf[i − 1] ≤ r < cdf[i]` (so never an empty cell) and
 /// where in it `r` lies, in `[0, 1)`.
-fn invert_cdf(cdf: &[f32], r: f64) -> (usize, f64) {
+fn invert_cdf<T: CdfEntry>(cdf: &[T], r: f64) -> (usize, f64) {
     let i = cdf
-        .partition_point(|&c| f64::from(c) <= r)
+        .partition_point(|c| f64::from(c.cdf()) <= r)
         .min(cdf.len() - 1);
-    let below = if i == 0 { 0.0 } else { f64::from(cdf[i - 1]) };
-    let width = f64::from(cdf[i]) - below;
+    let below = if i == 0 {
+        0.0
+    } else {
+        f64::from(cdf[i - 1].cdf())
+    };
+    let width = f64::from(cdf[i].cdf()) - below;
     let f = if width > 0.0 {
         ((r - below) / width).clamp(0.0, 1.0 - f64::EPSILON)
     } else {
@@ -798,7 +836,7 @@ mod tests {
         let (w, h) = (map.width, map.height);
         for normal in NORMALS.into_iter().chain(more_normals(3)) {
             let probability: Vec<f64> = (0..w * h)
-                .map(|i| sampler.density(normal, i % w, i / w) / (w * h) as f64)
+                .map(|i| sampler.density(&map.texels, normal, i % w, i / w) / (w * h) as f64)
                 .collect();
             let total: f64 = probability.iter().sum();
             assert!((total - 1.0).abs() < 1e-5, "{normal}: Σp = {total}");
@@ -806,7 +844,12 @@ mod tests {
             let mut counts = vec![0u32; w * h];
             for i in 0..n {
                 let (u, v) = sampler
-                    .sample(normal, uniform(12, 0, i, 0), uniform(12, 0, i, 1))
+                    .sample(
+                        &map.texels,
+                        normal,
+                        uniform(12, 0, i, 0),
+                        uniform(12, 0, i, 1),
+                    )
                     .expect("a sample");
                 let (x, y) = ((u * w as f64) as usize, (v * h as f64) as usize);
                 counts[y * w + x] += 1;
