@@ -263,7 +263,7 @@ impl MapSampler {
         // The cones of directions of the blocks: the centre and a bound of the angle from it
         // to any point (along the meridian, then along the parallel, whose length is sin θ ·
         // Δφ).
-        let block_cones: Vec<(DVec3, f64)> = (0..bh)
+        let block_cones: Vec<(DVec3, f64, (f64, f64))> = (0..bh)
             .flat_map(|by| (0..bw).map(move |bx| (bx, by)))
             .map(|(bx, by)| {
                 let (x0, x1) = (col_edges[bx] as f64, col_edges[bx + 1] as f64);
@@ -277,7 +277,7 @@ impl MapSampler {
                     t0.sin().max(t1.sin())
                 };
                 let radius = (t1 - t0) / 2.0 + max_sin * (x1 - x0) / w * PI;
-                (centre, radius)
+                (centre, radius, radius.sin_cos())
             })
             .collect();
         let stride = bh + bh * bw;
@@ -286,16 +286,20 @@ impl MapSampler {
         let mut row_sums = vec![0f64; bh];
         for (bin, out) in bins.chunks_mut(stride).enumerate() {
             let (normal, normal_radius) = normal_bin_cone(bin);
-            for ((w, &p), &(centre, radius)) in
+            let (sin_n, cos_n) = normal_radius.sin_cos();
+            for ((w, &p), &(centre, radius, (sin_b, cos_b))) in
                 block_weight.iter_mut().zip(&block_power).zip(&block_cones)
             {
-                let angle = normal.dot(centre).clamp(-1.0, 1.0).acos() - normal_radius - radius;
-                *w = if angle <= 0.0 {
+                // With θ the angle between the centres and R the sum of the radii, the bound
+                // is cos(θ − R) when θ > R, else 1; no inverse cosine needed.
+                let cos_t = normal.dot(centre).clamp(-1.0, 1.0);
+                let cos_r = cos_n * cos_b - sin_n * sin_b;
+                *w = if normal_radius + radius >= PI || cos_t >= cos_r {
                     p
-                } else if angle < FRAC_PI_2 {
-                    p * angle.cos()
                 } else {
-                    0.0
+                    let sin_t = (1.0 - cos_t * cos_t).sqrt();
+                    let sin_r = sin_n * cos_b + cos_n * sin_b;
+                    p * (cos_t * cos_r + sin_t * sin_r).max(0.0)
                 };
             }
             let (marginal, conditional) = out.split_at_mut(bh);
