@@ -197,6 +197,7 @@ const NORMAL_BINS: usize = 6 * NORMAL_BINS_PER_EDGE * NORMAL_BINS_PER_EDGE;
 /// All CDFs are `f32` (inclusive running sums, last entry 1), and a cell's probability is the
 /// difference of its two CDF entries taken in `f64`: the density [`MapSampler::density`]
 /// returns is exactly the one [`MapSampler::sample`] draws from (for exact uniform numbers).
+/// The CDFs within the blocks' rows are the texels' fourth entries ([`LatLongMap`]), passed in.
 #[derive(Clone, Debug)]
 struct MapSampler {
     width: usize,
