@@ -11,7 +11,8 @@
 //!
 //! `sqrt(mean over pixels and R, G, B of (test − ref)²) / mean over pixels and R, G, B of ref`,
 //!
-//! i.e. the RMS error relative to the mean reference value, printed with the pixel count.
+//! i.e. the RMS error relative to the mean reference value, printed with the pixel count and
+//! the means of both images over those pixels (for a check of bias).
 
 use std::path::Path;
 
@@ -58,13 +59,14 @@ fn run() -> std::result::Result<(), String> {
             "image sizes differ: {n_test}, {n_ref} and {n_mask} pixels"
         ));
     }
-    let (mut err2, mut sum, mut count) = (0.0f64, 0.0f64, 0usize);
+    let (mut err2, mut sum, mut test_sum, mut count) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     for i in (0..n_ref).filter(|&i| mask[0][i] >= 0.0) {
         count += 1;
         for c in 0..3 {
             let (x, r) = (f64::from(test[c][i]), f64::from(reference[c][i]));
             err2 += (x - r) * (x - r);
             sum += r;
+            test_sum += x;
         }
     }
     if count == 0 || sum <= 0.0 {
@@ -73,8 +75,9 @@ fn run() -> std::result::Result<(), String> {
     let samples = (3 * count) as f64;
     let rel = (err2 / samples).sqrt() / (sum / samples);
     println!(
-        "relative RMSE {rel:.4} over {count} surface pixels (reference mean {:.4})",
-        sum / samples
+        "relative RMSE {rel:.4} over {count} surface pixels (reference mean {:.5}, test mean {:.5})",
+        sum / samples,
+        test_sum / samples
     );
     Ok(())
 }

