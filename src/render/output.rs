@@ -202,12 +202,12 @@ pub fn exr_planes(frame: &Frame) -> Vec<Vec<f32>> {
                 rgb[1],
                 rgb[2],
                 g.hit.t as f32,
-                g.normal.x as f32,
-                g.normal.y as f32,
-                g.normal.z as f32,
-                g.position.x as f32,
-                g.position.y as f32,
-                g.position.z as f32,
+                g.normal[0],
+                g.normal[1],
+                g.normal[2],
+                g.position[0],
+                g.position[1],
+                g.position[2],
                 g.hit.u as f32,
                 g.hit.v as f32,
                 g.hit.patch as f32,
@@ -227,8 +227,8 @@ pub fn exr_planes(frame: &Frame) -> Vec<Vec<f32>> {
     planes
 }
 
-fn finite_or_zero(x: f64) -> f32 {
-    let f = x as f32;
+fn finite_or_zero(x: impl Into<f64>) -> f32 {
+    let f = x.into() as f32;
     if f.is_finite() { f } else { 0.0 }
 }
 
