@@ -527,8 +527,7 @@ mod tests {
                 let rgb = DVec3::from(frame.rgb[k].map(f64::from));
                 assert!(
                     (rgb - expected).abs().max_element() < 1e-6,
-                    "pixel {k}: colour {rgb} from normal {}",
-                    g.normal
+                    "pixel {k}: colour {rgb} from normal {normal}",
                 );
             }
         }
@@ -584,7 +583,11 @@ mod tests {
                     (jet.p - patch.eval(g.hit.u, g.hit.v)).length() <= 1e-15 * diag,
                     "pixel ({x},{y}) off its patch"
                 );
-                assert_eq!(g.position, jet.p.as_vec3().to_array(), "pixel ({x},{y}) point");
+                assert_eq!(
+                    g.position,
+                    jet.p.as_vec3().to_array(),
+                    "pixel ({x},{y}) point"
+                );
                 let n = jet.normal();
                 assert_eq!(g.normal, n.as_vec3().to_array(), "pixel ({x},{y}) normal");
                 let c = jet.curvature().expect("curvature on a sphere");
