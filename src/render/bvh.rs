@@ -387,6 +387,9 @@ pub struct PatchBvh {
 /// buffers cost little, small enough to balance two to dozens of threads.
 const SUBDIVISION_CHUNK: usize = 512;
 
+/// Patches per round of the parallel subdivision (see [`PatchBvh::build_in`]): 64 work items.
+const SUBDIVISION_ROUND: usize = 64 * SUBDIVISION_CHUNK;
+
 /// What the subdivision of a run of patches produces, in patch order.
 #[derive(Default)]
 struct Pieces {
@@ -463,49 +466,55 @@ impl PatchBvh {
         let padding = box_padding(&scene);
         // Per-patch subdivision is independent; chunks of patches are collected in patch
         // order, which keeps the leaf list (and so the BVH) identical for any thread count.
-        let chunks: Vec<Pieces> = surface
-            .patches
-            .par_chunks(SUBDIVISION_CHUNK)
-            .enumerate()
-            .map(|(c, patches)| {
-                let mut pieces = Pieces::default();
-                for (k, patch) in patches.iter().enumerate() {
-                    let index = (c * SUBDIVISION_CHUNK + k) as u32;
-                    let unit = patch.mapped(|p| frame.map(p));
-                    let whole = match &unit.geometry {
-                        PatchGeometry::Bezier(net) => {
-                            subdivide_patch(&mut pieces, index, net, criterion, padding);
-                            net.degree() > MAX_POWER_DEGREE
+        // The chunks are made a round at a time and appended before the next round: their
+        // buffers, freed in the workers' allocator arenas, are reused by the next round instead
+        // of all being alive at once and then kept by the arenas (a process peak of about
+        // 200 MB at a million patches).
+        let mut all = Pieces::default();
+        for (r, round) in surface.patches.chunks(SUBDIVISION_ROUND).enumerate() {
+            let chunks: Vec<Pieces> = round
+                .par_chunks(SUBDIVISION_CHUNK)
+                .enumerate()
+                .map(|(c, patches)| {
+                    let mut pieces = Pieces::default();
+                    for (k, patch) in patches.iter().enumerate() {
+                        let index = (r * SUBDIVISION_ROUND + c * SUBDIVISION_CHUNK + k) as u32;
+                        let unit = patch.mapped(|p| frame.map(p));
+                        let whole = match &unit.geometry {
+                            PatchGeometry::Bezier(net) => {
+                                subdivide_patch(&mut pieces, index, net, criterion, padding);
+                                net.degree() > MAX_POWER_DEGREE
+                            }
+                            PatchGeometry::Blend(blend) => {
+                                subdivide_blend(
+                                    &mut pieces,
+                                    index,
+                                    &unit,
+                                    blend,
+                                    criterion,
+                                    padding,
+                                );
+                                true
+                            }
+                        };
+                        if whole {
+                            pieces.whole.push((index, unit));
                         }
-                        PatchGeometry::Blend(blend) => {
-                            subdivide_blend(&mut pieces, index, &unit, blend, criterion, padding);
-                            true
-                        }
-                    };
-                    if whole {
-                        pieces.whole.push((index, unit));
                     }
-                }
-                pieces
-            })
-            .collect();
-        let count = |f: fn(&Pieces) -> usize| chunks.iter().map(f).sum::<usize>();
-        let mut all = Pieces {
-            leaves: Vec::with_capacity(count(|p| p.leaves.len())),
-            boxes: Vec::with_capacity(count(|p| p.boxes.len())),
-            blend_second_bounds: Vec::with_capacity(count(|p| p.blend_second_bounds.len())),
-            whole: Vec::with_capacity(count(|p| p.whole.len())),
-        };
-        for chunk in chunks {
-            let blend = all.blend_second_bounds.len() as u32;
-            all.leaves.extend(chunk.leaves.iter().map(|leaf| Leaf {
-                power: leaf.power + blend,
-                ..*leaf
-            }));
-            all.boxes.extend_from_slice(&chunk.boxes);
-            all.blend_second_bounds
-                .extend_from_slice(&chunk.blend_second_bounds);
-            all.whole.extend(chunk.whole);
+                    pieces
+                })
+                .collect();
+            for chunk in chunks {
+                let blend = all.blend_second_bounds.len() as u32;
+                all.leaves.extend(chunk.leaves.iter().map(|leaf| Leaf {
+                    power: leaf.power + blend,
+                    ..*leaf
+                }));
+                all.boxes.extend_from_slice(&chunk.boxes);
+                all.blend_second_bounds
+                    .extend_from_slice(&chunk.blend_second_bounds);
+                all.whole.extend(chunk.whole);
+            }
         }
         let Pieces {
             leaves,

@@ -2,9 +2,10 @@
 //! per-pixel geometry record (from the ray through the pixel centre) that the EXR stores.
 //!
 //! Determinism: every sample position and path-tracing decision is a hash of (seed, pixel,
-//! sample, dimension); tiles are rendered independently and assembled in tile order, and the
-//! integer counters are summed in tile order, so the image and statistics do not depend on the
-//! number of threads.
+//! sample, dimension); tiles are rendered independently, each straight into its own disjoint
+//! row slices of the frame's buffers (no per-tile buffer, no copy), and the integer counters
+//! are summed in tile order, so the image and statistics do not depend on the number of
+//! threads.
 
 use std::io::IsTerminal;
 use std::time::Instant;
@@ -13,6 +14,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::render::camera::Camera;
+use crate::render::interaction::ShadingPoint;
 use crate::render::intersect::{Hit, IntersectCounters};
 use crate::render::modes::curvature::{CurvatureRange, abs_percentile, draw_legend};
 use crate::render::modes::{Footprint, Mode, Overlay};
@@ -67,21 +69,43 @@ impl Default for RenderSettings {
     }
 }
 
-/// The geometry seen through one pixel centre (f64, as evaluated).
+/// The geometry seen through one pixel centre: the exact hit (f64) and what the EXR's geometry
+/// channels store of it.
+///
+/// Position, normal and Gaussian curvature are kept as the f32 the EXR channels hold (each the
+/// f64 value as evaluated, rounded once); the exact point is `patch.eval(hit.u, hit.v)`. The mean
+/// curvature stays f64 (the report's curvature thumbnails are coloured from it). 72 bytes, 80
+/// with the miss tag, where a record of f64 vectors took 112.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PixelGeometry {
-    /// The hit.
+    /// The hit (f64 distance and patch parameters, as found).
     pub hit: Hit,
     /// Mesh face of the hit patch.
     pub face: u32,
-    /// Hit point `S(u, v)`.
-    pub position: DVec3,
-    /// Unit patch normal at the hit (patch orientation, not turned to the viewer).
-    pub normal: DVec3,
-    /// Gaussian curvature (0 where undefined).
-    pub gaussian: f64,
+    /// Hit point `S(u, v)`, rounded to f32.
+    pub position: [f32; 3],
+    /// Unit patch normal at the hit (patch orientation, not turned to the viewer), rounded to
+    /// f32.
+    pub normal: [f32; 3],
+    /// Gaussian curvature (0 where undefined), rounded to f32.
+    pub gaussian: f32,
     /// Mean curvature (0 where undefined).
     pub mean: f64,
+}
+
+impl PixelGeometry {
+    /// The record of `sp`, the shading point of a pixel-centre hit.
+    pub fn new(sp: &ShadingPoint) -> PixelGeometry {
+        let c = sp.curvature;
+        PixelGeometry {
+            hit: sp.hit,
+            face: sp.face,
+            position: sp.jet.p.as_vec3().to_array(),
+            normal: sp.normal.as_vec3().to_array(),
+            gaussian: c.map_or(0.0, |c| c.gaussian) as f32,
+            mean: c.map_or(0.0, |c| c.mean),
+        }
+    }
 }
 
 /// A rendered image: linear RGB plus the per-pixel geometry, rows top to bottom.
@@ -97,17 +121,56 @@ pub struct Frame {
     pub geometry: Vec<Option<PixelGeometry>>,
 }
 
-/// One tile's output, assembled later in tile order.
-struct TileResult {
+/// One tile of the frame: its rows' slices of the frame's buffers, written in place.
+struct Tile<'a> {
     x0: u32,
     y0: u32,
-    w: u32,
-    h: u32,
-    rgb: Vec<[f32; 3]>,
-    geometry: Vec<Option<PixelGeometry>>,
+    rgb: Vec<&'a mut [[f32; 3]]>,
+    geometry: Vec<&'a mut [Option<PixelGeometry>]>,
+}
+
+/// What a tile counted, summed later in tile order.
+#[derive(Default)]
+struct TileCounts {
     counters: IntersectCounters,
     rays: u64,
     hits: u64,
+}
+
+/// The frame's buffers cut into [`TILE`]-square tiles (row-major tile order), each a set of
+/// disjoint row slices: tiles render in parallel straight into the frame.
+fn tiles<'a>(
+    w: u32,
+    rgb: &'a mut [[f32; 3]],
+    geometry: &'a mut [Option<PixelGeometry>],
+) -> Vec<Tile<'a>> {
+    let (w, band) = (w as usize, (w * TILE) as usize);
+    let mut tiles = Vec::new();
+    for (ty, (rgb, geometry)) in rgb
+        .chunks_mut(band)
+        .zip(geometry.chunks_mut(band))
+        .enumerate()
+    {
+        let mut row_of_tiles: Vec<Tile<'a>> = (0..w.div_ceil(TILE as usize))
+            .map(|tx| Tile {
+                x0: tx as u32 * TILE,
+                y0: ty as u32 * TILE,
+                rgb: Vec::with_capacity(TILE as usize),
+                geometry: Vec::with_capacity(TILE as usize),
+            })
+            .collect();
+        for (rgb, geometry) in rgb.chunks_mut(w).zip(geometry.chunks_mut(w)) {
+            let pieces = rgb
+                .chunks_mut(TILE as usize)
+                .zip(geometry.chunks_mut(TILE as usize));
+            for (tile, (rgb, geometry)) in row_of_tiles.iter_mut().zip(pieces) {
+                tile.rgb.push(rgb);
+                tile.geometry.push(geometry);
+            }
+        }
+        tiles.extend(row_of_tiles);
+    }
+    tiles
 }
 
 /// Renders `tracer` seen by `camera`.
@@ -126,39 +189,29 @@ pub fn render<T: SurfaceTracer>(
     let mut stats = RenderStats::default();
     let mode = resolve_mode(tracer, camera, settings, &mut stats);
     let (w, h) = (settings.width, settings.height);
-    let tiles: Vec<(u32, u32)> = (0..h.div_ceil(TILE))
-        .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
-        .collect();
-    let bar = progress_bar(settings, tiles.len() as u64);
-    let results: Vec<TileResult> = tiles
-        .par_iter()
-        .map(|&(x0, y0)| {
-            let tile = render_tile(tracer, camera, settings, &mode, x0, y0);
-            if let Some(bar) = &bar {
-                bar.inc(1);
-            }
-            tile
-        })
-        .collect();
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
     let mut frame = Frame {
         width: w,
         height: h,
         rgb: vec![[0.0; 3]; (w * h) as usize],
         geometry: vec![None; (w * h) as usize],
     };
+    let tiles = tiles(w, &mut frame.rgb, &mut frame.geometry);
+    let bar = progress_bar(settings, tiles.len() as u64);
+    let results: Vec<TileCounts> = tiles
+        .into_par_iter()
+        .map(|tile| {
+            let counts = render_tile(tracer, camera, settings, &mode, tile);
+            if let Some(bar) = &bar {
+                bar.inc(1);
+            }
+            counts
+        })
+        .collect();
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
     let mut counters = IntersectCounters::default();
     for tile in results {
-        for ly in 0..tile.h {
-            for lx in 0..tile.w {
-                let dst = ((tile.y0 + ly) * w + tile.x0 + lx) as usize;
-                let src = (ly * tile.w + lx) as usize;
-                frame.rgb[dst] = tile.rgb[src];
-                frame.geometry[dst] = tile.geometry[src];
-            }
-        }
         counters.add(&tile.counters);
         stats.rays += tile.rays;
         stats.hits += tile.hits;
@@ -272,62 +325,45 @@ fn curvature_probe<T: SurfaceTracer>(
     rows.into_iter().flatten().collect()
 }
 
+/// Renders one tile into its slices of the frame and returns what it counted.
 fn render_tile<T: SurfaceTracer>(
     tracer: &T,
     camera: &Camera,
     settings: &RenderSettings,
     mode: &Mode,
-    x0: u32,
-    y0: u32,
-) -> TileResult {
+    mut tile: Tile<'_>,
+) -> TileCounts {
     let (w, h) = (settings.width, settings.height);
-    let (tw, th) = (TILE.min(w - x0), TILE.min(h - y0));
     let aspect = f64::from(w) / f64::from(h);
-    let mut tile = TileResult {
-        x0,
-        y0,
-        w: tw,
-        h: th,
-        rgb: Vec::with_capacity((tw * th) as usize),
-        geometry: Vec::with_capacity((tw * th) as usize),
-        counters: IntersectCounters::default(),
-        rays: 0,
-        hits: 0,
-    };
+    let mut counts = TileCounts::default();
     let ndc = |px: f64, py: f64| (2.0 * px / f64::from(w) - 1.0, 1.0 - 2.0 * py / f64::from(h));
     // The side of one sample's cell in pixels (the stratified grid of `pixel_offset`): the
     // stripe modes filter over it, so that the samples of a pixel together cover it.
     let cell = 1.0 / f64::from(settings.spp).sqrt();
     let filtered = mode.uses_footprint();
     // With one sample per pixel, that sample is the pixel centre and its ray is the geometry
-    // ray: one ray per pixel, not two.
+    // ray: one ray per pixel, not two, and one shading point.
     let centre_only = settings.spp == 1;
-    for y in y0..y0 + th {
-        for x in x0..x0 + tw {
+    let (x0, y0) = (tile.x0, tile.y0);
+    for (y, (rgb_row, geometry_row)) in (y0..).zip(tile.rgb.iter_mut().zip(&mut tile.geometry)) {
+        for (x, (rgb_out, geometry_out)) in
+            (x0..).zip(rgb_row.iter_mut().zip(geometry_row.iter_mut()))
+        {
             let pixel = u64::from(y) * u64::from(w) + u64::from(x);
             // Geometry channels: the ray through the pixel centre.
             let (cx, cy) = ndc(f64::from(x) + 0.5, f64::from(y) + 0.5);
             let ray = camera.ray(cx, cy, aspect);
-            tile.rays += 1;
+            counts.rays += 1;
             let centre_hit = if settings.surface {
-                tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut tile.counters)
+                tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counts.counters)
             } else {
                 None
             };
-            let geometry = centre_hit.map(|hit| {
-                tile.hits += 1;
-                let sp = tracer.shading_point(&hit, &ray);
-                let c = sp.curvature;
-                PixelGeometry {
-                    hit,
-                    face: sp.face,
-                    position: sp.jet.p,
-                    normal: sp.normal,
-                    gaussian: c.map_or(0.0, |c| c.gaussian),
-                    mean: c.map_or(0.0, |c| c.mean),
-                }
+            let centre_sp = centre_hit.map(|hit| {
+                counts.hits += 1;
+                tracer.shading_point(&hit, &ray)
             });
-            tile.geometry.push(geometry);
+            *geometry_out = centre_sp.as_ref().map(PixelGeometry::new);
             // Colour: stratified supersampling (the centre ray alone at one sample per pixel).
             let mut sum = DVec3::ZERO;
             for s in 0..settings.spp {
@@ -341,13 +377,13 @@ fn render_tile<T: SurfaceTracer>(
                 let hit = if centre_only {
                     centre_hit
                 } else {
-                    tile.rays += 1;
+                    counts.rays += 1;
                     let hit = if settings.surface {
-                        tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut tile.counters)
+                        tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counts.counters)
                     } else {
                         None
                     };
-                    tile.hits += u64::from(hit.is_some());
+                    counts.hits += u64::from(hit.is_some());
                     hit
                 };
                 let tube = settings.curves.as_ref().and_then(|tubes| {
@@ -360,7 +396,11 @@ fn render_tile<T: SurfaceTracer>(
                     (Some(c), _) => c,
                     (None, None) => settings.background,
                     (None, Some(hit)) => {
-                        let sp = tracer.shading_point(&hit, &ray);
+                        // The centre ray's shading point is the same ray's, evaluated once.
+                        let sp = match centre_sp {
+                            Some(sp) if centre_only => sp,
+                            _ => tracer.shading_point(&hit, &ray),
+                        };
                         let footprint = if filtered {
                             let (fx, fy) = ndc(f64::from(x) + ox + cell, f64::from(y) + oy + cell);
                             let right = camera.ray(fx, sy, aspect);
@@ -383,10 +423,10 @@ fn render_tile<T: SurfaceTracer>(
                                     params,
                                     &sp,
                                     &mut path,
-                                    &mut tile.counters,
+                                    &mut counts.counters,
                                 );
-                                tile.rays += path.rays;
-                                tile.hits += path.hits;
+                                counts.rays += path.rays;
+                                counts.hits += path.hits;
                                 c
                             }
                             _ => mode.shade_filtered(&sp, footprint.as_ref()),
@@ -411,10 +451,10 @@ fn render_tile<T: SurfaceTracer>(
                 };
             }
             let c = sum / f64::from(settings.spp);
-            tile.rgb.push([c.x as f32, c.y as f32, c.z as f32]);
+            *rgb_out = [c.x as f32, c.y as f32, c.z as f32];
         }
     }
-    tile
+    counts
 }
 
 #[cfg(test)]
@@ -433,6 +473,12 @@ mod tests {
             progress: false,
             ..RenderSettings::default()
         }
+    }
+
+    /// The record is small: the frame holds one per pixel.
+    #[test]
+    fn pixel_record_is_at_most_80_bytes() {
+        assert!(std::mem::size_of::<Option<PixelGeometry>>() <= 80);
     }
 
     #[test]
@@ -475,13 +521,13 @@ mod tests {
         assert_eq!(stats.hits, hit_pixels);
         for (k, g) in frame.geometry.iter().enumerate() {
             if let Some(g) = g {
+                let normal = DVec3::from(g.normal.map(f64::from));
                 let expected =
-                    crate::render::modes::palette::srgb_to_linear(0.5 * (g.normal + DVec3::ONE));
+                    crate::render::modes::palette::srgb_to_linear(0.5 * (normal + DVec3::ONE));
                 let rgb = DVec3::from(frame.rgb[k].map(f64::from));
                 assert!(
                     (rgb - expected).abs().max_element() < 1e-6,
-                    "pixel {k}: colour {rgb} from normal {}",
-                    g.normal
+                    "pixel {k}: colour {rgb} from normal {normal}",
                 );
             }
         }
@@ -494,8 +540,8 @@ mod tests {
         );
     }
 
-    /// The geometry record of a pixel is the exact surface point on the pixel-centre ray, and
-    /// its normal is the patch normal evaluated there.
+    /// The geometry record of a pixel is the exact hit on the pixel-centre ray, and its point
+    /// and normal are the patch's there, rounded once to f32.
     #[test]
     fn pixel_geometry_lies_on_ray_and_patch() {
         let surface = octahedron_sphere(4, 2.0, 1);
@@ -528,16 +574,25 @@ mod tests {
                     f64::from(w) / f64::from(h),
                 );
                 let patch = &surface.patches[g.hit.patch as usize];
+                let jet = patch.jet(g.hit.u, g.hit.v);
                 assert!(
-                    (g.position - ray.at(g.hit.t)).length() <= tracer.root_tolerance(),
+                    (jet.p - ray.at(g.hit.t)).length() <= tracer.root_tolerance(),
                     "pixel ({x},{y}) off its ray"
                 );
                 assert!(
-                    (g.position - patch.eval(g.hit.u, g.hit.v)).length() <= 1e-15 * diag,
+                    (jet.p - patch.eval(g.hit.u, g.hit.v)).length() <= 1e-15 * diag,
                     "pixel ({x},{y}) off its patch"
                 );
-                let n = patch.jet(g.hit.u, g.hit.v).normal();
-                assert!(g.normal.angle_between(n) <= 1e-9, "pixel ({x},{y}) normal");
+                assert_eq!(
+                    g.position,
+                    jet.p.as_vec3().to_array(),
+                    "pixel ({x},{y}) point"
+                );
+                let n = jet.normal();
+                assert_eq!(g.normal, n.as_vec3().to_array(), "pixel ({x},{y}) normal");
+                let c = jet.curvature().expect("curvature on a sphere");
+                assert_eq!(g.gaussian, c.gaussian as f32, "pixel ({x},{y}) K");
+                assert_eq!(g.mean, c.mean, "pixel ({x},{y}) H");
                 assert_eq!(g.face, patch.face);
                 checked += 1;
             }

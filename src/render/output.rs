@@ -130,12 +130,26 @@ pub const EXR_CHANNELS: [&str; 16] = [
 ];
 
 /// 8-bit sRGB-encoded RGB bytes of the frame, rows top to bottom.
+///
+/// Runs of equal values (the background, the inside of a stripe) are encoded once: the last
+/// value and its byte are remembered, so the transfer function (a `powf`) runs only where the
+/// value changes. The bytes are those of encoding every value.
 pub fn srgb8(frame: &Frame) -> Vec<u8> {
-    frame
-        .rgb
-        .iter()
-        .flat_map(|c| c.map(|x| (linear_to_srgb(f64::from(x)) * 255.0 + 0.5) as u8))
-        .collect()
+    let encode = |x: f32| (linear_to_srgb(f64::from(x)) * 255.0 + 0.5) as u8;
+    let mut last: Option<(u32, u8)> = None;
+    let mut bytes = Vec::with_capacity(3 * frame.rgb.len());
+    for &x in frame.rgb.iter().flatten() {
+        let byte = match last {
+            Some((bits, byte)) if bits == x.to_bits() => byte,
+            _ => {
+                let byte = encode(x);
+                last = Some((x.to_bits(), byte));
+                byte
+            }
+        };
+        bytes.push(byte);
+    }
+    bytes
 }
 
 /// Writes the frame as an 8-bit sRGB PNG (atomically, see [`write_atomic`]).
@@ -202,12 +216,12 @@ pub fn exr_planes(frame: &Frame) -> Vec<Vec<f32>> {
                 rgb[1],
                 rgb[2],
                 g.hit.t as f32,
-                g.normal.x as f32,
-                g.normal.y as f32,
-                g.normal.z as f32,
-                g.position.x as f32,
-                g.position.y as f32,
-                g.position.z as f32,
+                g.normal[0],
+                g.normal[1],
+                g.normal[2],
+                g.position[0],
+                g.position[1],
+                g.position[2],
                 g.hit.u as f32,
                 g.hit.v as f32,
                 g.hit.patch as f32,
@@ -227,8 +241,8 @@ pub fn exr_planes(frame: &Frame) -> Vec<Vec<f32>> {
     planes
 }
 
-fn finite_or_zero(x: f64) -> f32 {
-    let f = x as f32;
+fn finite_or_zero(x: impl Into<f64>) -> f32 {
+    let f = x.into() as f32;
     if f.is_finite() { f } else { 0.0 }
 }
 
@@ -408,6 +422,43 @@ pub fn write_outputs_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The remembered last value gives the bytes of encoding every value on its own.
+    #[test]
+    fn srgb8_is_the_transfer_of_every_value() {
+        let values = [
+            0.0,
+            0.045,
+            0.045,
+            0.5,
+            0.5,
+            1.0,
+            2.0,
+            -1.0,
+            f32::NAN,
+            0.003,
+            0.9,
+            0.9,
+        ];
+        let rgb: Vec<[f32; 3]> = values
+            .windows(3)
+            .map(|w| [w[0], w[1], w[2]])
+            .chain([[0.2; 3], [0.2; 3], [0.7, 0.2, 0.2]])
+            .collect();
+        let frame = Frame {
+            width: rgb.len() as u32,
+            height: 1,
+            geometry: vec![None; rgb.len()],
+            rgb,
+        };
+        let expected: Vec<u8> = frame
+            .rgb
+            .iter()
+            .flatten()
+            .map(|&x| (linear_to_srgb(f64::from(x)) * 255.0 + 0.5) as u8)
+            .collect();
+        assert_eq!(srgb8(&frame), expected);
+    }
 
     #[test]
     fn only_image_extensions_are_replaced() {
