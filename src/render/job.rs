@@ -49,10 +49,12 @@ fn patch_samples(patch: &Patch) -> [DVec3; FRAMING_POINTS] {
 /// ([`patch_samples`]), evaluated on demand and in parallel, never stored.
 ///
 /// A patch lies in the convex hull of its control points (of its three sub-surfaces' for a
-/// blend, a convex combination of them), so a patch whose hull stays inside what the patch
-/// corners alone already reach cannot change the box or a convex maximum, and is not
-/// evaluated. The result is that of one pass over all the points: a box and a maximum do not
-/// depend on the order, so it is the same for any thread count.
+/// blend, a convex combination of them), so a patch whose hull stays inside what some framing
+/// points already reach (the corners of the first patch of every run of [`FRAMING_RUN`]
+/// patches) cannot change the box or a convex maximum, and is not evaluated; a whole run is
+/// tested first by the box of its control points. The result is that of one pass over all the
+/// points: a box and a maximum do not depend on the order, so it is the same for any thread
+/// count.
 pub struct SurfaceSamples<'a> {
     surfaces: Vec<&'a Surface>,
 }
@@ -70,9 +72,11 @@ impl<'a> SurfaceSamples<'a> {
         SurfaceSamples::new(&[surface])
     }
 
-    /// Every patch, in parallel.
-    fn patches(&self) -> impl ParallelIterator<Item = &'a Patch> + '_ {
-        self.surfaces.par_iter().flat_map(|s| s.patches.par_iter())
+    /// Runs of up to [`FRAMING_RUN`] consecutive patches, in parallel.
+    fn runs(&self) -> impl ParallelIterator<Item = &'a [Patch]> + '_ {
+        self.surfaces
+            .par_iter()
+            .flat_map(|s| s.patches.par_chunks(FRAMING_RUN))
     }
 
     /// All the points, in order (patch by patch): for tests and small surfaces.
@@ -94,6 +98,27 @@ fn hull_points(patch: &Patch) -> impl Iterator<Item = DVec3> + '_ {
     nets.iter().flat_map(|n| n.points().iter().copied())
 }
 
+/// Patches tested together by the automatic framing before they are tested one by one.
+const FRAMING_RUN: usize = 64;
+
+/// The box of the control points of every patch of `run`.
+fn run_bounds(run: &[Patch]) -> Aabb {
+    run.iter()
+        .map(Patch::full_bounds)
+        .fold(Aabb::EMPTY, Aabb::union)
+}
+
+/// The eight corners of `b`.
+fn box_corners(b: Aabb) -> [DVec3; 8] {
+    std::array::from_fn(|k| {
+        DVec3::new(
+            if k & 1 == 0 { b.min.x } else { b.max.x },
+            if k & 2 == 0 { b.min.y } else { b.max.y },
+            if k & 4 == 0 { b.min.z } else { b.max.z },
+        )
+    })
+}
+
 /// The surface at the three corners of `patch`'s domain (framing points themselves). For a
 /// Bézier patch these are its corner control points: de Casteljau with the weights 0 and 1
 /// reproduces them exactly (up to the sign of a zero), so they need no evaluation.
@@ -111,9 +136,11 @@ fn patch_corners(patch: &Patch) -> [DVec3; 3] {
 
 impl FramedPoints for SurfaceSamples<'_> {
     fn bounds(&self) -> Aabb {
+        // The corners of the first patch of every run: a patch is skipped only when its
+        // control box lies inside theirs, so the extreme points lie in patches that are sampled.
         let corners = self
-            .patches()
-            .map(|p| Aabb::from_points(&patch_corners(p)))
+            .runs()
+            .map(|run| Aabb::from_points(&patch_corners(&run[0])))
             .reduce(|| Aabb::EMPTY, Aabb::union);
         // Evaluation stays within a few ulps of the hull; this margin is far above that.
         let margin =
@@ -122,14 +149,21 @@ impl FramedPoints for SurfaceSamples<'_> {
             corners.min + DVec3::splat(margin),
             corners.max - DVec3::splat(margin),
         );
-        self.patches()
-            .map(|p| {
-                let hull = p.full_bounds();
-                if hull.min.cmpge(lo).all() && hull.max.cmple(hi).all() {
-                    Aabb::EMPTY
-                } else {
-                    Aabb::from_points(&patch_samples(p))
+        let inside = |b: Aabb| b.min.cmpge(lo).all() && b.max.cmple(hi).all();
+        self.runs()
+            .map(|run| {
+                if inside(run_bounds(run)) {
+                    return Aabb::EMPTY;
                 }
+                run.iter()
+                    .map(|p| {
+                        if inside(p.full_bounds()) {
+                            Aabb::EMPTY
+                        } else {
+                            Aabb::from_points(&patch_samples(p))
+                        }
+                    })
+                    .fold(Aabb::EMPTY, Aabb::union)
             })
             .reduce(|| Aabb::EMPTY, Aabb::union)
             .union(corners)
@@ -137,17 +171,31 @@ impl FramedPoints for SurfaceSamples<'_> {
 
     fn max_convex(&self, f: &(dyn Fn(DVec3) -> f64 + Sync), floor: f64, margin: f64) -> f64 {
         let largest = |points: &[DVec3]| points.iter().fold(f64::NEG_INFINITY, |m, &p| m.max(f(p)));
+        // A lower bound of the maximum from the corners of the first patch of every run: any
+        // framing points will do, as a patch is skipped only when all of its points lie below
+        // their maximum, and the largest point then lies in a patch that is sampled.
         let corners = self
-            .patches()
-            .map(|p| largest(&patch_corners(p)))
+            .runs()
+            .map(|run| largest(&patch_corners(&run[0])))
             .reduce(|| floor, f64::max);
-        self.patches()
-            .map(|p| {
-                if hull_points(p).all(|q| f(q) < corners - margin) {
-                    corners
-                } else {
-                    largest(&patch_samples(p))
+        let below = |q: DVec3| f(q) < corners - margin;
+        // A run of patches whose common control box lies below the running maximum (a convex
+        // function's maximum over a box is at its corners) cannot raise it: one test of 8
+        // corners instead of every patch's control points.
+        self.runs()
+            .map(|run| {
+                if box_corners(run_bounds(run)).into_iter().all(below) {
+                    return corners;
                 }
+                run.iter()
+                    .map(|p| {
+                        if hull_points(p).all(below) {
+                            corners
+                        } else {
+                            largest(&patch_samples(p))
+                        }
+                    })
+                    .fold(corners, f64::max)
             })
             .reduce(|| corners, f64::max)
     }
