@@ -71,7 +71,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
         ParamSpec {
             name: "gamma0",
             default: "auto",
-            help: "γ0 of eq. 15 (weight of b0 in b2); auto = per vertex, from the curvature the one-ring implies",
+            help: "γ0 of eq. 15 (weight of b0 in b2); auto = per vertex, from the curvature the one-ring implies, and each edge's b2 raised to the normal curvature of the second fundamental form fitted to the ring",
         },
         ParamSpec {
             name: "gamma1",
