@@ -46,6 +46,21 @@ pub const fn index(degree: usize, i: usize, j: usize) -> usize {
 /// not been overwritten yet. Rows are handled as slices, so the inner loop has no index checks.
 #[inline(always)]
 pub(crate) fn de_casteljau_step(net: &mut [DVec3], m: usize, w: DVec3) {
+    de_casteljau_rows(net, m, |t, b_j, b_k| {
+        *t = w.x * *t + w.y * *b_j + w.z * *b_k;
+    });
+}
+
+/// The in-place row walk of [`de_casteljau_step`] for points of any type: `combine(t, b_j,
+/// b_k)` replaces the old `t = b(i+1, j, k)` by the new `b'(i, j, k)` from it, `b_j =
+/// b(i, j+1, k)` and `b_k = b(i, j, k+1)`. Shared with the double-double evaluation of the
+/// continuity measure.
+#[inline(always)]
+pub(crate) fn de_casteljau_rows<T>(
+    net: &mut [T],
+    m: usize,
+    mut combine: impl FnMut(&mut T, &T, &T),
+) {
     // Old row i (first index i, m−i+1 points) starts at (m−i)(m−i+1)/2.
     let row_start = |i: usize| (m - i) * (m - i + 1) / 2;
     for i in (0..m).rev() {
@@ -54,8 +69,8 @@ pub(crate) fn de_casteljau_step(net: &mut [DVec3], m: usize, w: DVec3) {
         let target = &mut head[row_start(i + 1)..];
         let row_i = &tail[..=len];
         // target[n] holds old b(i+1, len−1−n, ·); row_i[n] = b(i, len−n, ·), row_i[n+1] = b(i, len−1−n, ·).
-        for ((t, &b_j), &b_k) in target.iter_mut().zip(row_i).zip(&row_i[1..]) {
-            *t = w.x * *t + w.y * b_j + w.z * b_k;
+        for ((t, b_j), b_k) in target.iter_mut().zip(row_i).zip(&row_i[1..]) {
+            combine(t, b_j, b_k);
         }
     }
 }

@@ -55,7 +55,7 @@ use std::cell::OnceCell;
 use glam::{DVec2, DVec3};
 
 use crate::bezier::TriangleBezier;
-use crate::bezier::triangle::{de_casteljau_step, point_count};
+use crate::bezier::triangle::{de_casteljau_rows, de_casteljau_step, point_count};
 use crate::metrics::double_double::{DoubleDouble, Real};
 use crate::surface::{Joint, Patch, Surface, UV_CORNERS, edge_uv};
 
@@ -847,17 +847,10 @@ impl PreciseNet {
 
 /// One de Casteljau step in double-double, as [`de_casteljau_step`] (same layout, in place).
 fn precise_step(net: &mut [[DoubleDouble; 3]], m: usize, w: [DoubleDouble; 3]) {
-    let row_start = |i: usize| (m - i) * (m - i + 1) / 2;
-    for i in (0..m).rev() {
-        let len = m - i;
-        let (head, tail) = net.split_at_mut(row_start(i));
-        let target = &mut head[row_start(i + 1)..];
-        let row_i = &tail[..=len];
-        for ((t, b_j), b_k) in target.iter_mut().zip(row_i).zip(&row_i[1..]) {
-            let old = *t;
-            *t = std::array::from_fn(|c| w[0] * old[c] + w[1] * b_j[c] + w[2] * b_k[c]);
-        }
-    }
+    de_casteljau_rows(net, m, |t, b_j, b_k| {
+        let old = *t;
+        *t = std::array::from_fn(|c| w[0] * old[c] + w[1] * b_j[c] + w[2] * b_k[c]);
+    });
 }
 
 /// The partial derivatives of orders `0..=MAX_ORDER` of `net` at `uv` in double-double, by
