@@ -10,7 +10,7 @@
 //!   the degree as a constant needs about a third of de Casteljau's arithmetic; over the small
 //!   leaf domain the high-order coefficients are tiny, so the form is well conditioned.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use crate::bezier::triangle::{index, point_count};
 
@@ -156,6 +156,69 @@ pub fn local_point_and_tangents<const D: usize>(
     (p, ps, pt)
 }
 
+/// `1 / multinomial(D; j, k) = j! k! (D−j−k)! / D!` in [`power_index`] order: the factors that
+/// undo the last step of [`power_coefficients`].
+struct InverseMultinomials<const D: usize>;
+
+impl<const D: usize> InverseMultinomials<D> {
+    const TABLE: [f64; point_count(MAX_STACK_DEGREE)] = {
+        let factorial = [1.0, 1.0, 2.0, 6.0, 24.0, 120.0, 720.0];
+        let mut table = [0.0; point_count(MAX_STACK_DEGREE)];
+        let mut j = 0;
+        while j <= D {
+            let mut k = 0;
+            while k <= D - j {
+                table[power_index(D, j, k)] =
+                    factorial[j] * factorial[k] * factorial[D - j - k] / factorial[D];
+                k += 1;
+            }
+            j += 1;
+        }
+        table
+    };
+}
+
+/// The Bézier net of the degree-`D` power form `c` ([`power_coefficients`]) after the affine
+/// map `project` (applied to the constant coefficient, its linear part to the others): the
+/// inverse of [`power_coefficients`] — divide by the multinomials, then undo the forward
+/// differences in `j`, then in `k`, by running sums — on the projected coefficients. Entry
+/// `power_index(D, j, k)` is `project(b(D−j−k, j, k))`. The weights of the running sums are
+/// positive and the result is a convex combination's worth of the inputs, so each entry's
+/// rounding is a few ulps of `Σ |c_jk|` (returned second, as the sum of the projected
+/// coefficients' absolute coordinates).
+pub fn projected_net<const D: usize>(
+    c: &[DVec3],
+    project: impl Fn(DVec3) -> DVec2,
+    offset: DVec2,
+) -> ([DVec2; point_count(MAX_STACK_DEGREE)], f64) {
+    let mut q = [DVec2::ZERO; point_count(MAX_STACK_DEGREE)];
+    let mut magnitude = offset.abs().element_sum();
+    for (i, (q, &c)) in q.iter_mut().zip(&c[..point_count(D)]).enumerate() {
+        *q = project(c) * InverseMultinomials::<D>::TABLE[i];
+        magnitude += q.abs().element_sum();
+    }
+    q[0] -= offset;
+    // Undo the differences in j along every column k (applied last), then in k along rows.
+    for k in 0..=D {
+        let len = D - k;
+        for order in (1..=len).rev() {
+            for j in order..=len {
+                q[power_index(D, j, k)] += q[power_index(D, j - 1, k)];
+            }
+        }
+    }
+    for j in 0..=D {
+        let row = power_index(D, j, 0);
+        let len = D - j;
+        for order in (1..=len).rev() {
+            for k in order..=len {
+                q[row + k] += q[row + k - 1];
+            }
+        }
+    }
+    (q, magnitude)
+}
+
 /// A bound on the second derivative of a Bézier triangle in any unit `(u, v)` direction over
 /// its domain: [`second_derivative_bounds`] with no normal direction singled out.
 #[cfg(test)]
@@ -260,6 +323,36 @@ mod tests {
                     .max((su - jet.du).length() / D.max(1) as f64)
                     .max((sv - jet.dv).length() / D.max(1) as f64);
                 assert!(err <= 1e-13 * scale, "degree {D} at ({u}, {v}): {err:e}");
+            }
+        }
+        check::<1>();
+        check::<2>();
+        check::<3>();
+        check::<4>();
+        check::<5>();
+        check::<6>();
+    }
+
+    /// The projected net recovers the Bézier net from its power form: each entry is the
+    /// affine map of the control point it stands for, to rounding.
+    #[test]
+    fn projected_net_inverts_the_power_form() {
+        fn check<const D: usize>() {
+            let net = wavy_net(D);
+            let c = power_coefficients(&net);
+            let project = |v: DVec3| DVec2::new(v.x + 0.5 * v.z, v.y - 0.25 * v.x);
+            let offset = DVec2::new(0.3, -1.2);
+            let (q, magnitude) = projected_net::<D>(&c, project, offset);
+            assert!(magnitude > 0.0);
+            for j in 0..=D {
+                for k in 0..=D - j {
+                    let expected = project(net.point(D - j - k, j)) - offset;
+                    let err = (q[power_index(D, j, k)] - expected).length();
+                    assert!(
+                        err <= 64.0 * f64::EPSILON * magnitude,
+                        "degree {D} b({j},{k}): {err:e}"
+                    );
+                }
             }
         }
         check::<1>();

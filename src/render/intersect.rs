@@ -24,15 +24,16 @@ use glam::{DVec2, DVec3, Vec3A};
 use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray, RayHit};
 
+use crate::bezier::triangle::point_count;
 use crate::blend::BlendPatch;
 use crate::geom::Aabb;
 use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion, UnitFrame};
 use crate::render::evaluate::{
-    local_point_and_tangents, net_point_and_tangents, point_and_tangents,
+    local_point_and_tangents, net_point_and_tangents, point_and_tangents, projected_net,
 };
 pub use crate::render::newton::NewtonSettings;
 use crate::render::newton::{
-    Newton, PieceBounds, Start, newton, planar_start, search, taylor_excludes,
+    Newton, PieceBounds, Start, hull_clears_origin, newton, planar_start, search, taylor_excludes,
 };
 pub use crate::render::ray::{Ray64, RayPlanes, ray_enters_box};
 use crate::surface::{Patch, Surface};
@@ -314,9 +315,13 @@ impl<'s> Tracer<'s> {
             .unwrap_or_default();
         macro_rules! solve_with {
             ($eval:expr) => {
+                solve_with!($eval, || false)
+            };
+            ($eval:expr, $clears:expr) => {
                 self.solve_piece(
                     $eval,
                     |_| false,
+                    $clears,
                     leaf,
                     bounds,
                     start,
@@ -327,12 +332,18 @@ impl<'s> Tracer<'s> {
             };
         }
         match leaf.degree {
-            1 => solve_with!(|x| local_point_and_tangents::<1>(c, x.x, x.y)),
-            2 => solve_with!(|x| local_point_and_tangents::<2>(c, x.x, x.y)),
-            3 => solve_with!(|x| local_point_and_tangents::<3>(c, x.x, x.y)),
-            4 => solve_with!(|x| local_point_and_tangents::<4>(c, x.x, x.y)),
-            5 => solve_with!(|x| local_point_and_tangents::<5>(c, x.x, x.y)),
-            6 => solve_with!(|x| local_point_and_tangents::<6>(c, x.x, x.y)),
+            1 => solve_with!(|x| local_point_and_tangents::<1>(c, x.x, x.y), || self
+                .net_clears::<1>(c, query.planes)),
+            2 => solve_with!(|x| local_point_and_tangents::<2>(c, x.x, x.y), || self
+                .net_clears::<2>(c, query.planes)),
+            3 => solve_with!(|x| local_point_and_tangents::<3>(c, x.x, x.y), || self
+                .net_clears::<3>(c, query.planes)),
+            4 => solve_with!(|x| local_point_and_tangents::<4>(c, x.x, x.y), || self
+                .net_clears::<4>(c, query.planes)),
+            5 => solve_with!(|x| local_point_and_tangents::<5>(c, x.x, x.y), || self
+                .net_clears::<5>(c, query.planes)),
+            6 => solve_with!(|x| local_point_and_tangents::<6>(c, x.x, x.y), || self
+                .net_clears::<6>(c, query.planes)),
             _ => {
                 let patch = self.bvh.whole_patch(leaf.patch)?;
                 let tri = leaf.tri();
@@ -349,7 +360,17 @@ impl<'s> Tracer<'s> {
                         let exclude = |sub: [DVec2; 3]| {
                             blend_excludes(blend, tri, sub, query.planes, second, margin)
                         };
-                        self.solve_piece(eval, exclude, leaf, bounds, start, query, t_max, counters)
+                        self.solve_piece(
+                            eval,
+                            exclude,
+                            || false,
+                            leaf,
+                            bounds,
+                            start,
+                            query,
+                            t_max,
+                            counters,
+                        )
                     }
                     _ => solve_with!(eval),
                 }
@@ -357,13 +378,27 @@ impl<'s> Tracer<'s> {
         }
     }
 
-    /// [`Tracer::solve_leaf`] with the leaf's evaluator `eval` in leaf-local `(s, t)` and the
-    /// search's extra exclusion test `exclude` (see [`search`]).
+    /// True when the leaf's Bézier net, given by its degree-`D` power form `c` and projected
+    /// onto the ray's planes, keeps its convex hull (and so the leaf) further than the root
+    /// tolerance from the ray ([`hull_clears_origin`]); the limit grows by the rounding of
+    /// the net's computation.
+    fn net_clears<const D: usize>(&self, c: &[DVec3], planes: &RayPlanes) -> bool {
+        let offset = -planes.residual(DVec3::ZERO);
+        let (net, magnitude) = projected_net::<D>(c, |v| planes.project(v), offset);
+        let limit = self.tolerance * (1.0 + 1e-9) + 1e-12 + 64.0 * f64::EPSILON * magnitude;
+        hull_clears_origin(&net[..point_count(D)], limit)
+    }
+
+    /// [`Tracer::solve_leaf`] with the leaf's evaluator `eval` in leaf-local `(s, t)`, the
+    /// search's extra exclusion test `exclude` (see [`search`]) and `clears`, a test that
+    /// proves the whole leaf free of roots (run only when Newton is undecided, before the
+    /// search).
     #[allow(clippy::too_many_arguments)]
     fn solve_piece(
         &self,
         eval: impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
         exclude: impl Fn([DVec2; 3]) -> bool,
+        clears: impl Fn() -> bool,
         leaf: &Leaf,
         bounds: &PieceBounds,
         start: Start,
@@ -401,6 +436,9 @@ impl<'s> Tracer<'s> {
             }
             Newton::Failed => {
                 counters.newton_unconverged += 1;
+                if clears() {
+                    return None;
+                }
                 None
             }
         };

@@ -60,7 +60,7 @@ pub struct NewtonSettings {
     /// evaluation noise, so Newton never stalls on rounding.
     pub residual_tolerance: f64,
     /// Levels of 4-splitting of the piece's domain searched after an undecided run (see
-    /// [`search`]).
+    /// [`search`]; at most [`SEARCH_DEPTH_CAP`]).
     pub fallback_depth: u32,
 }
 
@@ -344,6 +344,10 @@ const FOLD_MU_MIN: f64 = 0.05;
 /// Relative slack above `μ = ¼` still taken as a fold (the model's higher-order terms).
 const FOLD_MU_SLACK: f64 = 0.1;
 
+/// Deepest search level [`search`] goes to, whatever [`NewtonSettings::fallback_depth`] says:
+/// 4^-12 of the piece is far below any root tolerance.
+pub const SEARCH_DEPTH_CAP: u32 = 12;
+
 /// The search of a piece whose Newton run was undecided: the unit triangle is split into four
 /// recursively (`depth` levels); a sub-triangle Δ is excluded when the residual's Taylor bound
 /// about its centroid `y` keeps it away from zero ([`taylor_excludes`], with a proved bound
@@ -374,9 +378,12 @@ pub fn search(
     let (from, radius, half_m) = start.region(bounds)?;
     let once = !start.may_meet_twice();
     let mut undecided = 0;
-    let mut stack: Vec<([DVec2; 3], u32)> = Vec::new();
-    let unit = [DVec2::ZERO, DVec2::X, DVec2::Y];
-    stack.push((unit, 0));
+    // Depth first: each level leaves at most three siblings waiting, so the stack holds at
+    // most `3 depth + 1` entries; deeper settings than fit are capped.
+    let depth = settings.fallback_depth.min(SEARCH_DEPTH_CAP);
+    let mut stack = [([DVec2::ZERO; 3], 0u32); 3 * SEARCH_DEPTH_CAP as usize + 1];
+    stack[0] = ([DVec2::ZERO, DVec2::X, DVec2::Y], 0);
+    let mut waiting = 1;
     // Disks about roots already visited that hold no other root (see [`RootDisks`]).
     let mut disks = RootDisks::default();
     if bounds.proved
@@ -385,7 +392,9 @@ pub fn search(
         let (_, ss, tt) = eval(x);
         disks.add(x, planes.project(ss), planes.project(tt), half_m, tolerance);
     }
-    while let Some((tri, level)) = stack.pop() {
+    while waiting > 0 {
+        waiting -= 1;
+        let (tri, level) = stack[waiting];
         let y = (tri[0] + tri[1] + tri[2]) / 3.0;
         let size = tri
             .iter()
@@ -422,7 +431,7 @@ pub fn search(
             if bounds.proved {
                 disks.add(y, ju, jv, half_m, tolerance);
             }
-            if unique || level == settings.fallback_depth {
+            if unique || level == depth {
                 continue;
             }
         }
@@ -469,7 +478,7 @@ pub fn search(
                 Newton::Failed => {}
             }
         }
-        if level == settings.fallback_depth {
+        if level == depth {
             // A root in Δ at the last level leaves any other within Δ's tiny size.
             if !found_inside {
                 undecided += 1;
@@ -485,7 +494,8 @@ pub fn search(
             [m20, m12, tri[2]],
             [m12, m20, m01],
         ] {
-            stack.push((child, level + 1));
+            stack[waiting] = (child, level + 1);
+            waiting += 1;
         }
     }
     Some(undecided)
@@ -582,6 +592,93 @@ pub fn taylor_excludes(
         || (sum.y != 0.0 && clears(DVec2::new(0.0, sum.y.signum())))
 }
 
+/// True when the convex hull of `points` keeps a distance above `limit` from the origin,
+/// proved by a unit direction `n` with `n · p > limit` for every point. A piece whose
+/// projected Bézier net ([`crate::render::evaluate::projected_net`]) is so cleared holds no
+/// root: the residual is a convex combination of the net's points (the Bernstein weights are
+/// positive and sum to one).
+///
+/// The direction is the one to the hull's point nearest the origin, found by Gilbert's
+/// distance iteration on a simplex of at most three points: each step takes the point of
+/// smallest `n · p` (a lower bound on the distance, so a proof as soon as it exceeds `limit`)
+/// and moves to the nearest point of the simplex with it. It answers false (no proof) when
+/// the hull comes within `limit`, holds the origin, or the iteration stops improving.
+pub fn hull_clears_origin(points: &[DVec2], limit: f64) -> bool {
+    let Some(&first) = points.first() else {
+        return false;
+    };
+    let support = |n: DVec2| {
+        points
+            .iter()
+            .fold((first, first.dot(n)), |(best, low), &p| {
+                let h = p.dot(n);
+                if h < low { (p, h) } else { (best, low) }
+            })
+    };
+    let mut simplex = [first; 2];
+    let mut count = 1;
+    let mut v = first;
+    for _ in 0..2 * points.len() {
+        let len = v.length();
+        if !(len > limit) {
+            return false;
+        }
+        let n = v / len;
+        let (w, low) = support(n);
+        if low > limit {
+            return true;
+        }
+        if len - low <= 1e-9 * len {
+            return false;
+        }
+        // The nearest point of the simplex with `w` added, and the smallest face holding it.
+        let candidates: [(DVec2, [DVec2; 2], usize); 3] = if count == 1 {
+            let (p, face, n) = nearest_on_segment(simplex[0], w);
+            [(p, face, n); 3]
+        } else {
+            let [a, b] = simplex;
+            let inside = {
+                let (d1, d2, d3) = (
+                    (b - a).perp_dot(-a),
+                    (w - b).perp_dot(-b),
+                    (a - w).perp_dot(-w),
+                );
+                (d1 >= 0.0 && d2 >= 0.0 && d3 >= 0.0) || (d1 <= 0.0 && d2 <= 0.0 && d3 <= 0.0)
+            };
+            if inside {
+                return false;
+            }
+            [
+                nearest_on_segment(a, w),
+                nearest_on_segment(b, w),
+                nearest_on_segment(a, b),
+            ]
+        };
+        let (p, face, n) = candidates
+            .into_iter()
+            .min_by(|x, y| x.0.length_squared().total_cmp(&y.0.length_squared()))
+            .unwrap_or((v, simplex, count));
+        v = p;
+        simplex = face;
+        count = n;
+    }
+    false
+}
+
+/// The point of the segment `[a, b]` nearest the origin, with the smallest face of the
+/// segment holding it (one endpoint, or both).
+fn nearest_on_segment(a: DVec2, b: DVec2) -> (DVec2, [DVec2; 2], usize) {
+    let e = b - a;
+    let h = -a.dot(e) / e.length_squared();
+    if !(h > 0.0) {
+        (a, [a; 2], 1)
+    } else if h >= 1.0 {
+        (b, [b; 2], 1)
+    } else {
+        (a + e * h, [a, b], 2)
+    }
+}
+
 /// Distance from `x` to the triangle `tri` (0 inside): through the affine map onto the unit
 /// triangle only for the inside test, measured in `x`'s own units.
 fn distance_to_triangle(x: DVec2, tri: [DVec2; 3]) -> f64 {
@@ -643,6 +740,75 @@ pub fn distance_to_unit_triangle(x: DVec2) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The hull test against the distance from the origin to the hull by brute force (to every
+    /// segment between two points, 0 when a triangle of points holds the origin): a proof
+    /// only when that distance exceeds the limit, and one whenever it does (Gilbert's
+    /// iteration converges).
+    #[test]
+    fn hull_clearance_agrees_with_the_distance_to_the_hull() {
+        let mut rng = crate::testing::Rng::new(17);
+        let mut cleared = 0;
+        for case in 0..4000 {
+            let count = 1 + case % 28;
+            let centre = DVec2::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0));
+            let spread = rng.range(0.01, 1.5);
+            let points: Vec<DVec2> = (0..count)
+                .map(|_| centre + DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * spread)
+                .collect();
+            let limit = rng.range(0.0, 0.3);
+            // The distance from the origin to the hull: to every segment between two points
+            // when the origin is outside (the hull's edges are among them), else 0.
+            let to_segment = |a: DVec2, b: DVec2| {
+                let e = b - a;
+                let h = if e == DVec2::ZERO {
+                    0.0
+                } else {
+                    (-a.dot(e) / e.length_squared()).clamp(0.0, 1.0)
+                };
+                (a + e * h).length()
+            };
+            let mut distance = f64::INFINITY;
+            for a in &points {
+                for b in &points {
+                    distance = distance.min(to_segment(*a, *b));
+                }
+            }
+            let inside = points.iter().enumerate().any(|(i, a)| {
+                points.iter().enumerate().any(|(j, b)| {
+                    points.iter().enumerate().any(|(k, c)| {
+                        i < j && j < k && {
+                            let (d1, d2, d3) = (
+                                (*b - *a).perp_dot(-*a),
+                                (*c - *b).perp_dot(-*b),
+                                (*a - *c).perp_dot(-*c),
+                            );
+                            (d1 >= 0.0 && d2 >= 0.0 && d3 >= 0.0)
+                                || (d1 <= 0.0 && d2 <= 0.0 && d3 <= 0.0)
+                        }
+                    })
+                })
+            });
+            if inside {
+                distance = 0.0;
+            }
+            let clears = hull_clears_origin(&points, limit);
+            if clears {
+                cleared += 1;
+                assert!(
+                    distance > limit,
+                    "case {case}: cleared at distance {distance} ≤ {limit}"
+                );
+            } else {
+                // Gilbert's iteration stops within a relative 1e-9 of the distance.
+                assert!(
+                    distance <= limit * (1.0 + 1e-6) + 1e-12,
+                    "case {case}: distance {distance} > {limit} not proved"
+                );
+            }
+        }
+        assert!(cleared > 1000, "only {cleared} of 4000 cleared");
+    }
 
     /// A quadratic map with `|D²G(δ, δ)| ≤ 2 · 1.5` for unit δ, and its derivatives.
     fn quadratic(x: DVec2, shift: DVec2) -> (DVec2, DVec2, DVec2) {
