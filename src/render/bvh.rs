@@ -1,5 +1,6 @@
 //! The acceleration structure of the exact renderer: every patch's `(u, v)` domain is split into
-//! sub-triangles until each piece is nearly flat with a narrow normal cone, and an obvhs
+//! sub-triangles until each piece is nearly flat with a narrow normal cone and a bounded tilt
+//! (a ray steeper than it meets the piece at most once), and an obvhs
 //! compressed wide BVH (PLOC build + reinsertion) is built over the pieces' conservative boxes.
 //!
 //! A leaf is `(patch, sub-triangle of the patch's (u, v) domain)`. Each Bézier leaf also keeps
@@ -31,10 +32,12 @@ use crate::surface::{Patch, PatchGeometry, Surface, UV_CORNERS};
 ///
 /// A piece is split into four (at its edge midpoints) until its control net lies within
 /// `flatness × size` of the plane through its three corners (`size` = diagonal of the net's
-/// box) **and** the normals of all control-net triangles lie within `max_cone_deg` of that
-/// plane's normal. Flatness keeps the box tight; the narrow cone keeps Newton, started at the
-/// piece's centroid, inside its basin of quadratic convergence and makes a ray meet the piece
-/// at most once unless it is nearly tangent.
+/// box), the normals of all control-net triangles lie within `max_cone_deg` of that plane's
+/// normal **and** no chord of the piece is steeper against the plane than `max_tilt` (a
+/// sine; see [`tilt`]). Flatness keeps the box tight; the narrow cone keeps Newton, started
+/// at the piece's centroid, inside its basin of quadratic convergence; the tilt proves that a
+/// ray steeper than it meets the piece at most once, so only rays nearly along the piece
+/// need the search for a second root.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SubdivisionCriterion {
     /// Largest allowed distance of a control point from the corner plane, relative to size.
@@ -42,6 +45,9 @@ pub struct SubdivisionCriterion {
     /// Largest allowed angle (degrees) between a control-net triangle normal and the corner
     /// plane normal.
     pub max_cone_deg: f64,
+    /// Largest allowed [`tilt`] (sine of the steepest chord against the corner plane): rays
+    /// steeper than this meet a leaf at most once.
+    pub max_tilt: f64,
     /// Splits always stop at this depth (a piece then covers 4^-depth of the patch domain).
     pub max_depth: u32,
     /// Splits never stop before this depth.
@@ -53,6 +59,7 @@ impl Default for SubdivisionCriterion {
         SubdivisionCriterion {
             flatness: 0.05,
             max_cone_deg: 25.0,
+            max_tilt: 0.5,
             max_depth: 7,
             min_depth: 0,
         }
@@ -77,6 +84,10 @@ pub struct Leaf {
     /// corner plane a root of the leaf can lie, for a ray perpendicular to that plane (divide
     /// by the cosine of the ray's angle to the plane normal otherwise); see [`affine_radius`].
     pub affine_radius: f32,
+    /// Bound on the sine of the angle between any chord of the sub-patch and the corner plane
+    /// (see [`tilt`]): a ray steeper than that meets the leaf at most once. Infinite when
+    /// there is no bound (a blend's nets do not bound its derivatives).
+    pub tilt: f32,
     /// Oriented box: rows of the frame (first edge, in-plane normal to it, plane normal).
     pub axes: [Vec3; 3],
     /// Oriented box: smallest coordinates of the control points in the frame at `corners[0]`.
@@ -115,6 +126,10 @@ impl Leaf {
         let points = || nets.iter().flat_map(|n| n.points().iter().copied());
         let stored = corners.map(|p| p.as_vec3());
         let affine_radius = f32_up(affine_radius(stored.map(|p| p.as_dvec3()), nets));
+        let tilt = match nets {
+            [net] => f32_up(tilt(stored.map(|p| p.as_dvec3()), net)),
+            _ => f32::INFINITY,
+        };
         let origin = corners[0].as_vec3().as_dvec3();
         let x = (corners[1] - corners[0]).normalize_or_zero();
         let plane = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
@@ -166,6 +181,7 @@ impl Leaf {
             uv: tri.map(|c| [c.x as f32, c.y as f32]),
             corners: stored,
             affine_radius,
+            tilt,
             axes,
             lo: down(lo),
             hi: up(hi),
@@ -804,6 +820,77 @@ pub fn affine_radius(corners: [DVec3; 3], nets: &[&TriangleBezier]) -> f64 {
     (deviation + 8.0 * f64::EPSILON * magnitude) / sigma
 }
 
+/// A bound on the sine of the angle between any chord `S(x₂) − S(x₁)` of the Bézier triangle
+/// `net` and the plane of `corners` (capped at 1, where it says nothing).
+///
+/// With `δ = x₂ − x₁` the chord is `∫ J(x(τ)) δ dτ = Σ β_m d (δ_s Δ₁b_m + δ_t Δ₂b_m)`, with
+/// `β_m ≥ 0` summing to one (the derivative nets' Bernstein weights integrated along the
+/// segment [Farin, CAGD §17.3]). In coordinates of the corner plane (orthonormal in-plane
+/// axes, then the normal), let `M` map `δ` to `u = δ_s e₁ + δ_t e₂` (`e_i` the corner edges),
+/// `g_m` the normal parts and `M + D_m` the in-plane parts of `d [Δ₁b_m Δ₂b_m]`. Then the
+/// chord's normal part is `Σ β_m (M⁻ᵀ g_m) · u`, at most `H |u|` with `H = max |M⁻ᵀ g_m|` (the
+/// steepest slope of the derivative net over the plane), and its in-plane part is
+/// `u + Σ β_m D_m M⁻¹ u`, at least `(1 − K) |u|` with `K = max ‖D_m M⁻¹‖_F`. So every chord
+/// makes an angle of tangent at most `H / (1 − K)` with the plane, and a ray at a larger angle
+/// is parallel to no chord: it meets the piece at most once.
+pub fn tilt(corners: [DVec3; 3], net: &TriangleBezier) -> f64 {
+    let (e1, e2) = (corners[1] - corners[0], corners[2] - corners[0]);
+    let normal = e1.cross(e2).normalize_or_zero();
+    let d = net.degree();
+    let x = e1.normalize_or_zero();
+    if d == 0 || normal == DVec3::ZERO || x == DVec3::ZERO {
+        return 1.0;
+    }
+    let y = normal.cross(x);
+    let flat = |v: DVec3| DVec2::new(v.dot(x), v.dot(y));
+    // M = [flat(e1) flat(e2)] and its inverse (columns: the images of the unit δ's).
+    let (m1, m2) = (flat(e1), flat(e2));
+    let det = m1.perp_dot(m2);
+    if !det.is_normal() {
+        return 1.0;
+    }
+    // Rows of M⁻¹: M⁻¹ = [[m2.y, −m2.x], [−m1.y, m1.x]] / det.
+    let inv_rows = [DVec2::new(m2.y, -m2.x) / det, DVec2::new(-m1.y, m1.x) / det];
+    let scale = d as f64;
+    let (mut slope, mut stretch) = (0.0_f64, 0.0_f64);
+    for i in 0..d {
+        for j in 0..d - i {
+            // b_m with m = (i, j, k), k = d − 1 − i − j; point(i, j) has weights (i, j, k).
+            let base = net.point(i + 1, j);
+            let s1 = (net.point(i, j + 1) - base) * scale;
+            let s2 = (net.point(i, j) - base) * scale;
+            // M⁻ᵀ g: the gradient over the plane of the height whose δ-derivatives are g
+            // (component k: column k of M⁻¹ dotted with g).
+            let g = DVec2::new(s1.dot(normal), s2.dot(normal));
+            let h = DVec2::new(
+                inv_rows[0].x * g.x + inv_rows[1].x * g.y,
+                inv_rows[0].y * g.x + inv_rows[1].y * g.y,
+            );
+            slope = slope.max(h.length_squared());
+            // D M⁻¹ with D = [flat(s1) − m1, flat(s2) − m2]: columns D·(M⁻¹ columns).
+            let (c1, c2) = (flat(s1) - m1, flat(s2) - m2);
+            let col = |k: usize| c1 * inv_rows[0][k] + c2 * inv_rows[1][k];
+            stretch = stretch.max(col(0).length_squared() + col(1).length_squared());
+        }
+    }
+    // Both were kept squared.
+    let (slope, stretch) = (slope.sqrt(), stretch.sqrt());
+    // Rounding: the differences carry a few ulps of the coordinates each; relative to the
+    // corner edges that is a few ulps of magnitude / σ, well inside a relative 1e-6.
+    let magnitude = corners
+        .iter()
+        .map(|c| c.abs().max_element())
+        .fold(0.0, f64::max);
+    let sigma = smallest_singular_value(e1, e2);
+    let rounding = 64.0 * scale * f64::EPSILON * magnitude / sigma;
+    let tangent = (slope + rounding) / (1.0 - stretch - rounding) * (1.0 + 1e-6);
+    if tangent.is_nan() || tangent < 0.0 || stretch + rounding >= 1.0 {
+        1.0
+    } else {
+        tangent.min(1.0)
+    }
+}
+
 /// The smallest singular value of the 3×2 matrix `[a b]`: `|a × b| / σ_max`, with `σ_max²` the
 /// larger eigenvalue of the Gram matrix (the product form avoids cancellation on slivers).
 pub fn smallest_singular_value(a: DVec3, b: DVec3) -> f64 {
@@ -910,12 +997,87 @@ pub fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) -> bool {
             }
         }
     }
-    true
+    tilt([p0, p1, p2], net) <= criterion.max_tilt
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// No chord of a curved, unevenly parametrised net is steeper against the corner plane
+    /// than its tilt, and on a paraboloid with an affine parametrisation the tilt is the
+    /// steepest slope itself (the gradient is linear, so largest at a corner).
+    #[test]
+    fn tilt_bounds_every_chord_and_is_tight_on_a_paraboloid() {
+        let mut rng = crate::testing::Rng::new(5);
+        let mut bounded = 0;
+        for case in 0..300 {
+            let d = 1 + case % 6;
+            let bend = rng.range(0.0, 0.1);
+            let stretch = rng.range(0.0, 0.04);
+            let seed = rng.next_u64();
+            let mut noise = crate::testing::Rng::new(seed);
+            let net = TriangleBezier::from_fn(d, |_, j, k| {
+                let (s, t) = (j as f64 / d as f64, k as f64 / d as f64);
+                DVec3::new(
+                    s + 0.8 * t + stretch * noise.range(-1.0, 1.0),
+                    0.2 * s + 0.5 * t + stretch * noise.range(-1.0, 1.0),
+                    bend * noise.range(-1.0, 1.0),
+                )
+            });
+            let corners = [net.point(d, 0), net.point(0, d), net.point(0, 0)];
+            let bound = tilt(corners, &net);
+            if bound >= 1.0 {
+                continue;
+            }
+            bounded += 1;
+            let normal = (corners[1] - corners[0])
+                .cross(corners[2] - corners[0])
+                .normalize();
+            let at = |r: &mut crate::testing::Rng| {
+                let b = r.bary_inside();
+                net.eval(b)
+            };
+            for _ in 0..200 {
+                let chord = at(&mut rng) - at(&mut rng);
+                let sine = chord.dot(normal).abs() / chord.length();
+                assert!(
+                    sine <= bound,
+                    "case {case}: chord sine {sine} > tilt {bound}"
+                );
+            }
+        }
+        assert!(bounded > 150, "only {bounded} of 300 nets had a bound");
+        // h = κ (s² + t² − s − t) over a skewed triangle with corners 0, a, b in the plane
+        // z = 0 (h vanishes at the corners): its gradient over the plane is M⁻ᵀ ∇h, M = [a b],
+        // ∇h = κ (2s − 1, 2t − 1) linear, so steepest at a corner. The quadratic net (the
+        // blossom's values): 0 at the corners, −κ/2 at the midpoints of the edges from the
+        // first corner, −κ at the third edge's.
+        let kappa = 0.2;
+        let (a, b) = (DVec2::new(1.0, 0.1), DVec2::new(0.7, 0.8));
+        let quad = TriangleBezier::from_fn(2, |i, j, k| {
+            let z = match (i, j, k) {
+                (1, 1, 0) | (1, 0, 1) => -0.5 * kappa,
+                (0, 1, 1) => -kappa,
+                _ => 0.0,
+            };
+            let xy = a * (j as f64 / 2.0) + b * (k as f64 / 2.0);
+            DVec3::new(xy.x, xy.y, z)
+        });
+        let corners = [quad.point(2, 0), quad.point(0, 2), quad.point(0, 0)];
+        let bound = tilt(corners, &quad);
+        let inverse_transpose = glam::DMat2::from_cols(a, b).inverse().transpose();
+        let steepest = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]
+            .map(|(s, t)| {
+                (inverse_transpose * (DVec2::new(2.0 * s - 1.0, 2.0 * t - 1.0) * kappa)).length()
+            })
+            .into_iter()
+            .fold(0.0, f64::max);
+        assert!(
+            bound >= steepest && bound <= steepest * (1.0 + 1e-5),
+            "tilt {bound} against the steepest slope {steepest}"
+        );
+    }
 
     #[test]
     fn split4_children_tile_the_parent() {

@@ -279,6 +279,7 @@ impl<'s> Tracer<'s> {
         let bounds = PieceBounds {
             corners: leaf.corners.map(|p| p.as_dvec3()),
             affine_radius: f64::from(leaf.affine_radius),
+            tilt: f64::from(leaf.tilt),
             second_bound: leaf.second_bound.map(f64::from),
             proved: leaf.degree > 0
                 || self
@@ -286,7 +287,7 @@ impl<'s> Tracer<'s> {
                     .whole_patch(leaf.patch)
                     .is_some_and(|p| p.as_blend().is_none()),
         };
-        let start = planar_start(bounds.corners, bounds.affine_radius, ray);
+        let start = planar_start(&bounds, ray);
         if start == Start::Outside {
             return None;
         }

@@ -81,6 +81,9 @@ pub struct PieceBounds {
     pub corners: [DVec3; 3],
     /// `δ / σ_min(J_A)`: see [`crate::render::bvh::affine_radius`].
     pub affine_radius: f64,
+    /// Bound on the sine of the angle between any chord of the piece and the corner plane
+    /// (see [`crate::render::bvh::tilt`]); infinite when unknown.
+    pub tilt: f64,
     /// Bounds `[tangential, normal]` on `|D²S(δ, δ)|` over the piece for unit `(s, t)`
     /// directions δ, split against the corner plane's normal (see
     /// [`crate::render::evaluate::second_derivative_bounds`]).
@@ -114,6 +117,8 @@ pub enum Start {
         radius: f64,
         /// `sin θ`: the share of the normal part of the second derivative that the ray sees.
         sin: f64,
+        /// True when the ray meets the piece at most once (see [`Start::may_meet_twice`]).
+        once: bool,
     },
     /// Proved by the affine bound: the ray cannot meet the piece.
     Outside,
@@ -123,11 +128,13 @@ pub enum Start {
 }
 
 impl Start {
-    /// True when the ray may meet the piece more than once: it runs within 30° of the corner
-    /// plane (leaves have normal cones of at most 25°, so a steeper ray meets a leaf once).
+    /// True when the ray may meet the piece more than once: the sine of its angle with the
+    /// corner plane is at most the piece's [`PieceBounds::tilt`], so it may be parallel to a
+    /// chord of the piece. Without a tilt bound (blends), when it runs within 30° of the plane
+    /// (leaves have control-net normal cones of at most 25°).
     pub fn may_meet_twice(&self) -> bool {
         match *self {
-            Start::At { sin, .. } => sin > 30f64.to_radians().cos(),
+            Start::At { once, .. } => !once,
             Start::Outside => false,
             Start::Unbounded => true,
         }
@@ -141,7 +148,9 @@ impl Start {
         let [tangential, normal] = bounds.second_bound;
         match *self {
             Start::Outside => None,
-            Start::At { at, radius, sin } => Some((at, radius, 0.5 * (tangential + sin * normal))),
+            Start::At {
+                at, radius, sin, ..
+            } => Some((at, radius, 0.5 * (tangential + sin * normal))),
             Start::Unbounded => Some((
                 DVec2::splat(1.0 / 3.0),
                 f64::INFINITY,
@@ -151,10 +160,10 @@ impl Start {
     }
 }
 
-/// The start of Newton for `ray` on a piece with corners `corners` and affine radius
-/// `affine_radius` (see [`Start`]). Möller–Trumbore barycentrics of the ray–plane point.
-pub fn planar_start(corners: [DVec3; 3], affine_radius: f64, ray: &Ray64) -> Start {
-    let [a, b, c] = corners;
+/// The start of Newton for `ray` on a piece with `bounds` (its corners, affine radius and tilt;
+/// see [`Start`]). Möller–Trumbore barycentrics of the ray–plane point.
+pub fn planar_start(bounds: &PieceBounds, ray: &Ray64) -> Start {
+    let [a, b, c] = bounds.corners;
     let (e1, e2) = (b - a, c - a);
     let pvec = ray.dir.cross(e2);
     let det = e1.dot(pvec);
@@ -168,7 +177,7 @@ pub fn planar_start(corners: [DVec3; 3], affine_radius: f64, ray: &Ray64) -> Sta
     let s = tvec.dot(pvec) / det;
     let t = ray.dir.dot(tvec.cross(e1)) / det;
     let at = DVec2::new(s, t);
-    let radius = affine_radius / cos;
+    let radius = bounds.affine_radius / cos;
     if !at.is_finite() || !radius.is_finite() {
         return Start::Unbounded;
     }
@@ -176,7 +185,18 @@ pub fn planar_start(corners: [DVec3; 3], affine_radius: f64, ray: &Ray64) -> Sta
         return Start::Outside;
     }
     let sin = (1.0 - cos.min(1.0).powi(2)).sqrt();
-    Start::At { at, radius, sin }
+    // `cos` (to the normal) is the sine of the ray's angle with the plane.
+    let once = if bounds.tilt.is_finite() {
+        cos > bounds.tilt * (1.0 + 1e-9) + 1e-12
+    } else {
+        sin <= 30f64.to_radians().cos()
+    };
+    Start::At {
+        at,
+        radius,
+        sin,
+        once,
+    }
 }
 
 /// Certified Newton on a piece: `eval(s, t)` gives `S`, `∂S/∂s`, `∂S/∂t`; `tolerance` is the
@@ -462,6 +482,7 @@ pub fn search(
                     Start::At { sin, .. } => sin,
                     _ => 1.0,
                 },
+                once,
             };
             match newton(&eval, bounds, start, planes, tolerance, settings) {
                 Newton::Root(st, _, p) => {
@@ -620,7 +641,7 @@ pub fn hull_clears_origin(points: &[DVec2], limit: f64) -> bool {
     let mut v = first;
     for _ in 0..2 * points.len() {
         let len = v.length();
-        if !(len > limit) {
+        if len.is_nan() || len <= limit {
             return false;
         }
         let n = v / len;
@@ -670,7 +691,7 @@ pub fn hull_clears_origin(points: &[DVec2], limit: f64) -> bool {
 fn nearest_on_segment(a: DVec2, b: DVec2) -> (DVec2, [DVec2; 2], usize) {
     let e = b - a;
     let h = -a.dot(e) / e.length_squared();
-    if !(h > 0.0) {
+    if h.is_nan() || h <= 0.0 {
         (a, [a; 2], 1)
     } else if h >= 1.0 {
         (b, [b; 2], 1)
@@ -898,6 +919,8 @@ mod tests {
         PieceBounds {
             corners: [DVec2::ZERO, DVec2::X, DVec2::Y].map(|x| cap(x).0),
             affine_radius: 0.5,
+            // Slopes up to 1.6 over T: no chord bound.
+            tilt: 1.0,
             second_bound: [2.0, 2.0],
             proved: true,
         }
@@ -919,7 +942,7 @@ mod tests {
             let h = 10f64.powi(-k);
             let ray = grazing_ray(h);
             let planes = RayPlanes::new(&ray);
-            let start = planar_start(bounds.corners, bounds.affine_radius, &ray);
+            let start = planar_start(&bounds, &ray);
             let Newton::Root(st, iterations, p) =
                 newton(&cap, &bounds, start, &planes, tolerance, &settings)
             else {
@@ -958,7 +981,7 @@ mod tests {
             let h = -(10f64.powi(-k));
             let ray = grazing_ray(h);
             let planes = RayPlanes::new(&ray);
-            let start = planar_start(bounds.corners, bounds.affine_radius, &ray);
+            let start = planar_start(&bounds, &ray);
             let run = newton(&cap, &bounds, start, &planes, tolerance, &settings);
             assert!(!matches!(run, Newton::Root(..)), "{h:e}: {run:?}");
             if run == Newton::Failed {
