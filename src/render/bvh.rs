@@ -33,11 +33,12 @@ use crate::surface::{Patch, PatchGeometry, Surface, UV_CORNERS};
 /// A piece is split into four (at its edge midpoints) until its control net lies within
 /// `flatness × size` of the plane through its three corners (`size` = diagonal of the net's
 /// box), the normals of all control-net triangles lie within `max_cone_deg` of that plane's
-/// normal **and** no chord of the piece is steeper against the plane than `max_tilt` (a
-/// sine; see [`tilt`]). Flatness keeps the box tight; the narrow cone keeps Newton, started
-/// at the piece's centroid, inside its basin of quadratic convergence; the tilt proves that a
-/// ray steeper than it meets the piece at most once, so only rays nearly along the piece
-/// need the search for a second root.
+/// normal ([`is_leaf`]) **and**, for a piece of a Bézier patch, no chord of the piece is
+/// steeper against the plane than `max_tilt` (a sine; see [`tilt`]). Flatness keeps the box
+/// tight; the narrow cone keeps Newton, started at the piece's centroid, inside its basin of
+/// quadratic convergence; the tilt proves that a ray steeper than it meets the piece at most
+/// once, so only rays nearly along the piece need the search for a second root. (A blend's
+/// nets bound no chord of the blend, so its pieces are not split for the tilt.)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SubdivisionCriterion {
     /// Largest allowed distance of a control point from the corner plane, relative to size.
@@ -122,14 +123,12 @@ impl Leaf {
     /// the sub-patch — whatever the rounding of the frame; a relative 1e-9 pad covers the f64
     /// arithmetic. The affine radius is measured against the stored (f32) corners, the plane
     /// Newton starts from.
+    ///
+    /// Its tilt is left infinite (no bound); the BVH build sets it for Bézier pieces.
     pub fn new(patch: u32, tri: [DVec2; 3], corners: [DVec3; 3], nets: &[&TriangleBezier]) -> Leaf {
         let points = || nets.iter().flat_map(|n| n.points().iter().copied());
         let stored = corners.map(|p| p.as_vec3());
         let affine_radius = f32_up(affine_radius(stored.map(|p| p.as_dvec3()), nets));
-        let tilt = match nets {
-            [net] => f32_up(tilt(stored.map(|p| p.as_dvec3()), net)),
-            _ => f32::INFINITY,
-        };
         let origin = corners[0].as_vec3().as_dvec3();
         let x = (corners[1] - corners[0]).normalize_or_zero();
         let plane = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
@@ -181,7 +180,7 @@ impl Leaf {
             uv: tri.map(|c| [c.x as f32, c.y as f32]),
             corners: stored,
             affine_radius,
-            tilt,
+            tilt: f32::INFINITY,
             axes,
             lo: down(lo),
             hi: up(hi),
@@ -718,12 +717,18 @@ fn subdivide_patch(
 ) {
     let mut stack = vec![(UV_CORNERS, net.clone(), 0u32)];
     while let Some((tri, piece, depth)) = stack.pop() {
+        let d = piece.degree();
+        let corners = [piece.point(d, 0), piece.point(0, d), piece.point(0, 0)];
+        // Against the corners as the leaf stores them: the plane its rays are measured from.
+        let piece_tilt = || tilt(corners.map(|p| p.as_vec3().as_dvec3()), &piece);
+        let mut known_tilt = None;
         let done = depth >= criterion.max_depth
-            || (depth >= criterion.min_depth && is_leaf(&piece, criterion));
+            || (depth >= criterion.min_depth
+                && is_leaf(&piece, criterion)
+                && *known_tilt.insert(piece_tilt()) <= criterion.max_tilt);
         if done {
-            let d = piece.degree();
-            let corners = [piece.point(d, 0), piece.point(0, d), piece.point(0, 0)];
             let mut leaf = Leaf::new(patch, tri, corners, &[&piece]);
+            leaf.tilt = f32_up(known_tilt.unwrap_or_else(piece_tilt));
             leaf.second_bound = second_derivative_bounds(&piece, leaf.normal()).map(f32_up);
             if (1..=MAX_POWER_DEGREE).contains(&d) {
                 // Its power form is made after the BVH, in traversal order ([`power_forms`]).
@@ -997,7 +1002,7 @@ pub fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) -> bool {
             }
         }
     }
-    tilt([p0, p1, p2], net) <= criterion.max_tilt
+    true
 }
 
 #[cfg(test)]
