@@ -370,8 +370,8 @@ fn relative_flatness(net: &TriangleBezier) -> f64 {
 /// One 4-split halves a piece and quarters the distance of its net from the corner plane, so
 /// the relative flatness halves per level: a patch whose net is `r` from flat reaches
 /// `criterion.flatness` after about `log2(r / flatness)` levels (clamped to the criterion's
-/// depth range), i.e. `4^depth` leaves. The normal-cone test is not estimated, so this is a
-/// lower bound for strongly curved patches.
+/// depth range), i.e. `4^depth` leaves. The normal-cone and tilt tests are not estimated, so
+/// this is a lower bound for strongly curved patches.
 pub fn estimate_leaves(surface: &Surface, criterion: &SubdivisionCriterion) -> f64 {
     // Whole numbers summed as integers: the same total for any thread count.
     let leaves: u64 = surface
