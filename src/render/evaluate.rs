@@ -269,6 +269,18 @@ pub fn second_derivative_bounds(net: &TriangleBezier, normal: DVec3) -> [f64; 2]
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Runs the generic check `$f::<D>()` for every degree given a power form, 1..=6.
+    macro_rules! every_power_degree {
+        ($f:ident) => {
+            $f::<1>();
+            $f::<2>();
+            $f::<3>();
+            $f::<4>();
+            $f::<5>();
+            $f::<6>();
+        };
+    }
     use crate::surface::PatchGeometry;
 
     /// A curved, non-symmetric control net of degree `degree`: a test patch with no special
@@ -325,12 +337,7 @@ mod tests {
                 assert!(err <= 1e-13 * scale, "degree {D} at ({u}, {v}): {err:e}");
             }
         }
-        check::<1>();
-        check::<2>();
-        check::<3>();
-        check::<4>();
-        check::<5>();
-        check::<6>();
+        every_power_degree!(check);
     }
 
     /// The projected net recovers the Bézier net from its power form: each entry is the
@@ -355,12 +362,7 @@ mod tests {
                 }
             }
         }
-        check::<1>();
-        check::<2>();
-        check::<3>();
-        check::<4>();
-        check::<5>();
-        check::<6>();
+        every_power_degree!(check);
     }
 
     #[test]

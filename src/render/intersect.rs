@@ -316,35 +316,31 @@ impl<'s> Tracer<'s> {
             .unwrap_or_default();
         macro_rules! solve_with {
             ($eval:expr) => {
-                solve_with!($eval, || false)
+                solve_with!($eval, |_| false, || false)
             };
-            ($eval:expr, $clears:expr) => {
+            ($eval:expr, $exclude:expr, $clears:expr) => {
                 self.solve_piece(
-                    $eval,
+                    $eval, $exclude, $clears, leaf, bounds, start, query, t_max, counters,
+                )
+            };
+        }
+        // A Bézier leaf of degree D: its power form, and its projected net to clear the ray.
+        macro_rules! solve_power_form {
+            ($d:literal) => {
+                solve_with!(
+                    |x| local_point_and_tangents::<$d>(c, x.x, x.y),
                     |_| false,
-                    $clears,
-                    leaf,
-                    bounds,
-                    start,
-                    query,
-                    t_max,
-                    counters,
+                    || self.net_clears::<$d>(c, query.planes)
                 )
             };
         }
         match leaf.degree {
-            1 => solve_with!(|x| local_point_and_tangents::<1>(c, x.x, x.y), || self
-                .net_clears::<1>(c, query.planes)),
-            2 => solve_with!(|x| local_point_and_tangents::<2>(c, x.x, x.y), || self
-                .net_clears::<2>(c, query.planes)),
-            3 => solve_with!(|x| local_point_and_tangents::<3>(c, x.x, x.y), || self
-                .net_clears::<3>(c, query.planes)),
-            4 => solve_with!(|x| local_point_and_tangents::<4>(c, x.x, x.y), || self
-                .net_clears::<4>(c, query.planes)),
-            5 => solve_with!(|x| local_point_and_tangents::<5>(c, x.x, x.y), || self
-                .net_clears::<5>(c, query.planes)),
-            6 => solve_with!(|x| local_point_and_tangents::<6>(c, x.x, x.y), || self
-                .net_clears::<6>(c, query.planes)),
+            1 => solve_power_form!(1),
+            2 => solve_power_form!(2),
+            3 => solve_power_form!(3),
+            4 => solve_power_form!(4),
+            5 => solve_power_form!(5),
+            6 => solve_power_form!(6),
             _ => {
                 let patch = self.bvh.whole_patch(leaf.patch)?;
                 let tri = leaf.tri();
@@ -361,17 +357,7 @@ impl<'s> Tracer<'s> {
                         let exclude = |sub: [DVec2; 3]| {
                             blend_excludes(blend, tri, sub, query.planes, second, margin)
                         };
-                        self.solve_piece(
-                            eval,
-                            exclude,
-                            || false,
-                            leaf,
-                            bounds,
-                            start,
-                            query,
-                            t_max,
-                            counters,
-                        )
+                        solve_with!(eval, exclude, || false)
                     }
                     _ => solve_with!(eval),
                 }
