@@ -825,8 +825,9 @@ pub fn affine_radius(corners: [DVec3; 3], nets: &[&TriangleBezier]) -> f64 {
     (deviation + 8.0 * f64::EPSILON * magnitude) / sigma
 }
 
-/// A bound on the sine of the angle between any chord `S(x₂) − S(x₁)` of the Bézier triangle
-/// `net` and the plane of `corners` (capped at 1, where it says nothing).
+/// A bound on the tangent (so also on the sine) of the angle between any chord
+/// `S(x₂) − S(x₁)` of the Bézier triangle `net` and the plane of `corners` (capped at 1, where
+/// it says nothing).
 ///
 /// With `δ = x₂ − x₁` the chord is `∫ J(x(τ)) δ dτ = Σ β_m d (δ_s Δ₁b_m + δ_t Δ₂b_m)`, with
 /// `β_m ≥ 0` summing to one (the derivative nets' Bernstein weights integrated along the

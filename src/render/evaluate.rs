@@ -269,6 +269,7 @@ pub fn second_derivative_bounds(net: &TriangleBezier, normal: DVec3) -> [f64; 2]
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::surface::PatchGeometry;
 
     /// Runs the generic check `$f::<D>()` for every degree given a power form, 1..=6.
     macro_rules! every_power_degree {
@@ -281,7 +282,6 @@ mod tests {
             $f::<6>();
         };
     }
-    use crate::surface::PatchGeometry;
 
     /// A curved, non-symmetric control net of degree `degree`: a test patch with no special
     /// structure for the evaluators to exploit.

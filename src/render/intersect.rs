@@ -423,6 +423,7 @@ impl<'s> Tracer<'s> {
             }
             Newton::Failed => {
                 counters.newton_unconverged += 1;
+                // A leaf proved free of roots needs no search.
                 if clears() {
                     return None;
                 }
