@@ -107,10 +107,19 @@ const GLOBAL_THIRD: [(&str, &str); 3] = [
     ("gamma1", "2"),
 ];
 
-/// Asserts that building with `p` on every closed test mesh mapped by `map` equals mapping the
-/// surface built on the mesh, control point by control point (to 1e-12 of the diagonal).
+/// The closed test meshes (valences 3 to 16) and the scanned meshes of scenes/.
+fn closed_and_scanned_meshes() -> Vec<(String, Mesh)> {
+    let scanned = generate::SCANNED_SCENES
+        .iter()
+        .map(|s| (s.name.to_string(), s.mesh().expect("scanned mesh is valid")));
+    closed_test_meshes().into_iter().chain(scanned).collect()
+}
+
+/// Asserts that building with `p` on every closed test mesh and scanned mesh mapped by `map`
+/// equals mapping the surface built on the mesh, control point by control point (to 1e-12 of
+/// the diagonal).
 fn assert_commutes_with(map: impl Fn(DVec3) -> DVec3, p: &Params, what: &str) {
-    for (name, mesh) in closed_test_meshes() {
+    for (name, mesh) in closed_and_scanned_meshes() {
         let (mapped, _) = Mesh::from_triangles(
             mesh.positions().iter().map(|&q| map(q)).collect(),
             mesh.faces().to_vec(),
@@ -158,6 +167,38 @@ fn similarity_invariance_of_the_default() {
     let a = DMat3::from_axis_angle(axis, 0.7) * 2.5;
     let t = DVec3::new(0.5, -2.0, 3.0);
     assert_commutes_with(|q| a * q + t, &params(&SPEC, &[]), "similarity");
+}
+
+/// The default does not depend on the mesh's scale, at the extremes too: at scales of 1e±20
+/// the surface is the scaled one to 1e-12 (the scales round every coordinate), and at the
+/// powers of two 2^±60, which scale exactly, it is the scaled one bit for bit.
+#[test]
+fn default_is_scale_invariant_at_extreme_scales() {
+    for scale in [1e20, 1e-20] {
+        assert_commutes_with(
+            |q| q * scale,
+            &params(&SPEC, &[]),
+            &format!("scale {scale:e}"),
+        );
+    }
+    let p = params(&SPEC, &[]);
+    for scale in [2f64.powi(60), 2f64.powi(-60)] {
+        for (name, mesh) in closed_and_scanned_meshes() {
+            let (scaled, _) = Mesh::from_triangles(
+                mesh.positions().iter().map(|&q| q * scale).collect(),
+                mesh.faces().to_vec(),
+            )
+            .expect("scaled mesh is valid");
+            let s0 = build(&mesh, &p).expect("builds");
+            let s1 = build(&scaled, &p).expect("builds");
+            for (p0, p1) in s0.patches.iter().zip(&s1.patches) {
+                let (b0, b1) = (p0.as_bezier().unwrap(), p1.as_bezier().unwrap());
+                for (x, y) in b0.points().iter().zip(b1.points()) {
+                    assert_eq!(*x * scale, *y, "{name} at scale 2^{}", scale.log2());
+                }
+            }
+        }
+    }
 }
 
 /// The unit icosphere of 80 faces (vertices on the unit sphere, valences 5 and 6): the default

@@ -231,7 +231,8 @@ pub(crate) fn fit_shape(
         tangential.push((r1 / 6.0, w - w_normal * normal));
     }
     let reference = reference / nf;
-    let weight = PLANAR_FALLBACK * (scale / nf).powi(2);
+    // Both `den` and the weight are squared lengths: the choice does not depend on the scale.
+    let weight = PLANAR_FALLBACK * scale / nf;
     let g2 = ((num + weight * reference) / (den + weight)).clamp(GAMMA2_RANGE[0], GAMMA2_RANGE[1]);
     // (γ1 − 2)(b1 − b0) + γ2 (d − b0)ᵀ ≈ 0 over the edges.
     let (mut uu, mut uw) = (0.0, 0.0);
