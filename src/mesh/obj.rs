@@ -2,12 +2,15 @@
 //!
 //! smoothlab reads only geometry: `v`, `vn` and `f` records. Object, group and material
 //! statements are dropped before tobj sees the text, so all objects of a file form one model
-//! (one mesh); polyline (`l`) records are dropped with a warning. tobj is run with
+//! (one mesh); polyline (`l`) records are dropped with a warning; texture coordinates (`vt`)
+//! are checked and dropped. tobj is run with
 //! `single_index = false` so that per-corner normal and texture indices never split a vertex,
 //! and with `triangulate = false` so that polygons are reported instead of silently split.
 //!
-//! A light scan of the records before tobj gives what tobj does not expose: the file number
-//! of every corner's vertex, range errors naming the face, and which corners have no normal
+//! A scan of the records before tobj gives what tobj does not expose: errors naming the line
+//! and the record (`v`, `vn`, `vt` numbers, face corners, a NaN or infinite coordinate of any
+//! vertex, used or not), records continued over lines ending in `\`, the file number of every
+//! corner's vertex, range errors naming the face, and which corners have no normal
 //! index (tobj fills those with a neighbour's normal, which must not pass as the vertex's
 //! normal). With the file numbers the loaded mesh keeps the file's vertex order (tobj's is the
 //! order of first use), and errors name vertices by their 0-based file number.
@@ -17,6 +20,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use super::formats::numbered_lines;
 use super::normals::CornerNormals;
 use super::polygon::{self, PolygonMesh};
 use super::{LoadOptions, LoadReport, Mesh};
@@ -48,6 +52,64 @@ fn malformed(origin: &Path, message: String) -> Error {
     }
 }
 
+/// The records of OBJ text: 1-based number of the first line and the record's text. A line
+/// ending in `\` continues on the next line, as the OBJ specification allows.
+fn records(text: &str) -> impl Iterator<Item = (usize, std::borrow::Cow<'_, str>)> {
+    let mut lines = numbered_lines(text);
+    std::iter::from_fn(move || {
+        let (number, first) = lines.next()?;
+        let Some(head) = first.trim_end().strip_suffix('\\') else {
+            return Some((number, first.into()));
+        };
+        let mut joined = head.to_string();
+        for (_, next) in lines.by_ref() {
+            joined.push(' ');
+            match next.trim_end().strip_suffix('\\') {
+                Some(head) => joined.push_str(head),
+                None => {
+                    joined.push_str(next);
+                    break;
+                }
+            }
+        }
+        Some((number, joined.into()))
+    })
+}
+
+/// The numbers of a `v`, `vn` or `vt` record (the words after the keyword); `what` names the
+/// record in messages, e.g. `line 3: vertex 2`.
+fn record_numbers(words: &[&str], what: &str) -> std::result::Result<Vec<f64>, String> {
+    words
+        .iter()
+        .map(|word| {
+            word.parse::<f64>().map_err(|_| {
+                let hint = if word.contains(',') {
+                    " (OBJ numbers use a decimal point and are separated by spaces)"
+                } else {
+                    ""
+                };
+                format!("{what}: cannot read the number '{word}'{hint}")
+            })
+        })
+        .collect()
+}
+
+/// The position of a `v` record: `x y z`, `x y z w` (divided by w) or `x y z r g b`.
+fn vertex_position(words: &[&str], what: &str) -> std::result::Result<DVec3, String> {
+    let numbers = record_numbers(words, what)?;
+    let xyz = match numbers.len() {
+        3 | 6 => DVec3::from_slice(&numbers),
+        4 if numbers[3] == 0.0 => return Err(format!("{what} has the weight w = 0")),
+        4 => DVec3::from_slice(&numbers) / numbers[3],
+        n => {
+            return Err(format!(
+                "{what} has {n} numbers; expected x y z, x y z w or x y z r g b"
+            ));
+        }
+    };
+    Ok(xyz)
+}
+
 fn scan(text: &str, origin: &Path) -> Result<Scan> {
     let mut scan = Scan {
         geometry: String::with_capacity(text.len()),
@@ -57,19 +119,19 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
         first_corner_without_normal: None,
         polylines: 0,
     };
-    // Resolved (face, 0-based vertex) per corner; checked once all `v` records are counted
-    // because tobj, like many writers, accepts forward references.
-    let mut corners: Vec<(usize, i64)> = Vec::new();
-    // Resolved (face, 0-based normal) of corners that name a normal: tobj checks these only
-    // when the file has normals at all.
-    let mut corner_normals: Vec<(usize, i64)> = Vec::new();
-    let mut normal_count = 0;
+    // Resolved (line, face, 0-based index) per corner, of its vertex, normal and texture
+    // coordinate; checked once all records are counted because tobj, like many writers,
+    // accepts forward references. tobj checks normals only when the file has normals at all,
+    // and is given no texture coordinates (smoothlab reads none).
+    let mut corners: Vec<(usize, usize, i64)> = Vec::new();
+    let mut corner_normals: Vec<(usize, usize, i64)> = Vec::new();
+    let mut corner_texcoords: Vec<(usize, usize, i64)> = Vec::new();
+    let (mut normal_count, mut texcoord_count) = (0, 0);
     let mut face = 0;
-    // Any of LF, CR LF and CR (old Mac files) ends a line; the empty "line" between CR and LF
-    // is a blank line, which OBJ ignores.
-    for line in text.split(['\n', '\r']) {
-        let mut words = line.split_whitespace();
-        let keyword = words.next().unwrap_or("");
+    for (line, record) in records(text) {
+        let bad = |message: String| malformed(origin, format!("line {line}: {message}"));
+        let words: Vec<&str> = record.split_whitespace().collect();
+        let keyword = words.first().copied().unwrap_or("");
         if DROPPED_STATEMENTS.contains(&keyword) {
             continue;
         }
@@ -78,31 +140,65 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
                 scan.polylines += 1;
                 continue;
             }
-            "v" => scan.vertex_count += 1,
-            "vn" => normal_count += 1,
+            "v" => {
+                let vertex = scan.vertex_count;
+                let position =
+                    vertex_position(&words[1..], &format!("vertex {vertex}")).map_err(bad)?;
+                if !position.is_finite() {
+                    return Err(Error::NonFiniteVertex { vertex });
+                }
+                scan.vertex_count += 1;
+            }
+            "vn" => {
+                let what = format!("normal {normal_count}");
+                let numbers = record_numbers(&words[1..], &what).map_err(bad)?;
+                if numbers.len() != 3 {
+                    return Err(bad(format!(
+                        "{what} has {} numbers, expected 3",
+                        numbers.len()
+                    )));
+                }
+                normal_count += 1;
+            }
+            "vt" => {
+                let what = format!("texture coordinate {texcoord_count}");
+                let numbers = record_numbers(&words[1..], &what).map_err(bad)?;
+                if !(1..=3).contains(&numbers.len()) {
+                    return Err(bad(format!(
+                        "{what} has {} numbers, expected 1 to 3 (u [v [w]])",
+                        numbers.len()
+                    )));
+                }
+                texcoord_count += 1;
+                continue;
+            }
             "f" => {
-                for (corner, word) in words.enumerate() {
-                    let mut fields = word.split('/');
-                    let position = fields.next().unwrap_or("");
-                    let index: i64 = position.parse().map_err(|_| {
-                        malformed(origin, format!("face {face}: cannot read vertex '{word}'"))
-                    })?;
-                    let resolved = resolve_index(index, scan.vertex_count).ok_or_else(|| {
-                        malformed(origin, format!("face {face}: index 0 in '{word}'"))
-                    })?;
-                    corners.push((face, resolved));
-                    match fields.nth(1).filter(|n| !n.is_empty()) {
+                for (corner, word) in words[1..].iter().enumerate() {
+                    let fields: Vec<&str> = word.split('/').collect();
+                    if fields.len() > 3 {
+                        return Err(bad(format!(
+                            "face {face}: corner '{word}' has more than vertex/texture/normal"
+                        )));
+                    }
+                    let index = |field: &str, what: &str, count: usize| {
+                        let index: i64 = field.parse().map_err(|_| {
+                            bad(format!("face {face}: cannot read the {what} in '{word}'"))
+                        })?;
+                        resolve_index(index, count).ok_or_else(|| {
+                            bad(format!(
+                                "face {face}: {what} index 0 in '{word}' (OBJ indices start at 1)"
+                            ))
+                        })
+                    };
+                    corners.push((line, face, index(fields[0], "vertex", scan.vertex_count)?));
+                    if let Some(texcoord) = fields.get(1).filter(|t| !t.is_empty()) {
+                        let resolved = index(texcoord, "texture coordinate", texcoord_count)?;
+                        corner_texcoords.push((line, face, resolved));
+                    }
+                    match fields.get(2).filter(|n| !n.is_empty()) {
                         Some(normal) => {
-                            let index: i64 = normal.parse().map_err(|_| {
-                                malformed(
-                                    origin,
-                                    format!("face {face}: cannot read normal in '{word}'"),
-                                )
-                            })?;
-                            let resolved = resolve_index(index, normal_count).ok_or_else(|| {
-                                malformed(origin, format!("face {face}: index 0 in '{word}'"))
-                            })?;
-                            corner_normals.push((face, resolved));
+                            let resolved = index(normal, "normal", normal_count)?;
+                            corner_normals.push((line, face, resolved));
                         }
                         None => {
                             if scan.first_corner_without_normal.is_none() {
@@ -116,14 +212,14 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
             }
             _ => {}
         }
-        scan.geometry.push_str(line);
+        scan.geometry.push_str(&record);
         scan.geometry.push('\n');
     }
-    for &(face, vertex) in &corners {
+    for &(line, face, vertex) in &corners {
         if vertex < 0 {
             return Err(malformed(
                 origin,
-                format!("face {face} refers to a vertex before the first one"),
+                format!("line {line}: face {face} refers to a vertex before the first one"),
             ));
         }
         if vertex >= scan.vertex_count as i64 {
@@ -134,18 +230,25 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
             });
         }
     }
-    for &(face, normal) in &corner_normals {
-        if !(0..normal_count as i64).contains(&normal) {
+    for (records, count, what) in [
+        (&corner_normals, normal_count, "normal"),
+        (&corner_texcoords, texcoord_count, "texture coordinate"),
+    ] {
+        if let Some(&(line, face, index)) = records
+            .iter()
+            .find(|&&(_, _, i)| !(0..count as i64).contains(&i))
+        {
             return Err(malformed(
                 origin,
                 format!(
-                    "face {face} refers to normal {normal} (0-based), but the file has {normal_count}"
+                    "line {line}: face {face} refers to {what} {index} (0-based), but the file \
+                     has {count}"
                 ),
             ));
         }
     }
     scan.has_normals = normal_count > 0;
-    scan.corner_vertex = corners.iter().map(|&(_, v)| v as u32).collect();
+    scan.corner_vertex = corners.iter().map(|&(_, _, v)| v as u32).collect();
     Ok(scan)
 }
 
@@ -391,6 +494,103 @@ f 1/2/1 4/3/4 6/4/6
                 "{text}: {error}"
             );
         }
+    }
+
+    /// The message of a [`Error::MalformedObj`]; panics on anything else.
+    fn malformed_message(text: &str) -> String {
+        match parse_err(text) {
+            Error::MalformedObj { message, .. } => message,
+            other => panic!("expected a malformed OBJ, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn record_errors_name_the_line_and_the_record() {
+        let triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+        for (text, expected) in [
+            (
+                "v 0 0 0\nv 1,0 0 0\n",
+                "line 2: vertex 1: cannot read the number '1,0' (OBJ numbers use a decimal \
+                 point and are separated by spaces)",
+            ),
+            (
+                "v 0 0 0\n# two numbers\nv 1 0\n",
+                "line 3: vertex 1 has 2 numbers; expected x y z, x y z w or x y z r g b",
+            ),
+            ("v 0 0 0 0\n", "line 1: vertex 0 has the weight w = 0"),
+            (
+                &format!("{triangle}vn 0 0\nf 1//1 2//1 3//1\n"),
+                "line 4: normal 0 has 2 numbers, expected 3",
+            ),
+            (
+                &format!("{triangle}vn 0 0 one\n"),
+                "line 4: normal 0: cannot read the number 'one'",
+            ),
+            (
+                &format!("{triangle}vt 0 0\nvt 0 0 0 0\n"),
+                "line 5: texture coordinate 1 has 4 numbers, expected 1 to 3 (u [v [w]])",
+            ),
+            (
+                &format!("{triangle}vt 0 0\nf 1/1 2/1 3/5\n"),
+                "line 5: face 0 refers to texture coordinate 4 (0-based), but the file has 1",
+            ),
+            (
+                &format!("{triangle}f 1 2 3\nf 0 1 2\n"),
+                "line 5: face 1: vertex index 0 in '0' (OBJ indices start at 1)",
+            ),
+            (
+                &format!("{triangle}f 1 2 x\n"),
+                "line 4: face 0: cannot read the vertex in 'x'",
+            ),
+            (
+                &format!("{triangle}f 1 2 3/1/1/1\n"),
+                "line 4: face 0: corner '3/1/1/1' has more than vertex/texture/normal",
+            ),
+            (
+                &format!("{triangle}f -4 1 2\n"),
+                "line 4: face 0 refers to a vertex before the first one",
+            ),
+        ] {
+            assert_eq!(malformed_message(text), expected, "{text}");
+            // CR LF line ends count one line per pair.
+            assert_eq!(malformed_message(&text.replace('\n', "\r\n")), expected);
+        }
+    }
+
+    #[test]
+    fn a_non_finite_vertex_is_an_error_even_when_no_face_uses_it() {
+        for coordinate in ["nan", "inf", "-inf", "1e400"] {
+            let text = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nv {coordinate} 0 0\nf 1 2 3\n");
+            let error = parse_err(&text);
+            assert!(
+                matches!(error, Error::NonFiniteVertex { vertex: 3 }),
+                "{coordinate}: {error}"
+            );
+        }
+        // A weight small enough to overflow the position.
+        let error = parse_err("v 1 0 0 1e-320\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        assert!(
+            matches!(error, Error::NonFiniteVertex { vertex: 0 }),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn a_backslash_continues_a_record_on_the_next_line() {
+        let plain = Mesh::parse_obj(OCTAHEDRON_WITH_NORMALS_AND_UVS).unwrap().0;
+        let continued = OCTAHEDRON_WITH_NORMALS_AND_UVS
+            .replace("v 1 0 0\n", "v 1 \\\n  0 \\\n 0\n")
+            .replace("f 1/1/1 3/2/3 5/3/5", "f 1/1/1 \\\r\n3/2/3 5/3/5");
+        let (mesh, _) = Mesh::parse_obj(&continued).unwrap();
+        assert_eq!(mesh.positions(), plain.positions());
+        assert_eq!(mesh.faces(), plain.faces());
+        // Lines are still numbered as in the file: the bad vertex is on line 6.
+        let text = continued.replace("v 0 1 0\n", "v 0 one 0\n");
+        assert!(
+            malformed_message(&text).starts_with("line 6: vertex 2: cannot read"),
+            "{}",
+            malformed_message(&text)
+        );
     }
 
     #[test]

@@ -111,6 +111,32 @@ pub(super) fn parse(
     )
 }
 
+/// The lines of a text file with their 1-based numbers. Any of LF, CR LF and CR (old Mac
+/// files) ends a line, so that line numbers in messages are those an editor shows.
+pub(super) fn numbered_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    let mut rest = Some(text);
+    std::iter::from_fn(move || {
+        let text = rest?;
+        match text.find(['\n', '\r']) {
+            Some(end) => {
+                let after = if text[end..].starts_with("\r\n") {
+                    end + 2
+                } else {
+                    end + 1
+                };
+                rest = (after < text.len()).then(|| &text[after..]);
+                Some(&text[..end])
+            }
+            None => {
+                rest = None;
+                (!text.is_empty()).then_some(text)
+            }
+        }
+    })
+    .enumerate()
+    .map(|(i, line)| (i + 1, line))
+}
+
 /// [`Error::MalformedMesh`] for a file in `format`.
 fn malformed(origin: &Path, format: MeshFormat, message: String) -> Error {
     Error::MalformedMesh {
@@ -126,6 +152,20 @@ mod tests {
 
     use super::MeshFormat;
     use crate::error::Error;
+
+    #[test]
+    fn lines_end_at_lf_crlf_and_cr_alike() {
+        for text in [
+            "a\nb\n\nc",
+            "a\r\nb\r\n\r\nc\r\n",
+            "a\rb\r\rc\r",
+            "a\nb\r\n\rc",
+        ] {
+            let lines: Vec<(usize, &str)> = super::numbered_lines(text).collect();
+            assert_eq!(lines, [(1, "a"), (2, "b"), (3, ""), (4, "c")], "{text:?}");
+        }
+        assert_eq!(super::numbered_lines("").count(), 0);
+    }
 
     #[test]
     fn extensions_choose_the_format_ignoring_case() {

@@ -14,16 +14,16 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::{MeshFormat, malformed};
+use super::{MeshFormat, malformed, numbered_lines};
 use crate::error::{Error, Result};
 use crate::mesh::polygon::PolygonMesh;
 
 /// The lines of the file that carry data: 1-based line number and the words before any `#`.
 fn data_lines(text: &str) -> impl Iterator<Item = (usize, Vec<&str>)> {
-    text.lines().enumerate().filter_map(|(i, line)| {
+    numbered_lines(text).filter_map(|(number, line)| {
         let data = line.split('#').next().unwrap_or("");
         let words: Vec<&str> = data.split_whitespace().collect();
-        (!words.is_empty()).then_some((i + 1, words))
+        (!words.is_empty()).then_some((number, words))
     })
 }
 
@@ -69,7 +69,7 @@ pub(super) fn read(bytes: &[u8], origin: &Path) -> Result<PolygonMesh> {
     let count = |k: usize, what: &str| -> Result<usize> {
         counts[k].parse().map_err(|_| {
             bad(format!(
-                "line {line}: cannot read the {what} count '{}'",
+                "line {line}: the {what} count '{}' is not a whole number ≥ 0",
                 counts[k]
             ))
         })
@@ -116,10 +116,11 @@ pub(super) fn read(bytes: &[u8], origin: &Path) -> Result<PolygonMesh> {
                 words[0]
             ))
         })?;
-        if words.len() < arity + 1 {
+        // Compared without `arity + 1`, which overflows for a count near the integer limit.
+        let listed = words.len() - 1;
+        if listed < arity {
             return Err(bad(format!(
-                "line {line}: face {face} announces {arity} corners but lists {}",
-                words.len() - 1
+                "line {line}: face {face} announces {arity} corners but lists {listed}"
             )));
         }
         corners.clear();
@@ -217,7 +218,9 @@ mod tests {
         assert!(message("4OFF\n1 1 0\n").contains("'4OFF' is not supported"));
         assert!(message("OFF BINARY\n").contains("binary OFF is not supported"));
         assert!(message("OFF\n8\n").contains("line 2: expected the vertex, face"));
-        assert!(message("OFF\nx 6 12\n").contains("cannot read the vertex count 'x'"));
+        assert!(message("OFF\nx 6 12\n").contains("the vertex count 'x' is not a whole number"));
+        assert!(message("OFF\n-8 6 12\n").contains("line 2: the vertex count '-8' is not a whole"));
+        assert!(message("OFF\n8 -6 12\n").contains("line 2: the face count '-6' is not a whole"));
         // Truncated: the counts promise more than the file holds.
         assert_eq!(
             message("OFF\n4000000000 4000000000 0\n"),
@@ -278,6 +281,35 @@ mod tests {
                 corners: 2
             }
         ));
+    }
+
+    #[test]
+    fn a_corner_count_at_the_integer_limit_names_the_face() {
+        let text = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n18446744073709551615 0 1 2\n";
+        assert_eq!(
+            message(text),
+            "line 6: face 0 announces 18446744073709551615 corners but lists 3"
+        );
+        // One past the limit is no number of corners at all.
+        let text = text.replace("18446744073709551615", "18446744073709551616");
+        assert!(message(&text).contains("line 6: face 0: cannot read the corner count"));
+    }
+
+    #[test]
+    fn cr_and_crlf_line_ends_parse_like_lf() {
+        let (plain, _) = parse(CUBE).unwrap();
+        for end in ["\r", "\r\n"] {
+            let (mesh, _) = parse(&CUBE.replace('\n', end)).unwrap();
+            assert_eq!(mesh.positions(), plain.positions(), "{end:?}");
+            assert_eq!(mesh.faces(), plain.faces(), "{end:?}");
+        }
+        // Line numbers count a CR LF pair once.
+        let text = CUBE.replace("1 1 0\n", "1 one 0\n").replace('\n', "\r\n");
+        assert!(
+            message(&text).contains("line 8: vertex 3"),
+            "{}",
+            message(&text)
+        );
     }
 
     #[test]
