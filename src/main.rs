@@ -39,7 +39,13 @@ enum Command {
         #[arg(short = 'o', long = "output", value_name = "FILE")]
         output: PathBuf,
         /// Subdivisions per patch edge (obj only).
-        #[arg(long, default_value_t = 8)]
+        #[arg(
+            long,
+            default_value_t = 8,
+            value_parser = clap::builder::RangedI64ValueParser::<usize>::new()
+                .range(1..=smoothlab::export::obj::MAX_TESS as i64),
+            allow_negative_numbers = true
+        )]
         tess: usize,
     },
     /// Build a scheme on a mesh and write, for every shared edge, points and normals sampled
@@ -79,7 +85,7 @@ enum Command {
         sweep_files: Vec<PathBuf>,
         /// Measure only shard I of N (0 ≤ I < N, balanced by estimated cost) and write the
         /// partial report OUT/partial.json; `smoothlab merge` combines the shards.
-        #[arg(long, value_name = "I/N")]
+        #[arg(long, value_name = "I/N", allow_hyphen_values = true)]
         shard: Option<smoothlab::report::shard::Shard>,
         /// Weld vertices of --meshes files closer than this fraction of the bounding-box
         /// diagonal (0: identical positions only).
@@ -138,7 +144,7 @@ enum Command {
         /// Render only shard I of N of the cells (0 ≤ I < N, balanced by estimated cost):
         /// writes those cells (STEM-<row>-<column>-<scheme>-<mode>.png and .exr) and
         /// STEM.shard-I-of-N.json; `smoothlab merge` composes the sheet.
-        #[arg(long, value_name = "I/N")]
+        #[arg(long, value_name = "I/N", allow_hyphen_values = true)]
         shard: Option<smoothlab::report::shard::Shard>,
     },
 }

@@ -272,15 +272,15 @@ fn malformed_ply_files_are_clear_errors() {
             count: 8
         }
     ));
-    // ply-rs-bw reads no NaN in ASCII data: an error naming the line.
-    let message = malformed(
-        ascii.replace("\n1 1 0 1\n", "\n1 nan 0 1\n").as_bytes(),
-        ply,
-    );
-    assert!(
-        message.starts_with("element 'vertex': Line 15: ") && !message.contains('\n'),
-        "{message}"
-    );
+    // A NaN coordinate is the same typed error in ASCII as in binary.
+    assert!(matches!(
+        parse(
+            ascii.replace("\n1 1 0 1\n", "\n1 nan 0 1\n").as_bytes(),
+            ply
+        )
+        .unwrap_err(),
+        Error::NonFiniteVertex { vertex: 3 }
+    ));
     let mut nan = positions.clone();
     nan[6].x = f64::NAN;
     assert!(matches!(
@@ -354,8 +354,17 @@ fn malformed_stl_files_are_clear_errors() {
     assert_eq!(
         malformed(&binary[..binary.len() - 1], stl),
         "not ASCII (no 'solid' keyword), and as binary the header announces 12 facets (684 \
-         bytes) but the file has 683 bytes: truncated or not STL"
+         bytes) but the file has 683 bytes: truncated, padded or not STL"
     );
+    // A padded binary file whose header starts with `solid` gets the same size message.
+    let mut padded = mesh_files::stl_binary(&positions, &faces, "solid cube");
+    padded.extend([0u8; 7]);
+    assert_eq!(
+        malformed(&padded, stl),
+        "not ASCII (it starts with 'solid' but holds binary data), and as binary the header \
+         announces 12 facets (684 bytes) but the file has 691 bytes: truncated, padded or not STL"
+    );
+    assert!(parse(&padded[..684], stl).is_ok());
     assert!(malformed(b"cube", stl).contains("shorter than the 84-byte binary header"));
     let ascii = String::from_utf8(mesh_files::stl_ascii(&positions, &faces)).unwrap();
     let missing_endloop = ascii.replacen("    endloop\n", "", 1);

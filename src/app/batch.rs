@@ -4,7 +4,8 @@
 //! - `--meshes DIR` takes every mesh file of the folder (`.obj`, `.ply`, `.off`, `.stl`, case
 //!   ignored, not descending into subfolders) in byte order of the names; `--meshes LIST` (any
 //!   other file) takes the paths listed one per line, relative to the list's folder (blank lines
-//!   and lines starting with `#` skipped). A mesh is named in the report by its file name (folder)
+//!   and lines starting with `#` skipped; a leading byte-order mark and CR LF line ends are
+//!   accepted); a mesh file given as the list is an error. A mesh is named in the report by its file name (folder)
 //!   or by its line (list).
 //! - `--scheme all|S1,S2,…` chooses the schemes (default `all`).
 //! - `--sweep SCHEME:NAME=V1,V2,…[:NAME2=…]` measures the scheme at every combination of the
@@ -158,9 +159,19 @@ pub fn mesh_files(source: &Path) -> Result<Vec<(String, PathBuf)>> {
                 MeshFormat::supported_extensions()
             )));
         }
+    } else if let Ok(format) = MeshFormat::from_path(source) {
+        return Err(Error::Invalid(format!(
+            "{}: this is a mesh ({} file); --meshes takes a folder of meshes or a list of mesh \
+             files, one per line",
+            source.display(),
+            format.name()
+        )));
     } else {
         let text = std::fs::read_to_string(source).map_err(|e| Error::io(source, e))?;
+        // A list saved by a Windows editor may start with a byte-order mark.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
         let base = source.parent().unwrap_or(Path::new(""));
+        // `lines` ends lines at LF and CR LF alike.
         for line in text.lines().map(str::trim) {
             if line.is_empty() || line.starts_with('#') {
                 continue;
@@ -197,8 +208,8 @@ pub fn mesh_work(source: &Path, variants: &[Variant], load: &LoadOptions) -> Res
     Ok(WorkList::new(items, load))
 }
 
-/// The number of triangles of a mesh file, estimated without loading it (see the module doc);
-/// 0 when the file cannot be read.
+/// The number of triangles of a mesh file, estimated without loading it (see the module doc)
+/// and at most its size in bytes; 0 when the file cannot be read.
 pub fn count_faces(path: &Path) -> usize {
     let Ok(bytes) = std::fs::read(path) else {
         return 0;
@@ -214,7 +225,8 @@ pub fn count_faces(path: &Path) -> usize {
         Ok(MeshFormat::Stl) => stl_faces(&bytes),
         Err(_) => None,
     };
-    counted.unwrap_or(by_size)
+    // A header's count is the file's claim; every triangle takes at least a byte.
+    counted.map_or(by_size, |n| n.min(bytes.len()))
 }
 
 /// OBJ: a polygon of n corners is n − 2 triangles.
@@ -327,6 +339,37 @@ mod tests {
     }
 
     #[test]
+    fn lists_may_start_with_a_byte_order_mark_and_end_lines_in_crlf() {
+        let dir = std::env::temp_dir().join(format!("smoothlab-list-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let list = dir.join("meshes.txt");
+        std::fs::write(&list, "\u{feff}a/one.obj\r\n# skipped\r\n\r\nb.off\r\n").expect("write");
+        let files = mesh_files(&list).expect("list");
+        assert_eq!(
+            files,
+            [
+                ("a/one.obj".to_string(), dir.join("a/one.obj")),
+                ("b.off".to_string(), dir.join("b.off"))
+            ]
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_mesh_given_as_the_list_is_an_error() {
+        let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/octahedron.obj");
+        let err = mesh_files(&mesh).expect_err("a mesh is no list");
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "{}: this is a mesh (OBJ file); --meshes takes a folder of meshes or a list of \
+                 mesh files, one per line",
+                mesh.display()
+            )
+        );
+    }
+
+    #[test]
     fn faces_are_counted_without_loading() {
         assert_eq!(obj_faces(b"v 0 0 0\nf 1 2 3\nf 1 2 3 4\n# f\nf\t1 2 3"), 4);
         assert_eq!(off_faces(b"OFF\n# c\n4 2 0\n"), Some(2));
@@ -343,5 +386,13 @@ mod tests {
             stl_faces(b"solid a\n facet normal 0 0 1\n facet normal 0 0 1\n"),
             Some(2)
         );
+        // A count the file cannot hold weighs the file's size.
+        let dir = std::env::temp_dir().join(format!("smoothlab-count-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let off = dir.join("huge.off");
+        let text = "OFF\n3 18446744073709551615 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+        std::fs::write(&off, text).expect("write");
+        assert_eq!(count_faces(&off), text.len());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -167,16 +167,20 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub up: Option<[f64; 3]>,
     /// Vertical field of view, degrees [default: 35].
-    #[arg(long)]
+    #[arg(long, value_parser = parse_fov, allow_negative_numbers = true)]
     pub fov: Option<f64>,
     /// Orthographic projection.
     #[arg(long)]
     pub ortho: bool,
     /// Image size `WxH` [default: 640x480].
-    #[arg(long, value_parser = parse_size)]
+    #[arg(long, value_parser = parse_size, allow_hyphen_values = true)]
     pub size: Option<[u32; 2]>,
     /// Samples per pixel [default: 4].
-    #[arg(long)]
+    #[arg(
+        long,
+        value_parser = clap::value_parser!(u32).range(1..=i64::from(crate::app::scene::MAX_SPP)),
+        allow_negative_numbers = true
+    )]
     pub spp: Option<u32>,
     /// Output name (writes NAME.png and NAME.exr) [default: MESH-SCHEME-MODE].
     #[arg(short = 'o', long = "output")]
@@ -185,13 +189,18 @@ pub struct RenderArgs {
     #[arg(long, value_name = "F.json")]
     pub stats: Option<PathBuf>,
     /// Render an N-per-edge tessellation instead of the exact patches.
-    #[arg(long, value_name = "N")]
+    #[arg(
+        long,
+        value_name = "N",
+        value_parser = clap::value_parser!(u32).range(1..=crate::budget::MAX_TESS as i64),
+        allow_negative_numbers = true
+    )]
     pub tessellate: Option<u32>,
     /// Boundary overlay [default: none].
     #[arg(long, value_enum)]
     pub overlay: Option<OverlayArg>,
     /// Sample seed [default: 0].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub seed: Option<u64>,
     /// Weld vertices closer than this fraction of the bounding-box diagonal (0: identical
     /// positions only; default: the scene's `weld_tolerance`, else 1e-10).
@@ -213,13 +222,13 @@ pub struct RenderArgs {
     #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
     pub zebra_axis: Option<String>,
     /// Zebra bright stripes per full turn of the reflected direction [default: 16].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub zebra_stripes: Option<f64>,
     /// Zebra stripe period: thin (11.25°), medium (22.5°), thick (45°) or degrees.
     #[arg(long, value_name = "WIDTH")]
     pub zebra_width: Option<String>,
     /// Bright fraction of a zebra period, 0..1 [default: 0.5].
-    #[arg(long, value_name = "F")]
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
     pub zebra_duty: Option<f64>,
     /// Linear RGB of the bright zebra stripes `R,G,B` [default: 0.9,0.9,0.9].
     #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
@@ -232,11 +241,11 @@ pub struct RenderArgs {
     #[arg(long)]
     pub no_stripe_filter: bool,
     /// Highlight lights per scene diagonal [default: 4].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub highlight_lines: Option<f64>,
     /// An isophote every DEG degrees between normal and light [default: 16 bands of equal
     /// n·L].
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub isophote_step: Option<f64>,
     /// Curvature quantity [default: mean].
     #[arg(long, value_enum)]
@@ -249,7 +258,7 @@ pub struct RenderArgs {
     pub curvature_sign: Option<SignArg>,
     /// Curvature half-range: `auto` (95th percentile of |value| in view) or a number
     /// [default: auto].
-    #[arg(long, value_name = "auto|R")]
+    #[arg(long, value_name = "auto|R", allow_hyphen_values = true)]
     pub curvature_range: Option<String>,
     /// No curvature legend (scene: `curvature.legend = false`).
     #[arg(long)]
@@ -259,18 +268,28 @@ pub struct RenderArgs {
     pub command_line: Option<String>,
     /// Render N views around an axis through the target (a full turn): writes NAME-000.png …
     /// and the looping NAME.gif instead of NAME.png and NAME.exr.
-    #[arg(long, value_name = "N")]
+    #[arg(
+        long,
+        value_name = "N",
+        value_parser = clap::value_parser!(u32).range(1..=i64::from(turntable::MAX_FRAMES)),
+        allow_negative_numbers = true
+    )]
     pub turntable: Option<u32>,
     /// Axis of --turntable `X,Y,Z` (default: the camera's up, --up or +Y).
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     pub turntable_axis: Option<[f64; 3]>,
     /// Zebra mode: move the stripes over one period in N frames at a fixed camera; writes
     /// NAME-000.png … and the looping NAME.gif.
-    #[arg(long, value_name = "N")]
+    #[arg(
+        long,
+        value_name = "N",
+        value_parser = clap::value_parser!(u32).range(1..=i64::from(turntable::MAX_FRAMES)),
+        allow_negative_numbers = true
+    )]
     pub sweep: Option<u32>,
     /// With --turntable or --sweep: render only shard I of N of the frames (0 ≤ I < N) and
     /// write NAME.shard-I-of-N.json beside them; `smoothlab merge` writes the GIF.
-    #[arg(long, value_name = "I/N")]
+    #[arg(long, value_name = "I/N", allow_hyphen_values = true)]
     pub shard: Option<crate::report::shard::Shard>,
 }
 
@@ -290,6 +309,22 @@ pub fn parse_vec3(text: &str) -> std::result::Result<[f64; 3], String> {
             .ok_or_else(|| format!("'{part}' in '{text}' is not a finite number"))?;
     }
     Ok(out)
+}
+
+/// Parses a vertical field of view in degrees (`--fov`): finite, at least
+/// [`MIN_FOV_DEG`](crate::render::camera::MIN_FOV_DEG) and below 180.
+pub fn parse_fov(text: &str) -> std::result::Result<f64, String> {
+    let min = crate::render::camera::MIN_FOV_DEG;
+    let fov: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number of degrees"))?;
+    if !(min..180.0).contains(&fov) {
+        return Err(format!(
+            "{fov}° is outside the valid range: at least {min}° and below 180°"
+        ));
+    }
+    Ok(fov)
 }
 
 /// Parses `WxH`.

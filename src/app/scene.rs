@@ -74,6 +74,8 @@ use crate::render::shaded::{Environment, LatLongMap, ShadedParams};
 pub const DEFAULT_SIZE: [u32; 2] = [640, 480];
 /// Default samples per pixel.
 pub const DEFAULT_SPP: u32 = 4;
+/// The most samples per pixel a render takes (`render.spp`, `--spp`).
+pub const MAX_SPP: u32 = 65536;
 
 /// A scene file as written (every key optional).
 #[derive(Clone, Debug, Default, Deserialize)]
@@ -376,9 +378,9 @@ impl SceneFile {
             )));
         }
         let spp = r.spp.unwrap_or(DEFAULT_SPP);
-        if spp == 0 || spp > 65536 {
+        if spp == 0 || spp > MAX_SPP {
             return Err(Error::Invalid(format!(
-                "render.spp {spp} must be in 1..=65536"
+                "render.spp {spp} must be in 1..={MAX_SPP}"
             )));
         }
         let mut settings = RenderSettings {

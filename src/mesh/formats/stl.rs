@@ -9,8 +9,9 @@
 //!
 //! The encoding is decided by size rather than by the `solid` keyword, which many binary files
 //! start their header with: a file whose length is exactly 84 bytes plus 50 per facet counted
-//! in its header is binary; otherwise a file starting with `solid` is ASCII (of which only the
-//! first solid is read), and anything else is a truncated or padded binary file.
+//! in its header is binary; otherwise a text file starting with `solid` is ASCII (of which only
+//! the first solid is read), and anything else is a truncated or padded binary file, also when
+//! its header starts with `solid`.
 
 use std::io::Cursor;
 use std::path::Path;
@@ -33,7 +34,11 @@ pub(super) fn read(bytes: &[u8], origin: &Path) -> Result<PolygonMesh> {
         .get(80..BINARY_HEADER)
         .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
     let binary_size = announced.map(|n| BINARY_HEADER as u128 + (BINARY_FACET * n) as u128);
-    let ascii = bytes.trim_ascii_start().starts_with(b"solid");
+    let solid = bytes.trim_ascii_start().starts_with(b"solid");
+    // ASCII is text: a file starting with `solid` that holds other bytes is a binary file
+    // whose header starts with the word, and whose size is wrong.
+    let text = |b: &u8| b.is_ascii_graphic() || b.is_ascii_whitespace() || !b.is_ascii();
+    let ascii = solid && std::str::from_utf8(bytes).is_ok() && bytes.iter().all(text);
     let mut data: Vec<u8>;
     if binary_size == Some(bytes.len() as u128) {
         // stl_io takes a header starting with "solid " for ASCII: blank the header, which
@@ -46,15 +51,19 @@ pub(super) fn read(bytes: &[u8], origin: &Path) -> Result<PolygonMesh> {
         data = b"solid ".to_vec();
         data.extend_from_slice(&text[5..]);
     } else {
+        let not_ascii = if solid {
+            "not ASCII (it starts with 'solid' but holds binary data)"
+        } else {
+            "not ASCII (no 'solid' keyword)"
+        };
         return Err(bad(match (announced, binary_size) {
             (Some(n), Some(size)) => format!(
-                "not ASCII (no 'solid' keyword), and as binary the header announces {n} facets \
-                 ({size} bytes) but the file has {} bytes: truncated or not STL",
+                "{not_ascii}, and as binary the header announces {n} facets ({size} bytes) but \
+                 the file has {} bytes: truncated, padded or not STL",
                 bytes.len()
             ),
             _ => format!(
-                "not ASCII (no 'solid' keyword) and {} bytes, shorter than the {BINARY_HEADER}-byte \
-                 binary header",
+                "{not_ascii} and {} bytes, shorter than the {BINARY_HEADER}-byte binary header",
                 bytes.len()
             ),
         }));
