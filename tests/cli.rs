@@ -756,7 +756,7 @@ fn export_tessellation_is_bounded() {
         let a = args(tess);
         common::smoothlab_with_env(&a.iter().map(String::as_str).collect::<Vec<_>>(), env)
     };
-    assert_fails_naming(&run("100000", &[]), &["--tess 100000", "1..=4096"]);
+    assert_fails_naming(&run("100000", &[]), &["'--tess", "'100000'", "1..=4096"]);
     let out = run("1000", &[("SMOOTHLAB_MEMORY_LIMIT", "1e8")]);
     assert_fails_naming(
         &out,

@@ -321,7 +321,8 @@ pub fn parse_fov(text: &str) -> std::result::Result<f64, String> {
         .map_err(|_| format!("'{text}' is not a number of degrees"))?;
     if !(min..180.0).contains(&fov) {
         return Err(format!(
-            "{fov}° is outside the valid range: at least {min}° and below 180°"
+            "field of view {}° is outside the valid range: at least {min}° and below 180°",
+            text.trim()
         ));
     }
     Ok(fov)
