@@ -134,10 +134,21 @@ fn create_temporary(target: &Path) -> std::io::Result<(PathBuf, File)> {
 /// Checks, before any work is done, that a file can be written at `path`: the path does not
 /// name a folder (`out/`), it is not an existing folder, device or other non-regular file
 /// (which [`write_atomic`] would replace), and its folder exists and accepts new files (tried
-/// by creating and removing a temporary file there), and the path is UTF-8 ([`utf8_path`]).
+/// by creating and removing a temporary file there), the path is UTF-8 ([`utf8_path`]) and
+/// its file name at most 255 bytes long.
 /// The error names the path at fault.
 pub fn check_writable(path: &Path) -> Result<()> {
     utf8_path(path)?;
+    if let Some(name) = path.file_name()
+        && name.len() > NAME_MAX
+    {
+        return Err(Error::Invalid(format!(
+            "{}: the file name is {} bytes long, more than the {NAME_MAX} bytes file systems \
+             accept; give a shorter name",
+            path.display(),
+            name.len()
+        )));
+    }
     if ends_with_separator(path) || path.file_name().is_none() {
         return Err(Error::Invalid(format!(
             "{}: names a folder, not a file",
@@ -342,6 +353,13 @@ mod tests {
             write_atomic(&path, b"{}").expect("write under a long name");
             assert_eq!(std::fs::read(&path).expect("read"), b"{}");
         }
+        let too_long = dir.join("g".repeat(NAME_MAX + 1));
+        let err = check_writable(&too_long).expect_err("longer than file systems accept");
+        assert!(
+            err.to_string()
+                .contains("is 256 bytes long, more than the 255"),
+            "{err}"
+        );
         // A name cut inside a multi-byte character keeps whole characters.
         let prefix = temporary_prefix(std::ffi::OsStr::new(&"é".repeat(200)));
         assert!(prefix.len() <= TEMPORARY_NAME_KEEP + 1, "{}", prefix.len());
