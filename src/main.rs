@@ -368,6 +368,10 @@ fn to_stdout(text: &str, status: ExitCode) -> ExitCode {
 }
 
 fn main() -> ExitCode {
+    // An interrupt removes the temporary files being written instead of leaving them behind.
+    if let Err(e) = app::clean_up_on_signals() {
+        to_stderr(&format!("warning: {e}\n"));
+    }
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if !e.use_stderr() => {

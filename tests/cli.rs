@@ -1555,6 +1555,99 @@ fn a_mesh_given_to_meshes_is_an_error() {
     assert_fails_naming(
         &out,
         &["tetrahedron.obj: this is a mesh (OBJ file); --meshes takes a folder"],
+/// Every file name in `dir`, sorted.
+fn names_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("list")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn an_output_onto_an_input_is_refused_before_any_work() {
+    let dir = scratch("output-is-input");
+    let mesh = write(&dir, "m.obj", TETRAHEDRON);
+    let m = path_str(&mesh);
+    let out = smoothlab(&["metrics", m, "--scheme", "flat", "--json", m]);
+    assert_fails_naming(&out, &["m.obj", "--json would overwrite the mesh"]);
+    // The same file under another spelling.
+    let roundabout = format!("{}/./m.obj", path_str(&dir));
+    for args in [
+        vec![
+            "export",
+            m,
+            "--scheme",
+            "pn",
+            "--format",
+            "obj",
+            "-o",
+            &roundabout,
+        ],
+        vec!["sample", m, "--scheme", "pn", "--json", &roundabout],
+    ] {
+        let flag = if args[0] == "export" { "-o" } else { "--json" };
+        let out = smoothlab(&args);
+        assert_fails_naming(
+            &out,
+            &["m.obj", &format!("{flag} would overwrite the mesh")],
+        );
+    }
+    assert_eq!(std::fs::read_to_string(&mesh).expect("mesh"), TETRAHEDRON);
+    assert_eq!(names_in(&dir), ["m.obj"], "nothing written");
+}
+
+#[test]
+fn two_outputs_of_one_render_on_one_file_are_refused_before_any_work() {
+    let dir = scratch("outputs-collide");
+    let mesh = write(&dir, "m.obj", TETRAHEDRON);
+    let name = dir.join("out");
+    let base = [
+        "render",
+        path_str(&mesh),
+        "--scheme",
+        "flat",
+        "--size",
+        "8x8",
+        "--spp",
+        "1",
+        "-o",
+        path_str(&name),
+    ];
+    let stats_on = |target: &str| {
+        let mut args = base.to_vec();
+        args.extend(["--stats", target]);
+        smoothlab(&args)
+    };
+    let png = dir.join("out.png");
+    let out = stats_on(path_str(&png));
+    assert_fails_naming(
+        &out,
+        &["out.png", "written both as the PNG image and as --stats"],
+    );
+    let out = stats_on(path_str(&dir.join("out.exr")));
+    assert_fails_naming(&out, &["out.exr", "the EXR image and as --stats"]);
+    let out = stats_on(path_str(&mesh));
+    assert_fails_naming(&out, &["m.obj", "--stats would overwrite the mesh"]);
+    // A turntable's frames and GIF, and its shard part.
+    let mut spin = base.to_vec();
+    spin.extend(["--turntable", "2", "--stats"]);
+    let frame = dir.join("out-001.png");
+    let out = smoothlab(&[spin.as_slice(), &[path_str(&frame)]].concat());
+    assert_fails_naming(&out, &["out-001.png", "a frame and as --stats"]);
+    let out = smoothlab(&[spin.as_slice(), &[path_str(&dir.join("out.gif"))]].concat());
+    assert_fails_naming(&out, &["out.gif", "the GIF and as --stats"]);
+    let part = dir.join("out.shard-0-of-2.json");
+    let out = smoothlab(&[spin.as_slice(), &[path_str(&part), "--shard", "0/2"]].concat());
+    assert_fails_naming(&out, &["out.shard-0-of-2.json", "part file and as --stats"]);
+    assert_eq!(names_in(&dir), ["m.obj"], "nothing written");
+    // Distinct names work.
+    let out = stats_on(path_str(&dir.join("stats.json")));
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        names_in(&dir),
+        ["m.obj", "out.exr", "out.png", "stats.json"]
     );
 }
 
@@ -1595,4 +1688,159 @@ fn negative_numeric_flags_name_the_flag_value_and_range() {
     ] {
         assert_fails_naming(&out, &fragments);
     }
+fn a_file_name_of_245_bytes_is_written() {
+    let dir = scratch("long-name");
+    let mesh = write(&dir, "m.obj", TETRAHEDRON);
+    let name = format!("{}.json", "g".repeat(240));
+    assert_eq!(name.len(), 245);
+    let target = dir.join(&name);
+    let out = smoothlab(&[
+        "export",
+        path_str(&mesh),
+        "--scheme",
+        "flat",
+        "--format",
+        "json",
+        "-o",
+        path_str(&target),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        std::fs::read_to_string(&target)
+            .expect("written")
+            .contains("smoothlab-patches")
+    );
+    assert_eq!(names_in(&dir), [name, "m.obj".to_string()]);
+}
+
+#[cfg(unix)]
+#[test]
+fn output_names_that_are_not_utf8_are_refused_everywhere() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = scratch("not-utf8");
+    let mesh = write(&dir, "m.obj", TETRAHEDRON);
+    std::fs::create_dir_all(dir.join("l")).expect("folder");
+    let bad = dir
+        .join("l")
+        .join(std::ffi::OsStr::from_bytes(b"L17\xffname"));
+    let run = |args: &[&std::ffi::OsStr]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+            .args(args)
+            .output()
+            .expect("run smoothlab")
+    };
+    let os = |s: &'static str| std::ffi::OsStr::new(s);
+    let m = mesh.as_os_str();
+    let render = [
+        os("render"),
+        m,
+        os("--scheme"),
+        os("flat"),
+        os("--size"),
+        os("8x8"),
+        os("--spp"),
+        os("1"),
+        os("-o"),
+        bad.as_os_str(),
+    ];
+    for extra in [&[][..], &[os("--turntable"), os("4")][..]] {
+        let out = run(&[&render[..], extra].concat());
+        assert_fails_naming(&out, &["L17\u{fffd}name", "not valid UTF-8"]);
+    }
+    let export = [
+        os("export"),
+        m,
+        os("--scheme"),
+        os("flat"),
+        os("--format"),
+        os("json"),
+        os("-o"),
+        bad.as_os_str(),
+    ];
+    assert_fails_naming(&run(&export), &["L17\u{fffd}name", "not valid UTF-8"]);
+    let metrics = [
+        os("metrics"),
+        m,
+        os("--scheme"),
+        os("flat"),
+        os("--json"),
+        bad.as_os_str(),
+    ];
+    assert_fails_naming(&run(&metrics), &["L17\u{fffd}name", "not valid UTF-8"]);
+    assert!(names_in(&dir.join("l")).is_empty(), "nothing written");
+    // A mesh whose name is not UTF-8 renders under a name given with -o, and asks for one
+    // when the output would be named after it.
+    let odd = dir.join(std::ffi::OsStr::from_bytes(b"m\xff.obj"));
+    std::fs::copy(&mesh, &odd).expect("copy");
+    let named_after = [
+        os("render"),
+        odd.as_os_str(),
+        os("--scheme"),
+        os("flat"),
+        os("--size"),
+        os("8x8"),
+    ];
+    assert_fails_naming(&run(&named_after), &["not valid UTF-8", "give -o NAME"]);
+}
+
+#[test]
+fn an_interrupt_removes_the_temporary_being_written() {
+    let dir = scratch("interrupt");
+    let mesh = write(&dir, "m.obj", TETRAHEDRON);
+    let name = dir.join("big");
+    // A 2048² uncompressed EXR is tens of megabytes: the signal is sent once the temporary is
+    // there, which takes a few tries at most when the writing is quick.
+    let mut caught = 0;
+    for _ in 0..20 {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+            .args([
+                "render",
+                path_str(&mesh),
+                "--scheme",
+                "flat",
+                "--size",
+                "2048x2048",
+                "--spp",
+                "1",
+                "--exr-compression",
+                "none",
+                "-o",
+                path_str(&name),
+            ])
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("start");
+        let temporary = || names_in(&dir).iter().any(|n| n.ends_with(".tmp"));
+        // A temporary with bytes in it is an image being written (the checks before the work
+        // leave empty ones for an instant).
+        let writing = || {
+            std::fs::read_dir(&dir).expect("list").any(|e| {
+                let e = e.expect("entry");
+                e.file_name().to_string_lossy().ends_with(".tmp")
+                    && e.metadata().is_ok_and(|m| m.len() > 0)
+            })
+        };
+        let mut seen = false;
+        while child.try_wait().expect("wait").is_none() {
+            if writing() {
+                seen = true;
+                let kill = std::process::Command::new("kill")
+                    .args(["-TERM", &child.id().to_string()])
+                    .status()
+                    .expect("kill");
+                assert!(kill.success());
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_micros(200));
+        }
+        let out = child.wait_with_output().expect("finished");
+        if seen && out.status.code() == Some(130) {
+            caught += 1;
+            assert!(!temporary(), "temporaries left: {:?}", names_in(&dir));
+            assert!(stderr(&out).contains("interrupted"), "{}", stderr(&out));
+            break;
+        }
+        assert!(!temporary(), "temporaries left: {:?}", names_in(&dir));
+    }
+    assert_eq!(caught, 1, "no run was interrupted while writing");
 }

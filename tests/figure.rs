@@ -360,3 +360,145 @@ fn render_scene_draws_the_network_alone() {
         "hidden tubes appear: {blue} vs {blue_with}"
     );
 }
+
+/// Every file under `dir` (paths relative to it), sorted.
+fn files_under(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).expect("list") {
+            let path = e.expect("entry").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let rel = path.strip_prefix(dir).expect("inside");
+                out.push(rel.to_string_lossy().into_owned());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn an_output_that_names_a_folder_is_refused() {
+    let dir = scratch("output-folder");
+    std::fs::create_dir_all(dir.join("made")).expect("folder");
+    for output in ["out/", "made", "."] {
+        let spec = SPEC.replace("output = \"out/grid\"", &format!("output = \"{output}\""));
+        let out = figure(&dir, &spec);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{output}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains("spec.toml: output: output name") && stderr.contains("is a folder"),
+            "{stderr}"
+        );
+        let shard = Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+            .args(["figure", "spec.toml", "--shard", "0/2"])
+            .current_dir(&dir)
+            .output()
+            .expect("run smoothlab");
+        assert_eq!(shard.status.code(), Some(1), "{output}: --shard");
+    }
+    assert_eq!(files_under(&dir), ["spec.toml"], "nothing written");
+}
+
+#[test]
+fn a_mode_environment_map_is_relative_to_the_spec() {
+    let dir = scratch("environment");
+    let specs = dir.join("specs");
+    std::fs::create_dir_all(&specs).expect("folder");
+    exr::prelude::write_rgb_file(specs.join("env.exr"), 16, 8, |x, _| {
+        let v = 0.2 + 0.05 * x as f32;
+        (v, v, v)
+    })
+    .expect("write map");
+    let spec = r#"
+mesh = "icosahedron"
+output = "out/shaded"
+size = [16, 12]
+spp = 1
+exr = false
+[[schemes]]
+name = "flat"
+[[modes]]
+name = "shaded"
+params = { environment = "env.exr", bounces = 1 }
+"#;
+    std::fs::write(specs.join("fig.toml"), spec).expect("spec");
+    // Run from the parent folder: the map is found beside the spec, not in the working folder.
+    let out = Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+        .args(["figure", "specs/fig.toml"])
+        .current_dir(&dir)
+        .output()
+        .expect("run smoothlab");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(specs.join("out/shaded.png").is_file());
+    // A cell's EXR written over the map it is lit by is refused before any work.
+    let cell = specs.join("out/shaded-0-0-flat-shaded.exr");
+    std::fs::copy(specs.join("env.exr"), &cell).expect("copy");
+    let over = spec
+        .replace("exr = false", "exr = true")
+        .replace("env.exr", "out/shaded-0-0-flat-shaded.exr");
+    std::fs::write(specs.join("fig.toml"), over).expect("spec");
+    for extra in [&[][..], &["--shard", "0/1"][..]] {
+        let out = Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+            .args(["figure", "specs/fig.toml"])
+            .args(extra)
+            .current_dir(&dir)
+            .output()
+            .expect("run smoothlab");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains(
+                "shaded-0-0-flat-shaded.exr: an output would overwrite an \
+                             environment map"
+            ),
+            "{stderr}"
+        );
+    }
+    assert_eq!(
+        std::fs::read(&cell).ok(),
+        std::fs::read(specs.join("env.exr")).ok()
+    );
+    // A map that is not there is named by the path it was looked for at.
+    std::fs::write(specs.join("fig.toml"), spec.replace("env.exr", "gone.exr")).expect("spec");
+    let out = Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+        .args(["figure", "specs/fig.toml"])
+        .current_dir(&dir)
+        .output()
+        .expect("run smoothlab");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("specs/gone.exr"), "{stderr}");
+}
+
+#[test]
+fn a_figure_spec_and_a_scene_file_given_to_the_wrong_command_say_which_to_run() {
+    let dir = scratch("wrong-command");
+    let spec = dir.join("fig.toml");
+    std::fs::write(&spec, SPEC.replace("spp = 1", "spp = 1\nexr = false")).expect("spec");
+    let out = common::smoothlab(&["render", common::path_str(&spec)]);
+    common::assert_fails_naming(
+        &out,
+        &["fig.toml: this is a figure spec", "run `smoothlab figure"],
+    );
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        "mesh = \"m.obj\"\n[scheme]\nname = \"hb\"\n[render]\nmode = \"zebra\"\n",
+    )
+    .expect("scene");
+    let out = common::smoothlab(&["figure", common::path_str(&scene)]);
+    common::assert_fails_naming(
+        &out,
+        &["scene.toml: this is a scene file", "run `smoothlab render"],
+    );
+    assert_eq!(files_under(&dir), ["fig.toml", "scene.toml"]);
+}

@@ -290,3 +290,57 @@ fn compare_accepts_metrics_json_output() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A small closed mesh (the icosahedron) as OBJ text.
+fn icosahedron_obj() -> String {
+    let s = smoothlab::mesh::generate::analytic::sphere(0);
+    smoothlab::mesh::generate::to_obj(&(s.positions, s.faces))
+}
+
+#[cfg(unix)]
+#[test]
+fn unreadable_entries_of_a_mesh_folder_are_error_records() {
+    let dir = scratch("unreadable-entries");
+    let meshes = dir.join("meshes");
+    std::fs::create_dir_all(meshes.join("x.obj")).expect("a folder named like a mesh");
+    std::fs::write(meshes.join("comma,name.obj"), icosahedron_obj()).expect("mesh");
+    std::os::unix::fs::symlink("missing.obj", meshes.join("broken.obj")).expect("link");
+    std::os::unix::fs::symlink("loop-b.obj", meshes.join("loop-a.obj")).expect("link");
+    std::os::unix::fs::symlink("loop-a.obj", meshes.join("loop-b.obj")).expect("link");
+    let out_dir = dir.join("out");
+    let out = smoothlab(&[
+        "report",
+        "--meshes",
+        common::path_str(&meshes),
+        "--scheme",
+        "flat",
+        "--out",
+        common::path_str(&out_dir),
+    ]);
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    let report = report::read(&out_dir.join("metrics.json")).expect("report");
+    let error_of = |mesh: &str| {
+        report
+            .records
+            .iter()
+            .find(|r| r.mesh == mesh)
+            .and_then(|r| r.error.clone())
+            .unwrap_or_else(|| panic!("no error record for {mesh}"))
+    };
+    assert!(error_of("x.obj").contains("is a folder, not a mesh file"));
+    assert!(error_of("broken.obj").contains("broken, or a loop of links"));
+    assert!(error_of("loop-a.obj").contains("broken, or a loop of links"));
+    assert!(error_of("loop-b.obj").contains("broken, or a loop of links"));
+    let measured = report.records.iter().find(|r| r.mesh == "comma,name.obj");
+    assert!(measured.is_some_and(|r| r.error.is_none()), "{measured:?}");
+    assert_eq!(report.records.len(), 5);
+    // The CSV quotes the name with a comma: every row as many fields as the header.
+    let csv = std::fs::read_to_string(out_dir.join("metrics.csv")).expect("csv");
+    let header = csv.lines().next().expect("header").split(',').count();
+    let row = csv
+        .lines()
+        .find(|l| l.starts_with("\"comma,name.obj\",flat,"))
+        .unwrap_or_else(|| panic!("quoted row missing: {csv}"));
+    assert_eq!(row.split(',').count(), header + 1, "{row}");
+    assert!(out_dir.join("index.html").is_file());
+}

@@ -268,3 +268,59 @@ fn the_browser_check_catches_a_broken_page() {
         check.messages
     );
 }
+
+/// Meshes named with HTML and URL characters (`'`, `&`, `"`, `<`, `>`, `#`, `%`, spaces): the
+/// report writes its page, and the browser loads every thumbnail under its own name.
+#[test]
+fn meshes_with_markup_and_url_characters_in_their_names_show_on_the_page() {
+    let dir = scratch("odd-names");
+    let meshes = dir.join("meshes");
+    std::fs::create_dir_all(&meshes).expect("folder");
+    let s = smoothlab::mesh::generate::analytic::sphere(0);
+    let obj = smoothlab::mesh::generate::to_obj(&(s.positions, s.faces));
+    let names = [
+        "Bob's chair.obj",
+        "a & \"b\" <c>.obj",
+        "hash#1.obj",
+        "pct%41.obj",
+        "comma,name.obj",
+    ];
+    for name in names {
+        std::fs::write(meshes.join(name), &obj).expect("mesh");
+    }
+    // A raw `pct%41` would be loaded as `pctA`, which is not there: the browser reports it.
+    let out_dir = dir.join("out");
+    let out = common::smoothlab(&[
+        "report",
+        "--meshes",
+        meshes.to_str().expect("utf-8"),
+        "--scheme",
+        "flat",
+        "--out",
+        out_dir.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let new = report::read(&out_dir.join("metrics.json")).expect("report");
+    assert_eq!(new.records.len(), names.len());
+    assert!(new.records.iter().all(|r| r.error.is_none()), "{new:?}");
+    let html = std::fs::read_to_string(out_dir.join(page::PAGE)).expect("page");
+    assert!(
+        html.contains("src=\"thumbs/pct%2541.obj-flat-zebra.png\""),
+        "percent-encoded"
+    );
+    assert!(
+        html.contains("src=\"thumbs/hash%231.obj-flat-zebra.png\""),
+        "percent-encoded"
+    );
+    let Some(browser) = chromium() else { return };
+    let check = open_in_browser(&browser, &out_dir.join(page::PAGE), &dir.join("page.png"));
+    assert_page_ok(
+        &check,
+        names.len(),
+        plots::PLOTS.len() + page::THUMB_MODES.len() * new.records.len(),
+    );
+}

@@ -549,3 +549,118 @@ fn bad_shards_are_one_line_errors() {
         &["x.json", "not a smoothlab partial result"],
     );
 }
+
+/// `path` (JSON) with `edit` applied.
+fn edit_json(path: &Path, to: &Path, edit: impl Fn(&mut serde_json::Value)) {
+    let mut value = read_json(path);
+    edit(&mut value);
+    std::fs::write(to, serde_json::to_string(&value).expect("JSON")).expect("write");
+}
+
+#[test]
+fn damaged_report_parts_are_named_with_the_field_at_fault() {
+    let dir = scratch("shard", "damaged");
+    let meshes = dir.join("meshes");
+    std::fs::create_dir_all(&meshes).expect("folder");
+    for k in 0..3 {
+        let s = analytic::sphere(0);
+        let positions = s.positions.iter().map(|p| *p * f64::from(k + 1)).collect();
+        std::fs::write(
+            meshes.join(format!("s{k}.obj")),
+            generate::to_obj(&(positions, s.faces)),
+        )
+        .expect("write");
+    }
+    let shard_dir = dir.join("s0");
+    ok(&smoothlab(&[
+        "report",
+        "--meshes",
+        path_str(&meshes),
+        "--scheme",
+        "flat",
+        "--out",
+        path_str(&shard_dir),
+        "--shard",
+        "0/2",
+    ]));
+    let part = shard_dir.join("partial.json");
+    let damaged = shard_dir.join("damaged.json");
+    let merged = dir.join("merged");
+    type Edit = fn(&mut serde_json::Value);
+    let cases: [(&str, Edit, &[&str]); 4] = [
+        (
+            "an item out of range",
+            |v| v["items"] = serde_json::json!([99]),
+            &["damaged.json: items:", "damaged part"],
+        ),
+        (
+            "a huge shard count",
+            |v| v["manifest"]["shard"]["count"] = serde_json::json!(4_000_000_000_u32),
+            &["damaged.json: manifest.shard.count 4000000000"],
+        ),
+        (
+            "an index past the count",
+            |v| v["manifest"]["shard"]["index"] = serde_json::json!(5),
+            &["damaged.json: manifest.shard.index 5"],
+        ),
+        (
+            "records dropped",
+            |v| v["report"]["records"] = serde_json::json!([]),
+            &["damaged.json: report.records: 0 records"],
+        ),
+    ];
+    for (what, edit, fragments) in cases {
+        edit_json(&part, &damaged, edit);
+        let out = smoothlab(&["merge", path_str(&damaged), "-o", path_str(&merged)]);
+        assert!(!stderr(&out).contains("memory allocation"), "{what}");
+        assert_fails_naming(&out, fragments);
+        assert!(!merged.exists(), "{what}: nothing written");
+    }
+}
+
+#[test]
+fn merged_frames_named_as_a_folder_are_refused() {
+    let dir = scratch("shard", "merge-folder");
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/deformed-icosahedron.obj");
+    let name = dir.join("spin");
+    for shard in ["0/2", "1/2"] {
+        ok(&smoothlab(&[
+            "render",
+            path_str(&mesh),
+            "--scheme",
+            "flat",
+            "--size",
+            "8x8",
+            "--spp",
+            "1",
+            "--turntable",
+            "2",
+            "--shard",
+            shard,
+            "-o",
+            path_str(&name),
+        ]));
+    }
+    let part = |i: u32| format!("{}.shard-{i}-of-2.json", name.display());
+    let slash = format!("{}/slash/", dir.display());
+    let out = smoothlab(&["merge", &part(0), &part(1), "-o", &slash]);
+    assert_fails_naming(&out, &["slash/", "is a folder"]);
+    assert!(!dir.join("slash").exists(), "nothing written");
+    // A part whose frame list is shorter than the frames it rendered is named, not indexed
+    // past its end.
+    let damaged = dir.join("damaged.json");
+    edit_json(Path::new(&part(1)), &damaged, |v| {
+        v["frames"] = serde_json::json!(["spin-000.png"]);
+    });
+    let out = smoothlab(&[
+        "merge",
+        &part(0),
+        path_str(&damaged),
+        "-o",
+        path_str(&dir.join("m")),
+    ]);
+    assert_fails_naming(
+        &out,
+        &["damaged.json: frames lists 1 names, rendered names frame 1"],
+    );
+}

@@ -2,7 +2,8 @@
 //! `--scheme`, `--sweep` and `--sweep-file` turned into a [`WorkList`].
 //!
 //! - `--meshes DIR` takes every mesh file of the folder (`.obj`, `.ply`, `.off`, `.stl`, case
-//!   ignored, not descending into subfolders) in byte order of the names; `--meshes LIST` (any
+//!   ignored, not descending into subfolders; an entry so named that is no readable file, such
+//!   as a folder or a broken link, is recorded as an error) in byte order of the names; `--meshes LIST` (any
 //!   other file) takes the paths listed one per line, relative to the list's folder (blank lines
 //!   and lines starting with `#` skipped; a leading byte-order mark and CR LF line ends are
 //!   accepted); a mesh file given as the list is an error. A mesh is named in the report by its file name (folder)
@@ -142,8 +143,11 @@ pub fn mesh_files(source: &Path) -> Result<Vec<(String, PathBuf)>> {
     if source.is_dir() {
         let entries = std::fs::read_dir(source).map_err(|e| Error::io(source, e))?;
         for entry in entries {
+            // Every entry named as a mesh file is an item, also one that cannot be read (a
+            // folder `x.obj`, a broken symbolic link, a link loop): it becomes an error record
+            // instead of vanishing from the report.
             let path = entry.map_err(|e| Error::io(source, e))?.path();
-            if path.is_file() && MeshFormat::from_path(&path).is_ok() {
+            if MeshFormat::from_path(&path).is_ok() {
                 let name = path
                     .file_name()
                     .map(|n| n.to_string_lossy().into_owned())
@@ -211,6 +215,10 @@ pub fn mesh_work(source: &Path, variants: &[Variant], load: &LoadOptions) -> Res
 /// The number of triangles of a mesh file, estimated without loading it (see the module doc)
 /// and at most its size in bytes; 0 when the file cannot be read.
 pub fn count_faces(path: &Path) -> usize {
+    // Only regular files are read: a pipe named x.obj would never end.
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return 0;
+    }
     let Ok(bytes) = std::fs::read(path) else {
         return 0;
     };

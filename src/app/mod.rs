@@ -19,9 +19,11 @@ pub mod turntable;
 
 use std::path::Path;
 
+pub use crate::files::clean_up_on_signals;
+
 use crate::error::{Error, Result};
 use crate::export::{self, Format};
-use crate::files::{check_writable, write_atomic};
+use crate::files::{check_distinct, check_writable, write_atomic};
 use crate::mesh::{LoadOptions, Mesh};
 use crate::metrics::Metrics;
 use crate::schemes::{self, SCHEMES, build_timed};
@@ -295,6 +297,7 @@ pub fn run_metrics_streaming(
     select_schemes(selection, &params)?;
     if let Some(path) = json {
         check_writable(path)?;
+        check_distinct(&[("the mesh", mesh_path)], &[("--json", path)])?;
     }
     let (mesh, mut warnings) = load_mesh(mesh_path, load)?;
     line(&metrics_table_header());
@@ -312,18 +315,19 @@ pub fn run_metrics_streaming(
 }
 
 /// Builds `scheme` with the raw `--param` values on the mesh file at `mesh_path` (loaded with
-/// `load`); the scheme name, the parameter syntax and the output path `out_path` are checked
-/// before the (possibly slow) mesh load. Returns the mesh, the surface and the loading warnings.
+/// `load`); the scheme name, the parameter syntax and the output path `out_path` (given by
+/// `flag`: writable, not the mesh) are checked before the (possibly slow) mesh load. Returns the mesh, the surface and the loading warnings.
 fn build_on_file(
     mesh_path: &Path,
     load: &LoadOptions,
     scheme: &str,
     raw_params: &[String],
-    out_path: &Path,
+    (flag, out_path): (&str, &Path),
 ) -> Result<(Mesh, Surface, Vec<String>)> {
     let params = parse_params(raw_params)?;
     schemes::find(scheme)?;
     check_writable(out_path)?;
+    check_distinct(&[("the mesh", mesh_path)], &[(flag, out_path)])?;
     let (mesh, warnings) = load_mesh(mesh_path, load)?;
     let (surface, _) = build_timed(scheme, &mesh, &params)?;
     Ok((mesh, surface, warnings))
@@ -339,7 +343,8 @@ pub fn run_export(
     tess: usize,
     raw_params: &[String],
 ) -> Result<Output> {
-    let (_, surface, warnings) = build_on_file(mesh_path, load, scheme, raw_params, out_path)?;
+    let (_, surface, warnings) =
+        build_on_file(mesh_path, load, scheme, raw_params, ("-o", out_path))?;
     write_atomic(out_path, export::export(&surface, format, tess)?.as_bytes())?;
     Ok(Output {
         stdout: format!(
@@ -361,7 +366,8 @@ pub fn run_sample(
     raw_params: &[String],
     json: &Path,
 ) -> Result<Output> {
-    let (mesh, surface, warnings) = build_on_file(mesh_path, load, scheme, raw_params, json)?;
+    let (mesh, surface, warnings) =
+        build_on_file(mesh_path, load, scheme, raw_params, ("--json", json))?;
     let samples = export::samples::edge_samples(&surface, &mesh)?;
     let text = serde_json::to_string(&samples)
         .map_err(|e| Error::Invalid(format!("edge samples JSON: {e}")))?;

@@ -1,13 +1,13 @@
 //! The `render` subcommand: arguments (clap) and the command itself. The binary only parses
 //! and calls [`render_command`]; everything else lives here in the library.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::app::parse_weld_tolerance;
 use crate::app::scene::SceneFile;
 use crate::app::turntable;
 use crate::error::{Error, Result};
-use crate::files::check_writable;
+use crate::files::{check_distinct, check_writable, utf8_path};
 use crate::mesh::Mesh;
 use crate::render::output::{OutputMeta, OutputOptions, prepare_outputs, write_outputs_with};
 use crate::render::stats::RenderStats;
@@ -343,13 +343,16 @@ pub fn parse_size(text: &str) -> std::result::Result<[u32; 2], String> {
     Ok([parse(w)?, parse(h)?])
 }
 
+/// True if `input` names a scene file (`.toml`), not a mesh.
+fn is_scene_file(input: &Path) -> bool {
+    input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+}
+
 /// The scene of `args`: the scene file (or a bare mesh) with every given option applied.
 pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
-    let is_scene = args
-        .input
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-    let mut scene = if is_scene {
+    let mut scene = if is_scene_file(&args.input) {
         SceneFile::load(&args.input)?
     } else {
         SceneFile {
@@ -507,13 +510,19 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
         ))
     })?;
     schemes::find(&scheme)?;
-    let name = scene.render.output.clone().unwrap_or_else(|| {
-        let mode = scene.render.mode.as_deref().unwrap_or("zebra");
-        let mesh = mesh_path
-            .file_stem()
-            .map_or("render".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from(format!("{mesh}-{scheme}-{mode}"))
-    });
+    let name = match scene.render.output.clone() {
+        Some(name) => name,
+        None => {
+            let mode = scene.render.mode.as_deref().unwrap_or("zebra");
+            let stem = mesh_path.file_stem().map_or(Path::new("render"), Path::new);
+            let mesh = utf8_path(stem).map_err(|e| {
+                Error::Invalid(format!(
+                    "{e} (the output is named after the mesh: give -o NAME)"
+                ))
+            })?;
+            PathBuf::from(format!("{mesh}-{scheme}-{mode}"))
+        }
+    };
     if args.shard.is_some() && animation.is_none() {
         return Err(Error::Invalid(
             "--shard splits the frames of --turntable or --sweep; a single image is one piece"
@@ -528,6 +537,34 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     if let Some(path) = &args.stats {
         check_writable(path)?;
     }
+    let part = args.shard.map(|shard| turntable::part_path(&name, shard));
+    let mut written: Vec<(&str, &Path)> = Vec::new();
+    match &frames {
+        Some((pngs, gif)) => {
+            written.extend(pngs.iter().map(|p| ("a frame", p.as_path())));
+            written.push(("the GIF", gif));
+        }
+        None => {
+            written.push(("the PNG image", &outputs[0]));
+            if exr.is_some() {
+                written.push(("the EXR image", &outputs[1]));
+            }
+        }
+    }
+    written.extend(part.as_deref().map(|p| ("the shard's part file", p)));
+    written.extend(args.stats.as_deref().map(|p| ("--stats", p)));
+    let environment = scene
+        .shaded
+        .environment
+        .as_deref()
+        .filter(|e| *e != "studio")
+        .map(Path::new);
+    let mut read: Vec<(&str, &Path)> = vec![("the mesh", &mesh_path)];
+    if is_scene_file(&args.input) {
+        read.push(("the scene file", &args.input));
+    }
+    read.extend(environment.map(|e| ("the environment map", e)));
+    check_distinct(&read, &written)?;
     let (mesh, report) = Mesh::load_with(&mesh_path, &load_options)?;
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
     // The back of an open surface shows: tint it in the quality modes.
@@ -536,18 +573,11 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
         job.settings.mode = job.settings.mode.with_back_faces_tinted();
     }
     let stats = match (animation, frames) {
-        (Some(animation), Some((pngs, gif))) => match args.shard {
-            Some(shard) => turntable::render_animation_shard(
-                &job,
-                &animation,
-                &surface,
-                &mesh,
-                &pngs,
-                &gif,
-                shard,
-                &turntable::part_path(&name, shard),
+        (Some(animation), Some((pngs, gif))) => match (args.shard, &part) {
+            (Some(shard), Some(part)) => turntable::render_animation_shard(
+                &job, &animation, &surface, &mesh, &pngs, &gif, shard, part,
             )?,
-            None => turntable::render_animation(&job, &animation, &surface, &mesh, &pngs, &gif)?,
+            _ => turntable::render_animation(&job, &animation, &surface, &mesh, &pngs, &gif)?,
         },
         _ => {
             let (frame, stats) = job.render(&surface, &mesh)?;

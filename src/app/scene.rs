@@ -312,12 +312,33 @@ pub struct ShadedSection {
     pub rr_depth: Option<u32>,
 }
 
+/// The `environment` value of a file in folder `dir`: `studio` as it is, a relative map path
+/// made relative to `dir` (as every path of scene files and figure specs is).
+pub fn environment_beside(env: &str, dir: &Path) -> String {
+    if env == "studio" || Path::new(env).is_absolute() {
+        return env.to_string();
+    }
+    dir.join(env).to_string_lossy().into_owned()
+}
+
 impl SceneFile {
     /// Reads and parses a scene file; every relative path in it — mesh, output, environment —
     /// is made relative to the file's directory.
     pub fn load(path: &Path) -> Result<SceneFile> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let mut scene: SceneFile = toml_input::parse(&text, &path.display().to_string())?;
+        let mut scene: SceneFile =
+            toml_input::parse(&text, &path.display().to_string()).map_err(|e| {
+                if toml_input::has_top_level_key(&text, &["schemes", "modes"]) {
+                    Error::Invalid(format!(
+                        "{}: this is a figure spec ([[schemes]], [[modes]]), not a scene file: \
+                         run `smoothlab figure {}`",
+                        path.display(),
+                        path.display()
+                    ))
+                } else {
+                    e
+                }
+            })?;
         let dir = path.parent().unwrap_or(Path::new(""));
         if let Some(mesh) = &scene.mesh
             && mesh.is_relative()
@@ -329,11 +350,8 @@ impl SceneFile {
         {
             scene.render.output = Some(dir.join(output));
         }
-        if let Some(env) = &scene.shaded.environment
-            && env != "studio"
-            && Path::new(env).is_relative()
-        {
-            scene.shaded.environment = Some(dir.join(env).to_string_lossy().into_owned());
+        if let Some(env) = &scene.shaded.environment {
+            scene.shaded.environment = Some(environment_beside(env, dir));
         }
         Ok(scene)
     }

@@ -13,6 +13,13 @@ pub fn parse<T: DeserializeOwned>(text: &str, origin: &str) -> Result<T> {
     toml::from_str(text).map_err(|e| one_line(&e, text, origin))
 }
 
+/// True if TOML `text` has any of `keys` at its top level (false when it is no TOML): tells
+/// one kind of input file from another, e.g. a figure spec given where a scene file belongs.
+pub fn has_top_level_key(text: &str, keys: &[&str]) -> bool {
+    text.parse::<toml::Table>()
+        .is_ok_and(|table| keys.iter().any(|k| table.contains_key(*k)))
+}
+
 /// The key path and message of a TOML error, `KEY: message` (just the message when the error
 /// concerns no key, e.g. a syntax error), on one line.
 pub fn describe(e: &toml::de::Error) -> String {

@@ -32,7 +32,7 @@ use crate::render::film::{Frame, RenderSettings, render};
 use crate::render::intersect::{NewtonSettings, Tracer};
 use crate::render::job::{Geometry, RenderJob, SurfaceSamples, check_bvh_size};
 use crate::render::modes::{CurvatureParams, CurvatureRange, Mode, ZebraParams};
-use crate::render::output::{output_stem, srgb8, with_suffix, write_png};
+use crate::render::output::{check_output_name, output_stem, srgb8, with_suffix, write_png};
 use crate::render::stats::RenderStats;
 use crate::render::tessellate::TessellatedTracer;
 use crate::render::trace::SurfaceTracer;
@@ -372,6 +372,7 @@ fn gif_frame(encoder: &mut GifEncoder<&mut Vec<u8>>, image: RgbaImage, gif: &Pat
 /// bytes the whole run writes. Returns a line for the terminal. A missing shard is an error
 /// naming it.
 pub fn merge_frames(parts: &[PathBuf], name: &Path) -> Result<String> {
+    check_output_name(name)?;
     let read = read_complete_parts(
         parts,
         "frames",
@@ -389,7 +390,14 @@ pub fn merge_frames(parts: &[PathBuf], name: &Path) -> Result<String> {
             let slot = sources.get_mut(k).ok_or_else(|| {
                 Error::Invalid(format!("{}: frame {k} out of range", path.display()))
             })?;
-            *slot = Some(dir.join(&part.frames[k]));
+            let frame = part.frames.get(k).ok_or_else(|| {
+                Error::Invalid(format!(
+                    "{}: frames lists {} names, rendered names frame {k}",
+                    path.display(),
+                    part.frames.len()
+                ))
+            })?;
+            *slot = Some(dir.join(frame));
         }
     }
     let (pngs, gif) = animation_files(name, frames_u32);

@@ -18,7 +18,7 @@ use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::files::{check_writable, create_folder, ends_with_separator, write_atomic};
+use crate::files::{check_writable, create_folder, ends_with_separator, utf8_path, write_atomic};
 use crate::render::camera::{Camera, Projection};
 use crate::render::film::Frame;
 use crate::render::modes::palette::linear_to_srgb;
@@ -369,14 +369,17 @@ pub fn output_files(name: &Path) -> [PathBuf; 2] {
     IMAGE_EXTENSIONS.map(|ext| with_suffix(&stem, ext))
 }
 
-/// Prepares the outputs of name `name` before rendering: creates the folder of the stem if
-/// missing and checks that every file of [`output_files`] can be written there (see
-/// [`check_writable`]). A name that is a folder (`out/`, or an existing folder) or a device
-/// (`/dev/null`) is an error naming it.
-pub fn prepare_outputs(name: &Path) -> Result<[PathBuf; 2]> {
+/// Checks an output name (a stem that files are named after: `NAME.png`, `NAME-000.png`, …)
+/// before anything is derived from it: valid UTF-8 ([`utf8_path`]), not a folder (`out/`, an
+/// existing folder, `..`: the files would be hidden ones such as `out/.png`) and not a device.
+pub fn check_output_name(name: &Path) -> Result<()> {
+    utf8_path(name)?;
     let stem = output_stem(name);
     let meta = std::fs::metadata(&stem).ok();
-    if ends_with_separator(name) || meta.as_ref().is_some_and(std::fs::Metadata::is_dir) {
+    if ends_with_separator(name)
+        || stem.file_name().is_none()
+        || meta.as_ref().is_some_and(std::fs::Metadata::is_dir)
+    {
         return Err(Error::Invalid(format!(
             "output name {}: is a folder; give a file name stem such as {}",
             name.display(),
@@ -390,6 +393,16 @@ pub fn prepare_outputs(name: &Path) -> Result<[PathBuf; 2]> {
             name.display()
         )));
     }
+    Ok(())
+}
+
+/// Prepares the outputs of name `name` before rendering: creates the folder of the stem if
+/// missing and checks that every file of [`output_files`] can be written there (see
+/// [`check_writable`]). A name that is a folder (`out/`, or an existing folder) or a device
+/// (`/dev/null`) is an error naming it.
+pub fn prepare_outputs(name: &Path) -> Result<[PathBuf; 2]> {
+    check_output_name(name)?;
+    let stem = output_stem(name);
     if let Some(folder) = stem.parent() {
         create_folder(folder)?;
     }

@@ -316,6 +316,24 @@ pub fn error_record(mesh: &str, variant: &batch::Variant, error: String) -> Reco
     }
 }
 
+/// Checks that the mesh file `path` is a regular file that can be opened, with an error saying
+/// what it is instead: a folder, a broken symbolic link or a link loop, a device or pipe.
+fn check_mesh_file(path: &Path) -> Result<()> {
+    let link = std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
+    let problem = match std::fs::metadata(path) {
+        Err(e) if link => {
+            format!("a symbolic link that leads to no file (broken, or a loop of links): {e}")
+        }
+        Err(e) => return Err(Error::io(path, e)),
+        Ok(meta) if meta.is_dir() => "is a folder, not a mesh file".to_string(),
+        Ok(meta) if !meta.is_file() => {
+            "is not a regular file (a device, pipe or socket), not a mesh file".to_string()
+        }
+        Ok(_) => return Ok(()),
+    };
+    Err(Error::Invalid(format!("{}: {problem}", path.display())))
+}
+
 /// What [`measure_items`] measured.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Measured {
@@ -356,7 +374,7 @@ pub fn measure_items(
                 .find(|b| &b.name == name)
                 .map(|b| (std::borrow::Cow::Borrowed(&b.mesh), b.analytic))
                 .ok_or_else(|| Error::Invalid(format!("no benchmark mesh named '{name}'"))),
-            batch::MeshSource::File(path) => {
+            batch::MeshSource::File(path) => check_mesh_file(path).and_then(|()| {
                 Mesh::load_with(path, &work.load_options()).map(|(mesh, report)| {
                     out.warnings.extend(
                         report
@@ -366,7 +384,7 @@ pub fn measure_items(
                     );
                     (std::borrow::Cow::Owned(mesh), None)
                 })
-            }
+            }),
         };
         let (mesh, analytic) = match loaded {
             Ok(loaded) => loaded,
@@ -486,15 +504,31 @@ fn value_text(v: Option<&serde_json::Value>) -> Option<String> {
     }
 }
 
-/// `metrics.csv`: one row per record.
+/// One CSV field as RFC 4180 writes it: in double quotes, inner quotes doubled, when it holds
+/// a comma, a quote or a line break; as it is otherwise.
+fn csv_field(text: &str) -> std::borrow::Cow<'_, str> {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\"")).into()
+    } else {
+        text.into()
+    }
+}
+
+/// `metrics.csv`: one row per record (RFC 4180: fields quoted where needed).
 pub fn to_csv(report: &Report) -> String {
     let mut out = format!("mesh,scheme,{}\n", COLUMNS.join(","));
     for r in &report.records {
-        let cells: Vec<String> = COLUMNS
-            .iter()
-            .map(|c| value_text(r.figures.get(*c)).unwrap_or_default())
+        let cells: Vec<String> = [r.mesh.clone(), r.scheme.clone()]
+            .into_iter()
+            .chain(
+                COLUMNS
+                    .iter()
+                    .map(|c| value_text(r.figures.get(*c)).unwrap_or_default()),
+            )
+            .map(|cell| csv_field(&cell).into_owned())
             .collect();
-        out += &format!("{},{},{}\n", r.mesh, r.scheme, cells.join(","));
+        out += &cells.join(",");
+        out += "\n";
     }
     out
 }
@@ -909,5 +943,53 @@ mod tests {
         assert_eq!(d.len(), 20, "{d}");
         assert!(d.ends_with('Z') && d.as_bytes()[10] == b'T', "{d}");
         assert!(d.starts_with("20"), "{d}");
+    }
+
+    /// The records of RFC 4180 text, each a list of fields (quotes removed, doubled quotes
+    /// undone).
+    fn parse_csv(text: &str) -> Vec<Vec<String>> {
+        let (mut rows, mut row, mut field) = (Vec::new(), Vec::new(), String::new());
+        let (mut quoted, mut chars) = (false, text.chars().peekable());
+        while let Some(c) = chars.next() {
+            match (quoted, c) {
+                (true, '"') if chars.peek() == Some(&'"') => {
+                    chars.next();
+                    field.push('"');
+                }
+                (true, '"') => quoted = false,
+                (false, '"') if field.is_empty() => quoted = true,
+                (false, ',') => row.push(std::mem::take(&mut field)),
+                (false, '\n') => {
+                    row.push(std::mem::take(&mut field));
+                    rows.push(std::mem::take(&mut row));
+                }
+                (_, c) => field.push(c),
+            }
+        }
+        rows
+    }
+
+    #[test]
+    fn csv_fields_with_commas_quotes_and_line_breaks_are_quoted() {
+        let names = [
+            "comma,name.obj",
+            "say \"hi\".obj",
+            "two\nlines.obj",
+            "plain.obj",
+        ];
+        let report = Report {
+            records: names.iter().map(|n| record(n, "hb:beta=0.1")).collect(),
+            ..Report::stamped(Vec::new())
+        };
+        let csv = to_csv(&report);
+        assert!(csv.contains("\n\"comma,name.obj\",hb:beta=0.1,"), "{csv}");
+        assert!(csv.contains("\n\"say \"\"hi\"\".obj\","), "{csv}");
+        assert!(csv.contains("\nplain.obj,"), "{csv}");
+        let rows = parse_csv(&csv);
+        assert_eq!(rows.len(), 1 + names.len(), "{csv}");
+        for (row, name) in rows[1..].iter().zip(names) {
+            assert_eq!(row.len(), rows[0].len(), "{row:?}");
+            assert_eq!((row[0].as_str(), row[1].as_str()), (name, "hb:beta=0.1"));
+        }
     }
 }

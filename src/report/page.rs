@@ -204,6 +204,46 @@ pub struct Baseline<'a> {
     pub comparison: &'a Comparison,
 }
 
+/// A relative file path as a URL path: every byte but the unreserved characters of RFC 3986
+/// (`A-Z a-z 0-9 - . _ ~`) and the separator `/` percent-encoded, so that a file named
+/// `hash#1.obj` or `pct%41.obj` is referenced as itself, not as a fragment or another name.
+pub fn url_path(path: &str) -> String {
+    let mut out = String::with_capacity(path.len());
+    for byte in path.bytes() {
+        if byte.is_ascii_alphanumeric() || b"-._~/".contains(&byte) {
+            out.push(char::from(byte));
+        } else {
+            out.push_str(&format!("%{byte:02X}"));
+        }
+    }
+    out
+}
+
+/// The relative path a `src` attribute value (HTML-escaped, percent-encoded) refers to, or
+/// `None` when its escapes are malformed: the inverse of `escape(&url_path(path))`.
+fn referenced_path(src: &str) -> Option<String> {
+    let unescaped = src
+        .replace("&lt;", "<")
+        .replace("&gt;", ">")
+        .replace("&quot;", "\"")
+        .replace("&#39;", "'")
+        .replace("&amp;", "&");
+    let bytes = unescaped.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut k = 0;
+    while k < bytes.len() {
+        if bytes[k] == b'%' {
+            let hex = std::str::from_utf8(bytes.get(k + 1..k + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            k += 3;
+        } else {
+            out.push(bytes[k]);
+            k += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
 /// Text with `&`, `<`, `>`, `"` and `'` escaped for HTML text and attribute values.
 pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
@@ -425,7 +465,7 @@ pub fn to_html(
         let _ = writeln!(
             out,
             "<img src=\"figures/{}.svg\" alt=\"{}\" title=\"{}\">",
-            escape(key),
+            escape(&url_path(key)),
             escape(title),
             escape(title)
         );
@@ -453,7 +493,7 @@ pub fn to_html(
                     out,
                     "<td><img src=\"{}\" width=\"{size}\" height=\"{size}\" alt=\"{} {} {}\" \
                      loading=\"eager\"></td>",
-                    escape(&thumbnail_name(&t.mesh, s, mode)),
+                    escape(&url_path(&thumbnail_name(&t.mesh, s, mode))),
                     escape(&t.mesh),
                     escape(s),
                     mode,
@@ -508,7 +548,7 @@ fn baseline_section(out: &mut String, b: &Baseline) {
 }
 
 /// Checks that an HTML page names every file it references and that each exists under
-/// `dir`: the relative `src` attributes of `page`. Returns the first missing one as an error.
+/// `dir`: the relative `src` attributes of `page` (HTML-escaped, percent-encoded URL paths). Returns the first missing one as an error.
 pub fn check_references(page: &str, dir: &Path) -> Result<usize> {
     let mut count = 0;
     for piece in page.split("src=\"").skip(1) {
@@ -521,10 +561,15 @@ pub fn check_references(page: &str, dir: &Path) -> Result<usize> {
                 "{src}: the page must reference files beside it only"
             )));
         }
-        if !dir.join(src).is_file() {
+        let path = referenced_path(src).ok_or_else(|| {
+            Error::Invalid(format!(
+                "{src}: a reference of the page with a broken escape"
+            ))
+        })?;
+        if !dir.join(&path).is_file() {
             return Err(Error::Invalid(format!(
                 "{}: referenced by the page but missing",
-                dir.join(src).display()
+                dir.join(&path).display()
             )));
         }
         count += 1;
@@ -639,6 +684,22 @@ mod tests {
         assert!(err.to_string().contains("thumbs/b.png"), "{err}");
         let remote = "<img src=\"https://example.org/x.png\">";
         assert!(check_references(remote, &dir).is_err());
+        // Names with markup and URL characters are found under their own names.
+        for name in [
+            "Bob's chair & \"co\" <1>.png",
+            "hash#1.png",
+            "pct%41.png",
+            "é ü.png",
+        ] {
+            std::fs::write(dir.join("figures").join(name), "png").expect("write");
+            let src = escape(&url_path(&format!("figures/{name}")));
+            let page = format!("<img src=\"{src}\">");
+            assert_eq!(check_references(&page, &dir).expect(name), 1, "{page}");
+            assert!(!src.contains(['#', '\'', ' ', '&']), "{src}");
+        }
+        assert_eq!(url_path("thumbs/pct%41.obj"), "thumbs/pct%2541.obj");
+        assert_eq!(url_path("a b/é"), "a%20b/%C3%A9");
+        assert!(check_references("<img src=\"figures/a%4\">", &dir).is_err());
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

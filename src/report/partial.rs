@@ -146,16 +146,23 @@ pub fn merge(parts: &[PathBuf], out_dir: &Path, options: &WriteOptions) -> Resul
                 file.display()
             )));
         }
+        // `items` is compared with the share before it indexes anything.
         let expected = shard::items_of(&costs, part.manifest.shard);
-        let records: usize = part
-            .items
-            .iter()
-            .map(|&k| work.items[k].variants.len())
-            .sum();
-        if part.items != expected || part.report.records.len() != records {
+        if part.items != expected {
             return Err(Error::Invalid(format!(
-                "{}: shard {} holds other items than its share of the work list",
+                "{}: items: shard {} holds other items than its share of the work list \
+                 (damaged part)",
                 file.display(),
+                part.manifest.shard
+            )));
+        }
+        let records: usize = expected.iter().map(|&k| work.items[k].variants.len()).sum();
+        if part.report.records.len() != records {
+            return Err(Error::Invalid(format!(
+                "{}: report.records: {} records where the items of shard {} make {records} \
+                 (damaged part)",
+                file.display(),
+                part.report.records.len(),
                 part.manifest.shard
             )));
         }

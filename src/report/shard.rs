@@ -193,13 +193,29 @@ pub fn check_parts(parts: &[(String, &Manifest)]) -> Result<(u32, Vec<u32>)> {
     let Some((first_name, first)) = parts.first() else {
         return Err(Error::Invalid("merge: no partial results given".into()));
     };
-    let mut seen: Vec<Option<&str>> = vec![None; first.shard.count as usize];
+    // Every manifest is checked before its shard count sizes anything.
     for (name, m) in parts {
         if m.format != "smoothlab-partial" || m.version != PARTIAL_VERSION {
             return Err(Error::Invalid(format!(
                 "{name}: not a smoothlab partial result of version {PARTIAL_VERSION}"
             )));
         }
+        let Shard { index, count } = m.shard;
+        if count == 0 || count > MAX_SHARDS {
+            return Err(Error::Invalid(format!(
+                "{name}: manifest.shard.count {count} is not in 1..={MAX_SHARDS}: the part is \
+                 damaged"
+            )));
+        }
+        if index >= count {
+            return Err(Error::Invalid(format!(
+                "{name}: manifest.shard.index {index} is not below manifest.shard.count \
+                 {count}: the part is damaged"
+            )));
+        }
+    }
+    let mut seen: Vec<Option<&str>> = vec![None; first.shard.count as usize];
+    for (name, m) in parts {
         let differs = |what: &str, a: &dyn fmt::Display, b: &dyn fmt::Display| {
             Error::Invalid(format!(
                 "{name}: {what} {a} differs from {b} of {first_name}: the parts are not \
@@ -358,6 +374,36 @@ mod tests {
         frames.kind = "frames".into();
         let err = check_parts(&[("a".into(), &a), ("f".into(), &frames)]).expect_err("kinds");
         assert!(err.to_string().contains("kind frames"), "{err}");
+    }
+
+    #[test]
+    fn damaged_shard_numbers_are_named_before_anything_is_sized() {
+        let m = |index: u32, count: u32| {
+            let mut m = Manifest::new("report", Shard { index: 0, count: 2 }, "w", 5);
+            m.shard = Shard { index, count };
+            m
+        };
+        let cases = [
+            (
+                m(0, 4_000_000_000),
+                "d: manifest.shard.count 4000000000 is not in",
+            ),
+            (m(0, 0), "d: manifest.shard.count 0 is not in"),
+            (
+                m(7, 3),
+                "d: manifest.shard.index 7 is not below manifest.shard.count 3",
+            ),
+        ];
+        for (damaged, expected) in cases {
+            // As the first part (whose count would size the list) and as a later one.
+            for parts in [
+                vec![("d".to_string(), &damaged)],
+                vec![("a".to_string(), &m(0, 2)), ("d".to_string(), &damaged)],
+            ] {
+                let err = check_parts(&parts).expect_err("damaged");
+                assert!(err.to_string().starts_with(expected), "{err}");
+            }
+        }
     }
 
     #[test]

@@ -25,7 +25,9 @@ use super::{FigureJob, render_cells, sheet_labels, svg_images};
 use crate::error::{Error, Result};
 use crate::files::{check_writable, create_folder, write_atomic};
 use crate::render::modes::Mode;
-use crate::render::output::{output_stem, with_suffix, write_exr, write_png, write_rgb_png};
+use crate::render::output::{
+    check_output_name, output_stem, with_suffix, write_exr, write_png, write_rgb_png,
+};
 use crate::report::shard::{Manifest, Shard, items_of, read_complete_parts};
 
 /// The kind of work of partial figures, in their [`Manifest`].
@@ -163,12 +165,20 @@ pub fn run_figure_spec_shard(path: &Path, shard: Shard) -> Result<FigureShardFil
     let rendered = items_of(&cell_costs(&job), shard);
     let cell_file =
         |k: usize, ext: &str| stem.with_file_name(format!("{base}{}.{ext}", suffixes[k]));
+    let mut outputs = vec![part.clone()];
     for &k in &rendered {
-        check_writable(&cell_file(k, "png"))?;
+        outputs.push(cell_file(k, "png"));
         if exr {
-            check_writable(&cell_file(k, "exr"))?;
+            outputs.push(cell_file(k, "exr"));
         }
     }
+    for file in &outputs[1..] {
+        check_writable(file)?;
+    }
+    spec.check_outputs(
+        path,
+        &outputs.iter().map(PathBuf::as_path).collect::<Vec<_>>(),
+    )?;
     let (cells, half_range) = render_cells(&job, &rendered)?;
     for (cell, &k) in cells.iter().zip(&rendered) {
         write_png(&cell.frame, &cell_file(k, "png"))?;
@@ -237,6 +247,7 @@ pub fn shard_summary(files: &FigureShardFiles) -> String {
 /// files: the bytes `smoothlab figure SPEC` writes. Returns a line for the terminal. A missing
 /// shard is an error naming it.
 pub fn merge_figure(parts: &[PathBuf], out: &Path) -> Result<String> {
+    check_output_name(out)?;
     let read = read_complete_parts(
         parts,
         "figure",
@@ -252,10 +263,15 @@ pub fn merge_figure(parts: &[PathBuf], out: &Path) -> Result<String> {
     for (path, part) in &read {
         let dir = path.parent().unwrap_or(Path::new("."));
         for &k in &part.rendered {
-            let suffix = part.cells.get(k).ok_or_else(|| {
-                Error::Invalid(format!("{}: cell {k} out of range", path.display()))
-            })?;
-            sources[k] = Some(dir.join(format!("{}{suffix}", part.stem)));
+            let out_of_range = || {
+                Error::Invalid(format!(
+                    "{}: rendered: cell {k} out of range",
+                    path.display()
+                ))
+            };
+            let suffix = part.cells.get(k).ok_or_else(out_of_range)?;
+            *sources.get_mut(k).ok_or_else(out_of_range)? =
+                Some(dir.join(format!("{}{suffix}", part.stem)));
         }
         if let Some(r) = part.curvature_half_range {
             match half_range {

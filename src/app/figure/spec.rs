@@ -38,16 +38,18 @@ use crate::app::figure::{
     CurvatureChoice, Figure, FigureJob, FigureMode, FigureSurface, View, framing_camera,
     render_figure,
 };
-use crate::app::scene::{CameraSection, SceneFile};
+use crate::app::scene::{CameraSection, SceneFile, environment_beside};
 use crate::app::toml_input::{self, exact};
 use crate::error::{Error, Result};
-use crate::files::{check_writable, create_folder, write_atomic};
+use crate::files::{check_distinct, check_writable, create_folder, write_atomic};
 use crate::mesh::Mesh;
 use crate::mesh::generate::SCENES;
 use crate::render::camera::Projection;
 use crate::render::curves::CurveOverlay;
 use crate::render::job::DEFAULT_FOV;
-use crate::render::output::{output_stem, with_suffix, write_exr, write_rgb_png};
+use crate::render::output::{
+    check_output_name, output_stem, with_suffix, write_exr, write_rgb_png,
+};
 use crate::schemes;
 
 /// A figure spec as written.
@@ -135,28 +137,84 @@ impl FigureSpec {
     }
 
     /// Reads a spec file; errors name the file, line, column and key. A relative `output` is
-    /// made relative to the spec file's folder, like its mesh path.
+    /// made relative to the spec file's folder, like its mesh path and the modes'
+    /// `environment` maps; an output that names a folder (`out/`) is an error.
     pub fn load(path: &Path) -> Result<FigureSpec> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let mut spec: FigureSpec = toml_input::parse(&text, &path.display().to_string())?;
+        let mut spec: FigureSpec =
+            toml_input::parse(&text, &path.display().to_string()).map_err(|e| {
+                if toml_input::has_top_level_key(&text, &["scheme", "render"]) {
+                    Error::Invalid(format!(
+                        "{}: this is a scene file ([scheme], [render]), not a figure spec: run \
+                         `smoothlab render {}`",
+                        path.display(),
+                        path.display()
+                    ))
+                } else {
+                    e
+                }
+            })?;
+        let dir = path.parent().unwrap_or(Path::new(""));
         if spec.output.is_relative() {
-            spec.output = path.parent().unwrap_or(Path::new("")).join(&spec.output);
+            spec.output = dir.join(&spec.output);
+        }
+        check_output_name(&spec.output)
+            .map_err(|e| Error::Invalid(format!("{}: output: {e}", path.display())))?;
+        for mode in &mut spec.modes {
+            if let Some(toml::Value::String(env)) = mode.params.get_mut("environment") {
+                *env = environment_beside(env, dir);
+            }
         }
         Ok(spec)
     }
 
     /// The mesh: a scenes/ name, else a mesh file (OBJ, PLY, OFF, STL) relative to `dir`.
     pub fn load_mesh(&self, dir: &Path) -> Result<Mesh> {
-        if let Some(scene) = SCENES.iter().find(|s| s.name == self.mesh) {
-            return scene.mesh();
+        match (
+            SCENES.iter().find(|s| s.name == self.mesh),
+            self.mesh_file(dir),
+        ) {
+            (Some(scene), _) => scene.mesh(),
+            (None, path) => Ok(Mesh::load(&path)?.0),
         }
+    }
+
+    /// The mesh file `mesh` names, relative to `dir` (unless it names a scenes/ mesh).
+    fn mesh_file(&self, dir: &Path) -> PathBuf {
         let path = Path::new(&self.mesh);
-        let path = if path.is_relative() {
+        if path.is_relative() {
             dir.join(path)
         } else {
             path.to_path_buf()
-        };
-        Ok(Mesh::load(&path)?.0)
+        }
+    }
+
+    /// The files a run of the spec at `path` reads, each with its part for messages: the
+    /// spec, its mesh file and the modes' environment maps. The outputs must be none of them
+    /// ([`check_distinct`]).
+    pub fn input_files(&self, path: &Path) -> Vec<(&'static str, PathBuf)> {
+        let dir = path.parent().unwrap_or(Path::new(""));
+        let mut files = vec![("the figure spec", path.to_path_buf())];
+        if !SCENES.iter().any(|s| s.name == self.mesh) {
+            files.push(("the mesh", self.mesh_file(dir)));
+        }
+        for mode in &self.modes {
+            if let Some(toml::Value::String(env)) = mode.params.get("environment")
+                && env != "studio"
+            {
+                files.push(("an environment map", PathBuf::from(env)));
+            }
+        }
+        files
+    }
+
+    /// Checks, before any work, that none of `outputs` is an input of the spec at `path`
+    /// ([`FigureSpec::input_files`]) or another of the outputs.
+    pub fn check_outputs(&self, path: &Path, outputs: &[&Path]) -> Result<()> {
+        let inputs = self.input_files(path);
+        let read: Vec<(&str, &Path)> = inputs.iter().map(|(r, p)| (*r, p.as_path())).collect();
+        let written: Vec<(&str, &Path)> = outputs.iter().map(|p| ("an output", *p)).collect();
+        check_distinct(&read, &written)
     }
 
     /// The mode of entry `k` with its parameters, checked through the scene-file sections.
@@ -418,6 +476,12 @@ pub fn run_figure_spec(path: &Path) -> Result<FigureFiles> {
     for file in [&png, &svg].into_iter().chain(&exrs) {
         check_writable(file)?;
     }
+    let outputs: Vec<&Path> = [&png, &svg]
+        .into_iter()
+        .chain(&exrs)
+        .map(PathBuf::as_path)
+        .collect();
+    spec.check_outputs(path, &outputs)?;
     let dir = path.parent().unwrap_or(Path::new(""));
     let job = spec
         .job(dir)
