@@ -43,6 +43,21 @@ pub struct Output {
     pub failed: bool,
 }
 
+/// Applies [`crate::budget::capped_threads`] to this process: when [`crate::budget::THREADS_VAR`] asks for too many
+/// threads, the global thread pool is built with the cap before any parallel work, and the
+/// warning is returned.
+pub fn limit_threads() -> Option<String> {
+    let requested = std::env::var(crate::budget::THREADS_VAR).ok()?;
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let (threads, warning) = crate::budget::capped_threads(&requested, cores)?;
+    // Building fails only if a global pool already exists, which then keeps its size.
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build_global()
+        .ok()
+        .map(|()| warning)
+}
+
 /// Loads a mesh (OBJ, PLY, OFF or STL by extension) with `options`; the loader's report
 /// (welded vertices, re-oriented faces, …) becomes warnings.
 pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(Mesh, Vec<String>)> {
