@@ -153,9 +153,9 @@ pub fn measure_schemes_each(
     let mut results = Vec::new();
     let mut warnings = Vec::new();
     for run in select_schemes(selection, params)? {
-        match build_timed(run.scheme, mesh, &run.params) {
-            Ok((surface, ms)) => {
-                let metrics = Metrics::measure(&surface, mesh, ms);
+        match schemes::build_timed_in_frame(run.scheme, mesh, &run.params) {
+            Ok((surface, frame, ms)) => {
+                let metrics = Metrics::measure_in_frame(&surface, &frame, mesh, ms);
                 metrics.check_finite()?;
                 each(&metrics);
                 results.push(metrics);
