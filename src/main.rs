@@ -394,6 +394,9 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    if let Some(w) = smoothlab::app::limit_threads() {
+        to_stderr(&format!("warning: {w}\n"));
+    }
     match run(cli) {
         Ok(output) => {
             for w in &output.warnings {

@@ -246,6 +246,52 @@ pub struct VertexCorner {
     pub corner: u8,
 }
 
+/// A local frame of a mesh: its bounding-box centre moved to the origin and its
+/// bounding-box diagonal scaled by a power of two into `[1, 2)`. Schemes build and metrics
+/// measure in it, so that no figure depends on where the mesh is or on its size: the
+/// coordinates keep their full precision however far from the origin the mesh lies (a mesh
+/// at 1e15 has coordinates of ulp 0.125 in the user's frame, of ulp 2^-52 here), and the
+/// power-of-two scale is exact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocalFrame {
+    /// The user's point at the frame's origin.
+    pub centre: DVec3,
+    /// Local lengths per user length (a power of two).
+    pub scale: f64,
+}
+
+impl LocalFrame {
+    /// The frame of `points`: their bounding-box centre and the power of two that brings
+    /// their diagonal into `[1, 2)` (scale 1 for a single point or an empty set).
+    pub fn of_points(points: &[DVec3]) -> LocalFrame {
+        let bounds = Aabb::from_points(points);
+        let d = bounds.diagonal();
+        let finite = d > 0.0 && d.is_finite();
+        LocalFrame {
+            centre: if points.is_empty() {
+                DVec3::ZERO
+            } else {
+                bounds.center()
+            },
+            scale: if finite {
+                (-d.log2().floor()).exp2()
+            } else {
+                1.0
+            },
+        }
+    }
+
+    /// The local coordinates of the user's point `p`.
+    pub fn to_local(&self, p: DVec3) -> DVec3 {
+        (p - self.centre) * self.scale
+    }
+
+    /// The user's coordinates of the local point `q`.
+    pub fn to_user(&self, q: DVec3) -> DVec3 {
+        q / self.scale + self.centre
+    }
+}
+
 /// The surface a scheme builds from a mesh.
 #[derive(Clone, Debug)]
 pub struct Surface {

@@ -389,3 +389,219 @@ fn scaled_meshes_render_the_same_image() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+fn scene_mesh(name: &str) -> String {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// A frame too large for the memory limit is refused before the mesh is even read (the
+/// mesh path does not exist), naming the size, the estimate, the limit and both remedies.
+#[test]
+fn a_frame_beyond_the_memory_limit_is_refused_first() {
+    let dir = common::scratch("render", "frame-memory");
+    let out = common::smoothlab_with_env(
+        &[
+            "render",
+            "/nonexistent/tetrahedron.obj",
+            "--scheme",
+            "flat",
+            "--size",
+            "16384x16384",
+            "--spp",
+            "1",
+            "--no-exr",
+            "-o",
+            common::path_str(&dir.join("big")),
+        ],
+        &[("SMOOTHLAB_MEMORY_LIMIT", "1000000000")],
+    );
+    common::assert_fails_naming(
+        &out,
+        &[
+            "16384x16384 frame",
+            "GB",
+            "1.000 GB (SMOOTHLAB_MEMORY_LIMIT)",
+            "--size",
+            "set SMOOTHLAB_MEMORY_LIMIT",
+        ],
+    );
+    // The EXR's planes count too: a frame that fits alone does not fit with its EXR.
+    let mid = dir.join("mid");
+    let with = |exr: bool| {
+        let mut args = vec![
+            "render",
+            "/nonexistent/tetrahedron.obj",
+            "--scheme",
+            "flat",
+            "--size",
+            "4096x4096",
+            "-o",
+            common::path_str(&mid),
+        ];
+        if !exr {
+            args.push("--no-exr");
+        }
+        common::smoothlab_with_env(&args, &[("SMOOTHLAB_MEMORY_LIMIT", "2500000000")])
+    };
+    common::assert_fails_naming(&with(true), &["4096x4096 frame", "--size"]);
+    let png_only = common::stderr(&with(false));
+    assert!(
+        png_only.contains("/nonexistent/tetrahedron.obj") && !png_only.contains("frame"),
+        "the PNG-only frame fits, the missing mesh is the error: {png_only}"
+    );
+}
+
+/// `--tessellate` levels whose triangles do not fit are refused by their estimate (the
+/// 48 × 48 image is tiny; the tessellation is what is large), a fitting one renders.
+#[test]
+fn tessellations_beyond_the_memory_limit_are_refused() {
+    let dir = common::scratch("render", "tessellate-memory");
+    let run = |level: &str| {
+        common::smoothlab_with_env(
+            &[
+                "render",
+                &scene_mesh("icosahedron.obj"),
+                "--scheme",
+                "hb",
+                "--size",
+                "48x48",
+                "--spp",
+                "1",
+                "--no-exr",
+                "--tessellate",
+                level,
+                "-o",
+                common::path_str(&dir.join(format!("t{level}"))),
+            ],
+            &[("SMOOTHLAB_MEMORY_LIMIT", "1000000000")],
+        )
+    };
+    for level in ["4096", "1024", "256"] {
+        common::assert_fails_naming(
+            &run(level),
+            &[
+                &format!("tessellation of 80 patches at --tessellate {level}"),
+                "lower --tessellate",
+                "SMOOTHLAB_MEMORY_LIMIT",
+            ],
+        );
+    }
+    let fits = run("16");
+    assert!(fits.status.success(), "{}", common::stderr(&fits));
+}
+
+/// An absurd thread count is capped with a warning, and the image is the same as with one
+/// thread (the work is split into fixed tiles).
+#[test]
+fn absurd_thread_counts_are_capped_with_a_warning() {
+    let dir = common::scratch("render", "threads");
+    let run = |threads: &str| {
+        let stem = dir.join(format!("threads-{threads}"));
+        let start = std::time::Instant::now();
+        let out = common::smoothlab_with_env(
+            &[
+                "render",
+                &scene_mesh("icosahedron.obj"),
+                "--scheme",
+                "hb",
+                "--size",
+                "32x32",
+                "--spp",
+                "1",
+                "--no-exr",
+                "-o",
+                common::path_str(&stem),
+            ],
+            &[("RAYON_NUM_THREADS", threads)],
+        );
+        assert!(out.status.success(), "{}", common::stderr(&out));
+        let png = image::open(stem.with_extension("png"))
+            .expect("png")
+            .to_rgb8()
+            .into_raw();
+        (common::stderr(&out), png, start.elapsed())
+    };
+    let (quiet, one, _) = run("1");
+    assert!(!quiet.contains("warning"), "{quiet}");
+    let (warned, many, took) = run("100000");
+    assert!(
+        warned.contains("warning: RAYON_NUM_THREADS=100000") && warned.contains("threads per core"),
+        "{warned}"
+    );
+    assert!(many == one, "the capped run renders another image");
+    assert!(took.as_secs() < 30, "{took:?}");
+}
+
+/// `--zebra-stripes` and `--zebra-width` set the same period: both on one command line are
+/// refused in either order (each alone still replaces the scene's choice of the other).
+#[test]
+fn zebra_stripes_and_width_flags_are_not_both_accepted() {
+    let dir = common::scratch("render", "zebra-both");
+    let target = dir.join("x");
+    for flags in [
+        ["--zebra-width", "10", "--zebra-stripes", "8"],
+        ["--zebra-stripes", "8", "--zebra-width", "10"],
+    ] {
+        let mut args = vec!["render", "/nonexistent/mesh.obj", "--scheme", "hb"];
+        args.extend(flags);
+        args.extend(["-o", common::path_str(&target)]);
+        let out = common::smoothlab(&args);
+        common::assert_fails_naming(&out, &["--zebra-stripes", "--zebra-width", "not both"]);
+    }
+}
+
+/// Stripe counts the footprint filter cannot resolve, up to the largest finite ones, render
+/// the mean grey of the stripes everywhere on the surface (no aliasing, no bright surface).
+#[test]
+fn unresolvable_zebra_counts_render_the_mean_grey() {
+    let dir = common::scratch("render", "zebra-dense");
+    let surface_levels = |stripes: &str| {
+        let stem = dir.join(format!("z{stripes}"));
+        let out = common::smoothlab(&[
+            "render",
+            &scene_mesh("icosahedron.obj"),
+            "--scheme",
+            "hb",
+            "--size",
+            "64x64",
+            "--spp",
+            "1",
+            "--no-exr",
+            "--zebra-stripes",
+            stripes,
+            "-o",
+            common::path_str(&stem),
+        ]);
+        assert!(out.status.success(), "{}", common::stderr(&out));
+        let img = image::open(stem.with_extension("png"))
+            .expect("png")
+            .to_rgb8();
+        let background = img.get_pixel(0, 0).0;
+        let levels: Vec<u8> = img
+            .pixels()
+            .filter(|p| p.0 != background)
+            .map(|p| p.0[0])
+            .collect();
+        assert!(
+            levels.len() > 1000,
+            "{stripes}: {} surface pixels",
+            levels.len()
+        );
+        levels
+    };
+    // The mean of 0.9 and 0.015 (linear) is 0.4575, sRGB byte 179.
+    for stripes in ["1e6", "1e15", "1e20", "1e300"] {
+        let levels = surface_levels(stripes);
+        let (lo, hi) = (levels.iter().min(), levels.iter().max());
+        assert!(
+            levels.iter().all(|&l| l.abs_diff(179) <= 2),
+            "{stripes}: surface levels {lo:?}..{hi:?}"
+        );
+    }
+    let crisp = surface_levels("16");
+    assert!(crisp.iter().any(|&l| l < 100) && crisp.iter().any(|&l| l > 230));
+}

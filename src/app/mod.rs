@@ -45,6 +45,21 @@ pub struct Output {
     pub failed: bool,
 }
 
+/// Applies [`crate::budget::capped_threads`] to this process: when [`crate::budget::THREADS_VAR`] asks for too many
+/// threads, the global thread pool is built with the cap before any parallel work, and the
+/// warning is returned.
+pub fn limit_threads() -> Option<String> {
+    let requested = std::env::var(crate::budget::THREADS_VAR).ok()?;
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let (threads, warning) = crate::budget::capped_threads(&requested, cores)?;
+    // Building fails only if a global pool already exists, which then keeps its size.
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build_global()
+        .ok()
+        .map(|()| warning)
+}
+
 /// Loads a mesh (OBJ, PLY, OFF or STL by extension) with `options`; the loader's report
 /// (welded vertices, re-oriented faces, …) becomes warnings.
 pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(Mesh, Vec<String>)> {
@@ -140,9 +155,9 @@ pub fn measure_schemes_each(
     let mut results = Vec::new();
     let mut warnings = Vec::new();
     for run in select_schemes(selection, params)? {
-        match build_timed(run.scheme, mesh, &run.params) {
-            Ok((surface, ms)) => {
-                let metrics = Metrics::measure(&surface, mesh, ms);
+        match schemes::build_timed_in_frame(run.scheme, mesh, &run.params) {
+            Ok((surface, frame, ms)) => {
+                let metrics = Metrics::measure_in_frame(&surface, &frame, mesh, ms);
                 metrics.check_finite()?;
                 each(&metrics);
                 results.push(metrics);

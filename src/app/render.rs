@@ -407,7 +407,7 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     if args.sweep.is_some() {
         r.sweep = args.sweep;
     }
-    apply_mode_options(args, &mut scene);
+    apply_mode_options(args, &mut scene)?;
     let c = &mut scene.camera;
     if args.eye.is_some() {
         c.eye = args.eye;
@@ -428,8 +428,16 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
 }
 
 /// The zebra, highlight, isophote and curvature options of `args` written into the scene's
-/// sections (validated with the scene).
-fn apply_mode_options(args: &RenderArgs, scene: &mut SceneFile) {
+/// sections (validated with the scene). Either of `--zebra-stripes` and `--zebra-width`
+/// replaces the scene's choice of the other; both on one command line are refused.
+fn apply_mode_options(args: &RenderArgs, scene: &mut SceneFile) -> Result<()> {
+    if args.zebra_stripes.is_some() && args.zebra_width.is_some() {
+        return Err(Error::Invalid(
+            "--zebra-stripes and --zebra-width both given: they set the same period, give one, \
+             not both"
+                .into(),
+        ));
+    }
     let z = &mut scene.zebra;
     if let Some(axis) = &args.zebra_axis {
         z.axis = Some(match parse_vec3(axis) {
@@ -486,6 +494,7 @@ fn apply_mode_options(args: &RenderArgs, scene: &mut SceneFile) {
     if args.no_legend {
         c.legend = Some(false);
     }
+    Ok(())
 }
 
 /// Runs `smoothlab render`: checks the output paths, loads the mesh, builds the scheme,
@@ -502,6 +511,12 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
         .ok_or_else(|| Error::Invalid(format!("{}: no mesh given", args.input.display())))?;
     let load_options = scene.load_options()?;
     let exr = scene.exr_compression()?;
+    // The frame and its files are the largest allocation a small mesh makes: refused first.
+    crate::render::film::check_frame_memory(
+        job.settings.width,
+        job.settings.height,
+        crate::render::output::output_bytes_per_pixel(exr.is_some()),
+    )?;
     let scheme = scene.scheme.name.clone().ok_or_else(|| {
         Error::Invalid(format!(
             "{}: no scheme given: pass --scheme NAME (one of {}) or set [scheme] name in a scene",

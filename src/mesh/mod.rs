@@ -328,6 +328,20 @@ impl Mesh {
             ..self.clone()
         }
     }
+    /// The mesh moved by `−centre` and then scaled by `factor > 0` (a local frame of it):
+    /// topology, validation and the directions of the file's normals are unchanged by a
+    /// translation and a positive scale.
+    pub fn framed(&self, centre: DVec3, factor: f64) -> Mesh {
+        Mesh {
+            positions: self
+                .positions
+                .iter()
+                .map(|&p| (p - centre) * factor)
+                .collect(),
+            ..self.clone()
+        }
+    }
+
     /// The mesh as OBJ text: `header` as comment lines, then `v` and `f` records. Coordinates
     /// are written in Rust's shortest round-trip form, so parsing the text gives back the
     /// identical mesh.

@@ -30,7 +30,7 @@ use serde::Serialize;
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::surface::Surface;
+use crate::surface::{LocalFrame, Surface};
 
 pub use joints::{CurvatureFloor, JOINT_SAMPLES, JointStats, normal_angle};
 
@@ -131,18 +131,41 @@ pub struct Metrics {
 }
 
 impl Metrics {
-    /// Measures `surface`, built from `mesh` in `construct_ms` milliseconds.
+    /// Measures `surface`, built from `mesh` in `construct_ms` milliseconds (both in the
+    /// user's coordinates).
     pub fn measure(surface: &Surface, mesh: &Mesh, construct_ms: f64) -> Metrics {
         let factor = unit_scale(mesh.positions());
-        let (surface, mesh) = (surface.scaled(factor), mesh.scaled(factor));
-        let network = network::network_undulation(&surface, &mesh);
+        Self::measure_local(&surface.scaled(factor), &mesh.scaled(factor), construct_ms)
+    }
+
+    /// Measures `surface` given in the local `frame` of `mesh` (as
+    /// [`crate::schemes::build_in_frame`] returns it; `mesh` in the user's coordinates): the
+    /// mesh is mapped into the frame, so the figures do not depend on where the mesh lies or
+    /// on its power-of-two scale. Every length figure is relative to the diagonal, so it is
+    /// the same in the user's units.
+    pub fn measure_in_frame(
+        surface: &Surface,
+        frame: &LocalFrame,
+        mesh: &Mesh,
+        construct_ms: f64,
+    ) -> Metrics {
+        Self::measure_local(
+            surface,
+            &mesh.framed(frame.centre, frame.scale),
+            construct_ms,
+        )
+    }
+
+    /// [`Metrics::measure`] on a surface and mesh whose diagonal is already in `[1, 2)`.
+    fn measure_local(surface: &Surface, mesh: &Mesh, construct_ms: f64) -> Metrics {
+        let network = network::network_undulation(surface, mesh);
         Metrics {
             network_undulation_max_rad: network.undulation_max_rad,
             network_undulation_total_rad: network.undulation_total_rad,
             network_inflections_max: network.inflections_max,
             network_curves_with_inflections: network.curves_with_inflections,
             network_chord_deviation_max_rel: network.chord_deviation_max_rel,
-            ..Self::measure_normalised(&surface, mesh.faces(), mesh.positions(), construct_ms)
+            ..Self::measure_normalised(surface, mesh.faces(), mesh.positions(), construct_ms)
         }
     }
 

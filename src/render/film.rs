@@ -121,6 +121,29 @@ pub struct Frame {
     pub geometry: Vec<Option<PixelGeometry>>,
 }
 
+impl Frame {
+    /// The bytes of the buffers of a `width` × `height` frame: linear RGB and the geometry
+    /// record of every pixel.
+    pub fn bytes(width: u32, height: u32) -> f64 {
+        let per_pixel =
+            std::mem::size_of::<[f32; 3]>() + std::mem::size_of::<Option<PixelGeometry>>();
+        per_pixel as f64 * f64::from(width) * f64::from(height)
+    }
+}
+
+/// Refuses a `width` × `height` frame whose memory does not fit the memory limit
+/// ([`crate::budget::check_memory`]): its buffers ([`Frame::bytes`]) plus `extra_per_pixel`
+/// bytes a pixel for what is made of it (the output files' encodings). The error names the
+/// size, the estimate, the limit and `--size`.
+pub fn check_frame_memory(width: u32, height: u32, extra_per_pixel: f64) -> crate::Result<()> {
+    let pixels = f64::from(width) * f64::from(height);
+    crate::budget::check_memory(
+        &format!("a {width}x{height} frame"),
+        Frame::bytes(width, height) + extra_per_pixel * pixels,
+        "lower --size (render.size)",
+    )
+}
+
 /// One tile of the frame: its rows' slices of the frame's buffers, written in place.
 struct Tile<'a> {
     x0: u32,
@@ -185,10 +208,11 @@ pub fn render<T: SurfaceTracer>(
             settings.width, settings.height, settings.spp
         )));
     }
+    let (w, h) = (settings.width, settings.height);
+    check_frame_memory(w, h, 0.0)?;
     let start = Instant::now();
     let mut stats = RenderStats::default();
     let mode = resolve_mode(tracer, camera, settings, &mut stats);
-    let (w, h) = (settings.width, settings.height);
     let mut frame = Frame {
         width: w,
         height: h,

@@ -14,7 +14,7 @@ pub(crate) mod vertex_rings;
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, NormalSource};
-use crate::surface::{Patch, Surface};
+use crate::surface::{LocalFrame, Patch, Surface};
 
 /// One parameter a scheme understands.
 #[derive(Clone, Copy, Debug)]
@@ -83,8 +83,21 @@ pub fn names() -> Vec<&'static str> {
 }
 
 /// Builds `scheme` on `mesh` with the user's `name=value` pairs (unknown names are an error,
-/// missing ones take their defaults).
+/// missing ones take their defaults): [`build_in_frame`], the surface then mapped into the
+/// user's coordinates (for exports and the renderer, which take those).
 pub fn build(scheme: &str, mesh: &Mesh, user: &[(String, String)]) -> Result<Surface> {
+    let (surface, frame) = build_in_frame(scheme, mesh, user)?;
+    Ok(surface.mapped(|q| frame.to_user(q)))
+}
+
+/// Builds `scheme` on `mesh` mapped into its [`LocalFrame`] (centred, power-of-two scale),
+/// and returns the surface in that frame with the frame: no scheme needs to know where the
+/// mesh lies, and the surface keeps full precision however far from the origin it is.
+pub fn build_in_frame(
+    scheme: &str,
+    mesh: &Mesh,
+    user: &[(String, String)],
+) -> Result<(Surface, LocalFrame)> {
     let spec = find(scheme)?;
     let params = Params::resolve(spec, user)?;
     if spec.needs_closed_mesh
@@ -105,12 +118,15 @@ pub fn build(scheme: &str, mesh: &Mesh, user: &[(String, String)]) -> Result<Sur
         spec.bytes_per_face * mesh.face_count() as f64,
         "use a mesh with fewer faces",
     )?;
-    let surface = (spec.build)(mesh, &params)?;
-    check_surface(&surface, mesh, user)?;
-    Ok(surface)
+    let frame = LocalFrame::of_points(mesh.positions());
+    let local = mesh.framed(frame.centre, frame.scale);
+    let surface = (spec.build)(&local, &params)?;
+    check_surface(&surface, &local, user)?;
+    Ok((surface, frame))
 }
 
-/// Builds `scheme` on `mesh` and returns the surface with the construction time in ms.
+/// Builds `scheme` on `mesh` ([`build`]) and returns the surface with the construction time
+/// in ms.
 pub fn build_timed(
     scheme: &str,
     mesh: &Mesh,
@@ -119,6 +135,18 @@ pub fn build_timed(
     let start = std::time::Instant::now();
     let surface = build(scheme, mesh, params)?;
     Ok((surface, start.elapsed().as_secs_f64() * 1e3))
+}
+
+/// [`build_in_frame`] with the construction time in ms: the surface in its frame, for the
+/// metrics ([`crate::metrics::Metrics::measure_in_frame`]).
+pub fn build_timed_in_frame(
+    scheme: &str,
+    mesh: &Mesh,
+    params: &[(String, String)],
+) -> Result<(Surface, LocalFrame, f64)> {
+    let start = std::time::Instant::now();
+    let (surface, frame) = build_in_frame(scheme, mesh, params)?;
+    Ok((surface, frame, start.elapsed().as_secs_f64() * 1e3))
 }
 
 /// How far (in mesh bounding-box diagonals) a built surface may reach beyond the mesh's

@@ -104,11 +104,20 @@ impl Footprint {
     }
 }
 
+/// The largest phase magnitude (in periods) at which f64 still places a stripe edge to
+/// 1/256 of a period: 2^52 / 256. Beyond it the rounding of the phase alone moves the edges by
+/// a visible fraction of a period, so where a stripe is cannot be known and
+/// [`filtered_square_wave`] gives the mean.
+pub const MAX_RESOLVED_PHASE: f64 = 4_503_599_627_370_496.0 / 256.0;
+
 /// The bright fraction of the square wave `fract(t) < duty` averaged over
 /// `[phase − width/2, phase + width/2]` (a box filter; `width = 0` is the point sample).
+/// The mean `duty` where the phase is not finite or beyond [`MAX_RESOLVED_PHASE`] (a stripe
+/// count so high that the arithmetic cannot place its stripes) and where the interval covers
+/// a million periods or more.
 pub fn filtered_square_wave(phase: f64, width: f64, duty: f64) -> f64 {
     let duty = duty.clamp(0.0, 1.0);
-    if !phase.is_finite() {
+    if !phase.is_finite() || phase.abs() > MAX_RESOLVED_PHASE {
         return duty;
     }
     if width.is_nan() || width <= 1e-12 {
@@ -154,5 +163,24 @@ mod tests {
             .count() as f64
             / f64::from(n);
         assert!((filtered_square_wave(phase, width, duty) - brute).abs() < 1e-4);
+    }
+
+    /// A phase whose rounding exceeds 1/256 of a period has no placeable stripe edges: the
+    /// mean, whatever the filter width (point samples included).
+    #[test]
+    fn unresolvable_phases_give_the_mean() {
+        for phase in [1e14, -3e15, 1e300] {
+            for width in [0.0, 0.01, 0.7, 50.0] {
+                assert_eq!(
+                    filtered_square_wave(phase, width, 0.3),
+                    0.3,
+                    "{phase} {width}"
+                );
+            }
+        }
+        // Just inside the limit the stripes are still there.
+        let edge = MAX_RESOLVED_PHASE - 1.0;
+        assert_eq!(filtered_square_wave(edge + 0.125, 0.0, 0.5), 1.0);
+        assert_eq!(filtered_square_wave(edge + 0.75, 0.0, 0.5), 0.0);
     }
 }

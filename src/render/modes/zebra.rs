@@ -107,6 +107,12 @@ impl Default for ZebraParams {
 impl ZebraParams {
     /// The stripe phase (in periods) of a hit at normal `n` seen along unit `view`.
     pub fn phase(&self, n: DVec3, view: DVec3) -> f64 {
+        self.stripes * self.turns(n, view) - self.shift
+    }
+
+    /// The angle of the reflected direction about the light tubes, in full turns: the phase
+    /// of one stripe per turn, which [`ZebraParams::phase`] multiplies by the stripe count.
+    fn turns(&self, n: DVec3, view: DVec3) -> f64 {
         let reflected = view - 2.0 * view.dot(n) * n;
         let angle = match self.axis {
             ZebraAxis::World(axis) => {
@@ -128,14 +134,19 @@ impl ZebraParams {
                 theta * c / across
             }
         };
-        self.stripes * angle / std::f64::consts::TAU - self.shift
+        angle / std::f64::consts::TAU
     }
 
-    /// Bright or dark stripe at the hit, box-filtered over `footprint` when given.
+    /// Bright or dark stripe at the hit, box-filtered over `footprint` when given. The filter
+    /// width is the stripe count times the width in turns: the phase is linear in the count,
+    /// and differences of the turns stay resolved for any count (differences of the phase
+    /// itself lose every digit once the count is large).
     pub fn shade(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
         let phase = self.phase(sp.facing_normal, sp.view);
         let width = match footprint {
-            Some(f) if self.filter => f.phase_width(sp, |_, n, v| self.phase(n, v)),
+            Some(f) if self.filter => {
+                self.stripes.abs() * f.phase_width(sp, |_, n, v| self.turns(n, v))
+            }
             _ => 0.0,
         };
         let bright = filtered_square_wave(phase, width, self.duty);
@@ -253,6 +264,55 @@ mod tests {
             let err = ZebraAxis::parse(bad).expect_err(bad).to_string();
             assert!(err.contains(bad), "{err}");
         }
+    }
+
+    /// A hit on the paraboloid `z = (x² + y²)/2` at the origin, seen from `eye`, with the
+    /// footprint of a 1e-3 cell.
+    fn curved_hit(eye: DVec3) -> (ShadingPoint, Footprint) {
+        use crate::geom::Jet;
+        use crate::render::intersect::{Hit, Ray64};
+        let jet = Jet {
+            p: DVec3::ZERO,
+            du: DVec3::X,
+            dv: DVec3::Y,
+            duu: DVec3::Z,
+            dvv: DVec3::Z,
+            ..Jet::default()
+        };
+        let ray = Ray64::new(eye, -eye);
+        let hit = Hit {
+            t: eye.length(),
+            patch: 0,
+            u: 0.0,
+            v: 0.0,
+        };
+        let sp = ShadingPoint::new(hit, 0, 0, jet, &ray);
+        let right = Ray64::new(eye, DVec3::new(1e-3, 0.0, 0.0) - eye);
+        let down = Ray64::new(eye, DVec3::new(0.0, 1e-3, 0.0) - eye);
+        let footprint = Footprint::new(&sp, &ray, [&right, &down]).expect("footprint");
+        (sp, footprint)
+    }
+
+    /// Stripe counts far beyond what one cell resolves shade as the mean grey, from the
+    /// count where the filter covers many periods up to the largest finite count; a
+    /// moderate count keeps its crisp stripe.
+    #[test]
+    fn unresolvable_stripe_counts_shade_as_the_mean_grey() {
+        let (sp, footprint) = curved_hit(DVec3::new(0.3, 0.2, 5.0));
+        let mean = DVec3::splat(DARK).lerp(DVec3::splat(BRIGHT), 0.5);
+        for stripes in [1e8, 1e12, 1e15, 1e20, 1e300] {
+            let z = ZebraParams {
+                stripes,
+                ..ZebraParams::default()
+            };
+            let got = z.shade(&sp, Some(&footprint));
+            assert!((got - mean).abs().max_element() < 1e-3, "{stripes}: {got}");
+        }
+        let crisp = ZebraParams::default().shade(&sp, Some(&footprint));
+        assert!(
+            (crisp - mean).abs().max_element() > 0.3,
+            "16 stripes: {crisp}"
+        );
     }
 
     /// The view-attached stripes have no pole inside the view: the phase is smooth in the
