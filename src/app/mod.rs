@@ -186,7 +186,7 @@ fn cell(x: Option<f64>) -> String {
 /// The metrics table's columns with the width of their values (the header may be wider;
 /// the scheme column is as wide as the longest registered name). Fixed widths let the table
 /// be printed row by row as schemes are measured.
-const TABLE_COLUMNS: [(&str, usize); 16] = [
+const TABLE_COLUMNS: [(&str, usize); 17] = [
     ("scheme", 0),
     ("faces", 7),
     ("patches", 7),
@@ -202,6 +202,7 @@ const TABLE_COLUMNS: [(&str, usize); 16] = [
     ("undulation", 8),
     ("inflect", 7),
     ("G^k", 5),
+    ("folds", 6),
     ("flat_vtx", 6),
 ];
 
@@ -247,6 +248,7 @@ pub fn metrics_table_row(m: &Metrics) -> String {
         format!("{:.2e}", m.network_undulation_max_rad),
         m.network_inflections_max.to_string(),
         order_cell(m.continuity_order, m.continuity_order_typical),
+        m.folds.to_string(),
         m.vertex_flat_points.to_string(),
     ])
 }
@@ -658,6 +660,8 @@ mod tests {
             joints_between_faces: 30,
             samples_per_joint: 17,
             singular_samples: 0,
+            folds: 0,
+            folded_patches: 0,
             vertex_flat_points: 0,
             vertex_curved: 12,
             vertex_mean_curvature_ratio_min: Some(0.5),

@@ -28,6 +28,7 @@
 //! [`Mesh::from_triangles`]) and numbers triangles, not polygons.
 
 mod formats;
+pub mod front_facing;
 pub mod generate;
 mod normals;
 mod obj;

@@ -12,6 +12,10 @@
 //! agrees when `max |h_A,ij − h_B,ij|` over `i + j = m` is at most `tolerance(m)` times the larger
 //! magnitude of the order-m coefficients (or `L^{1−m}`, `L` the bounding-box diagonal, if that is
 //! larger). Order 0 is the gap `|S_A − S_B| ≤ 1e-9 L`; a joint with a larger gap has order −1.
+//! The normals are oriented (`Su × Sv` of each side, every patch parametrised with its face's
+//! orientation): where side B's normal points against side A's, the surface folds over the
+//! joint and the order is 0, however well the two height functions agree (a face folded flat
+//! onto its neighbour has identical ones).
 //!
 //! Tolerances grow one decade per order (`1e-8 · 10^m`: 1e-7 rad for the normal, 1e-6 for
 //! curvature-level coefficients, 1e-3 at order 5), because each order of the reversion divides by
@@ -491,6 +495,13 @@ impl<'a> JointPoint<'a> {
         })
     }
 
+    /// True if side B's normal `Su × Sv` points to the same side of the common tangent plane
+    /// as side A's (a fold over the joint otherwise).
+    fn same_orientation(&self) -> bool {
+        let b = &self.partials[1];
+        b[1].cross(b[2]).dot(self.frame[2]) > 0.0
+    }
+
     /// The order-m height coefficients of both sides (`m ≤ limit`).
     fn heights_at(&mut self, m: usize) -> [&Series; 2] {
         if m > self.heights[0].known {
@@ -734,6 +745,9 @@ fn measure_with_floor(
     let Some(mut point) = point else {
         return plain(0);
     };
+    if !point.same_orientation() {
+        return plain(0);
+    }
     let mut floor = None;
     let mut agreed = 0;
     let mut unresolved = false;
@@ -940,6 +954,8 @@ pub struct PreciseTerm {
 pub struct PreciseMeasure {
     /// `|S_A − S_B|` at the point.
     pub gap: f64,
+    /// True if side B's normal points against side A's (a fold: order 0 at most).
+    pub folded: bool,
     /// Orders 1..=[`MAX_ORDER`] (index m − 1).
     pub terms: Vec<PreciseTerm>,
 }
@@ -956,6 +972,9 @@ impl PreciseMeasure {
     pub fn order_within(&self, diag: f64, tolerance: impl Fn(usize) -> f64) -> i32 {
         if self.gap > 1e-9 * diag {
             return -1;
+        }
+        if self.folded {
+            return 0;
         }
         self.terms
             .iter()
@@ -986,6 +1005,10 @@ fn precise_point(
     let e1 = (du * w.x + dv * w.y).try_normalize()?;
     let n = du.cross(dv).try_normalize()?;
     let frame = [e1, n.cross(e1), n];
+    let folded = rounded(partials[1][1])
+        .cross(rounded(partials[1][2]))
+        .dot(n)
+        <= 0.0;
     let gap = DVec3::from_array(std::array::from_fn(|c| {
         (partials[0][0][c] - partials[1][0][c]).to_f64()
     }))
@@ -1010,7 +1033,7 @@ fn precise_point(
             }
         })
         .collect();
-    Some(PreciseMeasure { gap, terms })
+    Some(PreciseMeasure { gap, folded, terms })
 }
 
 /// The order measure of [`measure_at`] in double-double on the nets `nets` of the two sides
@@ -1338,6 +1361,36 @@ mod tests {
         let lifted = |p: DVec2| base(p) + 1e-3;
         let (surface, joint) = two_sided(&base, &lifted, &id, 3);
         assert_eq!(joint_order(&surface, &joint, 2f64.sqrt()), -1);
+    }
+
+    /// Side B of [`two_sided`] folded back over side A: the graph of the same function over
+    /// A's own triangle, reached through the reflection in the shared diagonal. The two height
+    /// functions are identical, but B's normal points against A's: a fold, order 0, also in
+    /// double-double; unfolded, the same graph agrees to every order.
+    #[test]
+    fn a_fold_over_the_joint_is_order_zero() {
+        let (mut surface, joint) = two_sided(&base, &base, &|uv| uv, 3);
+        let diag = 2f64.sqrt();
+        assert_eq!(joint_order(&surface, &joint, diag), MAX_ORDER as i32);
+        let folded = interpolate(3, &|w| {
+            // B's domain point w lies at (1 − w.x, 1 − w.y); its mirror image in x + y = 1.
+            let q = DVec2::new(w.y, w.x);
+            DVec3::new(q.x, q.y, base(q))
+        });
+        surface.patches[1].geometry = PatchGeometry::Bezier(folded.clone());
+        let side_a = PreciseNet::from_net(surface.patches[0].as_bezier().expect("net"));
+        let side_b = PreciseNet::from_net(&folded);
+        for s in ORDER_SAMPLES {
+            let heights = diagnose(&surface, &joint, s, diag);
+            assert!(
+                heights.iter().all(|[d, scale, _]| *d <= 1e-14 * scale),
+                "{heights:?}"
+            );
+            let precise = precise_measure([&side_a, &side_b], &joint, s, diag).expect("regular");
+            assert!(precise.folded);
+            assert_eq!(precise.order(diag), 0);
+        }
+        assert_eq!(joint_order(&surface, &joint, diag), 0);
     }
 
     /// A non-affine (cubic) map of the unit triangle that fixes its edge x + y = 1.

@@ -7,7 +7,8 @@
 //!   curvature;
 //! * at every patch corner that sits on a mesh vertex ([`Surface::vertex_corners`]): the
 //!   interpolation error;
-//! * on a grid over every patch: the regularity `min |Su × Sv| / mean |Su × Sv|`.
+//! * on a grid over every patch: the regularity `min |Su × Sv| / mean |Su × Sv|`, and the
+//!   folds: samples where the patch's normal points against its face's normal.
 //!
 //! Lengths are relative to the bounding-box diagonal of the mesh vertices. The result
 //! serialises to the metrics JSON of the README's Contracts. Joints and patches are measured in parallel;
@@ -118,6 +119,12 @@ pub struct Metrics {
     pub samples_per_joint: usize,
     /// Joint samples where a side has `Su × Sv = 0`, left out of the G1 and curvature figures.
     pub singular_samples: usize,
+    /// Samples where a patch's normal points against its mesh face's normal: the surface
+    /// folds back over its face there ([`patchwise::folds`], on the regularity grid of
+    /// every patch). 0 for a surface that follows its mesh.
+    pub folds: usize,
+    /// Patches with at least one such sample.
+    pub folded_patches: usize,
     /// Mesh vertices where the mesh is curved but the surface has a flat point (both principal
     /// curvatures ~0; see [`vertex_curvature`]).
     pub vertex_flat_points: usize,
@@ -210,6 +217,7 @@ impl Metrics {
                 .min()
         };
         let regularity = patchwise::min_regularity(surface);
+        let folds = patchwise::folds(surface, faces, positions);
         let interp = patchwise::interpolation_error(surface, faces, positions);
         let at_vertices = vertex_curvature::vertex_curvature(surface, faces, positions);
         Metrics {
@@ -242,6 +250,8 @@ impl Metrics {
             joints_between_faces: per_joint.iter().filter(|j| j.between_faces).count(),
             samples_per_joint: JOINT_SAMPLES,
             singular_samples: sums.singular_samples,
+            folds: folds.samples,
+            folded_patches: folds.patches,
             vertex_flat_points: at_vertices.flat_points,
             vertex_curved: at_vertices.curved_vertices,
             vertex_mean_curvature_ratio_min: at_vertices.mean_ratio_min,

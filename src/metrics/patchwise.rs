@@ -1,4 +1,4 @@
-//! Figures measured patch by patch: vertex interpolation and regularity.
+//! Figures measured patch by patch: vertex interpolation, regularity and folds.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -44,6 +44,47 @@ pub fn patch_regularity(patch: &Patch) -> f64 {
     }
     let mean = sum / count as f64;
     if mean > 0.0 { min / mean } else { 0.0 }
+}
+
+/// Samples where a patch turns over its mesh face: at a sample of the regularity grid, the
+/// patch's normal `Su × Sv` points against the face's normal `(P1 − P0) × (P2 − P0)`. A patch
+/// is parametrised with the orientation of its face (the README's export contract), so a
+/// surface that follows its mesh has none; a fold is where the surface doubles back over the
+/// face. Samples where `Su × Sv = 0` are not counted.
+pub fn patch_fold_samples(patch: &Patch, face_normal: DVec3) -> usize {
+    let n = REGULARITY_GRID;
+    (0..=n)
+        .flat_map(|i| (0..=n - i).map(move |j| (i, j)))
+        .filter(|&(i, j)| {
+            let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+            patch.jet(u, v).cross().dot(face_normal) < 0.0
+        })
+        .count()
+}
+
+/// The folds of a surface ([`patch_fold_samples`] over every patch).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Folds {
+    /// Samples where a patch's normal points against its face's normal.
+    pub samples: usize,
+    /// Patches with at least one such sample.
+    pub patches: usize,
+}
+
+/// The [`Folds`] of `surface` over the mesh `faces` on `positions`.
+pub fn folds(surface: &Surface, faces: &[[u32; 3]], positions: &[DVec3]) -> Folds {
+    let per_patch: Vec<usize> = surface
+        .patches
+        .par_iter()
+        .map(|patch| {
+            let p = faces[patch.face as usize].map(|v| positions[v as usize]);
+            patch_fold_samples(patch, (p[1] - p[0]).cross(p[2] - p[0]))
+        })
+        .collect();
+    Folds {
+        samples: per_patch.iter().sum(),
+        patches: per_patch.iter().filter(|&&k| k > 0).count(),
+    }
 }
 
 /// Smallest [`patch_regularity`] over all patches (`None` for an empty surface).
@@ -99,5 +140,34 @@ mod tests {
         let p = patch(points, 2);
         assert_eq!(p.jet(0.0, 0.0).cross(), DVec3::ZERO);
         assert_eq!(patch_regularity(&p), 0.0);
+    }
+
+    /// The plane quadratic over the face (0,0,0), (1,0,0), (0,1,0) whose edge point
+    /// `b(0,1,1)` is at `(x, x, 0)` (the face itself at x = 1/2). Its Jacobian on the far edge
+    /// `u + v = 1` is `x` (up to a positive factor), so for x < 0 the patch turns over there.
+    fn pulled_quadratic(x: f64) -> Patch {
+        let points = vec![
+            DVec3::ZERO,               // b(2,0,0)
+            DVec3::new(0.5, 0.0, 0.0), // b(1,1,0)
+            DVec3::new(0.0, 0.5, 0.0), // b(1,0,1)
+            DVec3::new(1.0, 0.0, 0.0), // b(0,2,0)
+            DVec3::new(x, x, 0.0),     // b(0,1,1)
+            DVec3::new(0.0, 1.0, 0.0), // b(0,0,2)
+        ];
+        patch(points, 2)
+    }
+
+    #[test]
+    fn patch_over_its_face_has_no_fold_and_a_turned_patch_has() {
+        let up = DVec3::Z;
+        assert_eq!(patch_fold_samples(&pulled_quadratic(0.5), up), 0);
+        assert_eq!(patch_fold_samples(&pulled_quadratic(0.1), up), 0);
+        // Just past the edge: the 9 samples of the far edge turn over.
+        assert_eq!(patch_fold_samples(&pulled_quadratic(-0.01), up), 9);
+        // Pulled far back: all but the 6 samples nearest corner b(2,0,0).
+        assert_eq!(patch_fold_samples(&pulled_quadratic(-1.0), up), 39);
+        // Seen against the face's normal, the face itself is turned everywhere.
+        let grid = (REGULARITY_GRID + 1) * (REGULARITY_GRID + 2) / 2;
+        assert_eq!(patch_fold_samples(&pulled_quadratic(0.5), -up), grid);
     }
 }

@@ -5,8 +5,9 @@
 //! Quality is always judged. A quality figure regresses when it moves in its bad direction by
 //! more than `abs + rel · |old|` (each figure has its own `abs`, the tolerance of the
 //! measurement, from `crate::tolerance` where it means "zero up to rounding" — e.g. 1e-9 rad for
-//! normal jumps — and the common `rel`); the continuity order regresses when it drops at all. A record in OLD that
-//! NEW lacks is a regression too.
+//! normal jumps — and the common `rel`); the counts ([`COUNTS`]: the continuity order, the
+//! folds) regress when they move the bad way at all. A record in OLD that NEW lacks is a
+//! regression too.
 //!
 //! Timings depend on the machine, so they are judged only when asked ([`TimingCheck`]), and
 //! then only between reports measured on the same machine ([`super::provenance::Machine`])
@@ -36,11 +37,17 @@ const QUALITY: &[(&str, Better, f64)] = &[
     ("curvature_jump_max_rel", Better::Lower, CURVATURE_REL),
     ("continuity_order", Better::Higher, 0.0),
     ("min_regularity_rel", Better::Higher, 0.0),
+    ("folds", Better::Lower, 0.0),
+    ("folded_patches", Better::Lower, 0.0),
     ("network_undulation_max_rad", Better::Lower, 1e-6),
     ("bending_energy", Better::Lower, 1e-9),
     ("distance_max_rel", Better::Lower, POSITION_REL),
     ("normal_error_max_rad", Better::Lower, NORMAL_RAD),
 ];
+
+/// Quality figures that are counts: judged exactly, without the relative tolerance (one fold
+/// more, or one order less, is a regression).
+const COUNTS: &[&str] = &["continuity_order", "folds", "folded_patches"];
 
 /// Tracked timings (milliseconds).
 const TIMINGS: &[&str] = &["construct_ms", "render_ms"];
@@ -219,8 +226,13 @@ pub fn compare(old: &Report, new: &Report, t: Thresholds, timings: TimingCheck) 
         };
         for &(key, better, abs) in QUALITY {
             let (a, b) = (number(o, key), number(n, key));
+            let rel = if COUNTS.contains(&key) {
+                0.0
+            } else {
+                t.quality_rel
+            };
             let regression = match (a, b) {
-                (Some(a), Some(b)) => worse(a, b, better, abs, t.quality_rel),
+                (Some(a), Some(b)) => worse(a, b, better, abs, rel),
                 (Some(_), None) => true,
                 _ => false,
             };
@@ -451,6 +463,26 @@ mod tests {
             let err = t.check().expect_err(flag);
             assert!(err.to_string().starts_with(flag), "{err}");
         }
+    }
+
+    #[test]
+    fn one_fold_more_is_a_regression_one_less_is_not() {
+        let t = Thresholds::default();
+        let old = report(&[("folds", 100.0), ("folded_patches", 40.0)]);
+        // 101 is within 5 % of 100, but a count is judged exactly.
+        let more = report(&[("folds", 101.0), ("folded_patches", 40.0)]);
+        assert_eq!(
+            flagged(&compare(&old, &more, t, TimingCheck::Skip)),
+            ["folds"]
+        );
+        let fewer = report(&[("folds", 99.0), ("folded_patches", 39.0)]);
+        let comparison = compare(&old, &fewer, t, TimingCheck::Skip);
+        assert!(!comparison.failed(), "{comparison:?}");
+        assert_eq!(comparison.changes.len(), 2, "{comparison:?}");
+        // A report written before the figure existed compares without a verdict on it.
+        let before = report(&[]);
+        let comparison = compare(&before, &more, t, TimingCheck::Skip);
+        assert!(!comparison.failed(), "{comparison:?}");
     }
 
     #[test]
