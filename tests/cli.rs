@@ -1498,63 +1498,6 @@ fn compare_gates_that_cannot_fail_are_errors() {
     assert_fails_naming(&out, &["v2.json", "version 2"]);
 }
 
-/// The OFF triangle whose one face announces 2⁶⁴ − 1 corners.
-const OFF_CORNER_COUNT_AT_THE_LIMIT: &str =
-    "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n18446744073709551615 0 1 2\n";
-
-#[test]
-fn a_corner_count_at_the_integer_limit_names_the_face() {
-    let dir = scratch("off-corner-count");
-    let off = write(&dir, "a.off", OFF_CORNER_COUNT_AT_THE_LIMIT);
-    let out = smoothlab(&["metrics", path_str(&off), "--scheme", "flat"]);
-    assert_fails_naming(
-        &out,
-        &["a.off: malformed OFF: line 6: face 0 announces 18446744073709551615 corners"],
-    );
-}
-
-#[test]
-fn a_report_batch_records_an_unreadable_mesh_and_goes_on() {
-    let dir = scratch("report-bad-mesh");
-    write(&dir, "a.off", OFF_CORNER_COUNT_AT_THE_LIMIT);
-    write(&dir, "tetrahedron.obj", TETRAHEDRON);
-    let list = write(&dir, "meshes.txt", "\u{feff}a.off\r\ntetrahedron.obj\r\n");
-    let out_dir = dir.join("report");
-    let out = smoothlab(&[
-        "report",
-        "--meshes",
-        path_str(&list),
-        "--scheme",
-        "flat",
-        "--out",
-        path_str(&out_dir),
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let text = std::fs::read_to_string(out_dir.join("metrics.json")).expect("metrics.json");
-    let json: serde_json::Value = serde_json::from_str(&text).expect("json");
-    let records = json["records"].as_array().expect("records");
-    assert_eq!(records.len(), 2, "{records:?}");
-    assert_eq!(records[0]["mesh"], "a.off");
-    let error = records[0]["error"].as_str().expect("an error record");
-    assert!(error.contains("line 6: face 0 announces"), "{error}");
-    assert_eq!(records[1]["mesh"], "tetrahedron.obj");
-    assert!(records[1]["error"].is_null(), "{:?}", records[1]);
-}
-
-#[test]
-fn a_mesh_given_to_meshes_is_an_error() {
-    let dir = scratch("meshes-is-a-mesh");
-    let mesh = write(&dir, "tetrahedron.obj", TETRAHEDRON);
-    let out = smoothlab(&[
-        "report",
-        "--meshes",
-        path_str(&mesh),
-        "--out",
-        path_str(&dir.join("report")),
-    ]);
-    assert_fails_naming(
-        &out,
-        &["tetrahedron.obj: this is a mesh (OBJ file); --meshes takes a folder"],
 /// Every file name in `dir`, sorted.
 fn names_in(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
@@ -1652,42 +1595,6 @@ fn two_outputs_of_one_render_on_one_file_are_refused_before_any_work() {
 }
 
 #[test]
-fn negative_numeric_flags_name_the_flag_value_and_range() {
-    let dir = scratch("negative-flags");
-    let mesh = write(&dir, "tetrahedron.obj", TETRAHEDRON);
-    let mesh = path_str(&mesh);
-    let render = |flag: &str, value: &str| {
-        let output = path_str(&dir.join("r")).to_string();
-        smoothlab(&[
-            "render", mesh, "--scheme", "flat", "-o", &output, flag, value,
-        ])
-    };
-    for (out, fragments) in [
-        (render("--fov", "-10"), ["--fov", "'-10'", "below 180°"]),
-        (render("--spp", "-1"), ["--spp", "'-1'", "1..=65536"]),
-        (
-            render("--tessellate", "-1"),
-            ["--tessellate", "'-1'", "1..=4096"],
-        ),
-        (
-            render("--turntable", "-3"),
-            ["--turntable", "'-3'", "1..=3600"],
-        ),
-        (render("--shard", "-1/4"), ["--shard", "'-1/4'", "≥ 0"]),
-        (
-            smoothlab(&[
-                "export", mesh, "--scheme", "flat", "--format", "obj", "-o", "x.obj", "--tess",
-                "-1",
-            ]),
-            ["--tess", "'-1'", "1..=4096"],
-        ),
-        (
-            smoothlab(&["report", "--shard", "-1/4", "--out", path_str(&dir)]),
-            ["--shard", "'-1/4'", "≥ 0"],
-        ),
-    ] {
-        assert_fails_naming(&out, &fragments);
-    }
 fn a_file_name_of_245_bytes_is_written() {
     let dir = scratch("long-name");
     let mesh = write(&dir, "m.obj", TETRAHEDRON);
@@ -1843,4 +1750,103 @@ fn an_interrupt_removes_the_temporary_being_written() {
         assert!(!temporary(), "temporaries left: {:?}", names_in(&dir));
     }
     assert_eq!(caught, 1, "no run was interrupted while writing");
+}
+
+/// The OFF triangle whose one face announces 2⁶⁴ − 1 corners.
+const OFF_CORNER_COUNT_AT_THE_LIMIT: &str =
+    "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n18446744073709551615 0 1 2\n";
+
+#[test]
+fn a_corner_count_at_the_integer_limit_names_the_face() {
+    let dir = scratch("off-corner-count");
+    let off = write(&dir, "a.off", OFF_CORNER_COUNT_AT_THE_LIMIT);
+    let out = smoothlab(&["metrics", path_str(&off), "--scheme", "flat"]);
+    assert_fails_naming(
+        &out,
+        &["a.off: malformed OFF: line 6: face 0 announces 18446744073709551615 corners"],
+    );
+}
+
+#[test]
+fn a_report_batch_records_an_unreadable_mesh_and_goes_on() {
+    let dir = scratch("report-bad-mesh");
+    write(&dir, "a.off", OFF_CORNER_COUNT_AT_THE_LIMIT);
+    write(&dir, "tetrahedron.obj", TETRAHEDRON);
+    let list = write(&dir, "meshes.txt", "\u{feff}a.off\r\ntetrahedron.obj\r\n");
+    let out_dir = dir.join("report");
+    let out = smoothlab(&[
+        "report",
+        "--meshes",
+        path_str(&list),
+        "--scheme",
+        "flat",
+        "--out",
+        path_str(&out_dir),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(out_dir.join("metrics.json")).expect("metrics.json");
+    let json: serde_json::Value = serde_json::from_str(&text).expect("json");
+    let records = json["records"].as_array().expect("records");
+    assert_eq!(records.len(), 2, "{records:?}");
+    assert_eq!(records[0]["mesh"], "a.off");
+    let error = records[0]["error"].as_str().expect("an error record");
+    assert!(error.contains("line 6: face 0 announces"), "{error}");
+    assert_eq!(records[1]["mesh"], "tetrahedron.obj");
+    assert!(records[1]["error"].is_null(), "{:?}", records[1]);
+}
+
+#[test]
+fn a_mesh_given_to_meshes_is_an_error() {
+    let dir = scratch("meshes-is-a-mesh");
+    let mesh = write(&dir, "tetrahedron.obj", TETRAHEDRON);
+    let out = smoothlab(&[
+        "report",
+        "--meshes",
+        path_str(&mesh),
+        "--out",
+        path_str(&dir.join("report")),
+    ]);
+    assert_fails_naming(
+        &out,
+        &["tetrahedron.obj: this is a mesh (OBJ file); --meshes takes a folder"],
+    );
+}
+
+#[test]
+fn negative_numeric_flags_name_the_flag_value_and_range() {
+    let dir = scratch("negative-flags");
+    let mesh = write(&dir, "tetrahedron.obj", TETRAHEDRON);
+    let mesh = path_str(&mesh);
+    let render = |flag: &str, value: &str| {
+        let output = path_str(&dir.join("r")).to_string();
+        smoothlab(&[
+            "render", mesh, "--scheme", "flat", "-o", &output, flag, value,
+        ])
+    };
+    for (out, fragments) in [
+        (render("--fov", "-10"), ["--fov", "'-10'", "below 180°"]),
+        (render("--spp", "-1"), ["--spp", "'-1'", "1..=65536"]),
+        (
+            render("--tessellate", "-1"),
+            ["--tessellate", "'-1'", "1..=4096"],
+        ),
+        (
+            render("--turntable", "-3"),
+            ["--turntable", "'-3'", "1..=3600"],
+        ),
+        (render("--shard", "-1/4"), ["--shard", "'-1/4'", "≥ 0"]),
+        (
+            smoothlab(&[
+                "export", mesh, "--scheme", "flat", "--format", "obj", "-o", "x.obj", "--tess",
+                "-1",
+            ]),
+            ["--tess", "'-1'", "1..=4096"],
+        ),
+        (
+            smoothlab(&["report", "--shard", "-1/4", "--out", path_str(&dir)]),
+            ["--shard", "'-1/4'", "≥ 0"],
+        ),
+    ] {
+        assert_fails_naming(&out, &fragments);
+    }
 }
