@@ -1498,16 +1498,6 @@ fn compare_gates_that_cannot_fail_are_errors() {
     assert_fails_naming(&out, &["v2.json", "version 2"]);
 }
 
-/// Every file name in `dir`, sorted.
-fn names_in(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("list")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
 #[test]
 fn an_output_onto_an_input_is_refused_before_any_work() {
     let dir = scratch("output-is-input");
@@ -1538,7 +1528,7 @@ fn an_output_onto_an_input_is_refused_before_any_work() {
         );
     }
     assert_eq!(std::fs::read_to_string(&mesh).expect("mesh"), TETRAHEDRON);
-    assert_eq!(names_in(&dir), ["m.obj"], "nothing written");
+    assert_eq!(listing(&dir), ["m.obj"], "nothing written");
 }
 
 #[test]
@@ -1584,14 +1574,11 @@ fn two_outputs_of_one_render_on_one_file_are_refused_before_any_work() {
     let part = dir.join("out.shard-0-of-2.json");
     let out = smoothlab(&[spin.as_slice(), &[path_str(&part), "--shard", "0/2"]].concat());
     assert_fails_naming(&out, &["out.shard-0-of-2.json", "part file and as --stats"]);
-    assert_eq!(names_in(&dir), ["m.obj"], "nothing written");
+    assert_eq!(listing(&dir), ["m.obj"], "nothing written");
     // Distinct names work.
     let out = stats_on(path_str(&dir.join("stats.json")));
     assert!(out.status.success(), "{}", stderr(&out));
-    assert_eq!(
-        names_in(&dir),
-        ["m.obj", "out.exr", "out.png", "stats.json"]
-    );
+    assert_eq!(listing(&dir), ["m.obj", "out.exr", "out.png", "stats.json"]);
 }
 
 #[test]
@@ -1617,7 +1604,7 @@ fn a_file_name_of_245_bytes_is_written() {
             .expect("written")
             .contains("smoothlab-patches")
     );
-    assert_eq!(names_in(&dir), [name, "m.obj".to_string()]);
+    assert_eq!(listing(&dir), [name, "m.obj".to_string()]);
 }
 
 #[cfg(unix)]
@@ -1674,7 +1661,7 @@ fn output_names_that_are_not_utf8_are_refused_everywhere() {
         bad.as_os_str(),
     ];
     assert_fails_naming(&run(&metrics), &["L17\u{fffd}name", "not valid UTF-8"]);
-    assert!(names_in(&dir.join("l")).is_empty(), "nothing written");
+    assert!(listing(&dir.join("l")).is_empty(), "nothing written");
     // A mesh whose name is not UTF-8 renders under a name given with -o, and asks for one
     // when the output would be named after it.
     let odd = dir.join(std::ffi::OsStr::from_bytes(b"m\xff.obj"));
@@ -1717,7 +1704,7 @@ fn an_interrupt_removes_the_temporary_being_written() {
             .stderr(std::process::Stdio::piped())
             .spawn()
             .expect("start");
-        let temporary = || names_in(&dir).iter().any(|n| n.ends_with(".tmp"));
+        let temporary = || listing(&dir).iter().any(|n| n.ends_with(".tmp"));
         // A temporary with bytes in it is an image being written (the checks before the work
         // leave empty ones for an instant).
         let writing = || {
@@ -1743,11 +1730,11 @@ fn an_interrupt_removes_the_temporary_being_written() {
         let out = child.wait_with_output().expect("finished");
         if seen && out.status.code() == Some(130) {
             caught += 1;
-            assert!(!temporary(), "temporaries left: {:?}", names_in(&dir));
+            assert!(!temporary(), "temporaries left: {:?}", listing(&dir));
             assert!(stderr(&out).contains("interrupted"), "{}", stderr(&out));
             break;
         }
-        assert!(!temporary(), "temporaries left: {:?}", names_in(&dir));
+        assert!(!temporary(), "temporaries left: {:?}", listing(&dir));
     }
     assert_eq!(caught, 1, "no run was interrupted while writing");
 }
