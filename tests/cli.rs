@@ -1782,6 +1782,42 @@ fn a_report_batch_records_an_unreadable_mesh_and_goes_on() {
     assert!(records[1]["error"].is_null(), "{:?}", records[1]);
 }
 
+/// A report that would overwrite its own baseline is refused before any work, naming the flag
+/// (the baseline is copied first, as the README's workflow does).
+#[test]
+fn a_report_onto_its_own_baseline_is_refused() {
+    let dir = scratch("report-onto-baseline");
+    write(&dir, "tetrahedron.obj", TETRAHEDRON);
+    let out_dir = dir.join("report");
+    let report = |extra: &[&str]| {
+        let mut args = vec![
+            "report",
+            "--meshes",
+            path_str(&dir),
+            "--scheme",
+            "flat",
+            "--out",
+            path_str(&out_dir),
+        ];
+        args.extend_from_slice(extra);
+        smoothlab(&args)
+    };
+    let first = report(&[]);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let baseline = out_dir.join("metrics.json");
+    let before = std::fs::read(&baseline).expect("metrics.json");
+    let again = report(&["--baseline", path_str(&baseline)]);
+    assert_fails_naming(
+        &again,
+        &["metrics.json: a file of the report would overwrite --baseline"],
+    );
+    assert_eq!(std::fs::read(&baseline).expect("metrics.json"), before);
+    let copy = dir.join("before.json");
+    std::fs::copy(&baseline, &copy).expect("copy");
+    let compared = report(&["--baseline", path_str(&copy)]);
+    assert!(compared.status.success(), "{}", stderr(&compared));
+}
+
 #[test]
 fn a_mesh_given_to_meshes_is_an_error() {
     let dir = scratch("meshes-is-a-mesh");

@@ -26,7 +26,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::files::{check_writable, create_folder, write_atomic};
+use crate::files::{check_distinct, check_writable, create_folder, write_atomic};
 use crate::mesh::{Mesh, generate};
 use crate::metrics::Metrics;
 use crate::metrics::energy::bending_energy;
@@ -650,8 +650,14 @@ fn read_baseline(options: &WriteOptions) -> Result<Option<(&Path, Report)>> {
 }
 
 /// Creates the folders of a report in `out_dir` and checks that every file of it can be
-/// written: the tables, the plots, the page and the thumbnails of `work`.
-fn prepare_report_folder(out_dir: &Path, work: &batch::WorkList) -> Result<()> {
+/// written: the tables, the plots, the page and the thumbnails of `work`, none of them onto
+/// one of the run's inputs (the mesh files of `work`, the `baseline`) or onto another of them
+/// ([`check_distinct`]).
+fn prepare_report_folder(
+    out_dir: &Path,
+    work: &batch::WorkList,
+    baseline: Option<&Path>,
+) -> Result<()> {
     let figures = out_dir.join("figures");
     create_folder(&figures)?;
     create_folder(&out_dir.join(page::THUMBS))?;
@@ -665,6 +671,20 @@ fn prepare_report_folder(out_dir: &Path, work: &batch::WorkList) -> Result<()> {
             }
         }
     }
+    let mut inputs: Vec<(&str, &Path)> = work
+        .items
+        .iter()
+        .filter_map(|item| match &item.source {
+            batch::MeshSource::File(path) => Some(("a mesh of --meshes", path.as_path())),
+            batch::MeshSource::Benchmark(_) => None,
+        })
+        .collect();
+    inputs.extend(baseline.map(|path| ("--baseline", path)));
+    let roles: Vec<(&str, &Path)> = outputs
+        .iter()
+        .map(|path| ("a file of the report", path.as_path()))
+        .collect();
+    check_distinct(&inputs, &roles)?;
     for path in &outputs {
         check_writable(path)?;
     }
@@ -679,7 +699,7 @@ pub fn write_work(
     progress: &dyn Fn(usize, usize, &str),
 ) -> Result<Written> {
     let baseline = read_baseline(options)?;
-    prepare_report_folder(out_dir, work)?;
+    prepare_report_folder(out_dir, work, options.baseline.as_deref())?;
     let all: Vec<usize> = (0..work.items.len()).collect();
     let measured = measure_items(work, &all, Some((out_dir, &options.thumbnails)), progress)?;
     let report = Report::stamped(measured.records);
