@@ -133,7 +133,8 @@ fn create_temporary(target: &Path) -> std::io::Result<(PathBuf, File)> {
 
 /// Checks, before any work is done, that a file can be written at `path`: the path does not
 /// name a folder (`out/`), it is not an existing folder, device or other non-regular file
-/// (which [`write_atomic`] would replace), and its folder exists and accepts new files (tried
+/// (which [`write_atomic`] would replace), its folder exists — a missing folder is created,
+/// with its parents, for every output of every command alike — and accepts new files (tried
 /// by creating and removing a temporary file there), the path is UTF-8 ([`utf8_path`]) and
 /// its file name at most 255 bytes long.
 /// The error names the path at fault.
@@ -178,12 +179,7 @@ pub fn check_writable(path: &Path) -> Result<()> {
                 folder.display()
             )));
         }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(Error::Invalid(format!(
-                "{}: folder does not exist",
-                folder.display()
-            )));
-        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => create_folder(folder)?,
         Err(e) => return Err(Error::io(folder, e)),
     }
     let (temp, file) = create_temporary(path).map_err(|e| Error::io(folder, e))?;
@@ -327,8 +323,11 @@ mod tests {
         let dir = scratch("check");
         check_writable(&dir.join("new.json")).expect("a new file in an existing folder");
         assert_eq!(entries(&dir), Vec::<String>::new(), "the probe is removed");
+        check_writable(&dir.join("new/folders/s.json")).expect("missing folders are created");
+        assert!(dir.join("new/folders").is_dir());
+        std::fs::write(dir.join("file"), b"").expect("a file");
         let cases = [
-            (dir.join("missing/s.json"), "folder does not exist"),
+            (dir.join("file/s.json"), "file: is not a folder"),
             (dir.clone(), "is a folder"),
             (
                 PathBuf::from(format!("{}/", dir.display())),

@@ -32,9 +32,9 @@ enum Command {
     Export {
         #[command(flatten)]
         input: SchemeOnMesh,
-        /// Output format.
+        /// Output format (default: from the extension of -o: .json, .bv or .obj).
         #[arg(long, value_enum)]
-        format: FormatArg,
+        format: Option<FormatArg>,
         /// Output file.
         #[arg(short = 'o', long = "output", value_name = "FILE")]
         output: PathBuf,
@@ -270,7 +270,10 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             &input.mesh,
             &input.load_options(),
             &input.scheme,
-            format.into(),
+            match format {
+                Some(format) => format.into(),
+                None => smoothlab::export::Format::from_path(&output)?,
+            },
             &output,
             tess,
             &input.params,

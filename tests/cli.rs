@@ -327,7 +327,7 @@ fn export_writes_json_bv_and_obj() {
 fn export_to_an_unwritable_path_names_it() {
     let dir = scratch("export-unwritable");
     let mesh = write(&dir, "tet.obj", TETRAHEDRON);
-    let target = dir.join("no-such-dir").join("out.json");
+    let target = mesh.join("out.json");
     let out = smoothlab(&[
         "export",
         mesh.to_str().expect("utf-8"),
@@ -338,7 +338,50 @@ fn export_to_an_unwritable_path_names_it() {
         "-o",
         target.to_str().expect("utf-8"),
     ]);
-    assert_fails_naming(&out, &["no-such-dir"]);
+    assert_fails_naming(&out, &["tet.obj: is not a folder"]);
+}
+
+/// `export` takes its format from `-o`'s extension when `--format` is not given, and every
+/// command creates a missing output folder as `render -o` does.
+#[test]
+fn export_and_sample_infer_the_format_and_create_the_folder() {
+    let dir = scratch("export-infer");
+    let mesh = write(&dir, "tet.obj", TETRAHEDRON);
+    let mesh = path_str(&mesh);
+    for (name, first_line) in [("a/p.json", "{"), ("b/p.bv", "3 1"), ("c/p.obj", "#")] {
+        let target = dir.join("new").join(name);
+        let out = smoothlab(&["export", mesh, "--scheme", "flat", "-o", path_str(&target)]);
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        let text = std::fs::read_to_string(&target).expect("written");
+        assert!(
+            text.starts_with(first_line),
+            "{name}: {}",
+            &text[..40.min(text.len())]
+        );
+    }
+    let out = smoothlab(&[
+        "export",
+        mesh,
+        "--scheme",
+        "flat",
+        "-o",
+        path_str(&dir.join("p.stl")),
+    ]);
+    assert_fails_naming(
+        &out,
+        &["p.stl: the export format cannot be told", "--format"],
+    );
+    let samples = dir.join("new").join("d").join("s.json");
+    let out = smoothlab(&[
+        "sample",
+        mesh,
+        "--scheme",
+        "flat",
+        "--json",
+        path_str(&samples),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(samples.is_file());
 }
 
 #[test]
@@ -1276,9 +1319,9 @@ fn output_names_keep_their_dots_and_refuse_folders_and_devices() {
 fn bad_output_paths_fail_before_any_file_is_written() {
     let dir = scratch("output-paths");
     let stem = dir.join("x");
-    let stats = dir.join("missing").join("s.json");
+    let stats = dir.join("tet.obj").join("s.json");
     let out = small_render(&dir, &["-o", path_str(&stem), "--stats", path_str(&stats)]);
-    assert_fails_naming(&out, &["missing", "folder does not exist"]);
+    assert_fails_naming(&out, &["tet.obj: is not a folder"]);
     assert_eq!(listing(&dir), ["tet.obj"], "no PNG or EXR written");
 
     std::fs::create_dir(dir.join("y.exr")).expect("folder named like the EXR");
@@ -1290,7 +1333,7 @@ fn bad_output_paths_fail_before_any_file_is_written() {
     );
 
     let mesh = dir.join("tet.obj");
-    let json = dir.join("missing").join("m.json");
+    let json = dir.join("tet.obj").join("m.json");
     let out = smoothlab(&[
         "metrics",
         path_str(&mesh),
@@ -1299,7 +1342,7 @@ fn bad_output_paths_fail_before_any_file_is_written() {
         "--json",
         path_str(&json),
     ]);
-    assert_fails_naming(&out, &["missing", "folder does not exist"]);
+    assert_fails_naming(&out, &["tet.obj: is not a folder"]);
     assert_eq!(out.stdout, b"", "no table printed after a failure");
 
     let start = std::time::Instant::now();

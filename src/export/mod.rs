@@ -24,6 +24,25 @@ pub enum Format {
 }
 
 impl Format {
+    /// The format a file name asks for by its extension (`.json`, `.bv`, `.obj`, any case), for
+    /// `export -o FILE` without `--format`; an error naming the file otherwise.
+    pub fn from_path(path: &std::path::Path) -> Result<Format> {
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match extension.as_deref() {
+            Some("json") => Ok(Format::Json),
+            Some("bv") => Ok(Format::BezierView),
+            Some("obj") => Ok(Format::Obj),
+            _ => Err(Error::Invalid(format!(
+                "{}: the export format cannot be told from the file name (.json, .bv or .obj): \
+                 give --format json|bv|obj",
+                path.display()
+            ))),
+        }
+    }
+
     /// Parses a `--format` value.
     pub fn parse(name: &str) -> Result<Format> {
         match name {
@@ -73,5 +92,26 @@ mod tests {
         assert_eq!(Format::parse("obj").ok(), Some(Format::Obj));
         let err = Format::parse("stl").expect_err("unknown format");
         assert!(err.to_string().contains("'stl'"), "{err}");
+    }
+
+    #[test]
+    fn formats_follow_the_file_extension() {
+        use std::path::Path;
+        assert_eq!(
+            Format::from_path(Path::new("a/b.json")).ok(),
+            Some(Format::Json)
+        );
+        assert_eq!(
+            Format::from_path(Path::new("b.BV")).ok(),
+            Some(Format::BezierView)
+        );
+        assert_eq!(
+            Format::from_path(Path::new("b.obj")).ok(),
+            Some(Format::Obj)
+        );
+        for name in ["b.stl", "b", "b.json.gz"] {
+            let err = Format::from_path(Path::new(name)).expect_err("no format");
+            assert!(err.to_string().contains("give --format"), "{name}: {err}");
+        }
     }
 }
