@@ -277,6 +277,50 @@ pub fn abs_percentile(values: &mut [f64], percentile: f64) -> f64 {
     values[rank as usize]
 }
 
+/// Round tick values for a colour bar over `[lo, hi]`: the multiples of the largest step
+/// `{1, 2, 2.5, 5} × 10^m` that puts at least four ticks in the range (at most eight), each
+/// computed as `k · step` so that zero is exactly 0. A range that is empty or not finite gets
+/// its two ends.
+pub fn round_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let range = hi - lo;
+    if !(range > 0.0 && range.is_finite()) {
+        return if lo == hi { vec![lo] } else { vec![hi, lo] };
+    }
+    let exponent = (range / 4.0).log10().floor() as i32;
+    for e in [exponent + 1, exponent] {
+        for mantissa in [5.0, 2.5, 2.0, 1.0] {
+            let step = mantissa * 10f64.powi(e);
+            let (first, last) = ((lo / step).ceil() as i64, (hi / step).floor() as i64);
+            // k · step may round just outside the range at its ends: those ticks are left out.
+            let ticks: Vec<f64> = (first..=last)
+                .rev()
+                .map(|k| k as f64 * step)
+                .filter(|t| (lo..=hi).contains(t))
+                .collect();
+            if ticks.len() >= 4 {
+                return ticks;
+            }
+        }
+    }
+    vec![hi, lo]
+}
+
+/// The label of a tick at `x` on a bar whose ticks are `step` apart: the digits the step
+/// needs and no more (`+0.5`, `-1`, `+2.5`), in exponent form beyond 1e-3..1e4.
+pub fn round_tick_label(x: f64, step: f64) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    let magnitude = step.abs().log10().floor() as i32;
+    if !(-3..=4).contains(&magnitude) || !(-3..=4).contains(&(x.abs().log10().floor() as i32)) {
+        return tick_label(x);
+    }
+    // 2.5 × 10^m needs one digit more than 10^m.
+    let extra = usize::from((step / 10f64.powi(magnitude) - 2.5).abs() < 1e-9);
+    let digits = (-magnitude).max(0) as usize + extra;
+    format!("{x:+.digits$}")
+}
+
 /// A tick label: at most three significant digits, no trailing zeros.
 pub fn tick_label(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
@@ -319,11 +363,14 @@ pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &Curva
         return;
     }
     let (lo, hi) = params.value_range();
-    let ticks: Vec<(f64, String)> = (0..5)
-        .map(|i| {
-            let v = hi - (hi - lo) * f64::from(i) / 4.0;
-            (v, tick_label(v))
-        })
+    let values = round_ticks(lo, hi);
+    let step = match values.as_slice() {
+        [a, b, ..] => a - b,
+        _ => hi - lo,
+    };
+    let ticks: Vec<(f64, String)> = values
+        .iter()
+        .map(|&v| (v, round_tick_label(v, step)))
         .collect();
     let x0 = w - margin - bar_w;
     let title = params.quantity.label();
@@ -371,8 +418,14 @@ pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &Curva
         }
     }
     let white = [0.9f32; 3];
-    for (i, (_, label)) in ticks.iter().enumerate() {
-        let y = top + (bottom - 1 - top) * i / 4;
+    for (value, label) in &ticks {
+        // The tick at its value's height on the bar (top = hi).
+        let t = if hi > lo {
+            (hi - value) / (hi - lo)
+        } else {
+            0.0
+        };
+        let y = top + ((bottom - 1 - top) as f64 * t.clamp(0.0, 1.0)).round() as usize;
         // A tick mark across the bar's left edge.
         for x in x0.saturating_sub(3)..x0 + 2 {
             rgb[y * w + x] = white;
@@ -436,6 +489,31 @@ mod tests {
         assert_eq!(CurvatureQuantity::K1.value_signed(&c, convex), 2.0);
         assert_eq!(CurvatureQuantity::K2.value_signed(&c, convex), -1.0);
         assert_eq!(CurvatureQuantity::Gaussian.value_signed(&c, convex), -2.0);
+    }
+
+    #[test]
+    fn ticks_are_round_and_inside_the_range() {
+        assert_eq!(round_ticks(-2.66, 2.66), [2.0, 1.0, 0.0, -1.0, -2.0]);
+        assert_eq!(round_ticks(0.0, 1.0), [1.0, 0.75, 0.5, 0.25, 0.0]);
+        assert_eq!(round_ticks(-0.3, 0.3), [0.2, 0.1, 0.0, -0.1, -0.2]);
+        assert_eq!(round_ticks(3.0, 3.0), [3.0]);
+        for (lo, hi) in [(-7.3e-4, 7.3e-4), (0.0, 123.0), (-1e6, 5.0), (1e-12, 3e-12)] {
+            let ticks = round_ticks(lo, hi);
+            assert!((4..=8).contains(&ticks.len()), "{lo} {hi}: {ticks:?}");
+            assert!(ticks.iter().all(|t| (lo..=hi).contains(t)), "{ticks:?}");
+            let step = ticks[0] - ticks[1];
+            let mantissa = step / 10f64.powf(step.log10().floor());
+            let round = [1.0, 2.0, 2.5, 5.0]
+                .iter()
+                .any(|m| (mantissa - m).abs() < 1e-9);
+            assert!(round, "{lo} {hi}: step {step}");
+        }
+        assert_eq!(round_tick_label(0.0, 1.0), "0");
+        assert_eq!(round_tick_label(-2.0, 1.0), "-2");
+        assert_eq!(round_tick_label(0.75, 0.25), "+0.75");
+        assert_eq!(round_tick_label(0.5, 0.25), "+0.50");
+        assert_eq!(round_tick_label(0.2, 0.1), "+0.2");
+        assert_eq!(round_tick_label(40.0, 20.0), "+40");
     }
 
     #[test]
