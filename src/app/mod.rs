@@ -76,6 +76,16 @@ pub fn parse_weld_tolerance(text: &str) -> std::result::Result<f64, String> {
     crate::mesh::check_weld_tolerance(value)
 }
 
+/// Parses a crease angle in degrees (`--crease-angle DEG`), see
+/// [`crate::mesh::check_crease_angle`].
+pub fn parse_crease_angle(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    crate::mesh::check_crease_angle(value)
+}
+
 /// Parses every `--param name=value`.
 pub fn parse_params(raw: &[String]) -> Result<Vec<(String, String)>> {
     raw.iter().map(|p| schemes::parse_param(p)).collect()
