@@ -224,4 +224,43 @@ mod tests {
             "{mid}"
         );
     }
+
+    /// A cube with its 12 edges sharp: every patch is its flat face (the sector normals are
+    /// the face normals, the crease cubics are the straight edges), and the two sides of every
+    /// edge have bit-identical boundary control points.
+    #[test]
+    fn sharp_cube_edges_stay_straight_and_sides_flat() {
+        let (positions, faces) = crate::mesh::generate::cube();
+        let options = crate::mesh::LoadOptions {
+            crease_angle: Some(40.0),
+            ..Default::default()
+        };
+        let (mesh, _) = Mesh::from_triangles_with(positions, faces, &options).unwrap();
+        let surface = build(&mesh, &crate::testing::params(&SPEC, &[])).unwrap();
+        let bezier = |f: usize| surface.patches[f].as_bezier().unwrap().clone();
+        // The edge's four control points from corner e to corner e + 1.
+        let edge = |b: &TriangleBezier, e: usize| -> [DVec3; 4] {
+            let (a, c) = (e, (e + 1) % 3);
+            std::array::from_fn(|k| {
+                let mut ijk = [0usize; 3];
+                ijk[a] = 3 - k;
+                ijk[c] = k;
+                b.point(ijk[0], ijk[1])
+            })
+        };
+        for f in 0..mesh.face_count() {
+            let b = bezier(f);
+            let n = mesh.face_normal(f as u32);
+            let p0 = b.point(3, 0);
+            for p in b.points() {
+                assert!((*p - p0).dot(n).abs() < 1e-15, "face {f}: {p}");
+            }
+            for e in 0..3 {
+                let (g, ge) = mesh.neighbor(f as u32, e).unwrap();
+                let mut there = edge(&bezier(g as usize), ge);
+                there.reverse();
+                assert_eq!(edge(&b, e), there, "face {f} edge {e}");
+            }
+        }
+    }
 }
