@@ -187,6 +187,23 @@ pub enum Error {
         /// Second vertex of a boundary edge.
         b: usize,
     },
+    /// A scheme that cannot keep sharp edges sharp was given a mesh with some.
+    #[error(
+        "scheme '{scheme}' cannot build sharp edges ({reason}), but the mesh has {count} \
+         (first: edge ({a}, {b})); build it without --crease-angle, or with another scheme"
+    )]
+    SharpEdgesUnsupported {
+        /// The scheme.
+        scheme: String,
+        /// Why the scheme cannot take them.
+        reason: String,
+        /// Number of sharp edges.
+        count: usize,
+        /// First vertex of the first sharp edge.
+        a: usize,
+        /// Second vertex of the first sharp edge.
+        b: usize,
+    },
     /// The OBJ has no usable per-vertex normals but they were asked for.
     #[error("normals=obj asked for, but {reason}")]
     MissingNormals {

@@ -97,6 +97,11 @@ enum Command {
             allow_hyphen_values = true
         )]
         weld_tolerance: f64,
+        /// Mark edges of --meshes files whose faces' normals are more than DEG degrees
+        /// apart sharp, and the edges the file marks (OBJ `s` groups, per-corner `vn`): the
+        /// surface is G0 there [default: no sharp edges].
+        #[arg(long, value_name = "DEG", value_parser = app::parse_crease_angle, allow_hyphen_values = true)]
+        crease_angle: Option<f64>,
     },
     /// Merge the partial results of sharded runs (`report --shard`, `render --turntable|
     /// --sweep --shard`, `figure --shard`) into what one process would have written; names
@@ -170,6 +175,11 @@ struct SchemeOnMesh {
         allow_hyphen_values = true
     )]
     weld_tolerance: f64,
+    /// Mark edges whose faces' normals are more than DEG degrees apart sharp, and the edges
+    /// the file marks (OBJ `s` groups, per-corner `vn`): the surface is G0 there
+    /// [default: no sharp edges].
+    #[arg(long, value_name = "DEG", value_parser = app::parse_crease_angle, allow_hyphen_values = true)]
+    crease_angle: Option<f64>,
 }
 
 impl SchemeOnMesh {
@@ -177,7 +187,9 @@ impl SchemeOnMesh {
     fn load_options(&self) -> smoothlab::mesh::LoadOptions {
         smoothlab::mesh::LoadOptions {
             weld_tolerance: self.weld_tolerance,
+            ..Default::default()
         }
+        .with_crease_angle(self.crease_angle)
     }
 }
 
@@ -295,6 +307,7 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             sweep_files,
             shard,
             weld_tolerance,
+            crease_angle,
         }) => app::run_report_with(&app::ReportArgs {
             out,
             baseline,
@@ -303,7 +316,11 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             sweeps,
             sweep_files,
             shard,
-            load: smoothlab::mesh::LoadOptions { weld_tolerance },
+            load: smoothlab::mesh::LoadOptions {
+                weld_tolerance,
+                ..Default::default()
+            }
+            .with_crease_angle(crease_angle),
         }),
         Some(Command::Merge {
             parts,

@@ -76,6 +76,16 @@ pub fn parse_weld_tolerance(text: &str) -> std::result::Result<f64, String> {
     crate::mesh::check_weld_tolerance(value)
 }
 
+/// Parses a crease angle in degrees (`--crease-angle DEG`), see
+/// [`crate::mesh::check_crease_angle`].
+pub fn parse_crease_angle(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    crate::mesh::check_crease_angle(value)
+}
+
 /// Parses every `--param name=value`.
 pub fn parse_params(raw: &[String]) -> Result<Vec<(String, String)>> {
     raw.iter().map(|p| schemes::parse_param(p)).collect()
@@ -136,7 +146,8 @@ pub fn select_schemes(selection: &str, params: &[(String, String)]) -> Result<Ve
 }
 
 /// Builds and measures every selected scheme on `mesh`. With [`ALL_SCHEMES`], a scheme that
-/// refuses an open mesh is skipped with a warning instead of failing the whole run.
+/// refuses an open mesh or sharp edges is skipped with a warning instead of failing the whole
+/// run.
 pub fn measure_schemes(
     mesh: &Mesh,
     selection: &str,
@@ -162,7 +173,9 @@ pub fn measure_schemes_each(
                 each(&metrics);
                 results.push(metrics);
             }
-            Err(e @ Error::OpenMesh { .. }) if selection == ALL_SCHEMES => {
+            Err(e @ (Error::OpenMesh { .. } | Error::SharpEdgesUnsupported { .. }))
+                if selection == ALL_SCHEMES =>
+            {
                 warnings.push(format!("skipped: {e}"));
             }
             Err(e) => return Err(e),
@@ -186,7 +199,7 @@ fn cell(x: Option<f64>) -> String {
 /// The metrics table's columns with the width of their values (the header may be wider;
 /// the scheme column is as wide as the longest registered name). Fixed widths let the table
 /// be printed row by row as schemes are measured.
-const TABLE_COLUMNS: [(&str, usize); 17] = [
+const TABLE_COLUMNS: [(&str, usize); 19] = [
     ("scheme", 0),
     ("faces", 7),
     ("patches", 7),
@@ -204,6 +217,8 @@ const TABLE_COLUMNS: [(&str, usize); 17] = [
     ("G^k", 5),
     ("folds", 6),
     ("flat_vtx", 6),
+    ("sharp", 5),
+    ("G0_sharp", 8),
 ];
 
 /// One line of the metrics table: names left-aligned, numbers right-aligned.
@@ -250,6 +265,8 @@ pub fn metrics_table_row(m: &Metrics) -> String {
         order_cell(m.continuity_order, m.continuity_order_typical),
         m.folds.to_string(),
         m.vertex_flat_points.to_string(),
+        m.sharp_joints.to_string(),
+        cell(m.sharp_g0_max_rel),
     ])
 }
 
@@ -666,6 +683,9 @@ mod tests {
             vertex_curved: 12,
             vertex_mean_curvature_ratio_min: Some(0.5),
             vertex_mean_curvature_ratio_max: Some(1.5),
+            sharp_joints: 0,
+            sharp_g0_max_rel: None,
+            sharp_g1_max_rad: None,
         };
         let table = metrics_table(&[
             m.clone(),

@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::app::parse_weld_tolerance;
 use crate::app::scene::SceneFile;
 use crate::app::turntable;
+use crate::app::{parse_crease_angle, parse_weld_tolerance};
 use crate::error::{Error, Result};
 use crate::files::{check_distinct, check_writable, utf8_path};
 use crate::mesh::Mesh;
@@ -211,6 +211,16 @@ pub struct RenderArgs {
         allow_hyphen_values = true
     )]
     pub weld_tolerance: Option<f64>,
+    /// Mark edges whose faces' normals are more than DEG degrees apart sharp, and the edges
+    /// the file marks (OBJ `s` groups, per-corner `vn`): the surface is G0 there (default:
+    /// the scene's `crease_angle`, else no sharp edges).
+    #[arg(
+        long,
+        value_name = "DEG",
+        value_parser = parse_crease_angle,
+        allow_hyphen_values = true
+    )]
+    pub crease_angle: Option<f64>,
     /// Write the PNG only, no EXR (scene: `render.exr = false`).
     #[arg(long)]
     pub no_exr: bool,
@@ -362,6 +372,9 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     };
     if args.weld_tolerance.is_some() {
         scene.weld_tolerance = args.weld_tolerance;
+    }
+    if args.crease_angle.is_some() {
+        scene.crease_angle = args.crease_angle;
     }
     if let Some(s) = &args.scheme {
         scene.scheme.name = Some(s.clone());

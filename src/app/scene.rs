@@ -4,6 +4,7 @@
 //! ```toml
 //! mesh = "ico.obj"            # relative to the scene file, as every path in it
 //! weld_tolerance = 1e-10      # weld vertices closer than this fraction of the diagonal
+//! crease_angle = 40           # edges whose faces turn by more than 40° are sharp (G0)
 //! [scheme]
 //! name = "hb"
 //! params = { normals = "estimate" }
@@ -58,7 +59,7 @@ use serde::Deserialize;
 use crate::app::toml_input::{self, exact};
 use crate::app::turntable::Animation;
 use crate::error::{Error, Result};
-use crate::mesh::{LoadOptions, check_weld_tolerance};
+use crate::mesh::{LoadOptions, check_crease_angle, check_weld_tolerance};
 use crate::render::bvh::SubdivisionCriterion;
 use crate::render::curves::CurveOverlay;
 use crate::render::film::RenderSettings;
@@ -86,6 +87,9 @@ pub struct SceneFile {
     /// Weld tolerance of the mesh, relative to its bounding-box diagonal (see
     /// [`LoadOptions::weld_tolerance`]).
     pub weld_tolerance: Option<f64>,
+    /// Crease angle in degrees: edges whose faces' normals are further apart are sharp (see
+    /// [`LoadOptions::crease_angle`]); unset, no edge is.
+    pub crease_angle: Option<f64>,
     /// Surface construction.
     #[serde(default)]
     pub scheme: SchemeSection,
@@ -367,6 +371,12 @@ impl SceneFile {
         if let Some(tolerance) = self.weld_tolerance {
             options.weld_tolerance = check_weld_tolerance(tolerance)
                 .map_err(|e| Error::Invalid(format!("weld_tolerance: {e}")))?;
+        }
+        if let Some(degrees) = self.crease_angle {
+            options.crease_angle = Some(
+                check_crease_angle(degrees)
+                    .map_err(|e| Error::Invalid(format!("crease_angle: {e}")))?,
+            );
         }
         Ok(options)
     }

@@ -33,6 +33,7 @@ pub mod generate;
 mod normals;
 mod obj;
 mod polygon;
+mod sharp;
 mod topology;
 mod validate;
 mod weld;
@@ -47,6 +48,7 @@ use crate::geom::Aabb;
 pub use formats::MeshFormat;
 pub use normals::OBJ_NORMAL_ANGLE_TOLERANCE;
 pub use polygon::{CONVEXITY_TOLERANCE, PLANARITY_TOLERANCE};
+pub use sharp::{SharpEdges, crease_tangent};
 pub use validate::{DEGENERATE_AREA_RATIO, MAX_COORDINATE_MAGNITUDE, MIN_COORDINATE_SPAN};
 pub use weld::{DEFAULT_WELD_TOLERANCE, check_weld_tolerance};
 
@@ -70,13 +72,42 @@ pub struct LoadOptions {
     /// (default [`DEFAULT_WELD_TOLERANCE`]; 0 welds identical positions only). Must be in
     /// [0, 1), see [`check_weld_tolerance`].
     pub weld_tolerance: f64,
+    /// Edges whose faces' normals are more than this many degrees apart are sharp (the
+    /// surface is only G0 across them), and so are the edges the file marks sharp (OBJ
+    /// smoothing groups, per-corner normals); None (the default) marks none. Must be in
+    /// [0, 180], see [`check_crease_angle`].
+    pub crease_angle: Option<f64>,
 }
 
 impl Default for LoadOptions {
     fn default() -> Self {
         LoadOptions {
             weld_tolerance: DEFAULT_WELD_TOLERANCE,
+            crease_angle: None,
         }
+    }
+}
+
+impl LoadOptions {
+    /// These options with [`LoadOptions::crease_angle`] set to `degrees`.
+    pub fn with_crease_angle(self, degrees: Option<f64>) -> Self {
+        LoadOptions {
+            crease_angle: degrees,
+            ..self
+        }
+    }
+}
+
+/// Checks a crease angle in degrees: finite and in [0, 180] (the angle between two face
+/// normals; 180 marks only the edges the file marks sharp).
+pub fn check_crease_angle(degrees: f64) -> std::result::Result<f64, String> {
+    if (0.0..=180.0).contains(&degrees) {
+        Ok(degrees)
+    } else {
+        Err(format!(
+            "crease angle {degrees} is not in [0, 180] degrees (the angle between the normals \
+             of an edge's two faces above which the edge is sharp)"
+        ))
     }
 }
 
@@ -96,6 +127,8 @@ pub struct LoadReport {
     pub reoriented_faces: usize,
     /// Human-readable warnings (one line each).
     pub warnings: Vec<String>,
+    /// Edges marked sharp (by the crease angle or by the file, see [`SharpEdges`]).
+    pub sharp_edges: usize,
 }
 
 /// One undirected mesh edge with its one or two faces.
@@ -116,6 +149,7 @@ pub struct Mesh {
     faces: Vec<[u32; 3]>,
     obj_normals: ObjNormals,
     topology: Topology,
+    sharp: SharpEdges,
 }
 
 impl Mesh {
@@ -145,6 +179,7 @@ impl Mesh {
             faces,
             None,
             Err("the mesh was not read from an OBJ file".to_string()),
+            &[],
             options,
         )
     }
@@ -315,6 +350,100 @@ impl Mesh {
     pub fn face_normal(&self, f: u32) -> DVec3 {
         let [a, b, c] = self.faces[f as usize].map(|v| self.positions[v as usize]);
         (b - a).cross(c - a).normalize()
+    }
+    /// The sharp edges ([`LoadOptions::crease_angle`]; none by default).
+    pub fn sharp_edges(&self) -> &SharpEdges {
+        &self.sharp
+    }
+    /// True if edge `e` of face `f` (from `faces[f][e]` to `faces[f][(e+1)%3]`) is sharp.
+    pub fn is_sharp(&self, f: u32, e: usize) -> bool {
+        self.sharp.is_sharp(3 * f as usize + e)
+    }
+    /// The face pairs `(f, g)`, `f < g`, across every sharp edge, sorted.
+    pub fn sharp_face_pairs(&self) -> Vec<(u32, u32)> {
+        let mut pairs: Vec<(u32, u32)> = (0..self.topology.twin.len())
+            .filter(|&he| self.sharp.is_sharp(he))
+            .map(|he| {
+                let (f, g) = (he as u32 / 3, self.topology.twin[he] / 3);
+                (f.min(g), f.max(g))
+            })
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs
+    }
+    /// Number of sharp edges at vertex `v` (1 for a dart, 3 or more for a corner).
+    pub fn sharp_valence(&self, v: u32) -> usize {
+        self.sharp_cuts(v).count()
+    }
+    /// The fan positions `j` at which a sharp edge `(v, one_ring(v)[j])` separates
+    /// `ring_faces(v)[j − 1]` from `ring_faces(v)[j]`.
+    fn sharp_cuts(&self, v: u32) -> impl Iterator<Item = usize> + '_ {
+        let ring_faces = self.ring_faces(v);
+        let closed = !self.is_boundary_vertex(v);
+        (0..ring_faces.len()).filter(move |&j| {
+            // On a boundary fan edge 0 is a boundary edge; every fan face j starts at edge j.
+            (closed || j > 0) && {
+                let f = ring_faces[j];
+                let c = self.faces[f as usize].iter().position(|&x| x == v);
+                c.is_some_and(|c| self.is_sharp(f, c))
+            }
+        })
+    }
+    /// One unit normal per face corner (`[f][c]` for vertex `faces()[f][c]`): one normal per
+    /// sector of each vertex's fan (see [`SharpEdges`]). A vertex whose fan is one sector (no
+    /// sharp edge, or a single one at an interior vertex) keeps its `vertex_normals` entry;
+    /// the normal of a sector of a vertex cut into several is the angle-weighted average of
+    /// the sector's face normals [Thürmer & Wüthrich 1998], so a flat sector gets its plane's
+    /// normal.
+    pub fn corner_normals(&self, vertex_normals: &[DVec3]) -> Vec<[DVec3; 3]> {
+        let mut corners: Vec<[DVec3; 3]> = self
+            .faces
+            .iter()
+            .map(|face| face.map(|v| vertex_normals[v as usize]))
+            .collect();
+        if self.sharp.is_empty() {
+            return corners;
+        }
+        let mut cuts = Vec::new();
+        for v in 0..self.vertex_count() as u32 {
+            cuts.clear();
+            cuts.extend(self.sharp_cuts(v));
+            let closed = !self.is_boundary_vertex(v);
+            if cuts.is_empty() || (closed && cuts.len() == 1) {
+                continue;
+            }
+            let ring_faces = self.ring_faces(v);
+            let n = ring_faces.len();
+            // Sector starts: the cuts, and fan position 0 on a boundary fan.
+            if !closed {
+                cuts.insert(0, 0);
+            }
+            for (s, &start) in cuts.iter().enumerate() {
+                let end = match cuts.get(s + 1) {
+                    Some(&next) => next,
+                    None if closed => cuts[0] + n,
+                    None => n,
+                };
+                let sector = (start..end).map(|j| ring_faces[j % n]);
+                let mut sum = DVec3::ZERO;
+                for f in sector.clone() {
+                    let face = self.faces[f as usize];
+                    let c = face.iter().position(|&x| x == v).unwrap_or(0);
+                    let p = face.map(|x| self.positions[x as usize]);
+                    let angle =
+                        normals::angle_between(p[(c + 1) % 3] - p[c], p[(c + 2) % 3] - p[c]);
+                    sum += angle * self.face_normal(f);
+                }
+                let normal = sum.normalize_or_zero();
+                for f in sector {
+                    let face = self.faces[f as usize];
+                    let c = face.iter().position(|&x| x == v).unwrap_or(0);
+                    corners[f as usize][c] = normal;
+                }
+            }
+        }
+        corners
     }
     /// Bounding box of the vertices.
     pub fn bounds(&self) -> Aabb {

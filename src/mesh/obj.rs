@@ -43,6 +43,73 @@ struct Scan {
     first_corner_without_normal: Option<(usize, usize, usize)>,
     /// Number of `l` records dropped.
     polylines: usize,
+    /// What the file says about sharp edges: smoothing groups and per-corner normals.
+    sharpness: FileSharpness,
+}
+
+/// The records that mark sharp edges in an OBJ file.
+#[derive(Default)]
+struct FileSharpness {
+    /// True if the file has an `s` record.
+    has_groups: bool,
+    /// The smoothing group of every face (`s off` and `s 0` are group 0, the default).
+    face_group: Vec<u64>,
+    /// The file's `vn` records.
+    normals: Vec<DVec3>,
+    /// Per face corner (file order), its 0-based normal index, if it names one.
+    corner_normal: Vec<Option<i64>>,
+    /// Per face corner, its face.
+    corner_face: Vec<usize>,
+}
+
+impl FileSharpness {
+    /// The edges (pairs of 0-based file vertex numbers) the file marks sharp: those whose two
+    /// faces are in different smoothing groups, or give one of its ends normals more than
+    /// [`super::OBJ_NORMAL_ANGLE_TOLERANCE`] apart. Edges with more than two faces are left
+    /// to validation. `corner_vertex` is the file vertex of every corner.
+    fn sharp_edges(&self, corner_vertex: &[u32]) -> Vec<[u32; 2]> {
+        let normal = |corner: usize| {
+            let index = self.corner_normal[corner]?;
+            usize::try_from(index)
+                .ok()
+                .and_then(|i| self.normals.get(i).copied())
+        };
+        let differ = |x: Option<DVec3>, y: Option<DVec3>| match (x, y) {
+            (Some(x), Some(y)) => {
+                super::normals::angle_between(x, y) > super::OBJ_NORMAL_ANGLE_TOLERANCE
+            }
+            _ => false,
+        };
+        // (edge key, face, corner at the smaller vertex, corner at the larger one)
+        let mut sides: Vec<((u32, u32), usize, usize, usize)> = Vec::new();
+        let mut start = 0;
+        while start < corner_vertex.len() {
+            let face = self.corner_face[start];
+            let end = start
+                + self.corner_face[start..]
+                    .iter()
+                    .take_while(|&&f| f == face)
+                    .count();
+            for i in start..end {
+                let j = if i + 1 == end { start } else { i + 1 };
+                let (a, b) = (corner_vertex[i], corner_vertex[j]);
+                let (lo, hi) = if a <= b { (i, j) } else { (j, i) };
+                sides.push(((a.min(b), a.max(b)), face, lo, hi));
+            }
+            start = end;
+        }
+        sides.sort_unstable_by_key(|side| (side.0, side.1));
+        sides
+            .chunk_by(|x, y| x.0 == y.0)
+            .filter(|pair| pair.len() == 2)
+            .filter(|pair| {
+                let (x, y) = (pair[0], pair[1]);
+                let groups = self.has_groups && self.face_group[x.1] != self.face_group[y.1];
+                groups || differ(normal(x.2), normal(y.2)) || differ(normal(x.3), normal(y.3))
+            })
+            .map(|pair| [pair[0].0.0, pair[0].0.1])
+            .collect()
+    }
 }
 
 fn malformed(origin: &Path, message: String) -> Error {
@@ -118,7 +185,9 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
         has_normals: false,
         first_corner_without_normal: None,
         polylines: 0,
+        sharpness: FileSharpness::default(),
     };
+    let mut group = 0u64;
     // Resolved (line, face, 0-based index) per corner, of its vertex, normal and texture
     // coordinate; checked once all records are counted because tobj, like many writers,
     // accepts forward references. tobj checks normals only when the file has normals at all,
@@ -159,6 +228,18 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
                     )));
                 }
                 normal_count += 1;
+                scan.sharpness.normals.push(DVec3::from_slice(&numbers));
+            }
+            "s" => {
+                group = match words.get(1).copied() {
+                    Some("off") | None => 0,
+                    Some(word) => word.parse().map_err(|_| {
+                        bad(format!(
+                            "smoothing group '{word}' is neither a number nor 'off'"
+                        ))
+                    })?,
+                };
+                scan.sharpness.has_groups = true;
             }
             "vt" => {
                 let what = format!("texture coordinate {texcoord_count}");
@@ -195,12 +276,15 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
                         let resolved = index(texcoord, "texture coordinate", texcoord_count)?;
                         corner_texcoords.push((line, face, resolved));
                     }
+                    scan.sharpness.corner_face.push(face);
                     match fields.get(2).filter(|n| !n.is_empty()) {
                         Some(normal) => {
                             let resolved = index(normal, "normal", normal_count)?;
                             corner_normals.push((line, face, resolved));
+                            scan.sharpness.corner_normal.push(Some(resolved));
                         }
                         None => {
+                            scan.sharpness.corner_normal.push(None);
                             if scan.first_corner_without_normal.is_none() {
                                 scan.first_corner_without_normal =
                                     Some((face, corner, corners.len() - 1));
@@ -208,6 +292,7 @@ fn scan(text: &str, origin: &Path) -> Result<Scan> {
                         }
                     }
                 }
+                scan.sharpness.face_group.push(group);
                 face += 1;
             }
             _ => {}
@@ -348,12 +433,29 @@ pub(super) fn parse(
         })
     };
     let used_in_file = positions.len();
+    // The file's sharp edges, renumbered from file vertices to positions.
+    let mut position_of = vec![u32::MAX; scan.vertex_count];
+    for (i, &file) in labels.iter().enumerate() {
+        position_of[file as usize] = i as u32;
+    }
+    let file_sharp: Vec<[u32; 2]> = scan
+        .sharpness
+        .sharp_edges(&scan.corner_vertex)
+        .into_iter()
+        .map(|pair| pair.map(|v| position_of[v as usize]))
+        .collect();
     let polygons = PolygonMesh {
         positions,
         corners,
         arities,
     };
-    let (mesh, mut report) = polygon::assemble(polygons, Some(&labels), corner_normals, options)?;
+    let (mesh, mut report) = polygon::assemble(
+        polygons,
+        Some(&labels),
+        corner_normals,
+        &file_sharp,
+        options,
+    )?;
     let unused = scan.vertex_count.saturating_sub(used_in_file);
     if unused > 0 {
         report

@@ -72,6 +72,7 @@ pub(super) fn assemble(
     polygons: PolygonMesh,
     labels: Option<&[u32]>,
     corner_normals: std::result::Result<CornerNormals, String>,
+    file_sharp: &[[u32; 2]],
     options: &LoadOptions,
 ) -> Result<(Mesh, LoadReport)> {
     if polygons.arities.is_empty() {
@@ -117,6 +118,7 @@ pub(super) fn assemble(
         triangulation.faces,
         labels,
         corner_normals,
+        file_sharp,
         options,
     )
     .map_err(|e| name_polygon(e, &polygon_of))?;
@@ -311,6 +313,7 @@ mod tests {
             polygons,
             None,
             Err("no normals".to_string()),
+            &[],
             &LoadOptions::default(),
         )
     }

@@ -5,6 +5,7 @@
 use glam::DVec3;
 
 use super::normals::{self, CornerNormals};
+use super::sharp;
 use super::topology::{NO_TWIN, Topology};
 use super::weld::{check_weld_tolerance, weld};
 use super::{LoadOptions, LoadReport, Mesh};
@@ -57,6 +58,7 @@ pub(super) fn assemble(
     faces: Vec<[u32; 3]>,
     labels: Option<&[u32]>,
     corner_normals: std::result::Result<CornerNormals, String>,
+    file_sharp: &[[u32; 2]],
     options: &LoadOptions,
 ) -> Result<(Mesh, LoadReport)> {
     let relative_tolerance =
@@ -135,12 +137,43 @@ pub(super) fn assemble(
         ));
     }
     let topology = Topology::build(&faces, twin, positions.len(), |v| names.welded(v))?;
+    let file_sharp: Vec<[u32; 2]> = file_sharp
+        .iter()
+        .map(|pair| pair.map(|v| welding.remap[v as usize]))
+        .filter(|&[a, b]| a != b && a != u32::MAX && b != u32::MAX)
+        .map(|[a, b]| [a.min(b), a.max(b)])
+        .collect();
+    let file_sharp = {
+        let mut pairs = file_sharp;
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs
+    };
+    let sharp = sharp::detect(
+        &positions,
+        &faces,
+        &topology.twin,
+        &file_sharp,
+        options.crease_angle,
+    );
+    report.sharp_edges = sharp.count();
+    if options.crease_angle.is_none() && !file_sharp.is_empty() {
+        let [a, b] = file_sharp[0];
+        report.warnings.push(format!(
+            "the file marks {} edges sharp (smoothing groups or per-corner normals; first: \
+             vertices {} and {}), ignored without --crease-angle (180 keeps only those)",
+            file_sharp.len(),
+            names.welded(a),
+            names.welded(b)
+        ));
+    }
     Ok((
         Mesh {
             positions,
             faces,
             obj_normals,
             topology,
+            sharp,
         },
         report,
     ))

@@ -44,6 +44,8 @@ pub(super) struct Welding {
     pub(super) tolerance: f64,
     /// Input vertices used by no face.
     pub(super) unused: usize,
+    /// For each input vertex, the surviving vertex it became (`u32::MAX` if unused).
+    pub(super) remap: Vec<u32>,
 }
 
 /// Checks a relative weld tolerance: finite, 0 (identical positions only) or more, below 1.
@@ -132,6 +134,7 @@ pub(super) fn weld(
         max_distance,
         tolerance,
         unused,
+        remap,
     })
 }
 
@@ -299,7 +302,10 @@ mod tests {
             corner_copy,
             DVec3::Y,
         ];
-        let options = LoadOptions { weld_tolerance };
+        let options = LoadOptions {
+            weld_tolerance,
+            ..LoadOptions::default()
+        };
         Mesh::from_triangles_with(positions, vec![[0, 1, 2], [3, 4, 5]], &options)
     }
 
@@ -355,6 +361,7 @@ mod tests {
                 faces.clone(),
                 &LoadOptions {
                     weld_tolerance: 0.0,
+                    ..LoadOptions::default()
                 },
             );
             assert!(
@@ -404,6 +411,7 @@ mod tests {
         assert_eq!((mesh.vertex_count(), report.welded), (7, 0));
         let options = LoadOptions {
             weld_tolerance: 2e-6 / diagonal,
+            ..LoadOptions::default()
         };
         let error = Mesh::from_triangles_with(positions, faces, &options).unwrap_err();
         let Error::WeldCollapsesFace {
@@ -430,7 +438,10 @@ mod tests {
             let text = std::fs::read_to_string(scan.path()).unwrap();
             let vertex_records = text.lines().filter(|l| l.starts_with("v ")).count();
             for weld_tolerance in [DEFAULT_WELD_TOLERANCE, 1e7 * DEFAULT_WELD_TOLERANCE] {
-                let options = LoadOptions { weld_tolerance };
+                let options = LoadOptions {
+                    weld_tolerance,
+                    ..LoadOptions::default()
+                };
                 let (mesh, report) = Mesh::parse_obj_with(&text, &options).unwrap();
                 assert_eq!(report.welded, 0, "{}", scan.name);
                 assert_eq!(mesh.vertex_count(), vertex_records, "{}", scan.name);

@@ -135,6 +135,15 @@ pub struct Metrics {
     pub vertex_mean_curvature_ratio_min: Option<f64>,
     /// Largest ratio `|H| / |H_mesh|`.
     pub vertex_mean_curvature_ratio_max: Option<f64>,
+    /// Joints along the mesh's sharp edges ([`crate::mesh::SharpEdges`]): counted in
+    /// `joints` and in `g0_max_rel`, but left out of every G1, curvature-jump and
+    /// continuity-order figure, which measure the smooth joints only.
+    pub sharp_joints: usize,
+    /// Largest gap between the two sides of a sharp joint, relative to the diagonal (G0
+    /// across the creases; `None` without sharp edges).
+    pub sharp_g0_max_rel: Option<f64>,
+    /// Largest normal angle across a sharp joint (rad): the crease as built.
+    pub sharp_g1_max_rad: Option<f64>,
 }
 
 impl Metrics {
@@ -172,7 +181,13 @@ impl Metrics {
             network_inflections_max: network.inflections_max,
             network_curves_with_inflections: network.curves_with_inflections,
             network_chord_deviation_max_rel: network.chord_deviation_max_rel,
-            ..Self::measure_normalised(surface, mesh.faces(), mesh.positions(), construct_ms)
+            ..Self::measure_normalised(
+                surface,
+                mesh.faces(),
+                mesh.positions(),
+                &mesh.sharp_face_pairs(),
+                construct_ms,
+            )
         }
     }
 
@@ -187,24 +202,45 @@ impl Metrics {
     ) -> Metrics {
         let factor = unit_scale(positions);
         let positions: Vec<DVec3> = positions.iter().map(|&p| p * factor).collect();
-        Self::measure_normalised(&surface.scaled(factor), faces, &positions, construct_ms)
+        Self::measure_normalised(
+            &surface.scaled(factor),
+            faces,
+            &positions,
+            &[],
+            construct_ms,
+        )
     }
 
-    /// [`Metrics::measure_faces`] on a surface and mesh already scaled by [`unit_scale`].
+    /// [`Metrics::measure_faces`] on a surface and mesh already scaled by [`unit_scale`];
+    /// `sharp` are the face pairs `(f, g)`, `f < g`, across sharp edges, sorted (their joints
+    /// are measured apart).
     fn measure_normalised(
         surface: &Surface,
         faces: &[[u32; 3]],
         positions: &[DVec3],
+        sharp: &[(u32, u32)],
         construct_ms: f64,
     ) -> Metrics {
         let diag = diagonal(positions);
         let floor = CurvatureFloor::for_diagonal(diag);
-        let joint_list = surface.joints(faces);
+        let all_joints = surface.joints(faces);
+        let is_sharp = |j: &crate::surface::Joint| {
+            let f = surface.patches[j.a.patch as usize].face;
+            let g = surface.patches[j.b.patch as usize].face;
+            j.between_faces && sharp.binary_search(&(f.min(g), f.max(g))).is_ok()
+        };
+        let (sharp_list, joint_list): (Vec<_>, Vec<_>) =
+            all_joints.into_iter().partition(|j| is_sharp(j));
         let per_joint: Vec<JointStats> = joint_list
             .par_iter()
             .map(|j| joints::measure_joint(surface, j, floor))
             .collect();
+        let per_sharp_joint: Vec<JointStats> = sharp_list
+            .par_iter()
+            .map(|j| joints::measure_joint(surface, j, floor))
+            .collect();
         let sums = JointSums::reduce(&per_joint);
+        let sharp_sums = JointSums::reduce(&per_sharp_joint);
         let orders: Vec<(bool, i32)> = joint_list
             .par_iter()
             .map(|j| (j.between_faces, continuity::joint_order(surface, j, diag)))
@@ -227,7 +263,7 @@ impl Metrics {
             patches: surface.patches.len(),
             construct_ms,
             interp_max_rel: interp.map(|e| e / diag),
-            g0_max_rel: sums.gap_max.map(|g| g / diag),
+            g0_max_rel: max_of(sums.gap_max, sharp_sums.gap_max).map(|g| g / diag),
             g1_max_rad: max_of(sums.angle_between, sums.angle_inside),
             g1_mean_rad: (sums.regular_samples > 0)
                 .then(|| sums.angle_sum / sums.regular_samples as f64),
@@ -246,16 +282,20 @@ impl Metrics {
             continuity_order_between_faces: min_order(&|b| b),
             continuity_order_inside_faces: min_order(&|b| !b),
             continuity_order_typical: typical_order(&orders),
-            joints: per_joint.len(),
-            joints_between_faces: per_joint.iter().filter(|j| j.between_faces).count(),
+            joints: per_joint.len() + per_sharp_joint.len(),
+            joints_between_faces: per_joint.iter().filter(|j| j.between_faces).count()
+                + per_sharp_joint.len(),
             samples_per_joint: JOINT_SAMPLES,
-            singular_samples: sums.singular_samples,
+            singular_samples: sums.singular_samples + sharp_sums.singular_samples,
             folds: folds.samples,
             folded_patches: folds.patches,
             vertex_flat_points: at_vertices.flat_points,
             vertex_curved: at_vertices.curved_vertices,
             vertex_mean_curvature_ratio_min: at_vertices.mean_ratio_min,
             vertex_mean_curvature_ratio_max: at_vertices.mean_ratio_max,
+            sharp_joints: per_sharp_joint.len(),
+            sharp_g0_max_rel: sharp_sums.gap_max.map(|g| g / diag),
+            sharp_g1_max_rad: sharp_sums.angle_between,
         }
     }
 }
@@ -284,7 +324,7 @@ fn diagonal(positions: &[DVec3]) -> f64 {
 
 impl Metrics {
     /// Every real-valued figure with its JSON key.
-    fn figures(&self) -> [(&'static str, Option<f64>); 16] {
+    fn figures(&self) -> [(&'static str, Option<f64>); 18] {
         [
             ("construct_ms", Some(self.construct_ms)),
             ("interp_max_rel", self.interp_max_rel),
@@ -317,6 +357,8 @@ impl Metrics {
                 "vertex_mean_curvature_ratio_max",
                 self.vertex_mean_curvature_ratio_max,
             ),
+            ("sharp_g0_max_rel", self.sharp_g0_max_rel),
+            ("sharp_g1_max_rad", self.sharp_g1_max_rad),
         ]
     }
 

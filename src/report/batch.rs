@@ -83,6 +83,10 @@ pub struct WorkList {
     pub items: Vec<WorkItem>,
     /// The weld tolerance mesh files are loaded with.
     pub weld_tolerance: f64,
+    /// The crease angle mesh files are loaded with (none by default; left out of the JSON
+    /// then, so lists without one keep their fingerprint).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crease_angle: Option<f64>,
 }
 
 impl WorkList {
@@ -91,6 +95,7 @@ impl WorkList {
         WorkList {
             items,
             weld_tolerance: load.weld_tolerance,
+            crease_angle: load.crease_angle,
         }
     }
 
@@ -98,7 +103,9 @@ impl WorkList {
     pub fn load_options(&self) -> LoadOptions {
         LoadOptions {
             weld_tolerance: self.weld_tolerance,
+            ..LoadOptions::default()
         }
+        .with_crease_angle(self.crease_angle)
     }
 
     /// The estimated cost of every item ([`WorkItem::cost`]).

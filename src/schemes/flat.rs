@@ -16,6 +16,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     params: &[],
     needs_closed_mesh: false,
     bytes_per_face: 400.0,
+    sharp_edges: crate::schemes::SharpEdgeSupport::Builds,
     build,
 };
 

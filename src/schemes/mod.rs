@@ -50,8 +50,21 @@ pub struct SchemeSpec {
     /// unit icosphere (valences 5 and 6; gk at k = 4), rounded up. [`build`] refuses a mesh
     /// whose estimate exceeds the memory limit before allocating ([`crate::budget`]).
     pub bytes_per_face: f64,
+    /// Whether it keeps the mesh's sharp edges ([`crate::mesh::SharpEdges`]) sharp: G0
+    /// across them, its own continuity elsewhere. [`build`] refuses a mesh with sharp edges
+    /// for a scheme that cannot, with the reason.
+    pub sharp_edges: SharpEdgeSupport,
     /// The construction.
     pub build: fn(&Mesh, &Params) -> Result<Surface>,
+}
+
+/// What a scheme does with sharp edges.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SharpEdgeSupport {
+    /// G0 across sharp edges (both sides share one boundary curve), its continuity elsewhere.
+    Builds,
+    /// Refuses a mesh with sharp edges, for the reason given.
+    Refuses(&'static str),
 }
 
 /// Every scheme, in the order the gallery and tables show them.
@@ -105,6 +118,17 @@ pub fn build_in_frame(
     {
         return Err(Error::OpenMesh {
             scheme: spec.name.to_string(),
+            a: a as usize,
+            b: b as usize,
+        });
+    }
+    if let (SharpEdgeSupport::Refuses(reason), Some((a, b))) =
+        (spec.sharp_edges, mesh.sharp_edges().first())
+    {
+        return Err(Error::SharpEdgesUnsupported {
+            scheme: spec.name.to_string(),
+            reason: reason.to_string(),
+            count: mesh.sharp_edges().count(),
             a: a as usize,
             b: b as usize,
         });

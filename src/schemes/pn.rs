@@ -11,7 +11,7 @@ use glam::DVec3;
 
 use crate::bezier::TriangleBezier;
 use crate::error::Result;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, crease_tangent};
 use crate::schemes::{Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 
@@ -22,28 +22,96 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     params: &[crate::schemes::NORMALS_PARAM],
     needs_closed_mesh: false,
     bytes_per_face: 600.0,
+    sharp_edges: crate::schemes::SharpEdgeSupport::Builds,
     build,
 };
 
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let normals = mesh.vertex_normals(params.normal_source()?)?;
     let positions = mesh.positions();
+    let corner_normals = mesh.corner_normals(&normals);
     let patches = mesh
         .faces()
         .iter()
         .enumerate()
         .map(|(f, corners)| {
             let p = corners.map(|v| positions[v as usize]);
-            let n = corners.map(|v| normals[v as usize]);
+            let n = corner_normals[f];
+            let mut patch = pn_triangle(p, n);
+            let sharp: Vec<usize> = (0..3).filter(|&e| mesh.is_sharp(f as u32, e)).collect();
+            for &e in &sharp {
+                crease_edge(&mut patch, mesh, &corner_normals, f, e);
+            }
+            if !sharp.is_empty() {
+                recentre(&mut patch);
+            }
             Patch {
                 face: f as u32,
                 piece: 0,
                 domain: crate::surface::WHOLE_FACE,
-                geometry: PatchGeometry::Bezier(pn_triangle(p, n)),
+                geometry: PatchGeometry::Bezier(patch),
             }
         })
         .collect();
     Ok(params.surface(SPEC.name, patches))
+}
+
+/// Replaces the two edge points of sharp edge `e` of face `f` by the crease cubic's: at each
+/// end the edge's third along [`crease_tangent`] of the normals of the two sectors there (this
+/// face's and its neighbour's). The centre point keeps the plain formula: it is not on the edge.
+fn crease_edge(
+    patch: &mut TriangleBezier,
+    mesh: &Mesh,
+    corner_normals: &[[DVec3; 3]],
+    f: usize,
+    e: usize,
+) {
+    let Some((g, ge)) = mesh.neighbor(f as u32, e) else {
+        return;
+    };
+    let face = mesh.faces()[f];
+    let positions = mesh.positions();
+    // Corner c of f is corner (ge + 1) of g, and corner c + 1 of f is corner ge of g.
+    let ends = [(e, (ge + 1) % 3), ((e + 1) % 3, ge)];
+    let point = |(c, cg): (usize, usize), other: usize| {
+        let (pa, pb) = (positions[face[c] as usize], positions[face[other] as usize]);
+        let t = crease_tangent(
+            pb - pa,
+            corner_normals[f][c],
+            corner_normals[g as usize][cg],
+        );
+        pa + t / 3.0
+    };
+    let near_first = point(ends[0], ends[1].0);
+    let near_second = point(ends[1], ends[0].0);
+    // Edge e of the face runs from corner e to corner e + 1: its inner control points are
+    // b(2,1,0), b(1,2,0) for e = 0, b(0,2,1), b(0,1,2) for e = 1, b(1,0,2), b(2,0,1) for e = 2.
+    let index = |corner: usize, weight: usize| {
+        let mut ijk = [0usize; 3];
+        ijk[corner] = weight;
+        ijk
+    };
+    debug_assert!(patch.degree() == 3, "PN triangles are cubic");
+    let (a, b) = (e, (e + 1) % 3);
+    let mut first = index(a, 2);
+    first[b] = 1;
+    let mut second = index(b, 2);
+    second[a] = 1;
+    patch.set_point(first[0], first[1], near_first);
+    patch.set_point(second[0], second[1], near_second);
+}
+
+/// Sets the centre point `b(1,1,1)` from the patch's edge points by the PN rule
+/// `E + (E − V)/2` (after edge points were moved onto a crease).
+fn recentre(patch: &mut TriangleBezier) {
+    let edge_points = [(2, 1), (1, 2), (0, 2), (0, 1), (1, 0), (2, 0)];
+    let e = edge_points
+        .iter()
+        .map(|&(i, j)| patch.point(i, j))
+        .sum::<DVec3>()
+        / 6.0;
+    let v = (patch.point(3, 0) + patch.point(0, 3) + patch.point(0, 0)) / 3.0;
+    patch.set_point(1, 1, e + (e - v) / 2.0);
 }
 
 /// The cubic PN triangle of corners `p` with unit vertex normals `n`.
@@ -155,5 +223,44 @@ mod tests {
             (mid - 0.625 * (DVec3::X + DVec3::Y)).length() < 1e-15,
             "{mid}"
         );
+    }
+
+    /// A cube with its 12 edges sharp: every patch is its flat face (the sector normals are
+    /// the face normals, the crease cubics are the straight edges), and the two sides of every
+    /// edge have bit-identical boundary control points.
+    #[test]
+    fn sharp_cube_edges_stay_straight_and_sides_flat() {
+        let (positions, faces) = crate::mesh::generate::cube();
+        let options = crate::mesh::LoadOptions {
+            crease_angle: Some(40.0),
+            ..Default::default()
+        };
+        let (mesh, _) = Mesh::from_triangles_with(positions, faces, &options).unwrap();
+        let surface = build(&mesh, &crate::testing::params(&SPEC, &[])).unwrap();
+        let bezier = |f: usize| surface.patches[f].as_bezier().unwrap().clone();
+        // The edge's four control points from corner e to corner e + 1.
+        let edge = |b: &TriangleBezier, e: usize| -> [DVec3; 4] {
+            let (a, c) = (e, (e + 1) % 3);
+            std::array::from_fn(|k| {
+                let mut ijk = [0usize; 3];
+                ijk[a] = 3 - k;
+                ijk[c] = k;
+                b.point(ijk[0], ijk[1])
+            })
+        };
+        for f in 0..mesh.face_count() {
+            let b = bezier(f);
+            let n = mesh.face_normal(f as u32);
+            let p0 = b.point(3, 0);
+            for p in b.points() {
+                assert!((*p - p0).dot(n).abs() < 1e-15, "face {f}: {p}");
+            }
+            for e in 0..3 {
+                let (g, ge) = mesh.neighbor(f as u32, e).unwrap();
+                let mut there = edge(&bezier(g as usize), ge);
+                there.reverse();
+                assert_eq!(edge(&b, e), there, "face {f} edge {e}");
+            }
+        }
     }
 }

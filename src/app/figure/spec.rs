@@ -7,6 +7,7 @@
 //! ```toml
 //! title = "G1 schemes"                  # optional title line
 //! mesh = "deformed-icosahedron"         # a scenes/ mesh name, or an OBJ path (relative to this file)
+//! crease_angle = 40                     # optional: edges turning by more than 40° are sharp
 //! output = "../results/figures/g1"      # stem, relative to this file (as every path here)
 //! size = [256, 256]                     # per cell
 //! spp = 4
@@ -42,8 +43,8 @@ use crate::app::scene::{CameraSection, SceneFile, environment_beside};
 use crate::app::toml_input::{self, exact};
 use crate::error::{Error, Result};
 use crate::files::{check_distinct, check_writable, create_folder, write_atomic};
-use crate::mesh::Mesh;
-use crate::mesh::generate::SCENES;
+use crate::mesh::generate::{SCENES, SHARP_SCENES};
+use crate::mesh::{LoadOptions, Mesh, check_crease_angle};
 use crate::render::camera::Projection;
 use crate::render::curves::CurveOverlay;
 use crate::render::job::DEFAULT_FOV;
@@ -60,6 +61,9 @@ pub struct FigureSpec {
     pub title: Option<String>,
     /// A scenes/ mesh name or an OBJ path relative to the spec file.
     pub mesh: String,
+    /// Crease angle in degrees (edges whose faces turn by more are sharp, see
+    /// [`crate::mesh::LoadOptions::crease_angle`]); unset, no edge is.
+    pub crease_angle: Option<f64>,
     /// Output stem (`.png` appended; a `.png` or `.exr` ending is dropped first), relative to
     /// the spec file once loaded by [`FigureSpec::load`].
     pub output: PathBuf,
@@ -170,12 +174,25 @@ impl FigureSpec {
 
     /// The mesh: a scenes/ name, else a mesh file (OBJ, PLY, OFF, STL) relative to `dir`.
     pub fn load_mesh(&self, dir: &Path) -> Result<Mesh> {
+        let mut options = LoadOptions::default();
+        if let Some(degrees) = self.crease_angle {
+            options.crease_angle = Some(
+                check_crease_angle(degrees)
+                    .map_err(|e| Error::Invalid(format!("crease_angle: {e}")))?,
+            );
+        }
         match (
-            SCENES.iter().find(|s| s.name == self.mesh),
+            SCENES
+                .iter()
+                .chain(&SHARP_SCENES)
+                .find(|s| s.name == self.mesh),
             self.mesh_file(dir),
         ) {
-            (Some(scene), _) => scene.mesh(),
-            (None, path) => Ok(Mesh::load(&path)?.0),
+            (Some(scene), _) => {
+                let (positions, faces) = (scene.build)();
+                Ok(Mesh::from_triangles_with(positions, faces, &options)?.0)
+            }
+            (None, path) => Ok(Mesh::load_with(&path, &options)?.0),
         }
     }
 
@@ -195,7 +212,11 @@ impl FigureSpec {
     pub fn input_files(&self, path: &Path) -> Vec<(&'static str, PathBuf)> {
         let dir = path.parent().unwrap_or(Path::new(""));
         let mut files = vec![("the figure spec", path.to_path_buf())];
-        if !SCENES.iter().any(|s| s.name == self.mesh) {
+        if !SCENES
+            .iter()
+            .chain(&SHARP_SCENES)
+            .any(|s| s.name == self.mesh)
+        {
             files.push(("the mesh", self.mesh_file(dir)));
         }
         for mode in &self.modes {

@@ -107,6 +107,7 @@ pub(super) fn parse(
             "the mesh was read from a {} file, which smoothlab reads no normals from",
             format.name()
         )),
+        &[],
         options,
     )
 }

@@ -14,13 +14,15 @@
 
 pub mod analytic;
 pub mod bad;
+mod cad;
 mod grids;
 mod open;
 mod scenes;
 
+pub use cad::{capped_cylinder, capped_cylinder_with, l_block, l_block_with};
 pub use grids::{disk, genus2, torus};
 pub use open::{half_fan, hemisphere, open_cylinder, wheel};
-pub use scenes::{SCANNED_SCENES, SCENES, ScannedMesh, SceneMesh};
+pub use scenes::{SCANNED_SCENES, SCENES, SHARP_SCENES, ScannedMesh, SceneMesh};
 
 use std::f64::consts::TAU;
 

@@ -3,8 +3,8 @@
 //! source and are checked against what their headers state.
 
 use super::{
-    Triangles, cube, deformed_icosahedron, genus2, icosahedron, mixed_valence, octahedron,
-    tetrahedron, torus,
+    Triangles, capped_cylinder, cube, deformed_icosahedron, genus2, icosahedron, l_block,
+    mixed_valence, octahedron, tetrahedron, torus,
 };
 use crate::error::Result;
 use crate::mesh::Mesh;
@@ -71,6 +71,24 @@ pub const SCENES: [SceneMesh; 8] = [
         description: "plate with two square holes, closed genus-2 surface",
         genus: 2,
         build: genus2,
+    },
+];
+
+/// The CAD-like parts of scenes/, flat faces meeting at 90° creases: the meshes for sharp
+/// edges (`--crease-angle`). Kept apart from [`SCENES`], whose meshes every scheme is measured
+/// on without sharp edges.
+pub const SHARP_SCENES: [SceneMesh; 2] = [
+    SceneMesh {
+        name: "l-block",
+        description: "L-shaped prism of three unit cubes, 90° creases, flat faces cut into half-unit squares",
+        genus: 0,
+        build: l_block,
+    },
+    SceneMesh {
+        name: "capped-cylinder",
+        description: "cylinder r = 1, z in [-1, 1], 16 segments, flat caps: 90° creases at the rims",
+        genus: 0,
+        build: capped_cylinder,
     },
 ];
 
@@ -155,12 +173,12 @@ impl ScannedMesh {
 
 #[cfg(test)]
 mod tests {
-    use super::{SCANNED_SCENES, SCENES};
+    use super::{SCANNED_SCENES, SCENES, SHARP_SCENES};
     use crate::mesh::Mesh;
 
     #[test]
     fn committed_scene_files_match_their_generators() {
-        for scene in &SCENES {
+        for scene in SCENES.iter().chain(&SHARP_SCENES) {
             let path = scene.path();
             let (from_file, report) = Mesh::load_obj(&path).unwrap();
             let generated = scene.mesh().unwrap();
@@ -252,6 +270,7 @@ mod tests {
     fn scene_names_are_kebab_case_and_unique() {
         let mut names: Vec<&str> = SCENES
             .iter()
+            .chain(&SHARP_SCENES)
             .map(|s| s.name)
             .chain(SCANNED_SCENES.iter().map(|s| s.name))
             .collect();
@@ -273,7 +292,7 @@ mod tests {
     #[test]
     #[ignore = "writes scenes/*.obj; run after changing a generator"]
     fn write_scenes() {
-        for scene in &SCENES {
+        for scene in SCENES.iter().chain(&SHARP_SCENES) {
             let path = scene.path();
             std::fs::create_dir_all(path.parent().unwrap()).unwrap();
             std::fs::write(&path, scene.obj_text().unwrap()).unwrap();

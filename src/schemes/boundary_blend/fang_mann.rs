@@ -67,6 +67,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     params: &blend_params("continuity order t (0..=6): weights f_{t,i} with alpha = u^(t+1)"),
     needs_closed_mesh: false,
     bytes_per_face: 2900.0,
+    sharp_edges: crate::schemes::SharpEdgeSupport::Builds,
     build,
 };
 

@@ -35,7 +35,7 @@ use crate::bezier::CurveBezier;
 use crate::bezier::TriangleBezier;
 use crate::blend::{BlendPatch, WeightFamily};
 use crate::error::{Error, Result};
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, crease_tangent};
 use crate::schemes::{NORMALS_PARAM, ParamSpec, Params};
 use crate::surface::{Patch, PatchGeometry, Surface};
 
@@ -74,18 +74,20 @@ impl EdgeFrame {
 }
 
 /// Builds the frame of edge `(a, b)`, `a < b`, from the apexes of its faces (`left`: the
-/// face that runs `a → b`; `right`: the face that runs `b → a`).
+/// face that runs `a → b`; `right`: the face that runs `b → a`), with the normals `[na, nb]`
+/// at its ends and, for a sharp edge, the crease tangents `crease` of its boundary curve.
+#[allow(clippy::too_many_arguments)]
 fn edge_frame(
     scheme: &str,
     a: u32,
     b: u32,
     positions: &[DVec3],
-    normals: &[DVec3],
+    [na, nb]: [DVec3; 2],
+    crease: Option<[DVec3; 2]>,
     left: Option<u32>,
     right: Option<u32>,
 ) -> Result<EdgeFrame> {
     let (pa, pb) = (positions[a as usize], positions[b as usize]);
-    let (na, nb) = (normals[a as usize], normals[b as usize]);
     let e = pb - pa;
     let ee = e.length_squared();
     let project = |n: DVec3, x: DVec3| x - x.dot(n) * n;
@@ -101,7 +103,7 @@ fn edge_frame(
     let perps: Vec<DVec3> = sides.iter().flatten().map(|s| s.1).collect();
     let mean_perp = perps.iter().sum::<DVec3>() / perps.len() as f64;
     let transversal = [project(na, mean_perp), project(nb, mean_perp)];
-    let tangents = [project(na, e), project(nb, e)];
+    let tangents = crease.unwrap_or([project(na, e), project(nb, e)]);
     for (end, (n, (t, d))) in [na, nb]
         .iter()
         .zip(tangents.iter().zip(&transversal))
@@ -144,9 +146,28 @@ pub struct EdgeFrames {
 
 impl EdgeFrames {
     /// The frames of every edge of `mesh` with unit vertex `normals`.
+    ///
+    /// A sharp edge ([`crate::mesh::SharpEdges`]) gets one frame per face, each with its own
+    /// face's apex, and its transversal in its own sector's tangent planes
+    /// ([`Mesh::corner_normals`]); both share one boundary curve (computed once), whose end
+    /// tangents follow the crease ([`crate::mesh::crease_tangent`]): the two faces join with
+    /// G0 there, and each face is smooth up to the crease.
     pub fn build(mesh: &Mesh, normals: &[DVec3], scheme: &str) -> Result<EdgeFrames> {
         let faces = mesh.faces();
         let edges = mesh.edges();
+        let corner_normals = mesh.corner_normals(normals);
+        let corner_normal = |f: u32, v: u32| {
+            let fv = faces[f as usize];
+            let c = fv.iter().position(|&x| x == v).unwrap_or(0);
+            corner_normals[f as usize][c]
+        };
+        let is_sharp = |f: u32, a: u32, b: u32| {
+            let fv = faces[f as usize];
+            (0..3).any(|e| {
+                let (x, y) = (fv[e], fv[(e + 1) % 3]);
+                ((x, y) == (a, b) || (x, y) == (b, a)) && mesh.is_sharp(f, e)
+            })
+        };
         let third = |f: u32, a: u32, b: u32| {
             let fv = faces[f as usize];
             fv.into_iter().find(|&v| v != a && v != b).unwrap_or(fv[0])
@@ -155,29 +176,64 @@ impl EdgeFrames {
             let fv = faces[f as usize];
             (0..3).any(|e| fv[e] == a && fv[(e + 1) % 3] == b)
         };
-        let frames = edges
+        // Per edge: its frame, or for a sharp edge the left face's and the right face's.
+        let per_edge = edges
             .par_iter()
             .map(|edge| {
                 let (mut left, mut right) = (None, None);
                 for f in [Some(edge.faces.0), edge.faces.1].into_iter().flatten() {
                     let apex = third(f, edge.a, edge.b);
                     if runs_forward(f, edge.a, edge.b) {
-                        left = Some(apex);
+                        left = Some((f, apex));
                     } else {
-                        right = Some(apex);
+                        right = Some((f, apex));
                     }
                 }
-                edge_frame(
-                    scheme,
-                    edge.a,
-                    edge.b,
-                    mesh.positions(),
-                    normals,
-                    left,
-                    right,
-                )
+                let ends = |f: u32| [corner_normal(f, edge.a), corner_normal(f, edge.b)];
+                let frame = |f: u32, crease, left, right| {
+                    edge_frame(
+                        scheme,
+                        edge.a,
+                        edge.b,
+                        mesh.positions(),
+                        ends(f),
+                        crease,
+                        left,
+                        right,
+                    )
+                };
+                match (left, right) {
+                    (Some((fl, l)), Some((fr, r))) if is_sharp(fl, edge.a, edge.b) => {
+                        let e =
+                            mesh.positions()[edge.b as usize] - mesh.positions()[edge.a as usize];
+                        let [la, lb] = ends(fl);
+                        let [ra, rb] = ends(fr);
+                        let crease = Some([crease_tangent(e, la, ra), crease_tangent(e, lb, rb)]);
+                        let mut own_left = frame(fl, crease, Some(l), None)?;
+                        let own_right = frame(fr, crease, None, Some(r))?;
+                        // One curve for both faces, bit for bit.
+                        own_left.curve = own_right.curve.clone();
+                        own_left.curve_quartic = own_right.curve_quartic.clone();
+                        Ok(vec![own_left, own_right])
+                    }
+                    _ => {
+                        let f = left.or(right).map_or(edge.faces.0, |(f, _)| f);
+                        Ok(vec![frame(
+                            f,
+                            None,
+                            left.map(|(_, v)| v),
+                            right.map(|(_, v)| v),
+                        )?])
+                    }
+                }
             })
-            .collect::<Result<Vec<_>>>()?;
+            .collect::<Result<Vec<Vec<EdgeFrame>>>>()?;
+        let mut first = Vec::with_capacity(per_edge.len());
+        let mut frames = Vec::with_capacity(edges.len());
+        for group in per_edge {
+            first.push(frames.len());
+            frames.extend(group);
+        }
         let index: HashMap<(u32, u32), usize> = edges
             .iter()
             .enumerate()
@@ -185,10 +241,14 @@ impl EdgeFrames {
             .collect();
         let face_edges = faces
             .iter()
-            .map(|fv| {
+            .enumerate()
+            .map(|(f, fv)| {
                 std::array::from_fn(|e| {
                     let (x, y) = (fv[e], fv[(e + 1) % 3]);
-                    index[&(x.min(y), x.max(y))]
+                    let i = index[&(x.min(y), x.max(y))];
+                    // The right face's own frame follows the left face's.
+                    let right_of_sharp = mesh.is_sharp(f as u32, e) && x > y;
+                    first[i] + usize::from(right_of_sharp && mesh.neighbor(f as u32, e).is_some())
                 })
             })
             .collect();

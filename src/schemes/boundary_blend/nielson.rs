@@ -60,6 +60,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     ),
     needs_closed_mesh: false,
     bytes_per_face: 3600.0,
+    sharp_edges: crate::schemes::SharpEdgeSupport::Builds,
     build,
 };
 

@@ -258,3 +258,50 @@ fn continuity_order_is_the_designed_one() {
         }
     }
 }
+
+/// On a cube with its 12 edges sharp, each side gets one frame per face with the face's own
+/// transversal, both sides of a crease share one curve bit for bit, and every blend patch
+/// stays in its face's plane (a corner vertex: three sectors, each flat).
+#[test]
+fn sharp_cube_edges_give_one_curve_and_flat_sides() {
+    let (positions, faces) = crate::mesh::generate::cube();
+    let options = crate::mesh::LoadOptions {
+        crease_angle: Some(40.0),
+        ..Default::default()
+    };
+    let (mesh, _) = Mesh::from_triangles_with(positions, faces, &options).unwrap();
+    let normals = mesh.vertex_normals(NormalSource::Estimate).unwrap();
+    let frames = super::EdgeFrames::build(&mesh, &normals, "test").unwrap();
+    // 18 edges, 12 of them sharp with two frames each.
+    assert_eq!(frames.frames.len(), 18 + 12);
+    for (f, face) in mesh.faces().iter().enumerate() {
+        for e in 0..3 {
+            let (a, b) = (e, (e + 1) % 3);
+            let here = frames.curve_between(mesh.faces(), f, a, b, false);
+            if let Some((g, ge)) = mesh.neighbor(f as u32, e) {
+                let mut there =
+                    frames.curve_between(mesh.faces(), g as usize, ge, (ge + 1) % 3, false);
+                there.reverse();
+                assert_eq!(here, there, "face {f} edge {e}");
+            }
+            let _ = face;
+        }
+    }
+    for spec in [&nielson::SPEC, &fang_mann::SPEC] {
+        let surface = build(spec, &mesh, &[]);
+        for patch in &surface.patches {
+            let n = mesh.face_normal(patch.face);
+            let p0 = mesh.positions()[mesh.faces()[patch.face as usize][0] as usize];
+            for (u, v) in [(0.2, 0.3), (0.5, 0.0), (0.0, 0.5), (0.5, 0.5), (0.1, 0.8)] {
+                let jet = patch.jet(u, v);
+                assert!(
+                    (jet.p - p0).dot(n).abs() < 1e-14,
+                    "{}: {}",
+                    spec.name,
+                    patch.face
+                );
+                assert!(normal_angle(jet.normal(), n) < 1e-12, "{}", spec.name);
+            }
+        }
+    }
+}

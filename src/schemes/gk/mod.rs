@@ -63,6 +63,9 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     ],
     needs_closed_mesh: true,
     bytes_per_face: 1700.0,
+    sharp_edges: crate::schemes::SharpEdgeSupport::Refuses(
+        "its patches are the G^k completion of one box-spline surface over the whole mesh, which has no creases",
+    ),
     build,
 };
 

@@ -96,6 +96,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     ],
     needs_closed_mesh: false,
     bytes_per_face: 3800.0,
+    sharp_edges: crate::schemes::SharpEdgeSupport::Refuses("its crease rules are not implemented"),
     build,
 };
 

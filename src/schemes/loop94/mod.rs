@@ -55,6 +55,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     ],
     needs_closed_mesh: false,
     bytes_per_face: 1400.0,
+    sharp_edges: crate::schemes::SharpEdgeSupport::Refuses("its crease rules are not implemented"),
     build,
 };
 

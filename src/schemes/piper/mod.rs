@@ -74,6 +74,9 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     ],
     needs_closed_mesh: false,
     bytes_per_face: 3900.0,
+    sharp_edges: crate::schemes::SharpEdgeSupport::Refuses(
+        "its G1 solve joins the two faces of every interior edge smoothly",
+    ),
     build,
 };
 
