@@ -97,6 +97,15 @@ enum Command {
             allow_hyphen_values = true
         )]
         weld_tolerance: f64,
+        /// A parameter `name=value` that replaces its default for the run, for every scheme
+        /// of --scheme that has it (repeatable); the records keep the scheme's name.
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// The history folder whose runs the page's trends show (e.g. the main branch's
+        /// results/history); default OUT/history. The run is recorded in OUT/history either
+        /// way.
+        #[arg(long, value_name = "DIR")]
+        history: Option<PathBuf>,
     },
     /// Merge the partial results of sharded runs (`report --shard`, `render --turntable|
     /// --sweep --shard`, `figure --shard`) into what one process would have written; names
@@ -292,6 +301,8 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             sweep_files,
             shard,
             weld_tolerance,
+            params,
+            history,
         }) => app::run_report_with(&app::ReportArgs {
             out,
             baseline,
@@ -301,6 +312,8 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             sweep_files,
             shard,
             load: smoothlab::mesh::LoadOptions { weld_tolerance },
+            params,
+            history,
         }),
         Some(Command::Merge {
             parts,
