@@ -169,7 +169,7 @@ fn the_gate_passes_a_clean_head_and_fails_a_quality_regression() {
         .lines()
         .find(|l| l.contains("interp_max_rel"))
         .unwrap_or_else(|| panic!("{quality}"));
-    assert!(line.starts_with("WORSE  ico.obj / hb"), "{quality}");
+    assert!(line.starts_with("WORSE ico.obj / hb "), "{quality}");
     let html = std::fs::read_to_string(worse.join("head/index.html")).expect("page");
     assert!(
         html.contains(&format!(

@@ -81,6 +81,9 @@ pub struct Comparison {
     /// Figures that changed within tolerance below the fourth significant digit: counted,
     /// not listed.
     pub unlisted: usize,
+    /// Figures the new report has and the old one lacks (written by a later version): counted,
+    /// not listed, no verdict.
+    pub new_figures: usize,
     /// Lines telling what was not judged and why (timings skipped, machines differ).
     pub notes: Vec<String>,
 }
@@ -108,6 +111,9 @@ impl Comparison {
         );
         if self.unlisted > 0 {
             line += &format!("; {} last-digit change(s) not listed", self.unlisted);
+        }
+        if self.new_figures > 0 {
+            line += &format!("; {} figure(s) new in the new report", self.new_figures);
         }
         line
     }
@@ -388,6 +394,10 @@ pub fn compare(old: &Report, new: &Report, t: Thresholds, timings: TimingCheck) 
             if a == b {
                 continue;
             }
+            if a.is_none() {
+                out.new_figures += 1;
+                continue;
+            }
             let verdict = match (a, b) {
                 (Some(a), Some(b)) => {
                     judge_quality(key, a, b, t.quality_rel).unwrap_or(Verdict::Same)
@@ -460,9 +470,22 @@ pub fn to_text(comparison: &Comparison) -> String {
         .collect();
     let changes = &comparison.changes;
     if changes.is_empty() {
-        let unlisted = match comparison.unlisted {
-            0 => String::new(),
-            n => format!(" ({n} last-digit change(s) within tolerance not listed)"),
+        let mut unlisted = Vec::new();
+        if comparison.unlisted > 0 {
+            unlisted.push(format!(
+                "{} last-digit change(s) within tolerance",
+                comparison.unlisted
+            ));
+        }
+        if comparison.new_figures > 0 {
+            unlisted.push(format!(
+                "{} figure(s) new in the new report",
+                comparison.new_figures
+            ));
+        }
+        let unlisted = match unlisted.is_empty() {
+            true => String::new(),
+            false => format!(" ({} not listed)", unlisted.join(", ")),
         };
         return format!("no changes{unlisted}\n{notes}");
     }
@@ -480,12 +503,14 @@ pub fn to_text(comparison: &Comparison) -> String {
                 c.ratio_text()
             )
         };
+        // `VERDICT RECORD` with one space (what scripts match, e.g. `WORSE mesh / hb`),
+        // padded so that the figures line up.
+        let head = format!("{} {}", c.verdict.word(), c.record);
         out += &format!(
-            "{:<6} {:<record_width$}  {:<key_width$}  {}\n",
-            c.verdict.word(),
-            c.record,
+            "{head:<width$}  {:<key_width$}  {}\n",
             c.key,
-            values.trim_end()
+            values.trim_end(),
+            width = record_width + 7
         );
     }
     out += &comparison.summary();
@@ -665,10 +690,19 @@ mod tests {
         let comparison = compare(&old, &fewer, t, TimingCheck::Skip);
         assert!(!comparison.failed(), "{comparison:?}");
         assert_eq!(comparison.changes.len(), 2, "{comparison:?}");
-        // A report written before the figure existed compares without a verdict on it.
+        // A report written before the figure existed compares without a verdict on it: the
+        // new figures are counted, not listed.
         let before = report(&[]);
         let comparison = compare(&before, &more, t, TimingCheck::Skip);
         assert!(!comparison.failed(), "{comparison:?}");
+        assert!(comparison.changes.is_empty(), "{comparison:?}");
+        assert_eq!(comparison.new_figures, 2);
+        assert!(
+            to_text(&comparison)
+                .starts_with("no changes (2 figure(s) new in the new report not listed)\n"),
+            "{}",
+            to_text(&comparison)
+        );
     }
 
     #[test]
@@ -807,7 +841,7 @@ mod tests {
         let c = compare(&old, &new, Thresholds::default(), TimingCheck::Skip);
         let text = to_text(&c);
         assert!(
-            text.starts_with("WORSE  icosahedron / hb  (record)  missing from the new report\n"),
+            text.starts_with("WORSE icosahedron / hb   (record)  missing from the new report\n"),
             "{text}"
         );
         assert!(text.contains("note: 1 record(s) of the new report are not in the old one"));

@@ -884,6 +884,7 @@ mod tests {
                 },
             ],
             unlisted: 3,
+            new_figures: 0,
             notes: vec!["timings <not> judged".into()],
         };
         let page = to_html(

@@ -397,9 +397,20 @@ fn plot_panel(
             "better"
         };
         let y = hi - (hi - lo) * (0.08 + 0.1 * k as f64);
+        let label = format!("step {arrow} at {}", commit_label(trend, *at));
+        // Beside the line, on the side with room: about 6.5 px a character over the plot's
+        // width of the panel.
+        let units_per_px = n as f64 / f64::from(PANEL.0 - 80);
+        let width = label.chars().count() as f64 * 6.5 * units_per_px;
+        let left = x - 0.05 - width;
+        let text_x = if x + 0.05 + width > n as f64 - 0.5 && left > -0.5 {
+            left
+        } else {
+            x + 0.05
+        };
         chart.draw_series(std::iter::once(Text::new(
-            format!("step {arrow} at {}", commit_label(trend, *at)),
-            (x, y),
+            label,
+            (text_x, y),
             ("sans-serif", 12).into_font().color(&c),
         )))?;
     }
