@@ -102,6 +102,15 @@ enum Command {
         /// surface is G0 there [default: no sharp edges].
         #[arg(long, value_name = "DEG", value_parser = app::parse_crease_angle, allow_hyphen_values = true)]
         crease_angle: Option<f64>,
+        /// A parameter `name=value` that replaces its default for the run, for every scheme
+        /// of --scheme that has it (repeatable); the records keep the scheme's name.
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// The history folder whose runs the page's trends show (e.g. the main branch's
+        /// results/history); default OUT/history. The run is recorded in OUT/history either
+        /// way.
+        #[arg(long, value_name = "DIR")]
+        history: Option<PathBuf>,
     },
     /// Merge the partial results of sharded runs (`report --shard`, `render --turntable|
     /// --sweep --shard`, `figure --shard`) into what one process would have written; names
@@ -308,6 +317,8 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             shard,
             weld_tolerance,
             crease_angle,
+            params,
+            history,
         }) => app::run_report_with(&app::ReportArgs {
             out,
             baseline,
@@ -321,6 +332,8 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                 ..Default::default()
             }
             .with_crease_angle(crease_angle),
+            params,
+            history,
         }),
         Some(Command::Merge {
             parts,

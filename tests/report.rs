@@ -344,3 +344,144 @@ fn unreadable_entries_of_a_mesh_folder_are_error_records() {
     assert_eq!(row.split(',').count(), header + 1, "{row}");
     assert!(out_dir.join("index.html").is_file());
 }
+
+/// `compare` reads at a glance: before → after, the relative change, BETTER / WORSE / same,
+/// last-digit changes counted but not listed; two single-scheme `metrics --json` outputs
+/// compare with each other.
+#[test]
+fn compare_lists_verdicts_ratios_and_skips_unchanged_values() {
+    let dir = scratch("at-a-glance");
+    let old = committed_report_on("cpu A");
+    let mut new = old.clone();
+    let records = new["records"].as_array_mut().unwrap();
+    let find = |mesh: &str, scheme: &str| -> usize {
+        records
+            .iter()
+            .position(|r| r["scheme"] == scheme && r["mesh"] == mesh)
+            .unwrap_or_else(|| panic!("{mesh} / {scheme} recorded"))
+    };
+    let (worse, better, drift) = (
+        find("icosahedron", "hb"),
+        find("torus", "pn"),
+        find("cube", "hb"),
+    );
+    let figure = |r: &serde_json::Value, key: &str| r["figures"][key].as_f64().unwrap();
+    let g1 = figure(&records[worse], "g1_between_faces_max_rad");
+    records[worse]["figures"]["g1_between_faces_max_rad"] = (g1 + 0.01).into();
+    let energy = figure(&records[better], "bending_energy");
+    records[better]["figures"]["bending_energy"] = (0.5 * energy).into();
+    let drifting = figure(&records[drift], "bending_energy");
+    records[drift]["figures"]["bending_energy"] = (drifting * (1.0 + 1e-12)).into();
+    let (old_path, new_path) = (
+        write_json(&dir, "old.json", &old),
+        write_json(&dir, "new.json", &new),
+    );
+    let (code, stdout, stderr) = run(&["compare", &old_path, &new_path]);
+    assert_eq!(code, Some(1), "{stdout}{stderr}");
+    let lines: Vec<String> = stdout
+        .lines()
+        .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+        .collect();
+    assert_eq!(
+        lines.len(),
+        4,
+        "two changes, the counts, the note: {stdout}"
+    );
+    assert!(
+        lines[0].starts_with("WORSE icosahedron / hb g1_between_faces_max_rad ")
+            && lines[0].contains(" → 1.000e-2 x"),
+        "{stdout}"
+    );
+    assert!(
+        lines[1].starts_with("BETTER torus / pn bending_energy ") && lines[1].ends_with("-50.0%"),
+        "{stdout}"
+    );
+    assert_eq!(
+        lines[2],
+        "1 regression(s), 1 improvement(s), 0 within tolerance among 2 change(s); 1 \
+         last-digit change(s) not listed"
+    );
+    assert!(!stdout.contains("cube / hb"), "{stdout}");
+
+    // metrics --json of one scheme each: the two schemes are compared.
+    let mesh = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/octahedron.obj");
+    let mut paths = Vec::new();
+    for scheme in ["flat", "pn"] {
+        let path = dir.join(format!("{scheme}.json"));
+        let (code, _, stderr) = run(&[
+            "metrics",
+            mesh.to_str().unwrap(),
+            "--scheme",
+            scheme,
+            "--json",
+            path.to_str().unwrap(),
+        ]);
+        assert_eq!(code, Some(0), "{stderr}");
+        paths.push(path.to_str().unwrap().to_string());
+    }
+    let (code, stdout, _) = run(&["compare", &paths[0], &paths[1]]);
+    assert!(!stdout.contains("(record)"), "{stdout}");
+    assert!(stdout.contains("(metrics) / flat -> pn"), "{stdout}");
+    // flat has G1 jumps at every edge that pn's normals smooth: better, not worse.
+    assert!(stdout.contains("BETTER (metrics) / flat -> pn"), "{stdout}");
+    assert!(matches!(code, Some(0 | 1)), "{stdout}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `merge --baseline` prints the baseline's line as `report --baseline` does.
+#[test]
+fn merge_with_a_baseline_prints_the_regression_count() {
+    let dir = scratch("merge-baseline");
+    let meshes = dir.join("meshes");
+    std::fs::create_dir_all(&meshes).unwrap();
+    std::fs::write(meshes.join("ico.obj"), icosahedron_obj()).unwrap();
+    let m = common::path_str(&meshes);
+    let single = dir.join("single");
+    let out = smoothlab(&[
+        "report",
+        "--meshes",
+        m,
+        "--scheme",
+        "flat",
+        "--out",
+        common::path_str(&single),
+    ]);
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    let mut baseline: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(single.join("metrics.json")).unwrap())
+            .unwrap();
+    baseline["records"][0]["figures"]["g1_between_faces_max_rad"] = 0.0.into();
+    let baseline = write_json(&dir, "baseline.json", &baseline);
+    let part = dir.join("part");
+    let out = smoothlab(&[
+        "report",
+        "--meshes",
+        m,
+        "--scheme",
+        "flat",
+        "--out",
+        common::path_str(&part),
+        "--shard",
+        "0/1",
+    ]);
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    let merged = dir.join("merged");
+    let (code, stdout, stderr) = run(&[
+        "merge",
+        common::path_str(&part),
+        "-o",
+        common::path_str(&merged),
+        "--baseline",
+        &baseline,
+    ]);
+    assert_eq!(code, Some(0), "{stdout}{stderr}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 2, "{stdout}");
+    assert!(
+        lines[1].starts_with(&format!(
+            "baseline {baseline}: 1 regression(s), 0 improvement(s)"
+        )),
+        "{stdout}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

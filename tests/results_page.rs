@@ -12,7 +12,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use smoothlab::report::{self, page, plots};
+use smoothlab::report::{self, history, page, plots, trends};
 
 mod common;
 
@@ -53,6 +53,14 @@ struct PageCheck {
     images: usize,
     errors: usize,
     messages: String,
+    /// The width of the page's viewport, CSS pixels.
+    viewport: usize,
+    /// Tables wider than the page or than their box (they would scroll sideways).
+    wide_tables: usize,
+    /// The step changes listed under the trend plots.
+    steps: usize,
+    /// The DOM after `load`.
+    dom: String,
 }
 
 /// The value of attribute `name` in the `<body …>` tag of `dom`.
@@ -67,6 +75,11 @@ fn body_attribute<'a>(dom: &'a str, name: &str) -> Option<&'a str> {
 /// Loads `page` in headless Chromium: the DOM after `load` (the page's self-check) and a
 /// screenshot into `shot`.
 fn open_in_browser(browser: &Path, page: &Path, shot: &Path) -> PageCheck {
+    open_at_width(browser, page, shot, 1280)
+}
+
+/// [`open_in_browser`] with a window `width` pixels wide.
+fn open_at_width(browser: &Path, page: &Path, shot: &Path, width: u32) -> PageCheck {
     let url = format!(
         "file://{}",
         page.canonicalize().expect("page path").display()
@@ -81,8 +94,8 @@ fn open_in_browser(browser: &Path, page: &Path, shot: &Path) -> PageCheck {
                 "--no-first-run",
                 "--hide-scrollbars",
                 "--virtual-time-budget=20000",
-                "--window-size=1280,1600",
             ])
+            .arg(format!("--window-size={width},1600"))
             .arg(format!("--user-data-dir={}", profile.display()))
             .args(extra)
             .arg(&url)
@@ -117,6 +130,10 @@ fn open_in_browser(browser: &Path, page: &Path, shot: &Path) -> PageCheck {
         images: number("data-images"),
         errors: number("data-errors"),
         messages,
+        viewport: number("data-viewport"),
+        wide_tables: number("data-wide-tables"),
+        steps: number("data-steps"),
+        dom,
     }
 }
 
@@ -128,11 +145,15 @@ fn assert_page_ok(check: &PageCheck, tables: usize, images: usize) {
     assert_eq!(check.images, images, "images shown: {check:?}");
 }
 
-/// Meshes of a report, in order.
-fn mesh_count(report: &report::Report) -> usize {
-    let mut meshes: Vec<&str> = report.records.iter().map(|r| r.mesh.as_str()).collect();
-    meshes.dedup();
-    meshes.len()
+/// The figure tables of a report's page.
+fn table_count(report: &report::Report) -> usize {
+    page::table_figures(report).len()
+}
+
+/// The trend plots of the history in the report folder `dir`.
+fn trend_count(dir: &Path) -> usize {
+    let runs = history::read_dir(&dir.join(history::HISTORY)).expect("history");
+    trends::trends(&runs).0.len()
 }
 
 /// The committed `results/index.html` (the acceptance check of `.ci/run`).
@@ -151,9 +172,12 @@ fn committed_results_page_renders_in_a_browser() {
     );
     assert_page_ok(
         &check,
-        mesh_count(&recorded),
-        plots::PLOTS.len() + page::THUMB_MODES.len() * recorded.records.len(),
+        table_count(&recorded),
+        plots::PLOTS.len()
+            + trend_count(&results)
+            + page::THUMB_MODES.len() * recorded.records.len(),
     );
+    assert!(trend_count(&results) > 0, "results/ carries its history");
 }
 
 /// `report --baseline`: a bad baseline is refused before any work; a good one adds the table of
@@ -224,6 +248,10 @@ fn a_report_with_a_baseline_renders_in_a_browser() {
         ),
         "the injected regression is on the page"
     );
+    assert!(
+        html.contains("<td class=\"worse\" title=\"WORSE: before 1.000e-3, x"),
+        "the changed cell of the bending-energy table is marked"
+    );
     let thumbs = std::fs::read_dir(out_dir.join(page::THUMBS))
         .expect("thumbs")
         .count();
@@ -232,8 +260,8 @@ fn a_report_with_a_baseline_renders_in_a_browser() {
     let check = open_in_browser(&browser, &out_dir.join(page::PAGE), &dir.join("page.png"));
     assert_page_ok(
         &check,
-        mesh_count(&new) + 1,
-        plots::PLOTS.len() + page::THUMB_MODES.len() * new.records.len(),
+        table_count(&new) + 1,
+        plots::PLOTS.len() + trend_count(&out_dir) + page::THUMB_MODES.len() * new.records.len(),
     );
 }
 
@@ -320,7 +348,169 @@ fn meshes_with_markup_and_url_characters_in_their_names_show_on_the_page() {
     let check = open_in_browser(&browser, &out_dir.join(page::PAGE), &dir.join("page.png"));
     assert_page_ok(
         &check,
-        names.len(),
-        plots::PLOTS.len() + page::THUMB_MODES.len() * new.records.len(),
+        table_count(&new),
+        plots::PLOTS.len() + trend_count(&out_dir) + page::THUMB_MODES.len() * new.records.len(),
     );
+}
+
+/// Runs git with `args` in `repo` (an identity given, no global configuration needed).
+fn git(repo: &Path, args: &[&str]) -> String {
+    let out = Command::new("git")
+        .args([
+            "-c",
+            "user.name=smoothlab test",
+            "-c",
+            "user.email=test@smoothlab.invalid",
+        ])
+        .args(["-c", "commit.gpgsign=false"])
+        .args(args)
+        .current_dir(repo)
+        .output()
+        .expect("run git");
+    assert!(
+        out.status.success(),
+        "git {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).trim().to_string()
+}
+
+/// The acceptance test of the history: three reports on three commits of a scratch repository,
+/// the third with a worse hb parameter (`alpha=0.5` no longer interpolates the vertices), make
+/// a page whose `interp_max_rel` trend marks one step, worse, at the third commit — and none
+/// elsewhere — and whose tables fit a 1400 px window without scrolling sideways.
+#[test]
+fn three_commits_with_a_regression_show_the_step_at_its_commit() {
+    let dir = scratch("history");
+    let repo = dir.join("repo");
+    std::fs::create_dir_all(&repo).expect("repo");
+    git(&repo, &["init", "-q"]);
+    let meshes = dir.join("meshes");
+    std::fs::create_dir_all(&meshes).expect("meshes");
+    for (name, level) in [("ico.obj", 0), ("sphere-80.obj", 1)] {
+        let s = smoothlab::mesh::generate::analytic::sphere(level);
+        let obj = smoothlab::mesh::generate::to_obj(&(s.positions, s.faces));
+        std::fs::write(meshes.join(name), obj).expect("mesh");
+    }
+    let out_dir = dir.join("results");
+    let mut commits = Vec::new();
+    for (k, extra) in [&[][..], &[][..], &["--param", "alpha=0.5"][..]]
+        .iter()
+        .enumerate()
+    {
+        git(
+            &repo,
+            &[
+                "commit",
+                "-q",
+                "--allow-empty",
+                "-m",
+                &format!("change {k}"),
+            ],
+        );
+        commits.push(git(&repo, &["rev-parse", "HEAD"]));
+        let mut args = vec![
+            "report",
+            "--meshes",
+            meshes.to_str().expect("utf-8"),
+            "--scheme",
+            "hb,pn",
+            "--out",
+            out_dir.to_str().expect("utf-8"),
+        ];
+        args.extend_from_slice(extra);
+        let out = Command::new(env!("CARGO_BIN_EXE_smoothlab"))
+            .args(&args)
+            .current_dir(&repo)
+            .output()
+            .expect("run smoothlab");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        // Runs are ordered by their date (seconds): one second between them.
+        std::thread::sleep(std::time::Duration::from_millis(1100));
+    }
+    // One entry per commit, in run order.
+    let runs = history::read_dir(&out_dir.join(history::HISTORY)).expect("history");
+    let order: Vec<&str> = runs.iter().map(|e| e.commit.as_str()).collect();
+    assert_eq!(
+        order,
+        commits.iter().map(String::as_str).collect::<Vec<_>>()
+    );
+    let files = std::fs::read_dir(out_dir.join(history::HISTORY))
+        .expect("history folder")
+        .count();
+    assert_eq!(files, 3);
+    let recorded = report::read(&out_dir.join("metrics.json")).expect("report");
+    assert_eq!(recorded.commit, commits[2]);
+    let hb = recorded
+        .records
+        .iter()
+        .find(|r| r.scheme == "hb" && r.mesh == "ico.obj")
+        .expect("hb keeps its name under --param");
+    assert_eq!(hb.figures["params"]["alpha"], "0.5");
+
+    let html = std::fs::read_to_string(out_dir.join(page::PAGE)).expect("page");
+    let Some(browser) = chromium() else { return };
+    let check = open_at_width(
+        &browser,
+        &out_dir.join(page::PAGE),
+        &dir.join("page.png"),
+        1400,
+    );
+    assert_page_ok(
+        &check,
+        table_count(&recorded),
+        plots::PLOTS.len()
+            + trend_count(&out_dir)
+            + page::THUMB_MODES.len() * recorded.records.len(),
+    );
+    assert_eq!(check.viewport, 1400, "{check:?}");
+    assert_eq!(check.wide_tables, 0, "tables scroll sideways at 1400 px");
+    // The step of hb's interpolation error on both meshes, at the third commit, worse; pn did
+    // not change, and nothing changed at the second commit.
+    let steps: Vec<&str> = check
+        .dom
+        .split("<li class=\"step ")
+        .skip(1)
+        .map(|li| &li[..li.find("</li>").expect("closed")])
+        .collect();
+    assert_eq!(check.steps, steps.len());
+    let marker = |mesh: &str| {
+        format!(
+            "worse\" data-figure=\"interp_max_rel\" data-record=\"{mesh} / hb\" data-commit=\"{}\"",
+            commits[2]
+        )
+    };
+    for mesh in ["ico.obj", "sphere-80.obj"] {
+        assert!(
+            steps.iter().any(|s| s.starts_with(&marker(mesh))),
+            "no step marked for {mesh}: {steps:#?}"
+        );
+    }
+    // (Timings on a shared machine may step anywhere; quality may not.)
+    assert!(
+        steps
+            .iter()
+            .filter(|s| !s.contains("data-figure=\"construct_ms\""))
+            .all(|s| s.contains(&commits[2]) && s.contains("/ hb\"")),
+        "quality steps only at the third commit, only for hb: {steps:#?}"
+    );
+    // The plot marks it at that commit (the axis shows the short commit).
+    let svg = std::fs::read_to_string(out_dir.join(trends::trend_file("interp_max_rel")))
+        .expect("trend plot");
+    let short: String = runs
+        .last()
+        .expect("run")
+        .short_commit()
+        .chars()
+        .take(8)
+        .collect();
+    assert!(
+        svg.contains(&format!("step worse at {short}")),
+        "marker in the plot"
+    );
+    assert!(html.contains("src=\"figures/trend-interp_max_rel.svg\""));
 }

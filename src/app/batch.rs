@@ -58,6 +58,46 @@ pub fn variants(
     Ok(out)
 }
 
+/// `variants` with `report --param` pairs `raw` (`name=value`) as the defaults of every
+/// variant whose scheme declares the name; a name no variant's scheme declares is an error
+/// naming it and the parameters they have.
+pub fn with_defaults(mut variants: Vec<Variant>, raw: &[String]) -> Result<Vec<Variant>> {
+    let pairs = crate::app::parse_params(raw)?;
+    for (name, _) in &pairs {
+        let declared = |v: &Variant| {
+            schemes::find(&v.scheme).is_ok_and(|s| s.params.iter().any(|p| p.name == name))
+        };
+        if !variants.iter().any(declared) {
+            let mut known: Vec<&str> = variants
+                .iter()
+                .filter_map(|v| schemes::find(&v.scheme).ok())
+                .flat_map(|s| s.params.iter().map(|p| p.name))
+                .collect();
+            known.sort_unstable();
+            known.dedup();
+            return Err(Error::Invalid(format!(
+                "--param {name}: no scheme of the report has a parameter '{name}' (they have: {})",
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                }
+            )));
+        }
+    }
+    for v in &mut variants {
+        let Ok(spec) = schemes::find(&v.scheme) else {
+            continue;
+        };
+        v.defaults = pairs
+            .iter()
+            .filter(|(n, _)| spec.params.iter().any(|p| p.name == n))
+            .cloned()
+            .collect();
+    }
+    Ok(variants)
+}
+
 /// The schemes of `--scheme`: `all` (every registered scheme) or names separated by commas.
 fn scheme_list(selection: &str) -> Result<Vec<Variant>> {
     if selection.trim() == crate::app::ALL_SCHEMES {
@@ -130,6 +170,7 @@ pub fn parse_sweep(text: &str) -> Result<Vec<Variant>> {
     Ok(combos
         .into_iter()
         .map(|params| Variant {
+            defaults: Vec::new(),
             scheme: scheme.name.to_string(),
             params,
         })

@@ -75,14 +75,18 @@ pub fn run_merge(parts: &[PathBuf], out: &Path, baseline: Option<&Path>) -> Resu
                     out.join("metrics.json").display()
                 )));
             }
+            let mut stdout = format!(
+                "merged {} parts: {} records ({errors} errors) written to {}/metrics.{{json,csv,md}}, \
+                 figures/ and index.html\n",
+                parts.len(),
+                merged.report.records.len(),
+                out.display()
+            );
+            if let (Some(path), Some(comparison)) = (baseline, &merged.comparison) {
+                stdout += &super::baseline_line(path, comparison, out);
+            }
             Ok(Output {
-                stdout: format!(
-                    "merged {} parts: {} records ({errors} errors) written to {}/metrics.{{json,csv,md}}, \
-                     figures/ and index.html\n",
-                    parts.len(),
-                    merged.report.records.len(),
-                    out.display()
-                ),
+                stdout,
                 warnings: merged.warnings,
                 failed: false,
             })

@@ -482,6 +482,10 @@ pub struct ReportArgs {
     pub shard: Option<crate::report::shard::Shard>,
     /// How mesh files are loaded.
     pub load: LoadOptions,
+    /// `--param name=value`: replaces the default of that parameter for the run.
+    pub params: Vec<String>,
+    /// `--history DIR`: the history the page's trends show (default: `OUT/history/`).
+    pub history: Option<std::path::PathBuf>,
 }
 
 impl Default for ReportArgs {
@@ -495,6 +499,8 @@ impl Default for ReportArgs {
             sweep_files: Vec::new(),
             shard: None,
             load: LoadOptions::default(),
+            params: Vec::new(),
+            history: None,
         }
     }
 }
@@ -505,13 +511,17 @@ impl Default for ReportArgs {
 pub fn run_report_with(args: &ReportArgs) -> Result<Output> {
     let start = std::time::Instant::now();
     let out_dir = args.out.as_path();
-    let variants = batch::variants(&args.scheme, &args.sweeps, &args.sweep_files)?;
+    let variants = batch::with_defaults(
+        batch::variants(&args.scheme, &args.sweeps, &args.sweep_files)?,
+        &args.params,
+    )?;
     let work = match &args.meshes {
         Some(source) => batch::mesh_work(source, &variants, &args.load)?,
         None => crate::report::benchmark_work(&variants)?,
     };
     let options = crate::report::WriteOptions {
         baseline: args.baseline.clone(),
+        history: args.history.clone(),
         ..Default::default()
     };
     if let Some(shard) = args.shard {
@@ -568,19 +578,28 @@ pub fn run_report_with(args: &ReportArgs) -> Result<Output> {
         );
     }
     if let (Some(path), Some(comparison)) = (baseline, &written.comparison) {
-        let worse = comparison.changes.iter().filter(|c| c.regression).count();
-        stdout += &format!(
-            "baseline {}: {worse} regression(s) among {} change(s), listed in {}\n",
-            path.display(),
-            comparison.changes.len(),
-            out_dir.join(crate::report::page::PAGE).display()
-        );
+        stdout += &baseline_line(path, comparison, out_dir);
     }
     Ok(Output {
         stdout,
         warnings: written.warnings,
         ..Default::default()
     })
+}
+
+/// The line `report --baseline` and `merge --baseline` print: the counts of the comparison
+/// and where its changes are listed.
+pub fn baseline_line(
+    baseline: &Path,
+    comparison: &crate::report::compare::Comparison,
+    out_dir: &Path,
+) -> String {
+    format!(
+        "baseline {}: {}, listed in {}\n",
+        baseline.display(),
+        comparison.summary(),
+        out_dir.join(crate::report::page::PAGE).display()
+    )
 }
 
 /// `smoothlab compare OLD NEW`: the changes between two reports (or two `metrics --json`

@@ -31,6 +31,11 @@ pub struct Variant {
     pub scheme: String,
     /// `name=value` pairs set (the rest take their defaults).
     pub params: Vec<(String, String)>,
+    /// `name=value` pairs that replace the scheme's defaults for the run (`report --param`):
+    /// applied before `params`, and not part of the label, so that the records keep the
+    /// scheme's name (their `params` figure says the values used).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub defaults: Vec<(String, String)>,
 }
 
 impl Variant {
@@ -39,6 +44,7 @@ impl Variant {
         Variant {
             scheme: scheme.to_string(),
             params: Vec::new(),
+            defaults: Vec::new(),
         }
     }
 
@@ -46,10 +52,19 @@ impl Variant {
     /// `:name=value` for each parameter set (`hb:beta=0.1`), the syntax of `--sweep`.
     pub fn label(&self) -> String {
         let mut label = self.scheme.clone();
+        // `defaults` are not named: they stand for the scheme's defaults.
         for (name, value) in &self.params {
             label += &format!(":{name}={value}");
         }
         label
+    }
+}
+
+impl Variant {
+    /// The parameters the variant is built with: `defaults`, then `params` (a later pair of a
+    /// name overrides an earlier one).
+    pub fn build_params(&self) -> Vec<(String, String)> {
+        self.defaults.iter().chain(&self.params).cloned().collect()
     }
 }
 
@@ -137,6 +152,7 @@ mod tests {
                 ("beta".into(), "0.1".into()),
                 ("gamma0".into(), "-1".into()),
             ],
+            defaults: vec![("beta".into(), "0.3".into())],
         };
         assert_eq!(v.label(), "hb:beta=0.1:gamma0=-1");
         assert_eq!(Variant::default_of("pn").label(), "pn");

@@ -13,11 +13,13 @@
 pub mod analytic;
 pub mod batch;
 pub mod compare;
+pub mod history;
 pub mod page;
 pub mod partial;
 pub mod plots;
 pub mod provenance;
 pub mod shard;
+pub mod trends;
 
 use std::path::Path;
 use std::time::{SystemTime, UNIX_EPOCH};
@@ -270,7 +272,8 @@ fn measure_variant(
     analytic: Option<Analytic>,
     variant: &batch::Variant,
 ) -> Result<(Record, Surface)> {
-    let (surface, ms, runs, spread) = build_median_timed(&variant.scheme, mesh, &variant.params)?;
+    let (surface, ms, runs, spread) =
+        build_median_timed(&variant.scheme, mesh, &variant.build_params())?;
     let metrics = Metrics::measure(&surface, mesh, ms);
     let mut figures = match serde_json::to_value(&metrics) {
         Ok(serde_json::Value::Object(map)) => map,
@@ -593,6 +596,10 @@ pub struct WriteOptions {
     pub baseline: Option<std::path::PathBuf>,
     /// Size and sampling of the page's thumbnails.
     pub thumbnails: page::ThumbnailOptions,
+    /// The history folder whose runs the page's trends show (`report --history DIR`); None:
+    /// the report folder's own `history/`. The run is recorded in the report folder's
+    /// `history/` either way.
+    pub history: Option<std::path::PathBuf>,
 }
 
 /// What [`write_with`] measured and wrote.
@@ -640,6 +647,20 @@ pub fn write_with(
     )
 }
 
+/// The runs of the history the page's trends show: `options.history`, or the report folder's
+/// own `history/` (a missing folder is an empty history). Read before anything is measured, so
+/// that a damaged entry stops the run early.
+fn read_history(out_dir: &Path, options: &WriteOptions) -> Result<Vec<history::Entry>> {
+    match &options.history {
+        Some(dir) if !dir.is_dir() => Err(Error::Invalid(format!(
+            "--history {}: not a folder of history entries",
+            dir.display()
+        ))),
+        Some(dir) => history::read_dir(dir),
+        None => history::read_dir(&out_dir.join(history::HISTORY)),
+    }
+}
+
 /// The baseline of `options`, read (it must be a report, see [`read`]).
 fn read_baseline(options: &WriteOptions) -> Result<Option<(&Path, Report)>> {
     options
@@ -661,8 +682,10 @@ fn prepare_report_folder(
     let figures = out_dir.join("figures");
     create_folder(&figures)?;
     create_folder(&out_dir.join(page::THUMBS))?;
+    create_folder(&out_dir.join(history::HISTORY))?;
     let mut outputs: Vec<std::path::PathBuf> = TABLES.map(|name| out_dir.join(name)).to_vec();
     outputs.extend(plots::plot_paths(&figures));
+    outputs.extend(trends::trend_paths(out_dir));
     outputs.push(out_dir.join(page::PAGE));
     for item in &work.items {
         for v in &item.variants {
@@ -699,6 +722,7 @@ pub fn write_work(
     progress: &dyn Fn(usize, usize, &str),
 ) -> Result<Written> {
     let baseline = read_baseline(options)?;
+    let earlier = read_history(out_dir, options)?;
     prepare_report_folder(out_dir, work, options.baseline.as_deref())?;
     let all: Vec<usize> = (0..work.items.len()).collect();
     let measured = measure_items(work, &all, Some((out_dir, &options.thumbnails)), progress)?;
@@ -708,6 +732,7 @@ pub fn write_work(
         &report,
         &measured.thumbnails,
         baseline.as_ref().map(|(p, r)| (*p, r)),
+        earlier,
     )?;
     Ok(Written {
         report,
@@ -719,12 +744,15 @@ pub fn write_work(
 
 /// Writes the tables, the plots and the page of `report` into `out_dir` (whose folders exist;
 /// the thumbnails `thumbnails` are already in `out_dir/thumbs/`), with the changes against
-/// `baseline` (its path and report) when given; returns that comparison.
+/// `baseline` (its path and report) when given; records the run in `out_dir/history/` and
+/// draws the trends of the runs `earlier` with this one (in place of an earlier run of its
+/// commit); returns the comparison with the baseline.
 pub fn write_outputs(
     out_dir: &Path,
     report: &Report,
     thumbnails: &[page::MeshThumbnails],
     baseline: Option<(&Path, &Report)>,
+    earlier: Vec<history::Entry>,
 ) -> Result<Option<compare::Comparison>> {
     let comparison = baseline.map(|(_, old)| {
         compare::compare(
@@ -734,6 +762,11 @@ pub fn write_outputs(
             compare::TimingCheck::SameMachine,
         )
     });
+    let entry = history::Entry::of(report);
+    history::record(&out_dir.join(history::HISTORY), &entry)?;
+    let runs = history::with_current(earlier, entry);
+    let (trends, trend_note) = trends::trends(&runs);
+    trends::write_trends(&trends, out_dir)?;
     plots::write_plots(report, &out_dir.join("figures"))?;
     let json = serde_json::to_string_pretty(report)
         .map_err(|e| Error::Invalid(format!("report JSON: {e}")))?;
@@ -754,6 +787,11 @@ pub fn write_outputs(
                 comparison,
             })
             .as_ref(),
+        &page::History {
+            runs: &runs,
+            trends: &trends,
+            note: trend_note.as_deref(),
+        },
     );
     page::check_references(&html, out_dir)?;
     write_atomic(&out_dir.join(page::PAGE), html.as_bytes())?;

@@ -22,7 +22,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::compare::Comparison;
+use super::compare::{Comparison, Verdict};
+use super::trends::Trend;
 use super::{COLUMNS, Report, TIMING_RUNS, plots, value_text};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
@@ -266,11 +267,19 @@ body { font: 14px/1.4 system-ui, sans-serif; margin: 1.5em; color: #222; }
 h1 { font-size: 1.5em; } h2 { margin-top: 1.6em; } h3 { margin-bottom: 0.3em; }
 table { border-collapse: collapse; margin: 0.4em 0 1em; font-variant-numeric: tabular-nums; }
 th, td { border: 1px solid #ccc; padding: 2px 6px; text-align: right; white-space: nowrap; }
+td.error { color: #a00; }
 th:first-child, td:first-child { text-align: left; }
 thead th { background: #f0f0f0; cursor: pointer; user-select: none; position: sticky; top: 0; }
 th[data-dir=asc]::after { content: ' \\25B2'; } th[data-dir=desc]::after { content: ' \\25BC'; }
-tr.worse td { background: #fde2e2; }
+tr.worse td, td.worse { background: #fde2e2; }
+tr.better td, td.better { background: #dff3df; }
+td.same { background: #f4f4f4; }
 .scroll { overflow-x: auto; }
+table.figure { min-width: 24em; }
+figure.trend { margin: 0.5em 0 1.5em; }
+figure.trend img { max-width: 100%; border: 1px solid #ddd; }
+ul.steps { margin: 0.3em 0; padding-left: 1.2em; }
+li.step.worse { color: #a00; } li.step.better { color: #186a1e; }
 .plots img { width: 480px; max-width: 100%; margin: 0 0.5em 0.5em 0; border: 1px solid #ddd; }
 .thumbs td, .thumbs th { border: none; text-align: center; padding: 2px; font-weight: normal; }
 .thumbs thead th { background: none; cursor: default; position: static; }
@@ -343,6 +352,14 @@ window.addEventListener('load', function () {
   document.getElementById('page-errors').textContent = window.pageErrors.join('\\n');
   var b = document.body;
   b.setAttribute('data-tables', String(document.querySelectorAll('table.sortable').length));
+  var width = document.documentElement.clientWidth;
+  var wide = Array.prototype.filter.call(document.querySelectorAll('table'), function (t) {
+    var box = t.parentElement;
+    return t.getBoundingClientRect().right > width + 0.5 || box.scrollWidth > box.clientWidth + 0.5;
+  });
+  b.setAttribute('data-viewport', String(width));
+  b.setAttribute('data-wide-tables', String(wide.length));
+  b.setAttribute('data-steps', String(document.querySelectorAll('li.step').length));
   b.setAttribute('data-images', String(loaded.length));
   b.setAttribute('data-errors', String(window.pageErrors.length));
   b.setAttribute('data-ready', 'true');
@@ -382,12 +399,41 @@ fn meshes(report: &Report) -> Vec<&str> {
     meshes
 }
 
-/// The page for `report`, with the thumbnails `thumbnails` (written beforehand) and, when given,
-/// the changes against `baseline`.
+/// The history a page shows: the runs in order (the last one is the page's) and their trends.
+pub struct History<'a> {
+    /// The runs, in run order.
+    pub runs: &'a [super::history::Entry],
+    /// The trends of the runs, each plotted as `figures/trend-KEY.svg` beforehand.
+    pub trends: &'a [Trend],
+    /// What the trends leave out, if anything (timings of other machines).
+    pub note: Option<&'a str>,
+}
+
+impl History<'_> {
+    /// No history (a page of one run without trends).
+    pub const NONE: History<'static> = History {
+        runs: &[],
+        trends: &[],
+        note: None,
+    };
+}
+
+/// The figures of `report` that get a table on the page: the [`COLUMNS`] some record has.
+pub fn table_figures(report: &Report) -> Vec<&'static str> {
+    COLUMNS
+        .iter()
+        .copied()
+        .filter(|c| report.records.iter().any(|r| r.figures.contains_key(*c)))
+        .collect()
+}
+
+/// The page for `report`, with the thumbnails `thumbnails` (written beforehand), the changes
+/// against `baseline` when given, and the trends of `history`.
 pub fn to_html(
     report: &Report,
     thumbnails: &[MeshThumbnails],
     baseline: Option<&Baseline>,
+    history: &History,
 ) -> String {
     let commit = report.describe.as_deref().unwrap_or(&report.commit);
     let mut out = String::new();
@@ -421,7 +467,8 @@ pub fn to_html(
             Files: <a href=\"metrics.json\">metrics.json</a>, \
             <a href=\"metrics.csv\">metrics.csv</a>, <a href=\"metrics.md\">metrics.md</a>. \
             Click a column header to sort.</p>\n<nav><a href=\"#tables\">tables</a> · \
-            <a href=\"#plots\">plots</a> · <a href=\"#thumbnails\">zebra and curvature</a>";
+            <a href=\"#trends\">trends</a> · <a href=\"#plots\">plots</a> · \
+            <a href=\"#thumbnails\">zebra and curvature</a>";
     if baseline.is_some() {
         out += " · <a href=\"#baseline\">changes against the baseline</a>";
     }
@@ -429,37 +476,8 @@ pub fn to_html(
     if let Some(b) = baseline {
         baseline_section(&mut out, b);
     }
-    out += "<h2 id=\"tables\">Metrics</h2>\n";
-    for mesh in meshes(report) {
-        let _ = write!(
-            out,
-            "<h3 id=\"table-{0}\">{0}</h3>\n<div class=\"scroll\"><table class=\"sortable\">\
-             <thead><tr><th>scheme</th>",
-            escape(mesh)
-        );
-        for c in COLUMNS {
-            let _ = write!(out, "<th>{}</th>", escape(c));
-        }
-        out += "</tr></thead>\n<tbody>\n";
-        for r in report.records.iter().filter(|r| r.mesh == mesh) {
-            let _ = write!(out, "<tr><td>{}</td>", escape(&r.scheme));
-            if let Some(error) = &r.error {
-                // Not measured: the error across the row.
-                let _ = writeln!(
-                    out,
-                    "<td colspan=\"{}\" class=\"error\">error: {}</td></tr>",
-                    COLUMNS.len(),
-                    escape(error)
-                );
-                continue;
-            }
-            for c in COLUMNS {
-                out += &figure_cell(r.figures.get(*c));
-            }
-            out += "</tr>\n";
-        }
-        out += "</tbody></table></div>\n";
-    }
+    figure_tables(&mut out, report, baseline.map(|b| b.comparison));
+    trends_section(&mut out, history);
     out += "<h2 id=\"plots\">Plots</h2>\n<div class=\"plots\">\n";
     for (key, title, _) in plots::PLOTS {
         let _ = writeln!(
@@ -508,43 +526,236 @@ pub fn to_html(
     out
 }
 
-/// The section with the changes against the baseline.
+/// The metrics, one table per figure: the schemes along one side and the meshes along the
+/// other (the fewer of the two as columns, so that a table grows downwards and fits the
+/// page); with a comparison, changed cells are marked worse / better / same and carry the
+/// value before in their title.
+fn figure_tables(out: &mut String, report: &Report, comparison: Option<&Comparison>) {
+    let meshes = meshes(report);
+    let mut schemes: Vec<&str> = Vec::new();
+    for r in &report.records {
+        if !schemes.contains(&r.scheme.as_str()) {
+            schemes.push(&r.scheme);
+        }
+    }
+    let schemes_as_columns = schemes.len() <= meshes.len();
+    let (rows, columns, corner) = if schemes_as_columns {
+        (&meshes, &schemes, "mesh \\ scheme")
+    } else {
+        (&schemes, &meshes, "scheme \\ mesh")
+    };
+    let _ = writeln!(
+        out,
+        "<h2 id=\"tables\">Metrics</h2>\n<p class=\"note\">One table per figure.{}</p>",
+        if comparison.is_some() {
+            " Cells that changed against the baseline are marked: red worse, green better, \
+             grey the same within tolerance (hover for the value before)."
+        } else {
+            ""
+        }
+    );
+    for key in table_figures(report) {
+        let _ = write!(
+            out,
+            "<h3 id=\"table-{0}\">{0}</h3>\n<table class=\"sortable figure\">\
+             <thead><tr><th>{1}</th>",
+            escape(key),
+            escape(corner)
+        );
+        for c in columns.iter() {
+            let _ = write!(out, "<th>{}</th>", escape(c));
+        }
+        *out += "</tr></thead>\n<tbody>\n";
+        for row in rows.iter() {
+            let _ = write!(out, "<tr><td>{}</td>", escape(row));
+            for column in columns.iter() {
+                let (mesh, scheme) = if schemes_as_columns {
+                    (*row, *column)
+                } else {
+                    (*column, *row)
+                };
+                let Some(r) = report
+                    .records
+                    .iter()
+                    .find(|r| r.mesh == mesh && r.scheme == scheme)
+                else {
+                    *out += "<td data-v=\"\"></td>";
+                    continue;
+                };
+                if let Some(error) = &r.error {
+                    let _ = write!(
+                        out,
+                        "<td data-v=\"\" class=\"error\" title=\"{}\">error</td>",
+                        escape(error)
+                    );
+                    continue;
+                }
+                let record = format!("{mesh} / {scheme}");
+                let change = comparison.and_then(|c| {
+                    c.changes
+                        .iter()
+                        .find(|c| c.key == key && c.record == record)
+                });
+                let cell = figure_cell(r.figures.get(key));
+                match change {
+                    Some(c) => {
+                        *out += &cell.replacen(
+                            "<td",
+                            &format!(
+                                "<td class=\"{}\" title=\"{}: before {}, {}\"",
+                                verdict_class(c.verdict),
+                                c.verdict.word(),
+                                super::compare::number_text(c.old),
+                                escape(&c.ratio_text())
+                            ),
+                            1,
+                        )
+                    }
+                    None => *out += &cell,
+                }
+            }
+            *out += "</tr>\n";
+        }
+        *out += "</tbody></table>\n";
+    }
+    let errors: Vec<&super::Record> = report
+        .records
+        .iter()
+        .filter(|r| r.error.is_some())
+        .collect();
+    if !errors.is_empty() {
+        let _ = writeln!(out, "<h3 id=\"errors\">Not measured</h3>\n<ul>");
+        for r in errors {
+            let _ = writeln!(
+                out,
+                "<li class=\"error\">{} / {}: error: {}</li>",
+                escape(&r.mesh),
+                escape(&r.scheme),
+                escape(r.error.as_deref().unwrap_or_default())
+            );
+        }
+        *out += "</ul>\n";
+    }
+}
+
+/// The trends over the history: one plot per figure family, and under it the step changes
+/// found in it, each with the commit that made it.
+fn trends_section(out: &mut String, history: &History) {
+    let _ = writeln!(
+        out,
+        "<h2 id=\"trends\">Trends over commits</h2>\n<p class=\"note\">{} run(s) in the \
+         history, oldest first. A step is a change beyond the tolerance of \
+         <code>smoothlab compare</code> (timings: beyond the ratio widened by the runs' \
+         spread) that the later runs sustain; it is marked at the commit that made it.</p>",
+        history.runs.len()
+    );
+    if let Some(note) = history.note {
+        let _ = writeln!(out, "<p class=\"note\">note: {}</p>", escape(note));
+    }
+    let steps: usize = history.trends.iter().map(|t| t.steps().count()).sum();
+    let _ = writeln!(
+        out,
+        "<p id=\"step-count\" data-steps=\"{steps}\">{steps} step change(s) found.</p>"
+    );
+    for trend in history.trends {
+        let _ = writeln!(
+            out,
+            "<figure class=\"trend\" id=\"trend-{0}\"><img src=\"{1}\" alt=\"{0} over \
+             commits\" title=\"{0} over commits\">",
+            escape(&trend.key),
+            escape(&url_path(&trend.file()))
+        );
+        let marked: Vec<_> = trend.steps().collect();
+        if !marked.is_empty() {
+            *out += "<figcaption><ul class=\"steps\">";
+            for (scheme, series, step) in marked {
+                let commit = history
+                    .runs
+                    .get(step.at)
+                    .map(|e| e.short_commit())
+                    .unwrap_or_default();
+                let full = history
+                    .runs
+                    .get(step.at)
+                    .map(|e| e.commit.clone())
+                    .unwrap_or_default();
+                let change = super::compare::Change {
+                    record: String::new(),
+                    key: String::new(),
+                    old: Some(step.before),
+                    new: Some(step.after),
+                    verdict: step.verdict,
+                };
+                let _ = write!(
+                    out,
+                    "<li class=\"step {}\" data-figure=\"{}\" data-record=\"{} / {}\" \
+                     data-commit=\"{}\">{} {} / {}: {} at commit <code>{}</code> ({} → {}, \
+                     {})</li>",
+                    verdict_class(step.verdict),
+                    escape(&trend.key),
+                    escape(&series.mesh),
+                    escape(scheme),
+                    escape(&full),
+                    escape(&trend.key),
+                    escape(&series.mesh),
+                    escape(scheme),
+                    step.verdict.word(),
+                    escape(&commit),
+                    super::compare::number_text(Some(step.before)),
+                    super::compare::number_text(Some(step.after)),
+                    escape(&change.ratio_text())
+                );
+            }
+            *out += "</ul></figcaption>";
+        }
+        *out += "</figure>\n";
+    }
+}
+
+/// The section with the changes against the baseline: one row per listed change, before →
+/// after, the relative change and the verdict, regressions red and improvements green.
 fn baseline_section(out: &mut String, b: &Baseline) {
     let c = b.comparison;
-    let worse = c.changes.iter().filter(|c| c.regression).count();
     let _ = write!(
         out,
         "<h2 id=\"baseline\">Changes against the baseline</h2>\n<p>baseline <code>{}</code>: \
-         commit <code>{}</code>, {}. {worse} regression(s) among {} change(s), judged as \
+         commit <code>{}</code>, {}. {}, judged as \
          <code>smoothlab compare --timings</code> judges them (default tolerances).</p>\n",
         escape(&b.path.display().to_string()),
         escape(b.report.describe.as_deref().unwrap_or(&b.report.commit)),
         escape(&b.report.date),
-        c.changes.len()
+        escape(&c.summary())
     );
     for note in &c.notes {
         let _ = writeln!(out, "<p class=\"note\">note: {}</p>", escape(note));
     }
-    *out += "<div class=\"scroll\"><table class=\"sortable\" id=\"baseline-changes\"><thead><tr>\
-            <th>record</th><th>figure</th><th>old</th><th>new</th><th>verdict</th></tr></thead>\n\
-            <tbody>\n";
+    *out += "<table class=\"sortable\" id=\"baseline-changes\"><thead><tr>\
+            <th>record</th><th>figure</th><th>before</th><th>after</th><th>change</th>\
+            <th>verdict</th></tr></thead>\n<tbody>\n";
     for change in &c.changes {
         let _ = writeln!(
             out,
-            "<tr{}><td>{}</td><td>{}</td>{}{}<td>{}</td></tr>",
-            if change.regression {
-                " class=\"worse\""
-            } else {
-                ""
-            },
+            "<tr class=\"{}\"><td>{}</td><td>{}</td>{}{}<td data-v=\"{}\">{}</td><td>{}</td></tr>",
+            verdict_class(change.verdict),
             escape(&change.record),
             escape(&change.key),
             change_cell(change.old),
             change_cell(change.new),
-            if change.regression { "WORSE" } else { "" }
+            change.ratio().map_or(String::new(), |r| format!("{r:e}")),
+            escape(&change.ratio_text()),
+            change.verdict.word()
         );
     }
-    *out += "</tbody></table></div>\n";
+    *out += "</tbody></table>\n";
+}
+
+/// The CSS class of a change's row or cell: `worse`, `better` or `same`.
+fn verdict_class(verdict: Verdict) -> &'static str {
+    match verdict {
+        Verdict::Worse => "worse",
+        Verdict::Better => "better",
+        Verdict::Same => "same",
+    }
 }
 
 /// Checks that an HTML page names every file it references and that each exists under
@@ -614,20 +825,34 @@ mod tests {
 
     #[test]
     fn tables_carry_sort_values_and_escape_names() {
-        let page = to_html(&report(), &[], None);
-        assert!(page.contains("<td>hb&lt;&amp;&gt;</td>"), "scheme escaped");
-        assert!(page.contains("<td data-v=\"4\">4</td>"), "integer cell");
+        let mut two = report();
+        let mut torus = two.records[0].clone();
+        torus.mesh = "torus".into();
+        torus.figures.remove("g1_between_faces_max_rad");
+        two.records.push(torus);
+        let page = to_html(&two, &[], None, &History::NONE);
+        assert!(page.contains("<th>hb&lt;&amp;&gt;</th>"), "scheme escaped");
+        assert!(
+            page.contains("<tr><td>cube</td><td data-v=\"4\">4</td></tr>"),
+            "integer cell"
+        );
         assert!(
             page.contains("<td data-v=\"0.0015\">1.500e-3</td>"),
             "float cell"
         );
         assert!(page.contains("<td>n/a</td>"), "text cell");
         // A figure the record lacks sorts last (empty data-v) and shows as '-'.
-        assert!(page.contains("<td data-v=\"\">-</td>"));
-        assert_eq!(page.matches("<table class=\"sortable\"").count(), 1);
+        assert!(page.contains("<tr><td>torus</td><td data-v=\"\">-</td></tr>"));
+        // One table per figure some record has.
+        assert_eq!(
+            table_figures(&two),
+            ["patches", "g1_between_faces_max_rad", "continuity_order"]
+        );
+        assert_eq!(page.matches("<table class=\"sortable figure\"").count(), 3);
         assert!(!page.contains("id=\"baseline\""));
-        // Every plot, no thumbnails.
+        // Every plot, no thumbnails, no trends without a history.
         assert_eq!(page.matches("<img ").count(), plots::PLOTS.len());
+        assert!(page.contains("data-steps=\"0\""));
         assert!(!page.contains("http://") && !page.contains("https://"));
     }
 
@@ -641,16 +866,25 @@ mod tests {
                     key: "g1_max_rad".into(),
                     old: Some(0.1),
                     new: Some(0.2),
-                    regression: true,
+                    verdict: Verdict::Worse,
+                },
+                Change {
+                    record: "cube / hb<&>".into(),
+                    key: "g1_between_faces_max_rad".into(),
+                    old: Some(1e-3),
+                    new: Some(1.5e-3),
+                    verdict: Verdict::Worse,
                 },
                 Change {
                     record: "cube / pn".into(),
                     key: "construct_ms".into(),
-                    old: Some(10.0),
-                    new: None,
-                    regression: false,
+                    old: Some(20.0),
+                    new: Some(10.0),
+                    verdict: Verdict::Better,
                 },
             ],
+            unlisted: 3,
+            new_figures: 0,
             notes: vec!["timings <not> judged".into()],
         };
         let page = to_html(
@@ -661,15 +895,31 @@ mod tests {
                 report: &new,
                 comparison: &comparison,
             }),
+            &History::NONE,
         );
-        assert!(page.contains("1 regression(s) among 2 change(s)"), "{page}");
+        assert!(
+            page.contains(
+                "2 regression(s), 1 improvement(s), 0 within tolerance among 3 change(s); 3 \
+                 last-digit change(s) not listed"
+            ),
+            "{page}"
+        );
         assert!(page.contains(
             "<tr class=\"worse\"><td>cube / hb</td><td>g1_max_rad</td><td data-v=\"1e-1\">\
-             1.000e-1</td><td data-v=\"2e-1\">2.000e-1</td><td>WORSE</td></tr>"
+             1.000e-1</td><td data-v=\"2e-1\">2.000e-1</td><td data-v=\"2e0\">+100.0%</td>\
+             <td>WORSE</td></tr>"
         ));
-        assert!(page.contains("<td data-v=\"\">-</td><td></td></tr>"));
+        assert!(page.contains("<td data-v=\"5e-1\">-50.0%</td><td>BETTER</td></tr>"));
+        // The changed cell of the figure table is marked, with the value before.
+        assert!(
+            page.contains(
+                "<td class=\"worse\" title=\"WORSE: before 1.000e-3, +50.0%\" \
+                 data-v=\"0.0015\">1.500e-3</td>"
+            ),
+            "{page}"
+        );
         assert!(page.contains("note: timings &lt;not&gt; judged"));
-        assert_eq!(page.matches("<table class=\"sortable\"").count(), 2);
+        assert_eq!(page.matches("<table class=\"sortable").count(), 4);
     }
 
     #[test]

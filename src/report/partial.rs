@@ -168,6 +168,7 @@ pub fn merge(parts: &[PathBuf], out_dir: &Path, options: &WriteOptions) -> Resul
         }
     }
     let baseline = super::read_baseline(options)?;
+    let earlier = super::read_history(out_dir, options)?;
     create_folder(&out_dir.join("figures"))?;
     create_folder(&out_dir.join(page::THUMBS))?;
     // Every item's records and thumbnails from the part that owns it, in work-list order.
@@ -243,6 +244,7 @@ pub fn merge(parts: &[PathBuf], out_dir: &Path, options: &WriteOptions) -> Resul
         &report,
         &thumbnails,
         baseline.as_ref().map(|(p, r)| (*p, r)),
+        earlier,
     )?;
     Ok(Merged {
         report,

@@ -1,6 +1,8 @@
 //! SVG plots of a report (plotters): one chart per figure — normal jump between faces,
 //! curvature jump, construction time, continuity order, undulation — with the schemes along x
-//! and one marked line per benchmark mesh, on a log scale where the figure spans decades.
+//! (categories: one dot per benchmark mesh, side by side within its scheme's column, no lines
+//! across schemes), on a log scale where the figure spans decades and with integer ticks for the
+//! continuity order. The legend of the meshes is a column right of the chart, covering no point.
 
 use std::path::{Path, PathBuf};
 
@@ -34,6 +36,9 @@ pub const PLOTS: &[(&str, &str, bool)] = &[
         false,
     ),
 ];
+
+/// Plotted figures whose values are integers: integer ticks only.
+const INTEGER_PLOTS: &[&str] = &["continuity_order"];
 
 /// Values below this are drawn at this floor on log charts (exact zeros have no logarithm).
 const LOG_FLOOR: f64 = 1e-17;
@@ -103,18 +108,32 @@ fn plot_one(
     } else {
         (0.0, 1.0)
     };
+    let integer = INTEGER_PLOTS.contains(&key);
+    let (lo, hi) = if integer {
+        (lo - 0.5, hi + 0.5)
+    } else {
+        (lo, hi)
+    };
     let root = SVGBackend::with_string(svg, (900, 520)).into_drawing_area();
     root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 20))
+    let (plot_area, legend) = root.split_horizontally(740);
+    let mut chart = ChartBuilder::on(&plot_area)
+        .caption(title, ("sans-serif", 22))
         .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .right_y_label_area_size(0)
+        .x_label_area_size(44)
+        .y_label_area_size(80)
         .build_cartesian_2d(-0.5f64..schemes.len() as f64 - 0.5, lo..hi)?;
+    let y_labels = if integer {
+        ((hi - lo).round() as usize + 1).clamp(2, 12)
+    } else {
+        10
+    };
     chart
         .configure_mesh()
-        .x_labels(schemes.len())
+        .disable_x_mesh()
+        .x_labels(schemes.len() * 2 + 1)
+        .y_labels(y_labels)
+        .label_style(("sans-serif", 15))
         .x_label_formatter(&|x| {
             let i = x.round();
             if (x - i).abs() < 1e-6 && i >= 0.0 {
@@ -126,32 +145,49 @@ fn plot_one(
             }
         })
         .y_label_formatter(&|y| {
+            let i = y.round();
             if log {
-                format!("1e{y:.0}")
+                if (y - i).abs() < 1e-6 {
+                    format!("1e{i:.0}")
+                } else {
+                    String::new()
+                }
+            } else if integer {
+                if (y - i).abs() < 1e-6 {
+                    format!("{i:.0}")
+                } else {
+                    String::new()
+                }
             } else {
                 format!("{y:.2}")
             }
         })
         .draw()?;
+    // Each mesh has its own slot within a scheme's column, so equal values do not hide
+    // each other.
+    let slot = |m: usize| {
+        if meshes.len() <= 1 {
+            0.0
+        } else {
+            -0.35 + 0.7 * m as f64 / (meshes.len() - 1) as f64
+        }
+    };
     for (m, mesh) in meshes.iter().enumerate() {
         let colour = Palette99::pick(m).to_rgba();
         let points: Vec<(f64, f64)> = schemes
             .iter()
             .enumerate()
-            .filter_map(|(i, s)| value(mesh, s).map(|v| (i as f64, transform(v))))
+            .filter_map(|(i, s)| value(mesh, s).map(|v| (i as f64 + slot(m), transform(v))))
             .collect();
-        chart
-            .draw_series(LineSeries::new(points.clone(), colour.stroke_width(1)))?
-            .label(*mesh)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour));
-        chart.draw_series(points.iter().map(|p| Circle::new(*p, 3, colour.filled())))?;
+        chart.draw_series(points.iter().map(|p| Circle::new(*p, 4, colour.filled())))?;
+        let y = 40 + 24 * m as i32;
+        legend.draw(&Circle::new((12, y + 8), 5, colour.filled()))?;
+        legend.draw(&Text::new(
+            mesh.to_string(),
+            (24, y),
+            ("sans-serif", 15).into_font().color(&BLACK),
+        ))?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()?;
     root.present()?;
     Ok(())
 }
