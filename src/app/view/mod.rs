@@ -143,6 +143,13 @@ pub trait ViewReport {
 /// render worker and the server, reports the URL and (unless `--no-browser`) opens it; then
 /// serves until the process is interrupted.
 pub fn view_command(args: &ViewArgs, report: &mut dyn ViewReport) -> Result<()> {
+    if args.bind.is_unspecified() {
+        return Err(Error::Invalid(format!(
+            "--bind {}: give the address of one interface (every request's Host header must \
+             name it), not the unspecified address",
+            args.bind
+        )));
+    }
     let params = crate::app::parse_params(&args.params)?;
     let mut base = scene::BaseScene::new(
         &args.input,
