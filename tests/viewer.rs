@@ -91,8 +91,26 @@ fn http(
     stream.write_all(request.as_bytes()).expect("send");
     // A refused body may close the connection before it is all sent.
     let _ = stream.write_all(body);
+    // Read up to the body's length: the DevTools server keeps its connections open.
     let mut response = Vec::new();
-    let _ = stream.read_to_end(&mut response);
+    let mut buf = [0u8; 65536];
+    loop {
+        let n = stream.read(&mut buf).unwrap_or(0);
+        response.extend_from_slice(&buf[..n]);
+        let length = response
+            .windows(4)
+            .position(|w| w == b"\r\n\r\n")
+            .and_then(|at| {
+                let head = String::from_utf8_lossy(&response[..at]).to_ascii_lowercase();
+                head.lines()
+                    .find_map(|l| l.strip_prefix("content-length:"))
+                    .and_then(|v| v.trim().parse::<usize>().ok())
+                    .map(|len| at + 4 + len)
+            });
+        if n == 0 || length.is_some_and(|end| response.len() >= end) {
+            break;
+        }
+    }
     let split = response
         .windows(4)
         .position(|w| w == b"\r\n\r\n")
