@@ -16,7 +16,11 @@ use serde_json::{Value, json};
 
 fn get(addr: &str, path: &str) -> Vec<u8> {
     let mut s = TcpStream::connect(addr).expect("connect");
-    write!(s, "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").expect("send");
+    write!(
+        s,
+        "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+    )
+    .expect("send");
     read_response(&mut s)
 }
 

@@ -459,8 +459,11 @@ impl Browser {
     /// Waits until `expression` is truthy and returns its value.
     fn wait_for(&mut self, expression: &str, timeout: Duration) -> Value {
         let deadline = Instant::now() + timeout;
+        // The page may still be loading: an expression that throws is not yet true.
+        let guarded =
+            format!("(() => {{ try {{ return {expression}; }} catch (e) {{ return null; }} }})()");
         loop {
-            let value = self.eval(expression);
+            let value = self.eval(&guarded);
             if !(value.is_null() || value == json!(false) || value == json!("")) {
                 return value;
             }
