@@ -553,10 +553,59 @@ mod tests {
         }
     }
 
+    /// A render with a tracer built once is the render of the job, bit for bit; a render
+    /// cancelled before or during its tiles returns nothing; the probe of a pixel centre is
+    /// that pixel's geometry record.
+    #[test]
+    fn render_with_a_built_tracer_cancels_between_tiles_and_probes_pixel_centres() {
+        let surface = crate::testing::surfaces::octahedron_sphere(3, 1.5, 1);
+        // No curves are drawn, so the mesh is not read.
+        let mesh = crate::testing::closed_test_meshes().remove(0).1;
+        let mut job = RenderJob::default();
+        (job.settings.width, job.settings.height, job.settings.spp) = (64, 48, 2);
+        job.settings.progress = false;
+        let (frame, _) = job.render(&surface, &mesh).expect("render");
+        let tracer = job.tracer(&surface).expect("tracer");
+        let (again, _) = job
+            .render_with(&tracer, &mesh, &|| false)
+            .expect("render")
+            .expect("not cancelled");
+        assert_eq!(frame, again);
+        assert!(
+            job.render_with(&tracer, &mesh, &|| true)
+                .expect("render")
+                .is_none(),
+            "cancelled before the first tile"
+        );
+        let asked = std::sync::atomic::AtomicUsize::new(0);
+        let after_three = || asked.fetch_add(1, std::sync::atomic::Ordering::SeqCst) >= 3;
+        assert!(
+            job.render_with(&tracer, &mesh, &after_three)
+                .expect("render")
+                .is_none(),
+            "cancelled after three tiles"
+        );
+        let tiles = (64usize / 16) * (48 / 16);
+        assert!(asked.into_inner() <= tiles, "asked once per tile at most");
+        let mut probed = 0;
+        for (k, g) in frame.geometry.iter().enumerate() {
+            let (x, y) = ((k % 64) as f64 + 0.5, (k / 64) as f64 + 0.5);
+            let sp = job.probe(&tracer, x, y).expect("probe");
+            assert_eq!(
+                sp.as_ref().map(crate::render::PixelGeometry::new),
+                *g,
+                "pixel {k}"
+            );
+            probed += usize::from(g.is_some());
+        }
+        assert!(probed > 200, "{probed} pixels hit");
+    }
+
     /// Two surfaces framed together: the union of their points, skipping included (the
     /// second surface is shifted so that each has patches the other's corners do not reach).
     #[test]
     fn surface_samples_of_several_surfaces() {
+        // No curves are drawn, so the mesh is not read.
         let mesh = crate::testing::closed_test_meshes().remove(0).1;
         let a = crate::schemes::build("hb", &mesh, &[]).expect("hb");
         let b = a.mapped(|p| p * 0.5 + DVec3::new(0.3, -0.2, 0.1));
