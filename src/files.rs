@@ -56,6 +56,21 @@ fn forget_temporary(path: &Path) {
 /// The exit code of a run ended by an interrupt (128 + SIGINT, as shells report it).
 pub const INTERRUPTED_EXIT_CODE: i32 = 130;
 
+/// The exit code and the standard-error line of an interrupt.
+static INTERRUPT_OUTCOME: Mutex<(i32, &str)> = Mutex::new((
+    INTERRUPTED_EXIT_CODE,
+    "error: interrupted; temporary files removed\n",
+));
+
+/// Makes an interrupt the normal end of this process (a server that runs until Ctrl-C): the
+/// handler of [`clean_up_on_signals`] still removes the temporaries, then prints `message`
+/// (one line) and exits with code 0.
+pub fn interrupt_is_the_normal_end(message: &'static str) {
+    *INTERRUPT_OUTCOME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner) = (0, message);
+}
+
 /// Installs the handler of SIGINT, SIGTERM and SIGHUP: it removes the temporary files that
 /// exist at that moment and ends the process with [`INTERRUPTED_EXIT_CODE`]. Files already
 /// renamed into place are complete; those being written keep their old contents. The list of
@@ -68,10 +83,11 @@ pub fn clean_up_on_signals() -> Result<()> {
             // Best effort: a temporary renamed a moment ago is no longer there.
             let _ = std::fs::remove_file(path);
         }
-        let _ = std::io::stderr()
+        let (code, message) = *INTERRUPT_OUTCOME
             .lock()
-            .write_all(b"error: interrupted; temporary files removed\n");
-        std::process::exit(INTERRUPTED_EXIT_CODE);
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let _ = std::io::stderr().lock().write_all(message.as_bytes());
+        std::process::exit(code);
     })
     .map_err(|e| Error::Invalid(format!("cannot install the interrupt handler: {e}")))
 }

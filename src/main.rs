@@ -150,6 +150,10 @@ enum Command {
     },
     /// Ray-trace a surface exactly to NAME.png + NAME.exr (zebra, isophote, curvature, …).
     Render(Box<smoothlab::app::render::RenderArgs>),
+    /// Serve an interactive view in the browser: orbit under exact zebra stripes (or any
+    /// mode), probe the exact hit under the cursor, save the view as a scene with its PNG and
+    /// EXR. Prints the URL (with its access token); Ctrl-C stops it.
+    View(Box<smoothlab::app::view::ViewArgs>),
     /// Render a labelled grid (schemes x modes) from a figure spec to PNG + one EXR per cell.
     Figure {
         /// Figure spec files (.toml), rendered in turn.
@@ -237,6 +241,10 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                 warnings,
                 failed: false,
             })
+        }
+        Some(Command::View(args)) => {
+            smoothlab::app::view::view_command(&args, &mut Printer)?;
+            Ok(Output::default())
         }
         Some(Command::Figure { specs, shard }) => {
             let mut stdout = String::new();
@@ -360,6 +368,20 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                 (false, false) => smoothlab::report::compare::TimingCheck::Skip,
             },
         ),
+    }
+}
+
+/// Prints what `view` reports while it starts, as it happens.
+struct Printer;
+
+impl smoothlab::app::view::ViewReport for Printer {
+    fn line(&mut self, text: &str) {
+        let mut out = std::io::stdout().lock();
+        let _ = writeln!(out, "{text}").and_then(|()| out.flush());
+    }
+
+    fn warning(&mut self, text: &str) {
+        to_stderr(&format!("warning: {text}\n"));
     }
 }
 

@@ -16,6 +16,7 @@ pub mod render;
 pub mod scene;
 pub mod toml_input;
 pub mod turntable;
+pub mod view;
 
 use std::path::Path;
 

@@ -202,6 +202,20 @@ pub fn render<T: SurfaceTracer>(
     camera: &Camera,
     settings: &RenderSettings,
 ) -> crate::Result<(Frame, RenderStats)> {
+    render_cancellable(tracer, camera, settings, &|| false)?
+        .ok_or_else(|| crate::Error::Invalid("a render that cannot be cancelled was".into()))
+}
+
+/// Renders `tracer` seen by `camera` like [`render`], asking `cancelled` before each tile: once
+/// it answers true the remaining tiles are skipped and the result is `None` (an interactive
+/// view drops a frame whose camera has moved on). A frame that is returned is the one
+/// [`render`] gives, bit for bit.
+pub fn render_cancellable<T: SurfaceTracer>(
+    tracer: &T,
+    camera: &Camera,
+    settings: &RenderSettings,
+    cancelled: &(dyn Fn() -> bool + Sync),
+) -> crate::Result<Option<(Frame, RenderStats)>> {
     if settings.width == 0 || settings.height == 0 || settings.spp == 0 {
         return Err(crate::Error::Invalid(format!(
             "image size {}x{} and samples per pixel {} must be positive",
@@ -221,9 +235,14 @@ pub fn render<T: SurfaceTracer>(
     };
     let tiles = tiles(w, &mut frame.rgb, &mut frame.geometry);
     let bar = progress_bar(settings, tiles.len() as u64);
+    let skipped = std::sync::atomic::AtomicBool::new(false);
     let results: Vec<TileCounts> = tiles
         .into_par_iter()
         .map(|tile| {
+            if skipped.load(std::sync::atomic::Ordering::Relaxed) || cancelled() {
+                skipped.store(true, std::sync::atomic::Ordering::Relaxed);
+                return TileCounts::default();
+            }
             let counts = render_tile(tracer, camera, settings, &mode, tile);
             if let Some(bar) = &bar {
                 bar.inc(1);
@@ -233,6 +252,9 @@ pub fn render<T: SurfaceTracer>(
         .collect();
     if let Some(bar) = bar {
         bar.finish_and_clear();
+    }
+    if skipped.into_inner() {
+        return Ok(None);
     }
     let mut counters = IntersectCounters::default();
     for tile in results {
@@ -254,7 +276,7 @@ pub fn render<T: SurfaceTracer>(
     stats.leaves = tracer.leaf_count() as u64;
     stats.memory_bytes = tracer.memory_bytes() as u64;
     stats.patches = tracer.surface().patches.len() as u64;
-    Ok((frame, stats))
+    Ok(Some((frame, stats)))
 }
 
 /// A progress bar on stderr when asked for and stderr is a terminal.

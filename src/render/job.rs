@@ -13,10 +13,12 @@ use crate::mesh::Mesh;
 use crate::render::bvh::SubdivisionCriterion;
 use crate::render::camera::{Camera, FramedPoints, Projection};
 use crate::render::curves::CurveOverlay;
-use crate::render::film::{Frame, RenderSettings, render};
-use crate::render::intersect::{NewtonSettings, Tracer};
+use crate::render::film::{Frame, RenderSettings, render_cancellable};
+use crate::render::interaction::ShadingPoint;
+use crate::render::intersect::{IntersectCounters, NewtonSettings, Ray64, Tracer};
 use crate::render::stats::RenderStats;
 use crate::render::tessellate::TessellatedTracer;
+use crate::render::trace::SurfaceTracer;
 use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Default vertical field of view, degrees.
@@ -317,6 +319,45 @@ pub struct RenderJob {
     pub geometry: Geometry,
 }
 
+/// The tracer of a job for one surface: the exact patches or a tessellation, as the job's
+/// [`Geometry`] says, built once with the job's BVH settings and budget. An interactive view
+/// builds it once and renders many cameras and settings of the same geometry with it.
+pub enum JobTracer<'s> {
+    /// The exact patches.
+    Exact(Tracer<'s>),
+    /// A tessellation of them.
+    Tessellated(TessellatedTracer<'s>),
+}
+
+impl JobTracer<'_> {
+    /// Renders with this tracer (see [`film::render_cancellable`](crate::render::film::render_cancellable)).
+    fn render(
+        &self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        cancelled: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<(Frame, RenderStats)>> {
+        match self {
+            JobTracer::Exact(t) => render_cancellable(t, camera, settings, cancelled),
+            JobTracer::Tessellated(t) => render_cancellable(t, camera, settings, cancelled),
+        }
+    }
+
+    /// The closest hit of `ray` and its shading point.
+    fn shade(&self, ray: &Ray64) -> Option<ShadingPoint> {
+        let mut counters = IntersectCounters::default();
+        match self {
+            JobTracer::Exact(t) => t
+                .closest_hit(ray, 0.0, f64::INFINITY, &mut counters)
+                .map(|hit| SurfaceTracer::shading_point(t, &hit, ray)),
+            JobTracer::Tessellated(t) => {
+                SurfaceTracer::closest_hit(t, ray, 0.0, f64::INFINITY, &mut counters)
+                    .map(|hit| t.shading_point(&hit, ray))
+            }
+        }
+    }
+}
+
 impl RenderJob {
     /// The camera this job renders `surface` with (as [`RenderJob::render`] computes it).
     pub fn camera_of(&self, surface: &Surface) -> Result<Camera> {
@@ -324,26 +365,68 @@ impl RenderJob {
         self.camera.camera(surface, aspect)
     }
 
-    /// Renders `surface` (built on `mesh`) with this job's camera, settings and curves.
-    pub fn render(&self, surface: &Surface, mesh: &Mesh) -> Result<(Frame, RenderStats)> {
-        let mut settings = self.settings.clone();
-        settings.curves = self.curves.tubes(surface, mesh)?;
-        let aspect = f64::from(settings.width) / f64::from(settings.height);
-        let camera = self.camera.camera(surface, aspect)?;
+    /// The tracer this job renders `surface` with: a tessellation, or the exact patches after
+    /// the BVH's size and memory are checked ([`check_bvh_size`]).
+    pub fn tracer<'s>(&self, surface: &'s Surface) -> Result<JobTracer<'s>> {
         match &self.geometry {
             Geometry::Tessellated(n) => {
-                let tracer = TessellatedTracer::new(surface, *n)?;
-                render(&tracer, &camera, &settings)
+                Ok(JobTracer::Tessellated(TessellatedTracer::new(surface, *n)?))
             }
             Geometry::Exact {
                 criterion,
                 max_leaves,
             } => {
                 check_bvh_size(surface, criterion, *max_leaves)?;
-                let tracer = Tracer::new(surface, criterion, NewtonSettings::default())?;
-                render(&tracer, &camera, &settings)
+                Ok(JobTracer::Exact(Tracer::new(
+                    surface,
+                    criterion,
+                    NewtonSettings::default(),
+                )?))
             }
         }
+    }
+
+    /// Renders `surface` (built on `mesh`) with this job's camera, settings and curves.
+    pub fn render(&self, surface: &Surface, mesh: &Mesh) -> Result<(Frame, RenderStats)> {
+        let tracer = self.tracer(surface)?;
+        self.render_with(&tracer, mesh, &|| false)?
+            .ok_or_else(|| Error::Invalid("a render that cannot be cancelled was".into()))
+    }
+
+    /// Renders with `tracer` (this job's [`RenderJob::tracer`] of the surface built on `mesh`,
+    /// or that of a job with the same geometry): the frame [`RenderJob::render`] gives, bit
+    /// for bit, or `None` when `cancelled` answered true before a tile.
+    pub fn render_with(
+        &self,
+        tracer: &JobTracer<'_>,
+        mesh: &Mesh,
+        cancelled: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<(Frame, RenderStats)>> {
+        let surface = match tracer {
+            JobTracer::Exact(t) => t.surface,
+            JobTracer::Tessellated(t) => SurfaceTracer::surface(t),
+        };
+        let mut settings = self.settings.clone();
+        settings.curves = self.curves.tubes(surface, mesh)?;
+        let camera = self.camera_of(surface)?;
+        tracer.render(&camera, &settings, cancelled)
+    }
+
+    /// The exact hit through image point `(x, y)` (pixels from the top-left corner of this
+    /// job's image; a pixel's centre is at `+0.5`), traced as the render traces the ray
+    /// through a pixel centre, and its shading point (None: the ray misses).
+    pub fn probe(&self, tracer: &JobTracer<'_>, x: f64, y: f64) -> Result<Option<ShadingPoint>> {
+        let surface = match tracer {
+            JobTracer::Exact(t) => t.surface,
+            JobTracer::Tessellated(t) => SurfaceTracer::surface(t),
+        };
+        let camera = self.camera_of(surface)?;
+        let (w, h) = (
+            f64::from(self.settings.width),
+            f64::from(self.settings.height),
+        );
+        let ray = camera.ray(2.0 * x / w - 1.0, 1.0 - 2.0 * y / h, w / h);
+        Ok(tracer.shade(&ray))
     }
 }
 
@@ -470,10 +553,59 @@ mod tests {
         }
     }
 
+    /// A render with a tracer built once is the render of the job, bit for bit; a render
+    /// cancelled before or during its tiles returns nothing; the probe of a pixel centre is
+    /// that pixel's geometry record.
+    #[test]
+    fn render_with_a_built_tracer_cancels_between_tiles_and_probes_pixel_centres() {
+        let surface = crate::testing::surfaces::octahedron_sphere(3, 1.5, 1);
+        // No curves are drawn, so the mesh is not read.
+        let mesh = crate::testing::closed_test_meshes().remove(0).1;
+        let mut job = RenderJob::default();
+        (job.settings.width, job.settings.height, job.settings.spp) = (64, 48, 2);
+        job.settings.progress = false;
+        let (frame, _) = job.render(&surface, &mesh).expect("render");
+        let tracer = job.tracer(&surface).expect("tracer");
+        let (again, _) = job
+            .render_with(&tracer, &mesh, &|| false)
+            .expect("render")
+            .expect("not cancelled");
+        assert_eq!(frame, again);
+        assert!(
+            job.render_with(&tracer, &mesh, &|| true)
+                .expect("render")
+                .is_none(),
+            "cancelled before the first tile"
+        );
+        let asked = std::sync::atomic::AtomicUsize::new(0);
+        let after_three = || asked.fetch_add(1, std::sync::atomic::Ordering::SeqCst) >= 3;
+        assert!(
+            job.render_with(&tracer, &mesh, &after_three)
+                .expect("render")
+                .is_none(),
+            "cancelled after three tiles"
+        );
+        let tiles = (64usize / 16) * (48 / 16);
+        assert!(asked.into_inner() <= tiles, "asked once per tile at most");
+        let mut probed = 0;
+        for (k, g) in frame.geometry.iter().enumerate() {
+            let (x, y) = ((k % 64) as f64 + 0.5, (k / 64) as f64 + 0.5);
+            let sp = job.probe(&tracer, x, y).expect("probe");
+            assert_eq!(
+                sp.as_ref().map(crate::render::PixelGeometry::new),
+                *g,
+                "pixel {k}"
+            );
+            probed += usize::from(g.is_some());
+        }
+        assert!(probed > 200, "{probed} pixels hit");
+    }
+
     /// Two surfaces framed together: the union of their points, skipping included (the
     /// second surface is shifted so that each has patches the other's corners do not reach).
     #[test]
     fn surface_samples_of_several_surfaces() {
+        // No curves are drawn, so the mesh is not read.
         let mesh = crate::testing::closed_test_meshes().remove(0).1;
         let a = crate::schemes::build("hb", &mesh, &[]).expect("hb");
         let b = a.mapped(|p| p * 0.5 + DVec3::new(0.3, -0.2, 0.1));
