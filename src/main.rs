@@ -97,6 +97,11 @@ enum Command {
             allow_hyphen_values = true
         )]
         weld_tolerance: f64,
+        /// Refuse to repair --meshes files (non-planar or concave polygons, degenerate,
+        /// duplicate or inconsistently oriented faces, non-manifold edges and vertices): the
+        /// first repair needed is an error naming the element.
+        #[arg(long)]
+        strict: bool,
     },
     /// Merge the partial results of sharded runs (`report --shard`, `render --turntable|
     /// --sweep --shard`, `figure --shard`) into what one process would have written; names
@@ -170,6 +175,11 @@ struct SchemeOnMesh {
         allow_hyphen_values = true
     )]
     weld_tolerance: f64,
+    /// Refuse to repair the mesh (non-planar or concave polygons, degenerate, duplicate or
+    /// inconsistently oriented faces, non-manifold edges and vertices): the first repair
+    /// needed is an error naming the element.
+    #[arg(long)]
+    strict: bool,
 }
 
 impl SchemeOnMesh {
@@ -177,6 +187,7 @@ impl SchemeOnMesh {
     fn load_options(&self) -> smoothlab::mesh::LoadOptions {
         smoothlab::mesh::LoadOptions {
             weld_tolerance: self.weld_tolerance,
+            strict: self.strict,
         }
     }
 }
@@ -292,6 +303,7 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             sweep_files,
             shard,
             weld_tolerance,
+            strict,
         }) => app::run_report_with(&app::ReportArgs {
             out,
             baseline,
@@ -300,7 +312,10 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             sweeps,
             sweep_files,
             shard,
-            load: smoothlab::mesh::LoadOptions { weld_tolerance },
+            load: smoothlab::mesh::LoadOptions {
+                weld_tolerance,
+                strict,
+            },
         }),
         Some(Command::Merge {
             parts,

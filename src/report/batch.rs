@@ -83,6 +83,9 @@ pub struct WorkList {
     pub items: Vec<WorkItem>,
     /// The weld tolerance mesh files are loaded with.
     pub weld_tolerance: f64,
+    /// Whether mesh files are loaded with `--strict` (every repair refused).
+    #[serde(default)]
+    pub strict: bool,
 }
 
 impl WorkList {
@@ -91,6 +94,7 @@ impl WorkList {
         WorkList {
             items,
             weld_tolerance: load.weld_tolerance,
+            strict: load.strict,
         }
     }
 
@@ -98,6 +102,7 @@ impl WorkList {
     pub fn load_options(&self) -> LoadOptions {
         LoadOptions {
             weld_tolerance: self.weld_tolerance,
+            strict: self.strict,
         }
     }
 
