@@ -243,7 +243,15 @@ pub(super) fn assemble(
         }
     }
     if list.faces.is_empty() {
-        return Err(Error::EmptyMesh);
+        return Err(Error::Invalid(format!(
+            "no face is left after the repairs: {}",
+            repairs
+                .list
+                .iter()
+                .map(|r| r.message())
+                .collect::<Vec<_>>()
+                .join("; ")
+        )));
     }
 
     // Non-manifold edges, then vertices.
