@@ -1942,3 +1942,66 @@ fn negative_numeric_flags_name_the_flag_value_and_range() {
         assert_fails_naming(&out, &fragments);
     }
 }
+
+#[test]
+fn repairs_are_recorded_in_the_metrics_json_and_strict_refuses_them_on_every_command() {
+    let dir = scratch("repairs-json");
+    let obj = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n\
+               f 1 3 5\nf 3 2 5\nf 2 4 5\nf 1 4 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+    let mesh = write(&dir, "flipped.obj", obj);
+    let json = dir.join("m.json");
+    let out = smoothlab(&[
+        "metrics",
+        path_str(&mesh),
+        "--scheme",
+        "flat",
+        "--json",
+        path_str(&json),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&json).expect("metrics JSON");
+    let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    let repairs = &value[0]["repairs"];
+    assert_eq!(repairs[0]["kind"], "faces_reoriented", "{text}");
+    assert_eq!(repairs[0]["count"], 1, "{text}");
+    assert_eq!(repairs[0]["first"]["face"], 3, "{text}");
+    let out_png = dir.join("r");
+    for args in [
+        vec!["metrics", path_str(&mesh), "--scheme", "flat", "--strict"],
+        vec![
+            "export",
+            path_str(&mesh),
+            "--scheme",
+            "flat",
+            "--format",
+            "json",
+            "-o",
+            path_str(&dir.join("e.json")),
+            "--strict",
+        ],
+        vec![
+            "sample",
+            path_str(&mesh),
+            "--scheme",
+            "flat",
+            "--json",
+            path_str(&dir.join("s.json")),
+            "--strict",
+        ],
+        vec![
+            "render",
+            path_str(&mesh),
+            "--scheme",
+            "flat",
+            "--size",
+            "8x8",
+            "--spp",
+            "1",
+            "-o",
+            path_str(&out_png),
+            "--strict",
+        ],
+    ] {
+        assert_fails_naming(&smoothlab(&args), &["face 3", "--strict"]);
+    }
+}

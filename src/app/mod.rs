@@ -666,6 +666,7 @@ mod tests {
             vertex_curved: 12,
             vertex_mean_curvature_ratio_min: Some(0.5),
             vertex_mean_curvature_ratio_max: Some(1.5),
+            repairs: Vec::new(),
         };
         let table = metrics_table(&[
             m.clone(),

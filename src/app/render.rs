@@ -211,6 +211,10 @@ pub struct RenderArgs {
         allow_hyphen_values = true
     )]
     pub weld_tolerance: Option<f64>,
+    /// Refuse to repair the mesh: the first repair loading would make is an error naming the
+    /// element (scene: `strict = true`).
+    #[arg(long)]
+    pub strict: bool,
     /// Write the PNG only, no EXR (scene: `render.exr = false`).
     #[arg(long)]
     pub no_exr: bool,
@@ -362,6 +366,9 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     };
     if args.weld_tolerance.is_some() {
         scene.weld_tolerance = args.weld_tolerance;
+    }
+    if args.strict {
+        scene.strict = Some(true);
     }
     if let Some(s) = &args.scheme {
         scene.scheme.name = Some(s.clone());

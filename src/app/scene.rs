@@ -4,6 +4,7 @@
 //! ```toml
 //! mesh = "ico.obj"            # relative to the scene file, as every path in it
 //! weld_tolerance = 1e-10      # weld vertices closer than this fraction of the diagonal
+//! strict = false              # true: refuse to repair the mesh (every repair is an error)
 //! [scheme]
 //! name = "hb"
 //! params = { normals = "estimate" }
@@ -86,6 +87,8 @@ pub struct SceneFile {
     /// Weld tolerance of the mesh, relative to its bounding-box diagonal (see
     /// [`LoadOptions::weld_tolerance`]).
     pub weld_tolerance: Option<f64>,
+    /// Refuse every repair of the mesh (see [`LoadOptions::strict`]; default false).
+    pub strict: Option<bool>,
     /// Surface construction.
     #[serde(default)]
     pub scheme: SchemeSection,
@@ -367,6 +370,9 @@ impl SceneFile {
         if let Some(tolerance) = self.weld_tolerance {
             options.weld_tolerance = check_weld_tolerance(tolerance)
                 .map_err(|e| Error::Invalid(format!("weld_tolerance: {e}")))?;
+        }
+        if let Some(strict) = self.strict {
+            options.strict = strict;
         }
         Ok(options)
     }
@@ -880,6 +886,20 @@ mod tests {
         assert!(c.legend);
         let o = scene.overlay().expect("overlay");
         assert!(o.face_edges && o.patch_edges);
+    }
+
+    #[test]
+    fn strict_key_sets_the_load_options() {
+        assert!(
+            !SceneFile::parse("")
+                .expect("parses")
+                .load_options()
+                .expect("valid")
+                .strict
+        );
+        let scene = SceneFile::parse("mesh = \"a.obj\"\nstrict = true").expect("parses");
+        assert!(scene.load_options().expect("valid").strict);
+        assert!(SceneFile::parse("strict = 1").is_err());
     }
 
     #[test]

@@ -135,6 +135,10 @@ pub struct Metrics {
     pub vertex_mean_curvature_ratio_min: Option<f64>,
     /// Largest ratio `|H| / |H_mesh|`.
     pub vertex_mean_curvature_ratio_max: Option<f64>,
+    /// The repairs loading made to the mesh ([`crate::mesh::Mesh::repairs`]): each with its
+    /// `kind`, `count`, `first` element in the input's numbering and `detail`. Empty for a
+    /// mesh that loaded as written.
+    pub repairs: Vec<crate::mesh::Repair>,
 }
 
 impl Metrics {
@@ -172,6 +176,7 @@ impl Metrics {
             network_inflections_max: network.inflections_max,
             network_curves_with_inflections: network.curves_with_inflections,
             network_chord_deviation_max_rel: network.chord_deviation_max_rel,
+            repairs: mesh.repairs().to_vec(),
             ..Self::measure_normalised(surface, mesh.faces(), mesh.positions(), construct_ms)
         }
     }
@@ -256,6 +261,7 @@ impl Metrics {
             vertex_curved: at_vertices.curved_vertices,
             vertex_mean_curvature_ratio_min: at_vertices.mean_ratio_min,
             vertex_mean_curvature_ratio_max: at_vertices.mean_ratio_max,
+            repairs: Vec::new(),
         }
     }
 }

@@ -324,16 +324,17 @@ impl RenderJob {
         self.camera.camera(surface, aspect)
     }
 
-    /// Renders `surface` (built on `mesh`) with this job's camera, settings and curves.
+    /// Renders `surface` (built on `mesh`) with this job's camera, settings and curves; the
+    /// frame's faces are the mesh's input faces ([`Mesh::input_face`]).
     pub fn render(&self, surface: &Surface, mesh: &Mesh) -> Result<(Frame, RenderStats)> {
         let mut settings = self.settings.clone();
         settings.curves = self.curves.tubes(surface, mesh)?;
         let aspect = f64::from(settings.width) / f64::from(settings.height);
         let camera = self.camera.camera(surface, aspect)?;
-        match &self.geometry {
+        let (mut frame, stats) = match &self.geometry {
             Geometry::Tessellated(n) => {
                 let tracer = TessellatedTracer::new(surface, *n)?;
-                render(&tracer, &camera, &settings)
+                render(&tracer, &camera, &settings)?
             }
             Geometry::Exact {
                 criterion,
@@ -341,9 +342,18 @@ impl RenderJob {
             } => {
                 check_bvh_size(surface, criterion, *max_leaves)?;
                 let tracer = Tracer::new(surface, criterion, NewtonSettings::default())?;
-                render(&tracer, &camera, &settings)
+                render(&tracer, &camera, &settings)?
+            }
+        };
+        // `face_id` names the face the user wrote: the input face (polygon) each triangle was
+        // cut from.
+        let origins = mesh.face_origins();
+        for g in frame.geometry.iter_mut().flatten() {
+            if let Some(&input) = origins.get(g.face as usize) {
+                g.face = input;
             }
         }
+        Ok((frame, stats))
     }
 }
 

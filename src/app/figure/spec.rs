@@ -60,6 +60,9 @@ pub struct FigureSpec {
     pub title: Option<String>,
     /// A scenes/ mesh name or an OBJ path relative to the spec file.
     pub mesh: String,
+    /// Refuse every repair of a mesh file (see [`crate::mesh::LoadOptions::strict`]; default
+    /// false).
+    pub strict: Option<bool>,
     /// Output stem (`.png` appended; a `.png` or `.exr` ending is dropped first), relative to
     /// the spec file once loaded by [`FigureSpec::load`].
     pub output: PathBuf,
@@ -175,7 +178,13 @@ impl FigureSpec {
             self.mesh_file(dir),
         ) {
             (Some(scene), _) => scene.mesh(),
-            (None, path) => Ok(Mesh::load(&path)?.0),
+            (None, path) => {
+                let options = crate::mesh::LoadOptions {
+                    strict: self.strict.unwrap_or(false),
+                    ..Default::default()
+                };
+                Ok(Mesh::load_with(&path, &options)?.0)
+            }
         }
     }
 
