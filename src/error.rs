@@ -93,6 +93,17 @@ pub enum Error {
         /// Number of vertices.
         count: usize,
     },
+    /// Loading would have to repair the mesh, and `--strict` (or the `strict` key) refuses
+    /// every repair.
+    #[error("{element}: {problem}; --strict refuses the repair that loading would make: {repair}")]
+    RepairRefused {
+        /// The first element needing the repair, in the input's numbering (`face 3`).
+        element: String,
+        /// What is wrong with it.
+        problem: String,
+        /// The repair, as its warning would say it.
+        repair: String,
+    },
     /// The mesh has no faces.
     #[error("the mesh is empty (no faces)")]
     EmptyMesh,

@@ -111,6 +111,11 @@ enum Command {
         /// way.
         #[arg(long, value_name = "DIR")]
         history: Option<PathBuf>,
+        /// Refuse to repair --meshes files (non-planar or concave polygons, degenerate,
+        /// duplicate or inconsistently oriented faces, non-manifold edges and vertices): the
+        /// first repair needed is an error naming the element.
+        #[arg(long)]
+        strict: bool,
     },
     /// Merge the partial results of sharded runs (`report --shard`, `render --turntable|
     /// --sweep --shard`, `figure --shard`) into what one process would have written; names
@@ -193,6 +198,11 @@ struct SchemeOnMesh {
     /// [default: no sharp edges].
     #[arg(long, value_name = "DEG", value_parser = app::parse_crease_angle, allow_hyphen_values = true)]
     crease_angle: Option<f64>,
+    /// Refuse to repair the mesh (non-planar or concave polygons, degenerate, duplicate or
+    /// inconsistently oriented faces, non-manifold edges and vertices): the first repair
+    /// needed is an error naming the element.
+    #[arg(long)]
+    strict: bool,
 }
 
 impl SchemeOnMesh {
@@ -200,6 +210,7 @@ impl SchemeOnMesh {
     fn load_options(&self) -> smoothlab::mesh::LoadOptions {
         smoothlab::mesh::LoadOptions {
             weld_tolerance: self.weld_tolerance,
+            strict: self.strict,
             ..Default::default()
         }
         .with_crease_angle(self.crease_angle)
@@ -327,6 +338,7 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             crease_angle,
             params,
             history,
+            strict,
         }) => app::run_report_with(&app::ReportArgs {
             out,
             baseline,
@@ -337,6 +349,7 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             shard,
             load: smoothlab::mesh::LoadOptions {
                 weld_tolerance,
+                strict,
                 ..Default::default()
             }
             .with_crease_angle(crease_angle),

@@ -82,39 +82,130 @@ fn nan_names_the_vertex() {
     assert_fails_naming(&out, &["vertex 1", "non-finite"]);
 }
 
-#[test]
-fn degenerate_face_is_named() {
-    let dir = scratch("degenerate");
-    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n";
-    let out = metrics_of(&dir, "degenerate.obj", obj, &["--scheme", "flat"]);
-    assert_fails_naming(&out, &["face 1", "degenerate"]);
+/// Fails unless `metrics --scheme flat` on `obj` succeeds with a `warning:` line containing
+/// every fragment of `repaired`, and with `--strict` fails naming every fragment of `refused`.
+fn assert_repaired_unless_strict(test: &str, obj: &str, repaired: &[&str], refused: &[&str]) {
+    let dir = scratch(test);
+    let out = metrics_of(&dir, "mesh.obj", obj, &["--scheme", "flat"]);
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.lines()
+            .any(|l| l.starts_with("warning: ") && repaired.iter().all(|f| l.contains(f))),
+        "{repaired:?} missing from: {err}"
+    );
+    let out = metrics_of(&dir, "mesh.obj", obj, &["--scheme", "flat", "--strict"]);
+    let mut fragments = refused.to_vec();
+    fragments.push("--strict");
+    assert_fails_naming(&out, &fragments);
 }
 
 #[test]
-fn duplicate_face_names_both() {
-    let dir = scratch("duplicate");
+fn degenerate_face_is_collapsed_unless_strict() {
+    // Face 1 is a cap: vertex 3 lies on the edge (1, 2), nearer to vertex 2.
+    let obj = "v 0 0 0\nv 2 0 0\nv 1.4 0 0\nv 1 1 0\nv 0.5 -1 0\nv 1.5 -1 0\n\
+               f 1 2 4\nf 2 1 3\nf 3 1 5\nf 3 5 6\nf 2 3 6\n";
+    assert_repaired_unless_strict(
+        "degenerate",
+        obj,
+        &[
+            "collapsed 1 degenerate faces",
+            "first: face 1",
+            "vertex 2 is merged into vertex 1",
+        ],
+        &["face 1: zero area"],
+    );
+}
+
+#[test]
+fn duplicate_face_is_removed_unless_strict() {
     // The same triangle twice, with opposite orientation: every edge still has two faces.
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n";
-    let out = metrics_of(&dir, "duplicate.obj", obj, &["--scheme", "flat"]);
-    assert_fails_naming(&out, &["face 1", "face 0"]);
+    assert_repaired_unless_strict(
+        "duplicate",
+        obj,
+        &["removed 1 duplicate faces", "first: face 1: repeats face 0"],
+        &["face 1: repeats face 0"],
+    );
 }
 
 #[test]
-fn non_manifold_edge_is_named() {
-    let dir = scratch("nonmanifold-edge");
+fn non_manifold_edge_is_split_unless_strict() {
     // Three triangles on edge (0, 1), pointing in different directions.
     let obj = "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0.5 -1 0\nv 0.5 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
-    let out = metrics_of(&dir, "fin.obj", obj, &["--scheme", "flat"]);
-    assert_fails_naming(&out, &["edge (0, 1)", "non-manifold"]);
+    assert_repaired_unless_strict(
+        "nonmanifold-edge",
+        obj,
+        &[
+            "split 1 non-manifold edges",
+            "first: edge (0, 1): shared by 3 faces",
+        ],
+        &["edge (0, 1): shared by 3 faces"],
+    );
 }
 
 #[test]
-fn bow_tie_names_the_vertex() {
-    let dir = scratch("bowtie");
+fn bow_tie_vertex_is_split_unless_strict() {
     // Two triangles touching only at vertex 0.
     let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv -1 0 0\nv -1 -1 0\nf 1 2 3\nf 1 4 5\n";
-    let out = metrics_of(&dir, "bowtie.obj", obj, &["--scheme", "flat"]);
-    assert_fails_naming(&out, &["vertex 0", "non-manifold"]);
+    assert_repaired_unless_strict(
+        "bowtie",
+        obj,
+        &[
+            "split 1 non-manifold vertices",
+            "first: vertex 0: its faces form 2 separate fans",
+        ],
+        &["vertex 0: its faces form 2 separate fans"],
+    );
+}
+
+#[test]
+fn bent_and_concave_polygons_are_triangulated_unless_strict() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0.3\nv 0 1 0\nv 2 0 0\nv 2 1 0\nv 1.5 0.5 0\n\
+               f 1 2 3 4\nf 2 5 7 6 3\n";
+    assert_repaired_unless_strict(
+        "polygons",
+        obj,
+        &[
+            "triangulated 2 non-planar or non-convex faces",
+            "first: face 0",
+            "not planar",
+        ],
+        &["face 0: it has 4 corners and is not planar"],
+    );
+}
+
+#[test]
+fn flipped_octahedron_face_is_reoriented_outward_unless_strict() {
+    let obj = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n\
+               f 1 3 5\nf 3 2 5\nf 2 4 5\nf 1 4 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+    assert_repaired_unless_strict(
+        "flipped",
+        obj,
+        &["re-oriented 1 faces", "first: face 3"],
+        &["face 3: it is oriented against its neighbours"],
+    );
+}
+
+#[test]
+fn faces_merged_by_welding_name_the_weld_and_the_flag() {
+    // Issue row: the octahedron flattened to z × 1e-13; welding merges its two poles, which
+    // makes each lower face repeat an upper one.
+    let obj = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1e-13\nv 0 0 -1e-13\n\
+               f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+    assert_repaired_unless_strict(
+        "weld-duplicates",
+        obj,
+        &[
+            "removed 4 duplicate faces",
+            "first: face 4: repeats face 0 after welding merged vertex 5 into vertex 4",
+            "--weld-tolerance",
+        ],
+        &[
+            "face 4: repeats face 0 after welding merged vertex 5 into vertex 4",
+            "--weld-tolerance",
+        ],
+    );
 }
 
 #[test]
@@ -1103,12 +1194,26 @@ fn weld_tolerance_that_collapses_an_edge_names_the_face() {
         &seamed_torus_obj(),
         &["--scheme", "hb", "--weld-tolerance", "0.2"],
     );
+    // Welding that far collapses faces: a repair naming the weld and the flag, refused by
+    // --strict.
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("first: face 0: welding merged its corners 0 and 9"),
+        "{}",
+        stderr(&out)
+    );
+    let out = metrics_of(
+        &dir,
+        "torus.obj",
+        &seamed_torus_obj(),
+        &["--scheme", "hb", "--weld-tolerance", "0.2", "--strict"],
+    );
     assert_fails_naming(
         &out,
         &[
-            "welding collapses face 0",
-            "corners 0 and 9",
+            "face 0: welding merged its corners 0 and 9",
             "--weld-tolerance",
+            "--strict",
         ],
     );
     for bad in ["-1e-9", "1", "nan", "tiny"] {
@@ -1914,5 +2019,68 @@ fn negative_numeric_flags_name_the_flag_value_and_range() {
         ),
     ] {
         assert_fails_naming(&out, &fragments);
+    }
+}
+
+#[test]
+fn repairs_are_recorded_in_the_metrics_json_and_strict_refuses_them_on_every_command() {
+    let dir = scratch("repairs-json");
+    let obj = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n\
+               f 1 3 5\nf 3 2 5\nf 2 4 5\nf 1 4 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+    let mesh = write(&dir, "flipped.obj", obj);
+    let json = dir.join("m.json");
+    let out = smoothlab(&[
+        "metrics",
+        path_str(&mesh),
+        "--scheme",
+        "flat",
+        "--json",
+        path_str(&json),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&json).expect("metrics JSON");
+    let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    let repairs = &value[0]["repairs"];
+    assert_eq!(repairs[0]["kind"], "faces_reoriented", "{text}");
+    assert_eq!(repairs[0]["count"], 1, "{text}");
+    assert_eq!(repairs[0]["first"]["face"], 3, "{text}");
+    let out_png = dir.join("r");
+    for args in [
+        vec!["metrics", path_str(&mesh), "--scheme", "flat", "--strict"],
+        vec![
+            "export",
+            path_str(&mesh),
+            "--scheme",
+            "flat",
+            "--format",
+            "json",
+            "-o",
+            path_str(&dir.join("e.json")),
+            "--strict",
+        ],
+        vec![
+            "sample",
+            path_str(&mesh),
+            "--scheme",
+            "flat",
+            "--json",
+            path_str(&dir.join("s.json")),
+            "--strict",
+        ],
+        vec![
+            "render",
+            path_str(&mesh),
+            "--scheme",
+            "flat",
+            "--size",
+            "8x8",
+            "--spp",
+            "1",
+            "-o",
+            path_str(&out_png),
+            "--strict",
+        ],
+    ] {
+        assert_fails_naming(&smoothlab(&args), &["face 3", "--strict"]);
     }
 }

@@ -206,7 +206,7 @@ fn cube_triangles() -> (Vec<DVec3>, Vec<[u32; 3]>) {
 }
 
 #[test]
-fn ply_quads_are_triangulated_with_a_warning_and_bent_ones_refused() {
+fn ply_quads_are_triangulated_with_a_warning_and_bent_ones_repaired() {
     let (mut positions, quads) = cube();
     for bytes in [
         mesh_files::ply_ascii(&positions, &quads),
@@ -218,14 +218,18 @@ fn ply_quads_are_triangulated_with_a_warning_and_bent_ones_refused() {
         assert!(report.warnings[0].starts_with("triangulated 6 faces with more than 3 corners"));
     }
     positions[7].z = 1.1;
-    let err = parse(&mesh_files::ply_ascii(&positions, &quads), MeshFormat::Ply).unwrap_err();
-    assert!(
-        matches!(err, Error::NonPlanarFace { face: 1, .. }),
-        "{err:?}"
-    );
+    let bytes = mesh_files::ply_ascii(&positions, &quads);
+    let (_, report) = parse(&bytes, MeshFormat::Ply).unwrap();
+    assert_eq!(report.repairs[0].first, smoothlab::mesh::Element::Face(1));
+    let strict = LoadOptions {
+        strict: true,
+        ..Default::default()
+    };
+    let err = Mesh::parse_format(&bytes, MeshFormat::Ply, &strict).unwrap_err();
+    assert!(matches!(err, Error::RepairRefused { .. }), "{err:?}");
     assert!(
         err.to_string()
-            .starts_with("face 1 (4 corners) is not planar")
+            .starts_with("face 1: it has 4 corners and is not planar")
     );
 }
 

@@ -706,6 +706,7 @@ mod tests {
             sharp_joints: 0,
             sharp_g0_max_rel: None,
             sharp_g1_max_rad: None,
+            repairs: Vec::new(),
         };
         let table = metrics_table(&[
             m.clone(),

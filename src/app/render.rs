@@ -221,6 +221,10 @@ pub struct RenderArgs {
         allow_hyphen_values = true
     )]
     pub crease_angle: Option<f64>,
+    /// Refuse to repair the mesh: the first repair loading would make is an error naming the
+    /// element (scene: `strict = true`).
+    #[arg(long)]
+    pub strict: bool,
     /// Write the PNG only, no EXR (scene: `render.exr = false`).
     #[arg(long)]
     pub no_exr: bool,
@@ -375,6 +379,9 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     }
     if args.crease_angle.is_some() {
         scene.crease_angle = args.crease_angle;
+    }
+    if args.strict {
+        scene.strict = Some(true);
     }
     if let Some(s) = &args.scheme {
         scene.scheme.name = Some(s.clone());

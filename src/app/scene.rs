@@ -5,6 +5,7 @@
 //! mesh = "ico.obj"            # relative to the scene file, as every path in it
 //! weld_tolerance = 1e-10      # weld vertices closer than this fraction of the diagonal
 //! crease_angle = 40           # edges whose faces turn by more than 40° are sharp (G0)
+//! strict = false              # true: refuse to repair the mesh (every repair is an error)
 //! [scheme]
 //! name = "hb"
 //! params = { normals = "estimate" }
@@ -90,6 +91,8 @@ pub struct SceneFile {
     /// Crease angle in degrees: edges whose faces' normals are further apart are sharp (see
     /// [`LoadOptions::crease_angle`]); unset, no edge is.
     pub crease_angle: Option<f64>,
+    /// Refuse every repair of the mesh (see [`LoadOptions::strict`]; default false).
+    pub strict: Option<bool>,
     /// Surface construction.
     #[serde(default)]
     pub scheme: SchemeSection,
@@ -377,6 +380,9 @@ impl SceneFile {
                 check_crease_angle(degrees)
                     .map_err(|e| Error::Invalid(format!("crease_angle: {e}")))?,
             );
+        }
+        if let Some(strict) = self.strict {
+            options.strict = strict;
         }
         Ok(options)
     }
@@ -890,6 +896,20 @@ mod tests {
         assert!(c.legend);
         let o = scene.overlay().expect("overlay");
         assert!(o.face_edges && o.patch_edges);
+    }
+
+    #[test]
+    fn strict_key_sets_the_load_options() {
+        assert!(
+            !SceneFile::parse("")
+                .expect("parses")
+                .load_options()
+                .expect("valid")
+                .strict
+        );
+        let scene = SceneFile::parse("mesh = \"a.obj\"\nstrict = true").expect("parses");
+        assert!(scene.load_options().expect("valid").strict);
+        assert!(SceneFile::parse("strict = 1").is_err());
     }
 
     #[test]

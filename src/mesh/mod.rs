@@ -34,6 +34,7 @@ mod normals;
 mod obj;
 mod polygon;
 mod sharp;
+pub mod repair;
 mod topology;
 mod validate;
 mod weld;
@@ -49,6 +50,7 @@ pub use formats::MeshFormat;
 pub use normals::OBJ_NORMAL_ANGLE_TOLERANCE;
 pub use polygon::{CONVEXITY_TOLERANCE, PLANARITY_TOLERANCE};
 pub use sharp::{SharpEdges, crease_tangent};
+pub use repair::{Element, Repair, RepairKind};
 pub use validate::{DEGENERATE_AREA_RATIO, MAX_COORDINATE_MAGNITUDE, MIN_COORDINATE_SPAN};
 pub use weld::{DEFAULT_WELD_TOLERANCE, check_weld_tolerance};
 
@@ -77,6 +79,9 @@ pub struct LoadOptions {
     /// smoothing groups, per-corner normals); None (the default) marks none. Must be in
     /// [0, 180], see [`check_crease_angle`].
     pub crease_angle: Option<f64>,
+    /// Refuse every repair (`--strict`): the first repair loading would make is an
+    /// [`Error::RepairRefused`] naming the element instead (default false: repair and warn).
+    pub strict: bool,
 }
 
 impl Default for LoadOptions {
@@ -84,6 +89,7 @@ impl Default for LoadOptions {
         LoadOptions {
             weld_tolerance: DEFAULT_WELD_TOLERANCE,
             crease_angle: None,
+            strict: false,
         }
     }
 }
@@ -123,8 +129,11 @@ pub struct LoadReport {
     pub welded_near: usize,
     /// The largest distance between a welded vertex and the vertex it was merged into.
     pub weld_max_distance: f64,
-    /// Faces whose orientation was flipped to agree with their neighbours.
+    /// Faces whose orientation was flipped (for consistency within their component, or with
+    /// the whole component to face outward); each is also counted in a [`Repair`].
     pub reoriented_faces: usize,
+    /// The repairs made, in the order they were made (each also one line of `warnings`).
+    pub repairs: Vec<Repair>,
     /// Human-readable warnings (one line each).
     pub warnings: Vec<String>,
     /// Edges marked sharp (by the crease angle or by the file, see [`SharpEdges`]).
@@ -147,6 +156,10 @@ pub struct MeshEdge {
 pub struct Mesh {
     positions: Vec<DVec3>,
     faces: Vec<[u32; 3]>,
+    /// The input face (polygon) each triangle was cut from.
+    face_origin: Vec<u32>,
+    /// The repairs loading made.
+    repairs: Vec<Repair>,
     obj_normals: ObjNormals,
     topology: Topology,
     sharp: SharpEdges,
@@ -174,13 +187,16 @@ impl Mesh {
         faces: Vec<[u32; 3]>,
         options: &LoadOptions,
     ) -> Result<(Mesh, LoadReport)> {
+        let origin = (0..faces.len() as u32).collect();
         validate::assemble(
             positions,
             faces,
+            origin,
             None,
             Err("the mesh was not read from an OBJ file".to_string()),
             &[],
             options,
+            repair::Repairs::new(options.strict),
         )
     }
 
@@ -256,6 +272,20 @@ impl Mesh {
     /// Faces as counter-clockwise vertex triples (consistently oriented).
     pub fn faces(&self) -> &[[u32; 3]] {
         &self.faces
+    }
+    /// The input face that triangle `t` was cut from, as the input numbers its faces
+    /// (polygons); `t` itself for a triangle mesh loaded without repairs. Panics if `t` is not
+    /// a face.
+    pub fn input_face(&self, t: u32) -> usize {
+        self.face_origin[t as usize] as usize
+    }
+    /// The input face of every triangle (see [`Mesh::input_face`]).
+    pub fn face_origins(&self) -> &[u32] {
+        &self.face_origin
+    }
+    /// The repairs loading made to the input (also in [`LoadReport::repairs`]).
+    pub fn repairs(&self) -> &[Repair] {
+        &self.repairs
     }
     /// Number of vertices.
     pub fn vertex_count(&self) -> usize {

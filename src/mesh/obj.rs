@@ -533,6 +533,14 @@ f 1/2/1 4/3/4 6/4/6
         Mesh::parse_obj(text).unwrap_err()
     }
 
+    fn parse_strict_err(text: &str) -> Error {
+        let options = crate::mesh::LoadOptions {
+            strict: true,
+            ..Default::default()
+        };
+        Mesh::parse_obj_with(text, &options).unwrap_err()
+    }
+
     #[test]
     fn normals_and_uvs_do_not_split_vertices_and_groups_are_concatenated() {
         let (mesh, report) = Mesh::parse_obj(OCTAHEDRON_WITH_NORMALS_AND_UVS).unwrap();
@@ -741,18 +749,16 @@ f 1/2/1 4/3/4 6/4/6
     }
 
     #[test]
-    fn bent_polygons_and_two_corner_faces_are_refused() {
+    fn bent_polygons_are_repaired_and_two_corner_faces_refused() {
         let text = "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nv 0 0 1\nf 1 2 5\nf 1 2 3 4\n";
-        let error = parse_err(text);
+        let (mesh, report) = Mesh::parse_obj(text).unwrap();
+        assert_eq!(mesh.face_count(), 3);
+        assert_eq!(report.repairs[0].first, crate::mesh::Element::Face(1));
+        let error = parse_strict_err(text);
         assert!(
-            matches!(
-                error,
-                Error::NonPlanarFace {
-                    face: 1,
-                    corners: 4,
-                    ..
-                }
-            ),
+            error
+                .to_string()
+                .starts_with("face 1: it has 4 corners and is not planar"),
             "{error}"
         );
         let error = parse_err("v 0 0 0\nv 1 0 0\nf 1 2\n");
@@ -810,11 +816,10 @@ f 1/2/1 4/3/4 6/4/6
         );
         // A bow-tie whose centre is the file's last vertex.
         let text = "v 1 1 0\nv 1 -1 0\nv -1 -1 0\nv -1 1 0\nv 0 0 0\nf 5 1 4\nf 5 3 2\n";
-        let error = parse_err(text);
-        assert!(
-            matches!(error, Error::NonManifoldVertex { vertex: 4, fans: 2 }),
-            "{error}"
-        );
+        let (_, report) = Mesh::parse_obj(text).unwrap();
+        assert_eq!(report.repairs[0].first, crate::mesh::Element::Vertex(4));
+        let error = parse_strict_err(text);
+        assert!(error.to_string().starts_with("vertex 4: "), "{error}");
     }
 
     #[test]

@@ -6,6 +6,7 @@ use glam::DVec3;
 
 use super::normals::{self, CornerNormals};
 use super::sharp;
+use super::repair::{Element, RepairKind, Repairs, collapse_degenerate, pair_fan, split_fans};
 use super::topology::{NO_TWIN, Topology};
 use super::weld::{check_weld_tolerance, weld};
 use super::{LoadOptions, LoadReport, Mesh};
@@ -50,16 +51,50 @@ impl VertexNames<'_> {
     }
 }
 
-/// Validates `faces` over `positions` and builds the mesh (see the module docs of `mesh` for
-/// the steps). `labels` renames input vertices in errors; `corner_normals` are the file's
-/// normals per face corner, or why there are none.
+/// The faces being repaired, with what each one remembers: its input face, its corners
+/// before welding and the file's normal per corner.
+struct FaceList {
+    faces: Vec<[u32; 3]>,
+    origin: Vec<u32>,
+    input: Vec<[u32; 3]>,
+    normal_corners: Option<Vec<u32>>,
+}
+
+impl FaceList {
+    /// Keeps the faces whose `keep` flag is set, in order.
+    fn retain(&mut self, keep: &[bool]) {
+        let kept = |f: &usize| keep[*f];
+        let pick = |list: &[[u32; 3]]| -> Vec<[u32; 3]> {
+            (0..list.len()).filter(kept).map(|f| list[f]).collect()
+        };
+        self.faces = pick(&self.faces);
+        self.input = pick(&self.input);
+        self.origin = (0..self.origin.len())
+            .filter(kept)
+            .map(|f| self.origin[f])
+            .collect();
+        if let Some(corners) = &mut self.normal_corners {
+            *corners = (0..keep.len())
+                .filter(kept)
+                .flat_map(|f| [corners[3 * f], corners[3 * f + 1], corners[3 * f + 2]])
+                .collect();
+        }
+    }
+}
+
+/// Validates and repairs `faces` over `positions` and builds the mesh (see the module docs of
+/// `mesh` for the steps). `origin` is each triangle's input face (the polygon it was cut
+/// from); `labels` renames input vertices in errors; `corner_normals` are the file's normals
+/// per face corner, or why there are none; `repairs` holds the repairs made so far.
 pub(super) fn assemble(
     positions: Vec<DVec3>,
     faces: Vec<[u32; 3]>,
+    origin: Vec<u32>,
     labels: Option<&[u32]>,
     corner_normals: std::result::Result<CornerNormals, String>,
     file_sharp: &[[u32; 2]],
     options: &LoadOptions,
+    mut repairs: Repairs,
 ) -> Result<(Mesh, LoadReport)> {
     let relative_tolerance =
         check_weld_tolerance(options.weld_tolerance).map_err(Error::Invalid)?;
@@ -91,10 +126,10 @@ pub(super) fn assemble(
         used[v as usize] = true;
     }
     let bounds = check_range(&positions, &used, &names_in)?;
+    let input_faces = faces.clone();
     let welding = weld(&positions, &used, bounds, faces, relative_tolerance, &|v| {
         names_in.input(v)
     })?;
-    let mut faces = welding.faces;
     report.welded = welding.welded;
     report.welded_near = welding.welded_near;
     report.weld_max_distance = welding.max_distance;
@@ -111,31 +146,168 @@ pub(super) fn assemble(
             welding.unused
         ));
     }
+    let tolerance = welding.tolerance;
+    let mut list = FaceList {
+        faces: welding.faces,
+        origin,
+        input: input_faces,
+        normal_corners: corner_normals.as_ref().ok().map(|n| n.corner.clone()),
+    };
+    let input_positions = positions;
+    let mut representative = welding.representative;
+    let mut positions = welding.positions;
+    let scale = normalising_scale(&bounds);
+    let weld = WeldNames {
+        positions: &input_positions,
+        names: &names_in,
+        tolerance,
+    };
+
+    // Degenerate faces: a repeated corner (as written, or made by welding), then duplicates,
+    // then zero area with distinct corners.
+    let repeated: Vec<bool> = list
+        .faces
+        .iter()
+        .map(|&[a, b, c]| a == b || b == c || c == a)
+        .collect();
+    if let Some(first) = repeated.iter().position(|&r| r) {
+        let detail = match &welding.first_collapse {
+            Some(collapse) if collapse.face == first => format!(
+                "{}; the face is removed",
+                weld.note(collapse.a, collapse.b, collapse.distance)
+            ),
+            _ => "a corner is repeated; the face is removed".to_string(),
+        };
+        repairs.record(
+            RepairKind::DegenerateFaceCollapsed,
+            repeated.iter().filter(|&&r| r).count(),
+            Element::Face(list.origin[first] as usize),
+            detail,
+        )?;
+        list.retain(&repeated.iter().map(|r| !r).collect::<Vec<_>>());
+    }
+    let duplicates = find_duplicates(&list.faces);
+    if let Some(&(face, first)) = duplicates.first() {
+        let mut detail = format!("repeats face {}", list.origin[first] as usize);
+        if let Some((a, b)) = weld.merged_between(&list, face, first) {
+            let distance = input_positions[a].distance(input_positions[b]);
+            detail += &format!(" after {}", weld.note_input(a, b, distance));
+        }
+        detail += "; the later face is removed";
+        repairs.record(
+            RepairKind::DuplicateFaceRemoved,
+            duplicates.len(),
+            Element::Face(list.origin[face] as usize),
+            detail,
+        )?;
+        let mut keep = vec![true; list.faces.len()];
+        for &(face, _) in &duplicates {
+            keep[face] = false;
+        }
+        list.retain(&keep);
+    }
+    let scaled: Vec<DVec3> = positions.iter().map(|&p| p * scale).collect();
+    let collapse = collapse_degenerate(&scaled, &mut list.faces, DEGENERATE_AREA_RATIO);
+    if let Some(&first) = collapse.collapsed.first() {
+        let detail = match collapse.first_edge {
+            Some((gone, kept)) => format!(
+                "zero area; its vertex {} is merged into vertex {}, the nearer end of the \
+                 opposite edge",
+                input_name(&names_in, &representative, gone),
+                input_name(&names_in, &representative, kept)
+            ),
+            None => "zero area".to_string(),
+        };
+        repairs.record(
+            RepairKind::DegenerateFaceCollapsed,
+            collapse.collapsed.len(),
+            Element::Face(list.origin[first] as usize),
+            detail,
+        )?;
+    }
+    if let Some(&first) = collapse.dropped.first() {
+        repairs.record(
+            RepairKind::DegenerateFaceRemoved,
+            collapse.dropped.len(),
+            Element::Face(list.origin[first] as usize),
+            "zero area, and collapsing it would make the mesh non-manifold or turn a \
+             neighbour over; the face is removed, leaving a hole"
+                .to_string(),
+        )?;
+    }
+    if collapse.removed.contains(&true) {
+        list.retain(&collapse.removed.iter().map(|r| !r).collect::<Vec<_>>());
+        let dropped = drop_unused(&mut positions, &mut representative, &mut list.faces);
+        if dropped > 0 {
+            report.warnings.push(format!(
+                "dropped {dropped} vertices that repairs left used by no face"
+            ));
+        }
+    }
+    if list.faces.is_empty() {
+        return Err(Error::Invalid(format!(
+            "no face is left after the repairs: {}",
+            repairs
+                .list
+                .iter()
+                .map(|r| r.message())
+                .collect::<Vec<_>>()
+                .join("; ")
+        )));
+    }
+
+    // Non-manifold edges, then vertices.
+    let (twin, same_direction, split_edges) = link_half_edges(&list.faces, &positions);
+    if let Some(&(a, b, count)) = split_edges.first() {
+        repairs.record(
+            RepairKind::NonManifoldEdgeSplit,
+            split_edges.len(),
+            Element::Edge(
+                input_name(&names_in, &representative, a),
+                input_name(&names_in, &representative, b),
+            ),
+            format!("shared by {count} faces; they are paired, the others split off"),
+        )?;
+    }
+    let (split_from, split_vertices) = split_fans(&mut list.faces, &twin, positions.len());
+    if let Some(&(v, fans)) = split_vertices.first() {
+        repairs.record(
+            RepairKind::NonManifoldVertexSplit,
+            split_vertices.len(),
+            Element::Vertex(input_name(&names_in, &representative, v)),
+            format!("its faces form {fans} separate fans; each fan gets its own vertex"),
+        )?;
+    }
+    for &v in &split_from {
+        positions.push(positions[v as usize]);
+        representative.push(representative[v as usize]);
+    }
     let names = VertexNames {
-        representative: &welding.representative,
+        representative: &representative,
         labels,
     };
-    let positions = welding.positions;
-
-    check_degenerate(&positions, &faces, normalising_scale(&bounds))?;
-    check_duplicates(&faces)?;
-    let (twin, same_direction) = link_half_edges(&faces, &names)?;
+    let mut faces = list.faces;
     // The file's normals are matched to vertices before any face is flipped, while faces
     // still list their corners in file order.
+    let corner_normals = corner_normals.map(|normals| CornerNormals {
+        corner: list.normal_corners.unwrap_or_default(),
+        normals: normals.normals,
+    });
     let obj_normals =
         normals::per_vertex_from_corners(corner_normals, &faces, positions.len(), &|v| {
             names.welded(v)
         });
-    let flipped = orientation_flips(&faces, &twin, &same_direction, &names)?;
+    let flipped = orientation_flips(
+        &faces,
+        &twin,
+        &same_direction,
+        &positions,
+        &names,
+        &list.origin,
+        &mut repairs,
+    )?;
     let twin = apply_flips(&mut faces, twin, &flipped);
-    let reoriented: Vec<usize> = (0..faces.len()).filter(|&f| flipped[f]).collect();
-    if let Some(&first) = reoriented.first() {
-        report.reoriented_faces = reoriented.len();
-        report.warnings.push(format!(
-            "re-oriented {} faces to agree with their neighbours (first: face {first})",
-            reoriented.len()
-        ));
-    }
+    report.reoriented_faces = flipped.iter().filter(|&&f| f).count();
     let topology = Topology::build(&faces, twin, positions.len(), |v| names.welded(v))?;
     let file_sharp: Vec<[u32; 2]> = file_sharp
         .iter()
@@ -157,6 +329,10 @@ pub(super) fn assemble(
         options.crease_angle,
     );
     report.sharp_edges = sharp.count();
+    report.repairs = repairs.list;
+    for (i, repair) in report.repairs.iter().enumerate() {
+        report.warnings.insert(i, repair.message());
+    }
     if options.crease_angle.is_none() && !file_sharp.is_empty() {
         let [a, b] = file_sharp[0];
         report.warnings.push(format!(
@@ -171,12 +347,91 @@ pub(super) fn assemble(
         Mesh {
             positions,
             faces,
+            face_origin: list.origin,
+            repairs: report.repairs.clone(),
             obj_normals,
             topology,
             sharp,
         },
         report,
     ))
+}
+
+/// The input number of mesh vertex `v` (before the final numbering).
+fn input_name(names: &VertexNames, representative: &[u32], v: u32) -> usize {
+    names.input(representative[v as usize] as usize)
+}
+
+/// How repairs caused by welding name the weld.
+struct WeldNames<'a> {
+    /// The input positions.
+    positions: &'a [DVec3],
+    names: &'a VertexNames<'a>,
+    /// The weld tolerance as a distance.
+    tolerance: f64,
+}
+
+impl WeldNames<'_> {
+    /// "welding merged vertices a and b …" for vertices already named as the input does.
+    fn note(&self, a: usize, b: usize, distance: f64) -> String {
+        format!(
+            "welding merged its corners {a} and {b} ({distance:.3e} apart, within the weld \
+             tolerance {:.3e}; a smaller --weld-tolerance keeps them apart)",
+            self.tolerance
+        )
+    }
+    /// [`WeldNames::note`] for input vertex indices.
+    fn note_input(&self, a: usize, b: usize, distance: f64) -> String {
+        format!(
+            "welding merged vertex {} into vertex {} ({distance:.3e} apart, within the weld \
+             tolerance {:.3e}; a smaller --weld-tolerance keeps them apart)",
+            self.names.input(a),
+            self.names.input(b),
+            self.tolerance
+        )
+    }
+    /// For faces `face` and `first` on the same welded vertices, two input vertices at
+    /// different positions that welding merged to make them so (input indices), if any.
+    fn merged_between(&self, list: &FaceList, face: usize, first: usize) -> Option<(usize, usize)> {
+        for c in 0..3 {
+            let welded = list.faces[face][c];
+            let d = list.faces[first].iter().position(|&w| w == welded)?;
+            let (a, b) = (list.input[face][c] as usize, list.input[first][d] as usize);
+            if a != b && self.positions[a] != self.positions[b] {
+                return Some((a, b));
+            }
+        }
+        None
+    }
+}
+
+/// Removes vertices used by no face, keeping the order of the others; returns how many.
+fn drop_unused(
+    positions: &mut Vec<DVec3>,
+    representative: &mut Vec<u32>,
+    faces: &mut [[u32; 3]],
+) -> usize {
+    let mut used = vec![false; positions.len()];
+    for &v in faces.iter().flatten() {
+        used[v as usize] = true;
+    }
+    let mut renumber = vec![u32::MAX; positions.len()];
+    let mut next = 0u32;
+    for v in 0..positions.len() {
+        if used[v] {
+            renumber[v] = next;
+            positions[next as usize] = positions[v];
+            representative[next as usize] = representative[v];
+            next += 1;
+        }
+    }
+    let dropped = positions.len() - next as usize;
+    positions.truncate(next as usize);
+    representative.truncate(next as usize);
+    for v in faces.iter_mut().flatten() {
+        *v = renumber[*v as usize];
+    }
+    dropped
 }
 
 fn check_indices(positions: &[DVec3], faces: &[[u32; 3]]) -> Result<()> {
@@ -247,28 +502,9 @@ fn normalising_scale(bounds: &Aabb) -> f64 {
     }
 }
 
-/// Rejects faces with a repeated corner or (numerically) zero area, see
-/// [`DEGENERATE_AREA_RATIO`]. Areas are computed on the coordinates times `scale` (see
-/// [`normalising_scale`]).
-fn check_degenerate(positions: &[DVec3], faces: &[[u32; 3]], scale: f64) -> Result<()> {
-    for (f, &[a, b, c]) in faces.iter().enumerate() {
-        let repeated = a == b || b == c || c == a;
-        let [pa, pb, pc] = [a, b, c].map(|v| positions[v as usize] * scale);
-        let longest_squared = (pb - pa)
-            .length_squared()
-            .max((pc - pb).length_squared())
-            .max((pa - pc).length_squared());
-        let twice_area = (pb - pa).cross(pc - pa).length();
-        let has_area = twice_area > DEGENERATE_AREA_RATIO * longest_squared;
-        if repeated || !has_area {
-            return Err(Error::DegenerateFace { face: f });
-        }
-    }
-    Ok(())
-}
-
-/// Rejects two faces on the same three vertices, in any order or orientation.
-fn check_duplicates(faces: &[[u32; 3]]) -> Result<()> {
+/// The faces on the same three vertices (in any order or orientation) as an earlier face:
+/// `(face, earlier face)` in order of the later face.
+fn find_duplicates(faces: &[[u32; 3]]) -> Vec<(usize, usize)> {
     let mut keyed: Vec<([u32; 3], u32)> = faces
         .iter()
         .enumerate()
@@ -279,19 +515,32 @@ fn check_duplicates(faces: &[[u32; 3]]) -> Result<()> {
         })
         .collect();
     keyed.sort_unstable();
-    match keyed.windows(2).find(|pair| pair[0].0 == pair[1].0) {
-        Some(pair) => Err(Error::DuplicateFace {
-            face: pair[1].1 as usize,
-            first: pair[0].1 as usize,
-        }),
-        None => Ok(()),
+    let mut out = Vec::new();
+    let mut start = 0;
+    while start < keyed.len() {
+        let end = start
+            + keyed[start..]
+                .iter()
+                .take_while(|k| k.0 == keyed[start].0)
+                .count();
+        for k in &keyed[start + 1..end] {
+            out.push((k.1 as usize, keyed[start].1 as usize));
+        }
+        start = end;
     }
+    out.sort_unstable();
+    out
 }
 
+/// Twins, directions and the split edges (see [`link_half_edges`]).
+type Linked = (Vec<u32>, Vec<bool>, Vec<(u32, u32, usize)>);
+
 /// Pairs the half-edges (3·face + corner, running from corner to the next) of each undirected
-/// edge. Returns each half-edge's twin (or [`NO_TWIN`]) and whether it runs the same way as its
-/// twin (which an oriented mesh never does). O(F log F) by sorting edge keys.
-fn link_half_edges(faces: &[[u32; 3]], names: &VertexNames) -> Result<(Vec<u32>, Vec<bool>)> {
+/// edge. Returns each half-edge's twin (or [`NO_TWIN`]), whether it runs the same way as its
+/// twin (which an oriented mesh never does), and the edges shared by more than two faces as
+/// `(a, b, faces)`: those are split ([`pair_fan`] picks the pairs, the others become boundary
+/// edges). O(F log F) by sorting edge keys.
+fn link_half_edges(faces: &[[u32; 3]], positions: &[DVec3]) -> Linked {
     let half_edge_count = 3 * faces.len();
     let from = |he: usize| faces[he / 3][he % 3];
     let to = |he: usize| faces[he / 3][(he + 1) % 3];
@@ -305,51 +554,71 @@ fn link_half_edges(faces: &[[u32; 3]], names: &VertexNames) -> Result<(Vec<u32>,
     keyed.sort_unstable();
     let mut twin = vec![NO_TWIN; half_edge_count];
     let mut same_direction = vec![false; half_edge_count];
+    let mut split = Vec::new();
+    let mut link = |h0: u32, h1: u32| {
+        twin[h0 as usize] = h1;
+        twin[h1 as usize] = h0;
+        let same = from(h0 as usize) == from(h1 as usize);
+        same_direction[h0 as usize] = same;
+        same_direction[h1 as usize] = same;
+    };
+    let normal = |he: u32| {
+        let p = faces[he as usize / 3].map(|v| positions[v as usize]);
+        (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero()
+    };
     let mut start = 0;
     while start < keyed.len() {
         let key = keyed[start].0;
         let end = start + keyed[start..].iter().take_while(|k| k.0 == key).count();
         match end - start {
             1 => {}
-            2 => {
-                let (h0, h1) = (keyed[start].1, keyed[start + 1].1);
-                twin[h0 as usize] = h1;
-                twin[h1 as usize] = h0;
-                let same = from(h0 as usize) == from(h1 as usize);
-                same_direction[h0 as usize] = same;
-                same_direction[h1 as usize] = same;
-            }
+            2 => link(keyed[start].1, keyed[start + 1].1),
             count => {
-                return Err(Error::NonManifoldEdge {
-                    a: names.welded((key >> 32) as u32),
-                    b: names.welded(key as u32),
-                    faces: count,
-                });
+                let (a, b) = ((key >> 32) as u32, key as u32);
+                let fan: Vec<(u32, bool)> = keyed[start..end]
+                    .iter()
+                    .map(|&(_, he)| (he, from(he as usize) == a))
+                    .collect();
+                for (h0, h1) in pair_fan(&fan, &normal) {
+                    link(h0, h1);
+                }
+                split.push((a, b, count));
             }
         }
         start = end;
     }
-    Ok((twin, same_direction))
+    (twin, same_direction, split)
 }
 
-/// Decides which faces to flip so that every interior edge is run in opposite directions by
-/// its two faces: a flood fill over each connected component, keeping the component's
-/// lowest-numbered face as it is. A component that needs a face both flipped and kept is not
-/// orientable (a Möbius strip).
+/// Decides which faces to flip: first so that every interior edge is run in opposite
+/// directions by its two faces (a flood fill over each connected component; a component that
+/// needs a face both flipped and kept is not orientable, a Möbius strip), then each component
+/// as a whole so that it faces outward: a closed one by the sign of its enclosed volume, an
+/// open one (or a closed one enclosing no volume) as the larger part of its face area was
+/// written. Records the faces flipped as repairs: whole components turned outward, and faces
+/// re-oriented to agree with the rest of their component.
 fn orientation_flips(
     faces: &[[u32; 3]],
     twin: &[u32],
     same_direction: &[bool],
+    positions: &[DVec3],
     names: &VertexNames,
+    origin: &[u32],
+    repairs: &mut Repairs,
 ) -> Result<Vec<bool>> {
     const UNSEEN: u8 = 2;
     let mut flip = vec![UNSEEN; faces.len()];
+    let mut component = vec![0u32; faces.len()];
+    let mut members: Vec<Vec<u32>> = Vec::new();
     let mut stack = Vec::new();
     for start in 0..faces.len() {
         if flip[start] != UNSEEN {
             continue;
         }
+        let id = members.len() as u32;
+        members.push(vec![start as u32]);
         flip[start] = 0;
+        component[start] = id;
         stack.push(start);
         while let Some(f) = stack.pop() {
             for e in 0..3 {
@@ -362,6 +631,8 @@ fn orientation_flips(
                 let wanted = flip[f] ^ u8::from(same_direction[he]);
                 if flip[g] == UNSEEN {
                     flip[g] = wanted;
+                    component[g] = id;
+                    members[id as usize].push(g as u32);
                     stack.push(g);
                 } else if flip[g] != wanted {
                     return Err(Error::NonOrientable {
@@ -372,7 +643,75 @@ fn orientation_flips(
             }
         }
     }
-    Ok(flip.into_iter().map(|state| state == 1).collect())
+    let mut flipped: Vec<bool> = flip.iter().map(|&state| state == 1).collect();
+    // Measured about each component's first vertex, in unit-size coordinates.
+    let scale = normalising_scale(&Aabb::from_points(positions));
+    let (mut turned, mut first_turned) = (0, None);
+    for faces_of in &mut members {
+        faces_of.sort_unstable();
+        let closed = faces_of
+            .iter()
+            .all(|&f| (0..3).all(|e| twin[3 * f as usize + e] != NO_TWIN));
+        let centre = positions[faces[faces_of[0] as usize][0] as usize];
+        let (mut volume, mut area, mut area_flipped) = (0.0, 0.0, 0.0);
+        for &f in faces_of.iter() {
+            let [a, b, c] = faces[f as usize].map(|v| (positions[v as usize] - centre) * scale);
+            let sign = if flipped[f as usize] { -1.0 } else { 1.0 };
+            volume += sign * a.dot(b.cross(c));
+            let face_area = (b - a).cross(c - a).length();
+            area += face_area;
+            if flipped[f as usize] {
+                area_flipped += face_area;
+            }
+        }
+        // A volume below rounding of the area sum (a flat double sheet) decides nothing.
+        let by_volume = closed && volume.abs() > 1e-9 * area.max(f64::MIN_POSITIVE);
+        let turn = if by_volume {
+            volume < 0.0
+        } else {
+            area_flipped > 0.5 * area
+        };
+        if turn {
+            for &f in faces_of.iter() {
+                flipped[f as usize] = !flipped[f as usize];
+            }
+        }
+        if faces_of.iter().all(|&f| flipped[f as usize]) {
+            turned += 1;
+            first_turned.get_or_insert((faces_of[0], faces_of.len(), by_volume));
+            for &f in faces_of.iter() {
+                // Reported as a component, not face by face.
+                component[f as usize] = u32::MAX;
+            }
+        }
+    }
+    if let Some((face, count, by_volume)) = first_turned {
+        let why = if by_volume {
+            "its enclosed volume was negative"
+        } else {
+            "more than half of its face area faced the other way"
+        };
+        repairs.record(
+            RepairKind::ComponentTurnedOutward,
+            turned,
+            Element::Face(origin[face as usize] as usize),
+            format!("the component of {count} faces containing it was inside out ({why})"),
+        )?;
+    }
+    let reoriented: Vec<usize> = (0..faces.len())
+        .filter(|&f| flipped[f] && component[f] != u32::MAX)
+        .collect();
+    if let Some(&first) = reoriented.first() {
+        repairs.record(
+            RepairKind::FacesReoriented,
+            reoriented.len(),
+            Element::Face(origin[first] as usize),
+            "it is oriented against its neighbours (each component is oriented outward: by its \
+             enclosed volume when closed, else as most of its face area was written)"
+                .to_string(),
+        )?;
+    }
+    Ok(flipped)
 }
 
 /// Flips the chosen faces by swapping their last two corners and renumbers the twins: a face
@@ -410,10 +749,56 @@ mod tests {
 
     use crate::error::Error;
     use crate::mesh::generate::{self, bad};
-    use crate::mesh::{LoadReport, Mesh};
+    use crate::mesh::{Element, LoadOptions, LoadReport, Mesh, RepairKind};
 
     fn load((positions, faces): (Vec<DVec3>, Vec<[u32; 3]>)) -> crate::Result<(Mesh, LoadReport)> {
         Mesh::from_triangles(positions, faces)
+    }
+
+    /// Loads with `--strict` and returns the refusal's message, which must name `element`.
+    fn strict_refusal((positions, faces): generate::Triangles, element: &str) -> String {
+        let options = LoadOptions {
+            strict: true,
+            ..Default::default()
+        };
+        match Mesh::from_triangles_with(positions, faces, &options) {
+            Err(error @ Error::RepairRefused { .. }) => {
+                let message = error.to_string();
+                assert!(message.starts_with(&format!("{element}: ")), "{message}");
+                message
+            }
+            Err(other) => panic!("expected a refused repair of {element}, got {other}"),
+            Ok(_) => panic!("expected a refused repair of {element}, got a mesh"),
+        }
+    }
+
+    /// The repairs of a load as (kind, count, first element).
+    fn repairs(report: &LoadReport) -> Vec<(RepairKind, usize, Element)> {
+        let listed: Vec<_> = report
+            .repairs
+            .iter()
+            .map(|r| (r.kind, r.count, r.first))
+            .collect();
+        // Each repair is also one warning line naming its first element.
+        for (repair, warning) in report.repairs.iter().zip(&report.warnings) {
+            assert_eq!(&repair.message(), warning);
+            assert!(
+                warning.contains(&format!("(first: {}: ", repair.first)),
+                "{warning}"
+            );
+        }
+        listed
+    }
+
+    /// The signed volume of a closed mesh (positive when its faces face outward).
+    fn volume(mesh: &Mesh) -> f64 {
+        mesh.faces()
+            .iter()
+            .map(|f| {
+                let [a, b, c] = f.map(|v| mesh.positions()[v as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
     }
 
     #[test]
@@ -463,54 +848,103 @@ mod tests {
     }
 
     #[test]
-    fn repeated_corner_is_degenerate() {
+    fn a_repeated_corner_is_collapsed_and_refused_when_strict() {
         let (positions, mut faces) = generate::tetrahedron();
         faces[3] = [faces[3][0], faces[3][1], faces[3][0]];
-        let error = load((positions, faces)).unwrap_err();
-        assert!(
-            matches!(error, Error::DegenerateFace { face: 3 }),
-            "{error}"
+        let (mesh, report) = load((positions.clone(), faces.clone())).unwrap();
+        assert_eq!(
+            repairs(&report),
+            [(RepairKind::DegenerateFaceCollapsed, 1, Element::Face(3))]
         );
+        assert_eq!(mesh.face_count(), 3);
+        let message = strict_refusal((positions, faces), "face 3");
+        assert!(message.contains("a corner is repeated"), "{message}");
     }
 
     #[test]
     fn corners_that_weld_together_make_a_degenerate_face() {
         // Vertex 3 is a copy of vertex 0, so face 1 has a repeated corner after welding.
         let positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::ZERO];
-        let error = load((positions, vec![[0, 1, 2], [3, 2, 0]])).unwrap_err();
-        assert!(
-            matches!(error, Error::DegenerateFace { face: 1 }),
-            "{error}"
+        let faces = vec![[0, 1, 2], [3, 2, 0]];
+        let (mesh, report) = load((positions.clone(), faces.clone())).unwrap();
+        assert_eq!(
+            repairs(&report),
+            [(RepairKind::DegenerateFaceCollapsed, 1, Element::Face(1))]
         );
+        assert_eq!(mesh.faces(), &[[0, 1, 2]]);
+        strict_refusal((positions, faces), "face 1");
     }
 
     #[test]
-    fn collinear_face_is_degenerate() {
-        let error = load(bad::collinear_face()).unwrap_err();
-        assert!(
-            matches!(error, Error::DegenerateFace { face: 1 }),
-            "{error}"
+    fn a_collinear_face_is_collapsed() {
+        let (mesh, report) = load(bad::collinear_face()).unwrap();
+        assert_eq!(
+            repairs(&report),
+            [(RepairKind::DegenerateFaceCollapsed, 1, Element::Face(1))]
         );
+        assert_eq!(mesh.faces(), &[[0, 1, 2]]);
+        assert_eq!(mesh.input_face(0), 0);
+        strict_refusal(bad::collinear_face(), "face 1");
+    }
+
+    #[test]
+    fn a_cap_collapses_its_corner_into_the_nearer_end_of_the_opposite_edge() {
+        // A flat open patch. Face 1, (b, a, c), is a cap: c lies on edge (a, b), 0.6 from b
+        // and 1.4 from a. Below the edge, c's fan is (c, a, d1), (c, d1, d2), (b, c, d2).
+        let (a, b, c, t, d1, d2) = (0, 1, 2, 3, 4, 5);
+        let positions = vec![
+            DVec3::ZERO,
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(1.4, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.5, -1.0, 0.0),
+            DVec3::new(1.5, -1.0, 0.0),
+        ];
+        let faces = vec![[a, b, t], [b, a, c], [c, a, d1], [c, d1, d2], [b, c, d2]];
+        let (mesh, report) = load((positions, faces)).unwrap();
+        assert_eq!(
+            repairs(&report),
+            [(RepairKind::DegenerateFaceCollapsed, 1, Element::Face(1))]
+        );
+        assert!(
+            report.warnings[0].contains("vertex 2 is merged into vertex 1"),
+            "{:?}",
+            report.warnings
+        );
+        // c went to b: the face (b, c, d2) collapsed with the cap, c's other faces now use b
+        // (vertex 2 is gone, so d1 and d2 are 3 and 4 now).
+        assert_eq!(mesh.faces(), &[[0, 1, 2], [1, 0, 3], [1, 3, 4]]);
+        assert_eq!(
+            (0..3).map(|t| mesh.input_face(t)).collect::<Vec<_>>(),
+            [0, 2, 3]
+        );
+        assert_eq!(mesh.positions()[1], DVec3::new(2.0, 0.0, 0.0));
     }
 
     #[test]
     fn degenerate_threshold_is_relative_to_the_longest_edge() {
         // |cross| / longest² is 2e-14 and 0.5e-14: just above and just below the threshold,
         // at scales where an absolute threshold would misjudge both, down to and up to the
-        // ends of the supported range.
+        // ends of the supported range. Two faces, so that one is left when the thin one goes.
         for scale in [1e6, 1e-20, 1e20, 1e-59, 1e59] {
             for (height, degenerate) in [(2e-14, false), (0.5e-14, true)] {
                 let positions = vec![
                     DVec3::ZERO,
                     DVec3::X * scale,
                     DVec3::new(0.5, height, 0.0) * scale,
+                    DVec3::new(0.5, -1.0, 0.0) * scale,
                 ];
-                let result = load((positions, vec![[0, 1, 2]]));
+                let faces = vec![[0, 1, 2], [1, 0, 3]];
+                let (_, report) = load((positions.clone(), faces.clone())).unwrap();
                 assert_eq!(
-                    matches!(result, Err(Error::DegenerateFace { face: 0 })),
+                    !report.repairs.is_empty(),
                     degenerate,
-                    "height {height} at scale {scale}"
+                    "height {height} at scale {scale}: {:?}",
+                    report.warnings
                 );
+                if degenerate {
+                    strict_refusal((positions, faces), "face 0");
+                }
             }
         }
     }
@@ -591,41 +1025,89 @@ mod tests {
     }
 
     #[test]
-    fn duplicate_face_names_both_faces() {
-        let error = load(bad::tetrahedron_with_duplicate_face()).unwrap_err();
-        assert!(
-            matches!(error, Error::DuplicateFace { face: 4, first: 0 }),
-            "{error}"
+    fn a_duplicate_face_is_removed_naming_both_faces() {
+        let (mesh, report) = load(bad::tetrahedron_with_duplicate_face()).unwrap();
+        assert_eq!(
+            repairs(&report),
+            [(RepairKind::DuplicateFaceRemoved, 1, Element::Face(4))]
         );
+        assert!(
+            report.warnings[0].contains("repeats face 0"),
+            "{:?}",
+            report.warnings
+        );
+        assert_eq!(mesh.faces(), &generate::tetrahedron().1[..]);
+        strict_refusal(bad::tetrahedron_with_duplicate_face(), "face 4");
     }
 
     #[test]
-    fn three_faces_on_an_edge_are_non_manifold() {
-        let error = load(bad::book()).unwrap_err();
-        assert!(
-            matches!(
-                error,
-                Error::NonManifoldEdge {
-                    a: 0,
-                    b: 1,
-                    faces: 3
-                }
-            ),
-            "{error}"
+    fn three_faces_on_an_edge_are_split_off() {
+        let (mesh, report) = load(bad::book()).unwrap();
+        // The three pages run the edge the same way, 120° apart: two are paired (one of them
+        // flipped), the third is split off, which leaves the edge's ends with two fans each.
+        let listed = repairs(&report);
+        assert_eq!(
+            listed[..2],
+            [
+                (RepairKind::NonManifoldEdgeSplit, 1, Element::Edge(0, 1)),
+                (RepairKind::NonManifoldVertexSplit, 2, Element::Vertex(0)),
+            ]
         );
+        assert_eq!((listed[2].0, listed[2].1), (RepairKind::FacesReoriented, 1));
+        assert_eq!((mesh.face_count(), mesh.vertex_count()), (3, 7));
+        let paired = (0..3)
+            .filter(|&f| (0..3).any(|e| mesh.neighbor(f, e).is_some()))
+            .count();
+        assert_eq!(paired, 2);
+        let message = strict_refusal(bad::book(), "edge (0, 1)");
+        assert!(message.contains("shared by 3 faces"), "{message}");
     }
 
     #[test]
-    fn bow_tie_is_a_non_manifold_vertex() {
-        let error = load(bad::bow_tie()).unwrap_err();
-        assert!(
-            matches!(error, Error::NonManifoldVertex { vertex: 0, fans: 2 }),
-            "{error}"
-        );
+    fn non_manifold_edges_pair_the_faces_closest_in_dihedral_angle() {
+        // Four faces on the edge (0, 1) along z, their third corners at 0°, 10°, 180° and 190°
+        // about it; the faces at 0° and 180° agree in orientation and continue each other
+        // flat, as do those at 10° and 190°.
+        let mut positions = vec![DVec3::ZERO, DVec3::Z];
+        let mut faces = Vec::new();
+        for (degrees, forward) in [(0.0f64, true), (10.0, false), (180.0, false), (190.0, true)] {
+            let (s, c) = degrees.to_radians().sin_cos();
+            let v = positions.len() as u32;
+            positions.push(DVec3::new(c, s, 0.5));
+            faces.push(if forward { [0, 1, v] } else { [1, 0, v] });
+        }
+        let (mesh, report) = load((positions, faces)).unwrap();
+        assert_eq!(report.repairs[0].kind, RepairKind::NonManifoldEdgeSplit);
+        let across = |f: u32| {
+            (0..3)
+                .filter_map(|e| mesh.neighbor(f, e))
+                .map(|(g, _)| g)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!((across(0), across(1)), (vec![2], vec![3]));
+        assert_eq!(report.reoriented_faces, 0);
     }
 
     #[test]
-    fn two_closed_fans_at_one_vertex_are_non_manifold() {
+    fn a_bow_tie_vertex_is_split_into_one_vertex_per_fan() {
+        let (mesh, report) = load(bad::bow_tie()).unwrap();
+        assert_eq!(
+            repairs(&report),
+            [(RepairKind::NonManifoldVertexSplit, 1, Element::Vertex(0))]
+        );
+        assert!(
+            report.warnings[0].contains("2 separate fans"),
+            "{:?}",
+            report.warnings
+        );
+        assert_eq!(mesh.vertex_count(), 6);
+        assert_eq!(mesh.positions()[5], mesh.positions()[0]);
+        assert_eq!(mesh.faces(), &[[0, 1, 4], [5, 2, 3]]);
+        strict_refusal(bad::bow_tie(), "vertex 0");
+    }
+
+    #[test]
+    fn two_closed_fans_at_one_vertex_are_split() {
         // Two tetrahedra touching at one vertex (input vertex 0 of both).
         let (positions, faces) = generate::tetrahedron();
         let mut all_positions = positions.clone();
@@ -636,15 +1118,23 @@ mod tests {
                 .iter()
                 .map(|f| f.map(|v| if v == 0 { 0 } else { v + 3 })),
         );
-        let error = load((all_positions, all_faces)).unwrap_err();
-        assert!(
-            matches!(error, Error::NonManifoldVertex { vertex: 0, fans: 2 }),
-            "{error}"
+        let (mesh, report) = load((all_positions.clone(), all_faces.clone())).unwrap();
+        // The point reflection turns the second tetrahedron inside out.
+        assert_eq!(
+            repairs(&report),
+            [
+                (RepairKind::NonManifoldVertexSplit, 1, Element::Vertex(0)),
+                (RepairKind::ComponentTurnedOutward, 1, Element::Face(4)),
+            ]
         );
+        assert!(mesh.is_closed());
+        assert_eq!(mesh.euler_characteristic(), 4);
+        assert!(volume(&mesh) > 0.0);
+        strict_refusal((all_positions, all_faces), "vertex 0");
     }
 
     #[test]
-    fn errors_name_vertices_by_input_index_after_dropping_and_welding() {
+    fn repairs_name_vertices_by_input_index_after_dropping_and_welding() {
         // The bow-tie behind an unused vertex and a welded copy of its centre: the centre is
         // input vertex 1 (its copy, input 7, is welded into it).
         let (positions, _) = bad::bow_tie();
@@ -652,11 +1142,12 @@ mod tests {
         shifted.extend(&positions);
         shifted.extend([DVec3::splat(8.0), positions[0]]);
         let faces = vec![[1, 2, 5], [7, 3, 4]];
-        let error = load((shifted, faces)).unwrap_err();
-        assert!(
-            matches!(error, Error::NonManifoldVertex { vertex: 1, fans: 2 }),
-            "{error}"
+        let (_, report) = load((shifted.clone(), faces.clone())).unwrap();
+        assert_eq!(
+            repairs(&report),
+            [(RepairKind::NonManifoldVertexSplit, 1, Element::Vertex(1))]
         );
+        strict_refusal((shifted, faces), "vertex 1");
     }
 
     #[test]
@@ -671,19 +1162,20 @@ mod tests {
     fn flipped_face_is_reoriented_with_a_warning() {
         let (mesh, report) = load(bad::octahedron_with_flipped_face()).unwrap();
         assert_eq!(report.reoriented_faces, 1);
-        assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
-        assert!(
-            report.warnings[0].contains("face 3"),
-            "{:?}",
-            report.warnings
+        assert_eq!(
+            repairs(&report),
+            [(RepairKind::FacesReoriented, 1, Element::Face(3))]
         );
+        assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
         assert_eq!(mesh.faces(), &generate::octahedron().1[..]);
+        strict_refusal(bad::octahedron_with_flipped_face(), "face 3");
     }
 
     #[test]
-    fn orientation_follows_the_first_face_of_each_component() {
-        // Component 1: an octahedron whose face 0 is flipped, so the other seven flip to agree.
-        // Component 2: a shifted tetrahedron with one flipped face.
+    fn every_component_is_oriented_outward_whichever_face_is_flipped() {
+        // Component 1: an octahedron whose face 0 is flipped (agreeing with face 0 would turn
+        // it inside out). Component 2: a shifted tetrahedron with one flipped face.
+        // Component 3: an icosahedron written inside out, every face clockwise.
         let (mut positions, mut faces) = generate::octahedron();
         faces[0].swap(1, 2);
         let (tetra_positions, tetra_faces) = generate::tetrahedron();
@@ -692,15 +1184,61 @@ mod tests {
         faces.extend(tetra_faces.iter().map(|f| f.map(|v| v + base)));
         let last = faces.len() - 1;
         faces[last].swap(1, 2);
-        let expected_first = faces[0];
+        let (ico_positions, ico_faces) = generate::icosahedron();
+        let base = positions.len() as u32;
+        positions.extend(ico_positions.iter().map(|&p| p - DVec3::X * 5.0));
+        faces.extend(
+            ico_faces
+                .iter()
+                .map(|f| [f[0] + base, f[2] + base, f[1] + base]),
+        );
         let (mesh, report) = load((positions, faces)).unwrap();
-        assert_eq!(report.reoriented_faces, 8);
-        assert_eq!(mesh.faces()[0], expected_first);
-        assert_eq!(mesh.faces()[last], tetra_faces[3].map(|v| v + base));
-        // The octahedron is now inside out, consistently: every face normal points inwards.
-        for face in &mesh.faces()[..8] {
-            let [a, b, c] = face.map(|v| mesh.positions()[v as usize]);
-            assert!((b - a).cross(c - a).dot(a + b + c) < 0.0);
+        assert_eq!(
+            repairs(&report),
+            [
+                (RepairKind::ComponentTurnedOutward, 1, Element::Face(12)),
+                (RepairKind::FacesReoriented, 2, Element::Face(0)),
+            ]
+        );
+        assert_eq!(report.reoriented_faces, 22);
+        assert_eq!(mesh.faces()[..8], generate::octahedron().1[..]);
+        assert_eq!(mesh.faces()[last], tetra_faces[3].map(|v| v + 6));
+        // Every face of every component faces outward, away from its component's centre.
+        for (range, centre) in [
+            (0..8, DVec3::ZERO),
+            (
+                8..12,
+                DVec3::X * 5.0 + tetra_positions.iter().sum::<DVec3>() / 4.0,
+            ),
+            (12..32, -DVec3::X * 5.0),
+        ] {
+            for face in &mesh.faces()[range] {
+                let [a, b, c] = face.map(|v| mesh.positions()[v as usize] - centre);
+                assert!((b - a).cross(c - a).dot(a + b + c) > 0.0);
+            }
         }
+    }
+
+    #[test]
+    fn an_open_component_keeps_the_orientation_of_most_of_its_area() {
+        // A disk with its last face (a small part of the area) flipped, and the same disk with
+        // every face but that one flipped: both end as the larger part was written.
+        let (positions, faces) = generate::disk(3);
+        let mut one_flipped = faces.clone();
+        let last = faces.len() - 1;
+        one_flipped[last].swap(1, 2);
+        let (mesh, report) = load((positions.clone(), one_flipped.clone())).unwrap();
+        assert_eq!(
+            repairs(&report),
+            [(RepairKind::FacesReoriented, 1, Element::Face(last))]
+        );
+        assert_eq!(mesh.faces(), &faces[..]);
+        let all_but_one: Vec<[u32; 3]> = one_flipped.iter().map(|f| [f[0], f[2], f[1]]).collect();
+        let (mesh, report) = load((positions, all_but_one.clone())).unwrap();
+        assert_eq!(
+            repairs(&report),
+            [(RepairKind::FacesReoriented, 1, Element::Face(last))]
+        );
+        assert_eq!(mesh.faces()[0], all_but_one[0]);
     }
 }

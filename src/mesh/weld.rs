@@ -14,7 +14,7 @@ use std::hash::{BuildHasherDefault, Hash, Hasher};
 
 use glam::{BVec3, DVec3, I64Vec3};
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geom::Aabb;
 
 /// Default weld tolerance relative to the bounding-box diagonal (see [`super::LoadOptions`]).
@@ -46,6 +46,21 @@ pub(super) struct Welding {
     pub(super) unused: usize,
     /// For each input vertex, the surviving vertex it became (`u32::MAX` if unused).
     pub(super) remap: Vec<u32>,
+    /// The first face two of whose corners, at different positions, were merged.
+    pub(super) first_collapse: Option<WeldCollapse>,
+}
+
+/// A face two of whose corners welding merged although they were at different positions.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct WeldCollapse {
+    /// The face (triangle index).
+    pub(super) face: usize,
+    /// One merged corner, as the input numbers it.
+    pub(super) a: usize,
+    /// The other.
+    pub(super) b: usize,
+    /// Their distance.
+    pub(super) distance: f64,
 }
 
 /// Checks a relative weld tolerance: finite, 0 (identical positions only) or more, below 1.
@@ -62,9 +77,8 @@ pub fn check_weld_tolerance(relative: f64) -> std::result::Result<f64, String> {
 /// Drops vertices not flagged in `used` and merges used vertices closer than
 /// `relative · diagonal` (the diagonal of `bounds`, the used vertices' bounding box) into the
 /// nearest earlier survivor; survivors keep their relative input order. `name` gives an input
-/// vertex's number for errors: a face two of whose corners at different positions were merged
-/// is [`Error::WeldCollapsesFace`]. Corners at identical positions are left to the degenerate
-/// check, as for any face with a repeated corner.
+/// vertex's number for [`Welding::first_collapse`], the first face two of whose corners at
+/// different positions were merged (the degenerate-face repair removes it and names the weld).
 pub(super) fn weld(
     positions: &[DVec3],
     used: &[bool],
@@ -109,19 +123,23 @@ pub(super) fn weld(
             }
         };
     }
+    let mut first_collapse = None;
     for (f, face) in faces.iter_mut().enumerate() {
         let input = *face;
         *face = input.map(|v| remap[v as usize]);
+        if first_collapse.is_some() {
+            continue;
+        }
         for (c, d) in [(0, 1), (1, 2), (2, 0)] {
             let (a, b) = (input[c] as usize, input[d] as usize);
             if face[c] == face[d] && positions[a] != positions[b] {
-                return Err(Error::WeldCollapsesFace {
+                first_collapse = Some(WeldCollapse {
                     face: f,
                     a: name(a),
                     b: name(b),
                     distance: distance(positions[a], positions[b]),
-                    tolerance,
                 });
+                break;
             }
         }
     }
@@ -135,6 +153,7 @@ pub(super) fn weld(
         tolerance,
         unused,
         remap,
+        first_collapse,
     })
 }
 
@@ -267,7 +286,7 @@ mod tests {
     use crate::error::Error;
     use crate::geom::Aabb;
     use crate::mesh::generate::{self, bad};
-    use crate::mesh::{DEFAULT_WELD_TOLERANCE, LoadOptions, LoadReport, Mesh};
+    use crate::mesh::{DEFAULT_WELD_TOLERANCE, Element, LoadOptions, LoadReport, Mesh, RepairKind};
 
     fn load((positions, faces): (Vec<DVec3>, Vec<[u32; 3]>)) -> crate::Result<(Mesh, LoadReport)> {
         Mesh::from_triangles(positions, faces)
@@ -304,7 +323,7 @@ mod tests {
         ];
         let options = LoadOptions {
             weld_tolerance,
-            ..LoadOptions::default()
+            ..Default::default()
         };
         Mesh::from_triangles_with(positions, vec![[0, 1, 2], [3, 4, 5]], &options)
     }
@@ -361,7 +380,7 @@ mod tests {
                 faces.clone(),
                 &LoadOptions {
                     weld_tolerance: 0.0,
-                    ..LoadOptions::default()
+                    ..Default::default()
                 },
             );
             assert!(
@@ -395,7 +414,7 @@ mod tests {
     }
 
     #[test]
-    fn a_tolerance_that_collapses_an_edge_is_an_error_naming_the_face() {
+    fn a_tolerance_that_collapses_an_edge_is_a_repair_naming_the_weld() {
         // The octahedron with face 5 split at a point 1e-6 from its first corner: faces 5, 8
         // and 9 are (a, b, m), (b, c, m), (c, a, m).
         let (mut positions, mut faces) = generate::octahedron();
@@ -409,25 +428,34 @@ mod tests {
         let diagonal = 2.0 * 3f64.sqrt();
         let (mesh, report) = load((positions.clone(), faces.clone())).unwrap();
         assert_eq!((mesh.vertex_count(), report.welded), (7, 0));
-        let options = LoadOptions {
+        let mut options = LoadOptions {
             weld_tolerance: 2e-6 / diagonal,
-            ..LoadOptions::default()
+            ..Default::default()
         };
+        // Welding m into a collapses faces 5 and 9; face 8 becomes the octahedron's face 5.
+        let (mesh, report) =
+            Mesh::from_triangles_with(positions.clone(), faces.clone(), &options).unwrap();
+        assert_eq!(mesh.face_count(), 8);
+        let repair = &report.repairs[0];
+        assert_eq!(
+            (repair.kind, repair.count, repair.first),
+            (RepairKind::DegenerateFaceCollapsed, 2, Element::Face(5))
+        );
+        assert!(
+            repair.detail.starts_with(&format!(
+                "welding merged its corners {m} and {a} (1.000e-6 apart, within the weld \
+                 tolerance 2.000e-6; a smaller --weld-tolerance keeps them apart)"
+            )),
+            "{}",
+            repair.detail
+        );
+        options.strict = true;
         let error = Mesh::from_triangles_with(positions, faces, &options).unwrap_err();
-        let Error::WeldCollapsesFace {
-            face,
-            a: first,
-            b: second,
-            distance,
-            tolerance,
-        } = error
-        else {
-            panic!("expected WeldCollapsesFace, got {error}");
-        };
-        assert_eq!((face, first, second), (5, m as usize, a as usize));
-        assert!((distance - 1e-6).abs() < 1e-15, "{distance}");
-        assert!((tolerance - 2e-6).abs() < 1e-15, "{tolerance}");
-        assert!(error.to_string().starts_with("welding collapses face 5"));
+        assert!(matches!(error, Error::RepairRefused { .. }), "{error}");
+        assert!(
+            error.to_string().starts_with("face 5: welding merged"),
+            "{error}"
+        );
     }
 
     #[test]
@@ -440,7 +468,7 @@ mod tests {
             for weld_tolerance in [DEFAULT_WELD_TOLERANCE, 1e7 * DEFAULT_WELD_TOLERANCE] {
                 let options = LoadOptions {
                     weld_tolerance,
-                    ..LoadOptions::default()
+                    ..Default::default()
                 };
                 let (mesh, report) = Mesh::parse_obj_with(&text, &options).unwrap();
                 assert_eq!(report.welded, 0, "{}", scan.name);

@@ -144,6 +144,10 @@ pub struct Metrics {
     pub sharp_g0_max_rel: Option<f64>,
     /// Largest normal angle across a sharp joint (rad): the crease as built.
     pub sharp_g1_max_rad: Option<f64>,
+    /// The repairs loading made to the mesh ([`crate::mesh::Mesh::repairs`]): each with its
+    /// `kind`, `count`, `first` element in the input's numbering and `detail`. Empty for a
+    /// mesh that loaded as written.
+    pub repairs: Vec<crate::mesh::Repair>,
 }
 
 impl Metrics {
@@ -181,6 +185,7 @@ impl Metrics {
             network_inflections_max: network.inflections_max,
             network_curves_with_inflections: network.curves_with_inflections,
             network_chord_deviation_max_rel: network.chord_deviation_max_rel,
+            repairs: mesh.repairs().to_vec(),
             ..Self::measure_normalised(
                 surface,
                 mesh.faces(),
@@ -296,6 +301,7 @@ impl Metrics {
             sharp_joints: per_sharp_joint.len(),
             sharp_g0_max_rel: sharp_sums.gap_max.map(|g| g / diag),
             sharp_g1_max_rad: sharp_sums.angle_between,
+            repairs: Vec::new(),
         }
     }
 }

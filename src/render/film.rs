@@ -80,7 +80,8 @@ impl Default for RenderSettings {
 pub struct PixelGeometry {
     /// The hit (f64 distance and patch parameters, as found).
     pub hit: Hit,
-    /// Mesh face of the hit patch.
+    /// Mesh face of the hit patch: the triangle from [`crate::render::film::render`], the input
+    /// face (polygon) it was cut from once [`crate::render::RenderJob::render`] has mapped it.
     pub face: u32,
     /// Hit point `S(u, v)`, rounded to f32.
     pub position: [f32; 3],

@@ -386,7 +386,8 @@ impl RenderJob {
         }
     }
 
-    /// Renders `surface` (built on `mesh`) with this job's camera, settings and curves.
+    /// Renders `surface` (built on `mesh`) with this job's camera, settings and curves; the
+    /// frame's faces are the mesh's input faces ([`Mesh::input_face`]).
     pub fn render(&self, surface: &Surface, mesh: &Mesh) -> Result<(Frame, RenderStats)> {
         let tracer = self.tracer(surface)?;
         self.render_with(&tracer, mesh, &|| false)?
@@ -409,7 +410,18 @@ impl RenderJob {
         let mut settings = self.settings.clone();
         settings.curves = self.curves.tubes(surface, mesh)?;
         let camera = self.camera_of(surface)?;
-        tracer.render(&camera, &settings, cancelled)
+        let Some((mut frame, stats)) = tracer.render(&camera, &settings, cancelled)? else {
+            return Ok(None);
+        };
+        // `face_id` names the face the user wrote: the input face (polygon) each triangle was
+        // cut from ([`Mesh::input_face`]).
+        let origins = mesh.face_origins();
+        for g in frame.geometry.iter_mut().flatten() {
+            if let Some(&input) = origins.get(g.face as usize) {
+                g.face = input;
+            }
+        }
+        Ok(Some((frame, stats)))
     }
 
     /// The exact hit through image point `(x, y)` (pixels from the top-left corner of this

@@ -7,7 +7,7 @@
 //! Geometry channels describe the ray through the pixel centre: `Z` is the distance from the
 //! ray origin (rays have unit direction), `N` the unit patch normal (patch orientation), `P` the
 //! hit point, `(u, v)` the patch parameters (barycentric `(1−u−v, u, v)` of patch `patch_id` in
-//! the JSON export's indexing), `face_id` the mesh face, `K`/`H` Gaussian/mean curvature.
+//! the JSON export's indexing), `face_id` the mesh face as the input numbers it (the polygon a triangle was cut from), `K`/`H` Gaussian/mean curvature.
 //! Ids are stored as f32 (exact below 2^24) and as u32.
 //!
 //! Pixels whose centre ray misses hold the background colour in R, G, B and these values, so

@@ -102,6 +102,9 @@ pub struct WorkList {
     /// then, so lists without one keep their fingerprint).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crease_angle: Option<f64>,
+    /// Whether mesh files are loaded with `--strict` (every repair refused).
+    #[serde(default)]
+    pub strict: bool,
 }
 
 impl WorkList {
@@ -111,6 +114,7 @@ impl WorkList {
             items,
             weld_tolerance: load.weld_tolerance,
             crease_angle: load.crease_angle,
+            strict: load.strict,
         }
     }
 
@@ -118,6 +122,7 @@ impl WorkList {
     pub fn load_options(&self) -> LoadOptions {
         LoadOptions {
             weld_tolerance: self.weld_tolerance,
+            strict: self.strict,
             ..LoadOptions::default()
         }
         .with_crease_angle(self.crease_angle)

@@ -64,6 +64,9 @@ pub struct FigureSpec {
     /// Crease angle in degrees (edges whose faces turn by more are sharp, see
     /// [`crate::mesh::LoadOptions::crease_angle`]); unset, no edge is.
     pub crease_angle: Option<f64>,
+    /// Refuse every repair of a mesh file (see [`crate::mesh::LoadOptions::strict`]; default
+    /// false).
+    pub strict: Option<bool>,
     /// Output stem (`.png` appended; a `.png` or `.exr` ending is dropped first), relative to
     /// the spec file once loaded by [`FigureSpec::load`].
     pub output: PathBuf,
@@ -174,7 +177,10 @@ impl FigureSpec {
 
     /// The mesh: a scenes/ name, else a mesh file (OBJ, PLY, OFF, STL) relative to `dir`.
     pub fn load_mesh(&self, dir: &Path) -> Result<Mesh> {
-        let mut options = LoadOptions::default();
+        let mut options = LoadOptions {
+            strict: self.strict.unwrap_or(false),
+            ..Default::default()
+        };
         if let Some(degrees) = self.crease_angle {
             options.crease_angle = Some(
                 check_crease_angle(degrees)
