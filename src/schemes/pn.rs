@@ -12,7 +12,7 @@ use glam::DVec3;
 use crate::bezier::TriangleBezier;
 use crate::error::Result;
 use crate::mesh::Mesh;
-use crate::schemes::{Params, SchemeSpec};
+use crate::schemes::{AtFoldedVertex, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Registry entry.
@@ -26,7 +26,8 @@ pub const SPEC: SchemeSpec = SchemeSpec {
 };
 
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
-    let normals = mesh.vertex_normals(params.normal_source()?)?;
+    let (normals, warnings) =
+        crate::schemes::scheme_normals(mesh, params, SPEC.name, AtFoldedVertex::Warn)?;
     let positions = mesh.positions();
     let patches = mesh
         .faces()
@@ -43,7 +44,9 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
             }
         })
         .collect();
-    Ok(params.surface(SPEC.name, patches))
+    let mut surface = params.surface(SPEC.name, patches);
+    surface.warnings = warnings;
+    Ok(surface)
 }
 
 /// The cubic PN triangle of corners `p` with unit vertex normals `n`.
