@@ -227,6 +227,19 @@ pub enum Error {
         /// Vertex index.
         vertex: usize,
     },
+    /// The faces around a vertex fold over themselves: no direction sees them all from the
+    /// front, so every surface with a tangent plane there folds over one of them.
+    #[error(
+        "scheme '{scheme}' cannot build a surface without a fold at vertex {vertex}: the faces \
+         around it fold over themselves (no normal sees them all from their front side); \
+         repair the mesh at that vertex, or use the pn or flat scheme"
+    )]
+    FoldedVertex {
+        /// The scheme.
+        scheme: String,
+        /// The vertex (the first such one).
+        vertex: usize,
+    },
     /// The scheme name is not registered.
     #[error("unknown scheme '{name}' (known: {known})")]
     UnknownScheme {

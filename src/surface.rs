@@ -301,6 +301,10 @@ pub struct Surface {
     pub params: Vec<(String, String)>,
     /// The patches.
     pub patches: Vec<Patch>,
+    /// What the construction changed or could not do at particular mesh elements (e.g. a
+    /// vertex normal moved so that the surface does not fold), one line each naming the first
+    /// element; the commands print them as `warning:` lines.
+    pub warnings: Vec<String>,
 }
 
 /// A point of a mesh's domain, independent of the face it is written in.
@@ -344,6 +348,7 @@ impl Surface {
     pub fn mapped(&self, f: impl Fn(DVec3) -> DVec3) -> Surface {
         Surface {
             scheme: self.scheme.clone(),
+            warnings: self.warnings.clone(),
             params: self.params.clone(),
             patches: self.patches.iter().map(|patch| patch.mapped(&f)).collect(),
         }
@@ -367,6 +372,7 @@ impl Surface {
     pub fn scaled(&self, factor: f64) -> Surface {
         Surface {
             scheme: self.scheme.clone(),
+            warnings: self.warnings.clone(),
             params: self.params.clone(),
             patches: self.patches.iter().map(|p| p.scaled(factor)).collect(),
         }
@@ -481,6 +487,7 @@ mod tests {
         let mid12 = DVec3::new(0.0, 0.5, 0.5);
         let surface = Surface {
             scheme: "test".into(),
+            warnings: Vec::new(),
             params: vec![],
             patches: vec![
                 flat_patch(0, [e0, e1, mid12]),

@@ -169,6 +169,7 @@ pub fn measure_schemes_each(
     for run in select_schemes(selection, params)? {
         match schemes::build_timed_in_frame(run.scheme, mesh, &run.params) {
             Ok((surface, frame, ms)) => {
+                warnings.extend(surface.warnings.iter().cloned());
                 let metrics = Metrics::measure_in_frame(&surface, &frame, mesh, ms);
                 metrics.check_finite()?;
                 each(&metrics);
@@ -363,8 +364,9 @@ fn build_on_file(
     schemes::find(scheme)?;
     check_writable(out_path)?;
     check_distinct(&[("the mesh", mesh_path)], &[(flag, out_path)])?;
-    let (mesh, warnings) = load_mesh(mesh_path, load)?;
+    let (mesh, mut warnings) = load_mesh(mesh_path, load)?;
     let (surface, _) = build_timed(scheme, &mesh, &params)?;
+    warnings.extend(surface.warnings.iter().cloned());
     Ok((mesh, surface, warnings))
 }
 

@@ -600,8 +600,9 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     }
     read.extend(environment.map(|e| ("the environment map", e)));
     check_distinct(&read, &written)?;
-    let (mesh, report) = Mesh::load_with(&mesh_path, &load_options)?;
+    let (mesh, mut report) = Mesh::load_with(&mesh_path, &load_options)?;
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
+    report.warnings.extend(surface.warnings.iter().cloned());
     // The back of an open surface shows: tint it in the quality modes.
     let mut job = job;
     if !mesh.is_closed() {

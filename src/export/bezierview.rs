@@ -98,6 +98,7 @@ mod tests {
         let linear = TriangleBezier::new(1, vec![DVec3::ZERO, DVec3::X, DVec3::Y]);
         let surface = Surface {
             scheme: "test".into(),
+            warnings: Vec::new(),
             params: vec![],
             patches: vec![patch(labelled_cubic()), patch(linear)],
         };

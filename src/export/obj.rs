@@ -149,6 +149,7 @@ mod tests {
         });
         Surface {
             scheme: "test".into(),
+            warnings: Vec::new(),
             params: vec![],
             patches: vec![Patch {
                 face: 0,

@@ -59,10 +59,18 @@ pub fn min_cosine(n: DVec3, faces: &[DVec3]) -> f64 {
 /// The unit `estimate` made front-facing for the unit normals `faces` of the faces around its
 /// vertex (see the module documentation).
 pub fn front_facing(estimate: DVec3, faces: &[DVec3]) -> FrontFacing {
-    if min_cosine(estimate, faces) >= FRONT_MARGIN {
+    front_facing_by(estimate, faces, FRONT_MARGIN)
+}
+
+/// [`front_facing`] with the margin `wanted` (in `[MIN_FRONT_MARGIN, 1)`) in place of
+/// [`FRONT_MARGIN`]: the estimate is kept if `n · n_f ≥ wanted` for every face, else moved to
+/// the closest direction keeping `wanted`, or the largest decade below it down to
+/// [`MIN_FRONT_MARGIN`] that the one-ring admits.
+pub fn front_facing_by(estimate: DVec3, faces: &[DVec3], wanted: f64) -> FrontFacing {
+    if min_cosine(estimate, faces) >= wanted {
         return FrontFacing::Kept;
     }
-    let mut margin = FRONT_MARGIN;
+    let mut margin = wanted;
     while margin >= MIN_FRONT_MARGIN * 0.999 {
         if let Some(normal) = closest_in_caps(estimate, faces, margin) {
             return FrontFacing::Moved {
@@ -150,6 +158,16 @@ pub fn front_facing_normals(
     faces: &[[u32; 3]],
     estimate: &[DVec3],
 ) -> FrontFacingNormals {
+    front_facing_normals_by(positions, faces, estimate, FRONT_MARGIN)
+}
+
+/// [`front_facing_normals`] with the margin `wanted` ([`front_facing_by`]).
+pub fn front_facing_normals_by(
+    positions: &[DVec3],
+    faces: &[[u32; 3]],
+    estimate: &[DVec3],
+    wanted: f64,
+) -> FrontFacingNormals {
     let unit = face_normals(positions, faces);
     let mut worst = vec![f64::INFINITY; positions.len()];
     for (face, n) in faces.iter().zip(&unit) {
@@ -163,7 +181,7 @@ pub fn front_facing_normals(
     let mut around: std::collections::BTreeMap<u32, Vec<DVec3>> = worst
         .iter()
         .enumerate()
-        .filter(|(_, w)| **w < FRONT_MARGIN)
+        .filter(|(_, w)| **w < wanted)
         .map(|(v, _)| (v as u32, Vec::new()))
         .collect();
     for (face, n) in faces.iter().zip(&unit) {
@@ -181,7 +199,7 @@ pub fn front_facing_normals(
         folded: Vec::new(),
     };
     for (v, ring) in around {
-        match front_facing(estimate[v as usize], &ring) {
+        match front_facing_by(estimate[v as usize], &ring, wanted) {
             FrontFacing::Kept => {}
             FrontFacing::Moved { normal, angle, .. } => {
                 result.normals[v as usize] = normal;

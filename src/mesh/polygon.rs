@@ -456,7 +456,7 @@ mod tests {
             strict: true,
             ..Default::default()
         };
-        match super::assemble(polygons, None, Err("no normals".to_string()), &options) {
+        match super::assemble(polygons, None, Err("no normals".to_string()), &[], &options) {
             Err(error @ Error::RepairRefused { .. }) => {
                 let message = error.to_string();
                 assert!(message.starts_with(&format!("{element}: ")), "{message}");

@@ -5,8 +5,8 @@
 use glam::DVec3;
 
 use super::normals::{self, CornerNormals};
-use super::sharp;
 use super::repair::{Element, RepairKind, Repairs, collapse_degenerate, pair_fan, split_fans};
+use super::sharp;
 use super::topology::{NO_TWIN, Topology};
 use super::weld::{check_weld_tolerance, weld};
 use super::{LoadOptions, LoadReport, Mesh};

@@ -1123,6 +1123,7 @@ mod tests {
         };
         let surface = Surface {
             scheme: "test".into(),
+            warnings: Vec::new(),
             params: vec![],
             patches: vec![patch(0, a), patch(1, b)],
         };

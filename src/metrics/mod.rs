@@ -463,6 +463,7 @@ mod tests {
     fn surface(patches: Vec<Patch>) -> Surface {
         Surface {
             scheme: "test".into(),
+            warnings: Vec::new(),
             params: vec![("p".into(), "1".into())],
             patches,
         }

@@ -212,6 +212,7 @@ mod tests {
         }
         let flat = Surface {
             scheme: "flat".into(),
+            warnings: Vec::new(),
             params: Vec::new(),
             patches: faces
                 .iter()

@@ -13,6 +13,7 @@ pub mod pn;
 pub(crate) mod vertex_rings;
 
 use crate::error::{Error, Result};
+use crate::mesh::front_facing::{FRONT_MARGIN, front_facing_normals};
 use crate::mesh::{Mesh, NormalSource};
 use crate::surface::{LocalFrame, Patch, Surface};
 
@@ -269,6 +270,7 @@ impl Params {
     pub fn surface(&self, scheme: &str, patches: Vec<Patch>) -> Surface {
         Surface {
             scheme: scheme.to_string(),
+            warnings: Vec::new(),
             params: self.values.clone(),
             patches,
         }
@@ -328,6 +330,87 @@ impl Params {
             _ => NormalSource::Estimate,
         })
     }
+}
+
+/// What a scheme does at a vertex whose faces fold over themselves (no front-facing normal).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AtFoldedVertex {
+    /// Refuse with [`Error::FoldedVertex`] naming the vertex (schemes documented as G¹, whose
+    /// surface would fold there).
+    Refuse,
+    /// Keep the estimate and say so in a warning (schemes that make no smoothness claim).
+    Warn,
+}
+
+/// The unit vertex normals of a normal-based scheme (its `normals` parameter), with the
+/// warnings to record in its surface.
+///
+/// Estimated normals are made front-facing ([`crate::mesh::front_facing`]): every face around
+/// a vertex sees its normal from the front side by [`FRONT_MARGIN`] where one exists — the
+/// angle-weighted estimate where it already is, else the admissible direction closest to it —
+/// so that the surface, whose normal at the vertex is this one, does not turn over a face
+/// there. Moved normals are counted in a warning naming the first vertex. A file's normals
+/// (`normals=obj`) are never moved: one that a face sees from behind or edge-on gives a
+/// warning naming the vertex (the surface folds or is singular there) and the remedy. A vertex
+/// whose faces fold over themselves is handled by `folded`.
+pub fn scheme_normals(
+    mesh: &Mesh,
+    params: &Params,
+    scheme: &str,
+    folded: AtFoldedVertex,
+) -> Result<(Vec<glam::DVec3>, Vec<String>)> {
+    let source = params.normal_source()?;
+    let estimate = mesh.vertex_normals(source)?;
+    let mut warnings = Vec::new();
+    if source == NormalSource::Obj {
+        let behind: Vec<(u32, f64)> = (0..mesh.vertex_count() as u32)
+            .filter_map(|v| {
+                let worst = mesh
+                    .ring_faces(v)
+                    .iter()
+                    .map(|&f| estimate[v as usize].dot(mesh.face_normal(f)))
+                    .fold(f64::INFINITY, f64::min);
+                (worst < FRONT_MARGIN).then_some((v, worst))
+            })
+            .collect();
+        if let Some(&(v, worst)) = behind.first() {
+            warnings.push(format!(
+                "{scheme}: the file's normals at {} vertices are seen from behind or edge-on by \
+                 a face around them (first: vertex {v}, cosine {worst:.3}), so the surface folds \
+                 or is singular there; the file's normals are kept as given — use \
+                 normals=estimate to have them made front-facing",
+                behind.len()
+            ));
+        }
+        return Ok((estimate, warnings));
+    }
+    let front = front_facing_normals(mesh.positions(), mesh.faces(), &estimate);
+    if let Some(&v) = front.folded.first() {
+        if folded == AtFoldedVertex::Refuse {
+            return Err(Error::FoldedVertex {
+                scheme: scheme.to_string(),
+                vertex: v as usize,
+            });
+        }
+        warnings.push(format!(
+            "{scheme}: the faces around {} vertices fold over themselves (first: vertex {v}): \
+             no normal sees them all from the front, so the surface folds there; repair the \
+             mesh at that vertex",
+            front.folded.len()
+        ));
+    }
+    if let Some(&(v, angle)) = front.moved.first() {
+        let largest = front.moved.iter().map(|m| m.1).fold(0.0, f64::max);
+        warnings.push(format!(
+            "{scheme}: tilted {} vertex normals that a face around them saw from behind or \
+             edge-on (first: vertex {v}, by {:.2}°; largest {:.2}°), so that the surface does \
+             not fold there",
+            front.moved.len(),
+            angle.to_degrees(),
+            largest.to_degrees()
+        ));
+    }
+    Ok((front.normals, warnings))
 }
 
 /// Parses `name=value` (the CLI's `--param`).

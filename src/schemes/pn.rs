@@ -12,7 +12,7 @@ use glam::DVec3;
 use crate::bezier::TriangleBezier;
 use crate::error::Result;
 use crate::mesh::{Mesh, crease_tangent};
-use crate::schemes::{Params, SchemeSpec};
+use crate::schemes::{AtFoldedVertex, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Registry entry.
@@ -27,7 +27,8 @@ pub const SPEC: SchemeSpec = SchemeSpec {
 };
 
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
-    let normals = mesh.vertex_normals(params.normal_source()?)?;
+    let (normals, warnings) =
+        crate::schemes::scheme_normals(mesh, params, SPEC.name, AtFoldedVertex::Warn)?;
     let positions = mesh.positions();
     let corner_normals = mesh.corner_normals(&normals);
     let patches = mesh
@@ -53,7 +54,9 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
             }
         })
         .collect();
-    Ok(params.surface(SPEC.name, patches))
+    let mut surface = params.surface(SPEC.name, patches);
+    surface.warnings = warnings;
+    Ok(surface)
 }
 
 /// Replaces the two edge points of sharp edge `e` of face `f` by the crease cubic's: at each

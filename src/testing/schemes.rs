@@ -214,6 +214,7 @@ mod tests {
         };
         let surface_of = |nets: Vec<TriangleBezier>| Surface {
             scheme: "test".into(),
+            warnings: Vec::new(),
             params: vec![],
             patches: nets
                 .into_iter()

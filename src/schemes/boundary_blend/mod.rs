@@ -36,7 +36,7 @@ use crate::bezier::TriangleBezier;
 use crate::blend::{BlendPatch, WeightFamily};
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, crease_tangent};
-use crate::schemes::{NORMALS_PARAM, ParamSpec, Params};
+use crate::schemes::{AtFoldedVertex, NORMALS_PARAM, ParamSpec, Params};
 use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Smallest `|π(e) × D| / |e|²` accepted at an edge end: below it the vertex normal is
@@ -313,7 +313,8 @@ pub fn build_blend(
     sub_surface: impl Fn(&EdgeFrames, &[[u32; 3]], usize, usize) -> Result<TriangleBezier> + Sync,
 ) -> Result<Surface> {
     let family = family(order_param(params, orders)?);
-    let normals = mesh.vertex_normals(params.normal_source()?)?;
+    let (normals, warnings) =
+        crate::schemes::scheme_normals(mesh, params, scheme, AtFoldedVertex::Refuse)?;
     let frames = EdgeFrames::build(mesh, &normals, scheme)?;
     let faces = mesh.faces();
     let patches = (0..mesh.face_count())
@@ -332,7 +333,9 @@ pub fn build_blend(
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(params.surface(scheme, patches))
+    let mut surface = params.surface(scheme, patches);
+    surface.warnings = warnings;
+    Ok(surface)
 }
 
 /// The integer parameter `t` in `range`.

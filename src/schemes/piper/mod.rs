@@ -55,7 +55,7 @@ use crate::bezier::TriangleBezier;
 use crate::bezier::triangle::index;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::schemes::{ParamSpec, Params, SchemeSpec};
+use crate::schemes::{AtFoldedVertex, ParamSpec, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 use cubic_net::{Cubic, EdgeScaling, Quartic};
 use g1_solve::EdgeNet;
@@ -110,6 +110,8 @@ type PieceId = (usize, usize);
 struct Construction<'a> {
     mesh: &'a Mesh,
     cubic_pieces: Vec<[Cubic; 3]>,
+    /// What choosing the vertex normals changed ([`crate::schemes::scheme_normals`]).
+    warnings: Vec<String>,
 }
 
 impl Construction<'_> {
@@ -209,13 +211,16 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
             })
         })
         .collect();
-    Ok(params.surface(SPEC.name, patches))
+    let mut surface = params.surface(SPEC.name, patches);
+    surface.warnings = construction.warnings;
+    Ok(surface)
 }
 
 /// Steps 1–2 for every face, in parallel.
 fn candidates<'a>(mesh: &'a Mesh, params: &Params) -> Result<Construction<'a>> {
     let scaling = edge_scaling(params)?;
-    let normals = mesh.vertex_normals(params.normal_source()?)?;
+    let (normals, warnings) =
+        crate::schemes::scheme_normals(mesh, params, SPEC.name, AtFoldedVertex::Refuse)?;
     let positions = mesh.positions();
     // Steps 1–2, per face.
     let cubic_pieces = mesh
@@ -238,7 +243,11 @@ fn candidates<'a>(mesh: &'a Mesh, params: &Params) -> Result<Construction<'a>> {
                 })
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(Construction { mesh, cubic_pieces })
+    Ok(Construction {
+        mesh,
+        cubic_pieces,
+        warnings,
+    })
 }
 
 #[cfg(test)]
