@@ -101,13 +101,14 @@ pub fn png_bytes(frame: &Frame) -> Result<Vec<u8>> {
 
 /// The probe's answer: the exact hit through image point `(x, y)` of `wanted`'s job — point,
 /// unit normal (patch orientation), principal, Gaussian and mean curvature, patch, piece,
-/// input face and `(u, v)`; curvatures with the convex sign (positive where the surface is
+/// input face of `mesh` and `(u, v)`; curvatures with the convex sign (positive where the surface is
 /// convex seen from the side its normal points to, as the curvature mode's default).
 pub fn probe_json(
     wanted: &session::Wanted,
     x: f64,
     y: f64,
     sp: Option<&ShadingPoint>,
+    mesh: &crate::mesh::Mesh,
 ) -> serde_json::Value {
     let v = |p: glam::DVec3| [p.x, p.y, p.z];
     let Some(sp) = sp else {
@@ -126,7 +127,9 @@ pub fn probe_json(
         "position": v(sp.jet.p),
         "normal": v(sp.normal),
         "curvature": curvature,
-        "patch": sp.hit.patch, "piece": sp.piece, "face": sp.face,
+        "patch": sp.hit.patch, "piece": sp.piece,
+        // The face the user wrote (a polygon's triangles share it), as in the EXR's face_id.
+        "face": mesh.face_origins().get(sp.face as usize).copied().unwrap_or(sp.face),
         "u": sp.hit.u, "v": sp.hit.v, "t": sp.hit.t,
         "back_face": sp.is_back_face(),
     })

@@ -378,7 +378,8 @@ impl ViewServer {
         };
         match self.session.probe(x, y) {
             Ok((wanted, sp)) => {
-                respond_json(request, 200, &super::probe_json(&wanted, x, y, sp.as_ref()))
+                let json = super::probe_json(&wanted, x, y, sp.as_ref(), &self.session.mesh);
+                respond_json(request, 200, &json)
             }
             Err(e) => refuse(request, 400, &e.to_string()),
         }

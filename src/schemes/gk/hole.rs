@@ -467,7 +467,23 @@ mod tests {
                         }
                     }
                 }
-                let (flat, _) = Mesh::from_triangles(positions, m.faces().to_vec()).unwrap();
+                // Laying the rings into the plane can leave the closed net enclosing a negative
+                // volume, which loading would turn outward (every face flipped); the mirror
+                // image of the vertices off the plane keeps the net's orientation as written.
+                let mut flat = Mesh::from_triangles(positions.clone(), m.faces().to_vec())
+                    .unwrap()
+                    .0;
+                if flat.faces() != m.faces() {
+                    let mirrored = positions.iter().map(|p| p * DVec3::new(1.0, 1.0, -1.0));
+                    flat = Mesh::from_triangles(mirrored.collect(), m.faces().to_vec())
+                        .unwrap()
+                        .0;
+                }
+                assert_eq!(
+                    flat.faces(),
+                    m.faces(),
+                    "n = {n}, k = {k}: the net as written"
+                );
                 let rings = Rings::around(&flat, v, chart_rings(k)).unwrap();
                 let multiples = [(v, DVec3::ZERO)].into_iter().collect();
                 let control = ControlNet::with_multiples(&flat, k, multiples);
