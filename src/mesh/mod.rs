@@ -193,8 +193,7 @@ impl Mesh {
             faces,
             origin,
             None,
-            Err("the mesh was not read from an OBJ file".to_string()),
-            &[],
+            validate::FileMarks::none("the mesh was not read from an OBJ file"),
             options,
             repair::Repairs::new(options.strict),
         )

@@ -133,8 +133,10 @@ pub(super) fn assemble(
         triangulation.faces,
         triangulation.polygon,
         labels,
-        corner_normals,
-        file_sharp,
+        validate::FileMarks {
+            corner_normals,
+            sharp: file_sharp,
+        },
         options,
         repairs,
     )?;

@@ -82,20 +82,42 @@ impl FaceList {
     }
 }
 
+/// What a file says about its surface besides positions and faces.
+pub(super) struct FileMarks<'a> {
+    /// The file's normals per face corner, or why there are none.
+    pub(super) corner_normals: std::result::Result<CornerNormals, String>,
+    /// Edges the file marks sharp (smoothing groups, differing per-corner normals), as input
+    /// vertex pairs.
+    pub(super) sharp: &'a [[u32; 2]],
+}
+
+impl FileMarks<'_> {
+    /// No normals (for the reason `why`) and no sharp edges.
+    pub(super) fn none(why: &str) -> FileMarks<'static> {
+        FileMarks {
+            corner_normals: Err(why.to_string()),
+            sharp: &[],
+        }
+    }
+}
+
 /// Validates and repairs `faces` over `positions` and builds the mesh (see the module docs of
 /// `mesh` for the steps). `origin` is each triangle's input face (the polygon it was cut
-/// from); `labels` renames input vertices in errors; `corner_normals` are the file's normals
-/// per face corner, or why there are none; `repairs` holds the repairs made so far.
+/// from); `labels` renames input vertices in errors; `marks` are the file's normals and sharp
+/// edges; `repairs` holds the repairs made so far.
 pub(super) fn assemble(
     positions: Vec<DVec3>,
     faces: Vec<[u32; 3]>,
     origin: Vec<u32>,
     labels: Option<&[u32]>,
-    corner_normals: std::result::Result<CornerNormals, String>,
-    file_sharp: &[[u32; 2]],
+    marks: FileMarks<'_>,
     options: &LoadOptions,
     mut repairs: Repairs,
 ) -> Result<(Mesh, LoadReport)> {
+    let FileMarks {
+        corner_normals,
+        sharp: file_sharp,
+    } = marks;
     let relative_tolerance =
         check_weld_tolerance(options.weld_tolerance).map_err(Error::Invalid)?;
     if faces.is_empty() {

@@ -378,7 +378,7 @@ impl ViewServer {
         };
         match self.session.probe(x, y) {
             Ok((wanted, sp)) => {
-                let json = super::probe_json(&wanted, x, y, sp.as_ref(), &self.session.mesh);
+                let json = super::probe_json(&wanted, x, y, sp.as_ref(), self.session.mesh);
                 respond_json(request, 200, &json)
             }
             Err(e) => refuse(request, 400, &e.to_string()),
