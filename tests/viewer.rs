@@ -127,7 +127,7 @@ fn http(
         .map(|(k, v)| (k.trim().to_ascii_lowercase(), v.trim().to_string()))
         .collect();
     let mut body = response[split + 4..].to_vec();
-    // tiny_http sends small bodies with a length, larger ones chunked.
+    // The view sends every body with its length; the DevTools server may send it chunked.
     if headers_have(&headers, "transfer-encoding", "chunked") {
         body = dechunk(&body);
     }
@@ -310,6 +310,82 @@ fn requests_without_token_with_a_foreign_host_or_for_other_paths_are_refused() {
         !out.join("view-001.toml").exists(),
         "nothing written without save"
     );
+}
+
+/// The probe next to a joint reports the normal-angle jump measured there: on the flat
+/// icosahedron the angle between the two faces' normals, on its hb surface 0 to rounding.
+#[test]
+fn the_probe_reports_the_jump_across_a_joint() {
+    let ico = icosahedron();
+    let view = start_view(&[common::path_str(&ico), "--scheme", "flat"]);
+    let (addr, host, token) = (view.host.as_str(), Some(view.host.as_str()), &view.token);
+    let mesh = smoothlab::mesh::Mesh::load_with(&ico, &Default::default())
+        .expect("mesh")
+        .0;
+    let face_normal = |f: usize| {
+        let [a, b, c] = mesh.faces()[f].map(|i| mesh.positions()[i as usize]);
+        (b - a).cross(c - a)
+    };
+    for (scheme, flat) in [("flat", true), ("hb", false)] {
+        let settings = json!({
+            "render": { "size": [96, 72], "spp": 1 },
+            "scheme": { "name": scheme, "params": {} },
+        });
+        let (status, _, body) = http(
+            addr,
+            "POST",
+            &format!("/view?token={token}"),
+            host,
+            settings.to_string().as_bytes(),
+        );
+        assert_eq!(status, 200, "{}", String::from_utf8_lossy(&body));
+        let surface = smoothlab::schemes::build(scheme, &mesh, &[]).expect(scheme);
+        let (mut hits, mut joints) = (0, 0);
+        // Every pixel of the middle row, at a quarter-pixel pitch.
+        for i in 0..4 * 96 {
+            let x = 0.125 + 0.25 * f64::from(i);
+            let (status, _, body) = http(
+                addr,
+                "GET",
+                &format!("/probe?token={token}&x={x}&y=36.5"),
+                host,
+                b"",
+            );
+            assert_eq!(status, 200);
+            let probe: Value = serde_json::from_slice(&body).expect("probe JSON");
+            if probe["hit"] != json!(true) {
+                continue;
+            }
+            hits += 1;
+            let joint = &probe["joint"];
+            if joint.is_null() {
+                continue;
+            }
+            joints += 1;
+            assert!(joint["pixels"].as_f64().expect("pixels") <= 2.0, "{probe}");
+            assert!(joint["gap"].as_f64().expect("gap") < 1e-12, "{probe}");
+            let angle = joint["normal_angle"].as_f64().expect("angle");
+            let [a, b] = [0, 1].map(|k| {
+                surface.patches[joint["patches"][k].as_u64().expect("patch") as usize].face as usize
+            });
+            let [na, nb] = [face_normal(a), face_normal(b)];
+            let expected = if flat {
+                na.cross(nb).length().atan2(na.dot(nb))
+            } else {
+                0.0
+            };
+            assert!(
+                (angle - expected).abs() < 1e-12,
+                "{scheme}: jump {angle} rad, expected {expected}: {probe}"
+            );
+        }
+        eprintln!("{scheme}: {hits} hits, {joints} next to a joint");
+        assert!(
+            hits > 100 && joints >= 4,
+            "{scheme}: {hits} hits, {joints} joints"
+        );
+        assert!(joints < hits / 2, "{scheme}: {hits} hits, {joints} joints");
+    }
 }
 
 /// `--bind` with the unspecified address is refused (no Host could be checked), naming the
@@ -580,6 +656,46 @@ fn the_page_orbits_probes_and_saves_in_a_browser() {
     assert!(orbited > first, "the drag sent a new camera");
     let (_, _, after) = browser.canvas_rgb();
     assert_ne!(before, after, "the orbit changed the view");
+    // The same drag in arcball mode turns about the screen's axes: the camera rolls off the
+    // up axis (a turntable keeps the image's right horizontal), and stays orthonormal.
+    browser.set_control("orbit", "arcball");
+    browser.mouse("mousePressed", cx, cy, 1);
+    for k in 1..=5 {
+        browser.mouse(
+            "mouseMoved",
+            cx + 12.0 * f64::from(k),
+            cy + 9.0 * f64::from(k),
+            1,
+        );
+    }
+    browser.mouse("mouseReleased", cx + 60.0, cy + 45.0, 0);
+    let turned = browser.converged();
+    assert!(turned > orbited, "the arcball drag sent a new camera");
+    let camera: Value = serde_json::from_str(
+        browser
+            .eval("JSON.stringify(sceneKeys().camera)")
+            .as_str()
+            .expect("camera JSON"),
+    )
+    .expect("camera");
+    let vector = |key: &str| -> glam::DVec3 {
+        let v: [f64; 3] = serde_json::from_value(camera[key].clone()).expect(key);
+        glam::DVec3::from_array(v)
+    };
+    let (back, up) = ((vector("eye") - vector("target")).normalize(), vector("up"));
+    let right = up.cross(back);
+    let axis = if browser.eval("document.getElementById('upaxis').value") == json!("z") {
+        glam::DVec3::Z
+    } else {
+        glam::DVec3::Y
+    };
+    assert!(
+        (up.length() - 1.0).abs() < 1e-9 && up.dot(back).abs() < 1e-9,
+        "{camera}"
+    );
+    assert!(right.dot(axis).abs() > 1e-3, "the arcball rolled: {camera}");
+    let (_, _, after) = browser.canvas_rgb();
+    let orbited = turned;
     // Stripe count, then mode.
     browser.set_control("stripes", "5");
     let striped = browser.converged();

@@ -71,18 +71,12 @@ pub struct JointStats {
 /// and the mesh is consistently oriented. A patch with the opposite orientation shows up
 /// honestly as a jump of π (and as a sign change of the mean curvature).
 pub fn measure_joint(surface: &Surface, joint: &Joint, floor: CurvatureFloor) -> JointStats {
-    let side_a = &surface.patches[joint.a.patch as usize];
-    let side_b = &surface.patches[joint.b.patch as usize];
     let mut stats = JointStats {
         between_faces: joint.between_faces,
         ..JointStats::default()
     };
     for s in joint_fractions() {
-        let s_b = if joint.reversed { 1.0 - s } else { s };
-        let uv_a = edge_uv(joint.a.edge as usize, s);
-        let uv_b = edge_uv(joint.b.edge as usize, s_b);
-        let jet_a = side_a.jet(uv_a.x, uv_a.y);
-        let jet_b = side_b.jet(uv_b.x, uv_b.y);
+        let [jet_a, jet_b] = sides_at(surface, joint, s);
         stats.gap_max = stats.gap_max.max((jet_a.p - jet_b.p).length());
         let (cross_a, cross_b) = (jet_a.cross(), jet_b.cross());
         if cross_a == DVec3::ZERO || cross_b == DVec3::ZERO {
@@ -98,6 +92,38 @@ pub fn measure_joint(surface: &Surface, joint: &Joint, floor: CurvatureFloor) ->
         stats.mean_jump_max = stats.mean_jump_max.max(mean);
     }
     stats
+}
+
+/// The jets of both sides of `joint` at fraction `s` along side `a` (the same domain point).
+pub fn sides_at(surface: &Surface, joint: &Joint, s: f64) -> [Jet; 2] {
+    let s_b = if joint.reversed { 1.0 - s } else { s };
+    let uv_a = edge_uv(joint.a.edge as usize, s);
+    let uv_b = edge_uv(joint.b.edge as usize, s_b);
+    let jet_a = surface.patches[joint.a.patch as usize].jet(uv_a.x, uv_a.y);
+    let jet_b = surface.patches[joint.b.patch as usize].jet(uv_b.x, uv_b.y);
+    [jet_a, jet_b]
+}
+
+/// What a joint does at one point: the gap between its sides and the angle between their
+/// normals (`None` where a side is singular, `Su × Sv = 0`) — [`measure_joint`]'s figures at a
+/// single fraction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JumpAt {
+    /// Distance between the two sides' points.
+    pub gap: f64,
+    /// Angle between the sides' normals (rad).
+    pub normal_angle: Option<f64>,
+}
+
+/// The jump across `joint` at fraction `s` along side `a`.
+pub fn jump_at(surface: &Surface, joint: &Joint, s: f64) -> JumpAt {
+    let [a, b] = sides_at(surface, joint, s);
+    let (cross_a, cross_b) = (a.cross(), b.cross());
+    JumpAt {
+        gap: (a.p - b.p).length(),
+        normal_angle: (cross_a != DVec3::ZERO && cross_b != DVec3::ZERO)
+            .then(|| normal_angle(cross_a, cross_b)),
+    }
 }
 
 /// Relative jumps `|K0 − K1| / max(|K0|, |K1|, floor)` of Gaussian and mean curvature

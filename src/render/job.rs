@@ -432,13 +432,18 @@ impl RenderJob {
             JobTracer::Exact(t) => t.surface,
             JobTracer::Tessellated(t) => SurfaceTracer::surface(t),
         };
+        Ok(tracer.shade(&self.pixel_ray(surface, x, y)?))
+    }
+
+    /// The camera ray through image point `(x, y)` (pixels from the top-left corner; pixel
+    /// centres at half-integers) of this job's image of `surface`.
+    pub fn pixel_ray(&self, surface: &Surface, x: f64, y: f64) -> Result<Ray64> {
         let camera = self.camera_of(surface)?;
         let (w, h) = (
             f64::from(self.settings.width),
             f64::from(self.settings.height),
         );
-        let ray = camera.ray(2.0 * x / w - 1.0, 1.0 - 2.0 * y / h, w / h);
-        Ok(tracer.shade(&ray))
+        Ok(camera.ray(2.0 * x / w - 1.0, 1.0 - 2.0 * y / h, w / h))
     }
 }
 

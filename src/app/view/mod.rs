@@ -20,8 +20,11 @@
 //!   images base64-encoded (a third larger) on a connection held per tab. PNG, not JPEG:
 //!   the converged frame is shown exactly (the stripes' edges are what the user judges),
 //!   and the coarse passes are small anyway (¼ × ¼ of the pixels).
-//! - **`tiny_http`**: a small synchronous server; the renderer is synchronous (rayon) and the
-//!   server needs a handful of endpoints, so no async runtime is worth its build time.
+//! - **Its own bounded transport** ([`http`], over `std::net` with `httparse` for the request
+//!   head): the renderer is synchronous (rayon) and the server needs a handful of endpoints,
+//!   so no async runtime is worth its build time; and the small synchronous servers give a
+//!   thread to every connection without bound or read deadline, where the view caps open
+//!   connections and closes idle ones.
 //! - **Cancellation by generation**: every setting from the page is a new generation; the
 //!   render asks between tiles (16 × 16 pixels) whether its generation is still the newest
 //!   and stops if not ([`crate::render::film::render_cancellable`]), so a new camera waits at
@@ -31,18 +34,22 @@
 //!   request; the `Host` header checked against the bound address; fixed endpoints; bounded
 //!   URLs, bodies, frame sizes, samples and waiting requests.
 
+pub mod http;
 pub mod scene;
 pub mod server;
 pub mod session;
 
+use std::collections::HashMap;
 use std::net::{IpAddr, SocketAddr};
 use std::path::PathBuf;
 use std::sync::Arc;
 
 use crate::app::render::ModeArg;
 use crate::error::{Error, Result};
-use crate::render::Frame;
+use crate::metrics::joints::{JumpAt, jump_at};
 use crate::render::interaction::ShadingPoint;
+use crate::render::{Frame, RenderJob};
+use crate::surface::{Joint, Surface, edge_uv};
 
 /// `smoothlab view MESH|SCENE.toml [options]`.
 #[derive(clap::Args, Clone, Debug)]
@@ -99,15 +106,110 @@ pub fn png_bytes(frame: &Frame) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
+/// How near a joint the probe must hit to report it: within this many pixels' width of
+/// the hit.
+pub const JOINT_PIXELS: f64 = 2.0;
+
+/// The joints of a surface by the patch edges on either side: `(patch, edge)` → the joint,
+/// whether the patch is its side `a`, and whether it runs along a sharp edge of the mesh.
+pub struct JointIndex {
+    by_edge: HashMap<(u32, u8), (Joint, bool, bool)>,
+}
+
+/// A joint next to a probed hit and the jump measured across it there.
+#[derive(Clone, Copy, Debug)]
+pub struct JointUnder {
+    /// The joint.
+    pub joint: Joint,
+    /// Fraction along side `a` of the point nearest the hit.
+    pub s: f64,
+    /// Distance from the hit to that point, in pixels' widths at the hit.
+    pub pixels: f64,
+    /// The jump there ([`crate::metrics::joints::jump_at`]).
+    pub jump: JumpAt,
+    /// `true` along a sharp edge of the mesh (a crease, G0 by design).
+    pub sharp: bool,
+}
+
+impl JointIndex {
+    /// The joints of `surface`, built on `mesh`.
+    pub fn new(surface: &Surface, mesh: &crate::mesh::Mesh) -> JointIndex {
+        let sharp = mesh.sharp_face_pairs();
+        let mut by_edge = HashMap::new();
+        for joint in surface.joints(mesh.faces()) {
+            let (f, g) = (
+                surface.patches[joint.a.patch as usize].face,
+                surface.patches[joint.b.patch as usize].face,
+            );
+            let is_sharp =
+                joint.between_faces && sharp.binary_search(&(f.min(g), f.max(g))).is_ok();
+            by_edge.insert((joint.a.patch, joint.a.edge), (joint, true, is_sharp));
+            by_edge.insert((joint.b.patch, joint.b.edge), (joint, false, is_sharp));
+        }
+        JointIndex { by_edge }
+    }
+
+    /// The joint within [`JOINT_PIXELS`] of the hit `sp` through image point `(x, y)` of
+    /// `job`, if any: the patch edge nearest the hit's `(u, v)`, the point on it at the same
+    /// barycentric ratio, and the normal-angle jump measured there.
+    pub fn near(
+        &self,
+        job: &RenderJob,
+        surface: &Surface,
+        x: f64,
+        y: f64,
+        sp: &ShadingPoint,
+    ) -> Result<Option<JointUnder>> {
+        let (u, v) = (sp.hit.u, sp.hit.v);
+        let weights = [1.0 - u - v, u, v];
+        // Edge e runs from corner e to corner e + 1, where the weight of corner e + 2 is 0.
+        let edge = (0..3usize)
+            .min_by(|&a, &b| weights[(a + 2) % 3].total_cmp(&weights[(b + 2) % 3]))
+            .unwrap_or(0);
+        let Some(&(joint, is_a, sharp)) = self.by_edge.get(&(sp.hit.patch, edge as u8)) else {
+            return Ok(None);
+        };
+        let (w0, w1) = (weights[edge].max(0.0), weights[(edge + 1) % 3].max(0.0));
+        let along = if w0 + w1 > 0.0 { w1 / (w0 + w1) } else { 0.5 };
+        let uv = edge_uv(edge, along);
+        let on_edge = surface.patches[sp.hit.patch as usize].jet(uv.x, uv.y).p;
+        let (r0, r1) = (
+            job.pixel_ray(surface, x, y)?,
+            job.pixel_ray(surface, x + 1.0, y)?,
+        );
+        let pixel = ((r1.origin - r0.origin) + (r1.dir - r0.dir) * sp.hit.t).length();
+        let pixels = (sp.jet.p - on_edge).length() / pixel;
+        if !(pixels <= JOINT_PIXELS) {
+            return Ok(None);
+        }
+        // `along` is the fraction on the hit patch's side; the joint counts it on side a.
+        let s = if is_a || !joint.reversed {
+            along
+        } else {
+            1.0 - along
+        };
+        Ok(Some(JointUnder {
+            joint,
+            s,
+            pixels,
+            jump: jump_at(surface, &joint, s),
+            sharp,
+        }))
+    }
+}
+
 /// The probe's answer: the exact hit through image point `(x, y)` of `wanted`'s job — point,
 /// unit normal (patch orientation), principal, Gaussian and mean curvature, patch, piece,
 /// input face of `mesh` and `(u, v)`; curvatures with the convex sign (positive where the surface is
-/// convex seen from the side its normal points to, as the curvature mode's default).
+/// convex seen from the side its normal points to, as the curvature mode's default); and, next
+/// to a joint, the jump measured across it (`joint`: its two patches, the fraction along it,
+/// the distance in pixels, gap, normal angle in radians, and whether it is a sharp edge).
 pub fn probe_json(
     wanted: &session::Wanted,
     x: f64,
     y: f64,
     sp: Option<&ShadingPoint>,
+    joint: Option<JointUnder>,
     mesh: &crate::mesh::Mesh,
 ) -> serde_json::Value {
     let v = |p: glam::DVec3| [p.x, p.y, p.z];
@@ -132,6 +234,15 @@ pub fn probe_json(
         "face": mesh.face_origins().get(sp.face as usize).copied().unwrap_or(sp.face),
         "u": sp.hit.u, "v": sp.hit.v, "t": sp.hit.t,
         "back_face": sp.is_back_face(),
+        "joint": joint.map(|j| serde_json::json!({
+            "patches": [j.joint.a.patch, j.joint.b.patch],
+            "s": j.s,
+            "pixels": j.pixels,
+            "gap": j.jump.gap,
+            "normal_angle": j.jump.normal_angle,
+            "sharp": j.sharp,
+            "between_faces": j.joint.between_faces,
+        })),
     })
 }
 

@@ -1,12 +1,12 @@
-//! The view's HTTP server: a fixed set of endpoints over [`tiny_http`], each request checked
-//! before anything is done for it.
+//! The view's HTTP server: a fixed set of endpoints over the bounded transport of
+//! [`super::http`], each request checked before anything is done for it.
 //!
 //! Checks, in order: the `Host` header must name the bound address (`ADDR:PORT`, and
 //! `localhost:PORT` when bound to a loopback address), so a page of another site that a DNS
 //! name rebinds to this address is refused; the URL is at most [`MAX_URL`] bytes and carries
 //! `token=` with the random token of the printed URL (compared in constant time); the path
 //! is one of the endpoints below with its method; a body is at most [`MAX_BODY`] bytes.
-//! Everything else is refused (403, 404, 405, 413) before it costs work.
+//! Everything else is refused (403, 404, 405, 413, 414) before it costs work.
 //!
 //! Endpoints (all need the token): `GET /` the embedded page; `GET /info` the mesh, scheme
 //! registry, modes and a framed camera (JSON); `POST /view` new settings as scene keys
@@ -16,13 +16,13 @@
 //! folder given on the command line and names the files (JSON). The page names no path: the
 //! server reads and writes nothing else.
 //!
-//! Load: requests are served by [`HANDLERS`] threads; at most [`MAX_WAITING`] frame requests
-//! wait at once (more are told 503 at once), so a page left open in many tabs or a client
-//! that stops reading ties up no renderer: the render worker does not depend on any client,
-//! and a client that disconnects mid-frame only loses its response. Every response closes its
-//! connection (`Connection: close`), so no idle connection is kept.
+//! Load: at most [`MAX_CONNECTIONS`] connections are open at once, each must send its request
+//! within [`REQUEST_DEADLINE`] (idle or slow clients are closed then), and at most
+//! [`MAX_WAITING`] frame requests wait at once (more are told 503 at once), so a page left
+//! open in many tabs or a client that stops reading ties up no renderer: the render worker
+//! does not depend on any client, and a client that disconnects mid-frame only loses its
+//! response. Every response closes its connection, so no idle connection is kept.
 
-use std::io::Read;
 use std::net::{IpAddr, SocketAddr};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -30,8 +30,8 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use serde_json::json;
-use tiny_http::{Header, Method, Request, Response};
 
+use crate::app::view::http::{HttpServer, Limits, Method, Request, Response};
 use crate::app::view::session::{Session, Wanted};
 use crate::error::{Error, Result};
 use crate::render::output::{OutputMeta, OutputOptions, write_outputs_with};
@@ -39,8 +39,12 @@ use crate::render::output::{OutputMeta, OutputOptions, write_outputs_with};
 /// The embedded page.
 const PAGE: &str = include_str!("../../../assets/view/index.html");
 
-/// Threads serving requests.
-pub const HANDLERS: usize = 4;
+/// The most connections open at once (a page holds two or three: a frame poll, a probe,
+/// a settings change).
+pub const MAX_CONNECTIONS: usize = 16;
+
+/// Time from a connection's opening by which its request must have arrived.
+pub const REQUEST_DEADLINE: Duration = Duration::from_secs(10);
 
 /// The most frame requests waiting at once.
 pub const MAX_WAITING: usize = 2;
@@ -56,7 +60,7 @@ pub const FRAME_WAIT: Duration = Duration::from_secs(10);
 
 /// A running view server.
 pub struct ViewServer {
-    server: Arc<tiny_http::Server>,
+    http: HttpServer,
     /// The address bound (with the port chosen when 0 was asked for).
     pub addr: SocketAddr,
     /// The token every request must carry.
@@ -107,52 +111,26 @@ fn query_value<'q>(query: &'q str, key: &str) -> Option<&'q str> {
         .map(|(_, v)| v)
 }
 
-fn header(name: &str, value: &str) -> Header {
-    // Names and values here are ASCII, which a header always accepts.
-    Header::from_bytes(name.as_bytes(), value.as_bytes())
-        .unwrap_or_else(|()| Header::from_bytes(&b"X-Invalid"[..], &b"1"[..]).expect("ASCII"))
-}
-
 /// A response with the headers every response carries.
-fn respond(
-    request: Request,
-    status: u16,
-    content_type: &str,
-    body: Vec<u8>,
-    extra: &[(&str, String)],
-) {
-    let mut response = Response::from_data(body)
-        .with_status_code(status)
-        .with_header(header("Content-Type", content_type))
-        .with_header(header("Cache-Control", "no-store"))
-        .with_header(header("X-Content-Type-Options", "nosniff"))
-        .with_header(header("X-Frame-Options", "DENY"))
-        .with_header(header("Referrer-Policy", "no-referrer"))
-        .with_header(header("Connection", "close"))
-        .with_header(header(
+fn respond(status: u16, content_type: &str, body: Vec<u8>) -> Response {
+    Response::new(status, content_type, body)
+        .with_header("Cache-Control", "no-store")
+        .with_header("X-Content-Type-Options", "nosniff")
+        .with_header("X-Frame-Options", "DENY")
+        .with_header("Referrer-Policy", "no-referrer")
+        .with_header(
             "Content-Security-Policy",
             "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; \
              img-src 'self' blob:; connect-src 'self'; frame-ancestors 'none'",
-        ));
-    for (name, value) in extra {
-        response = response.with_header(header(name, value));
-    }
-    // A client that went away loses its response; nothing else depends on it.
-    let _ = request.respond(response);
+        )
 }
 
-fn respond_json(request: Request, status: u16, value: &serde_json::Value) {
-    respond(
-        request,
-        status,
-        "application/json",
-        value.to_string().into_bytes(),
-        &[],
-    );
+fn respond_json(status: u16, value: &serde_json::Value) -> Response {
+    respond(status, "application/json", value.to_string().into_bytes())
 }
 
-fn refuse(request: Request, status: u16, why: &str) {
-    respond_json(request, status, &json!({ "error": why }));
+fn refuse(status: u16, why: &str) -> Response {
+    respond_json(status, &json!({ "error": why }))
 }
 
 impl ViewServer {
@@ -165,14 +143,20 @@ impl ViewServer {
                 addr.ip()
             )));
         }
-        let server = tiny_http::Server::http(addr)
-            .map_err(|e| Error::Invalid(format!("cannot listen on {addr}: {e}")))?;
-        let addr = server
-            .server_addr()
-            .to_ip()
-            .ok_or_else(|| Error::Invalid(format!("{addr} is not an IP address")))?;
+        let http = HttpServer::bind(
+            addr,
+            Limits {
+                connections: MAX_CONNECTIONS,
+                request_deadline: REQUEST_DEADLINE,
+                // Room for a URL beyond MAX_URL, so that it is refused by name (414).
+                head_bytes: 4 * MAX_URL,
+                body_bytes: MAX_BODY,
+                write_timeout: Duration::from_secs(30),
+            },
+        )?;
+        let addr = http.local_addr()?;
         Ok(ViewServer {
-            server: Arc::new(server),
+            http,
             addr,
             token: random_token()?,
             session,
@@ -188,89 +172,53 @@ impl ViewServer {
         format!("http://{}/?token={}", self.allowed_hosts[0], self.token)
     }
 
-    /// Serves requests on [`HANDLERS`] threads until the process ends.
+    /// Serves requests until the process ends.
     pub fn serve(self: Arc<Self>) {
-        let threads: Vec<_> = (0..HANDLERS)
-            .map(|_| {
-                let me = self.clone();
-                std::thread::spawn(move || {
-                    while let Ok(request) = me.server.recv() {
-                        me.handle(request);
-                    }
-                })
-            })
-            .collect();
-        for t in threads {
-            let _ = t.join();
-        }
+        let me = self.clone();
+        self.http.serve(Arc::new(move |request| me.handle(request)));
     }
 
     /// Checks and answers one request.
-    fn handle(&self, mut request: Request) {
-        let host = request
-            .headers()
-            .iter()
-            .find(|h| h.field.equiv("Host"))
-            .map(|h| h.value.as_str().to_string());
-        if !host.is_some_and(|h| self.allowed_hosts.contains(&h)) {
-            return refuse(request, 403, "the Host header does not name this server");
+    fn handle(&self, request: Request) -> Response {
+        if !request
+            .host
+            .as_ref()
+            .is_some_and(|h| self.allowed_hosts.contains(h))
+        {
+            return refuse(403, "the Host header does not name this server");
         }
-        let url = request.url().to_string();
+        let url = request.target.as_str();
         if url.len() > MAX_URL {
-            return refuse(request, 414, "URL too long");
+            return refuse(414, "URL too long");
         }
-        let (path, query) = url.split_once('?').unwrap_or((&url, ""));
+        let (path, query) = url.split_once('?').unwrap_or((url, ""));
         if !query_value(query, "token").is_some_and(|t| same_secret(t, &self.token)) {
             return refuse(
-                request,
                 403,
                 "missing or wrong token: open the URL the server printed",
             );
         }
-        let method = request.method().clone();
         let endpoint = match path {
             "/" | "/info" | "/frame" | "/probe" => Method::Get,
             "/view" | "/save" => Method::Post,
-            _ => return refuse(request, 404, "no such page"),
+            _ => return refuse(404, "no such page"),
         };
-        if method != endpoint {
-            return refuse(request, 405, "method not allowed");
+        if request.method != endpoint {
+            return refuse(405, "method not allowed");
         }
-        let body = if method == Method::Post {
-            if request.body_length().is_some_and(|n| n > MAX_BODY) {
-                return refuse(request, 413, "request body too large");
-            }
-            let mut body = Vec::new();
-            let read = request
-                .as_reader()
-                .take(MAX_BODY as u64 + 1)
-                .read_to_end(&mut body);
-            if read.is_err() || body.len() > MAX_BODY {
-                return refuse(request, 413, "request body too large or unreadable");
-            }
-            body
-        } else {
-            Vec::new()
-        };
         match path {
-            "/" => respond(
-                request,
-                200,
-                "text/html; charset=utf-8",
-                PAGE.as_bytes().to_vec(),
-                &[],
-            ),
-            "/info" => self.info(request, query),
-            "/view" => self.view(request, &body),
-            "/frame" => self.frame(request, query),
-            "/probe" => self.probe(request, query),
-            _ => self.save(request),
+            "/" => respond(200, "text/html; charset=utf-8", PAGE.as_bytes().to_vec()),
+            "/info" => self.info(query),
+            "/view" => self.view(&request.body),
+            "/frame" => self.frame(query),
+            "/probe" => self.probe(query),
+            _ => self.save(),
         }
     }
 
     /// The mesh, the schemes, the modes, the base scene's keys and the camera the base scene
     /// gives for an image of `w` × `h`.
-    fn info(&self, request: Request, query: &str) {
+    fn info(&self, query: &str) -> Response {
         let size = |key: &str| {
             query_value(query, key)
                 .and_then(|v| v.parse::<u32>().ok())
@@ -317,76 +265,69 @@ impl ViewServer {
             }))
         })();
         match result {
-            Ok(value) => respond_json(request, 200, &value),
-            Err(e) => refuse(request, 500, &e.to_string()),
+            Ok(value) => respond_json(200, &value),
+            Err(e) => refuse(500, &e.to_string()),
         }
     }
 
     /// New settings: checked, made the newest generation.
-    fn view(&self, request: Request, body: &[u8]) {
+    fn view(&self, body: &[u8]) -> Response {
         let settings: serde_json::Value = match serde_json::from_slice(body) {
             Ok(v) => v,
-            Err(e) => return refuse(request, 400, &format!("view settings: {e}")),
+            Err(e) => return refuse(400, &format!("view settings: {e}")),
         };
         match self.session.request(&settings) {
-            Ok(w) => respond_json(request, 200, &json!({ "generation": w.generation })),
-            Err(e) => refuse(request, 400, &e.to_string()),
+            Ok(w) => respond_json(200, &json!({ "generation": w.generation })),
+            Err(e) => refuse(400, &e.to_string()),
         }
     }
 
     /// The next frame after `after` (long poll).
-    fn frame(&self, request: Request, query: &str) {
+    fn frame(&self, query: &str) -> Response {
         let after = query_value(query, "after")
             .and_then(|v| v.parse::<u64>().ok())
             .unwrap_or(0);
         if self.waiting.fetch_add(1, Ordering::SeqCst) >= MAX_WAITING {
             self.waiting.fetch_sub(1, Ordering::SeqCst);
-            return refuse(request, 503, "too many frame requests at once");
+            return refuse(503, "too many frame requests at once");
         }
         let (frame, error) = self.session.frame_after(after, FRAME_WAIT);
         self.waiting.fetch_sub(1, Ordering::SeqCst);
         match (frame, error) {
-            (_, Some(e)) => refuse(request, 422, &e),
-            (None, None) => respond(request, 204, "text/plain", Vec::new(), &[]),
-            (Some(p), None) => respond(
-                request,
-                200,
-                "image/png",
-                p.png.as_ref().clone(),
-                &[
-                    ("X-Seq", p.seq.to_string()),
-                    ("X-Generation", p.generation.to_string()),
-                    ("X-Level", p.level.to_string()),
-                    ("X-Width", p.width.to_string()),
-                    ("X-Height", p.height.to_string()),
-                    ("X-Since-Request-Ms", format!("{:.1}", p.since_request_ms)),
-                    ("X-Render-Ms", format!("{:.1}", p.render_ms)),
-                ],
-            ),
+            (_, Some(e)) => refuse(422, &e),
+            (None, None) => respond(204, "text/plain", Vec::new()),
+            (Some(p), None) => respond(200, "image/png", p.png.as_ref().clone())
+                .with_header("X-Seq", p.seq.to_string())
+                .with_header("X-Generation", p.generation.to_string())
+                .with_header("X-Level", p.level.to_string())
+                .with_header("X-Width", p.width.to_string())
+                .with_header("X-Height", p.height.to_string())
+                .with_header("X-Since-Request-Ms", format!("{:.1}", p.since_request_ms))
+                .with_header("X-Render-Ms", format!("{:.1}", p.render_ms)),
         }
     }
 
     /// The exact hit under pixel coordinates `x`, `y` of the current view.
-    fn probe(&self, request: Request, query: &str) {
+    fn probe(&self, query: &str) -> Response {
         let coordinate = |key: &str| {
             query_value(query, key)
                 .and_then(|v| v.parse::<f64>().ok())
                 .filter(|v| v.is_finite())
         };
         let (Some(x), Some(y)) = (coordinate("x"), coordinate("y")) else {
-            return refuse(request, 400, "probe needs finite x and y");
+            return refuse(400, "probe needs finite x and y");
         };
         match self.session.probe(x, y) {
-            Ok((wanted, sp)) => {
-                let json = super::probe_json(&wanted, x, y, sp.as_ref(), self.session.mesh);
-                respond_json(request, 200, &json)
+            Ok((wanted, sp, joint)) => {
+                let json = super::probe_json(&wanted, x, y, sp.as_ref(), joint, self.session.mesh);
+                respond_json(200, &json)
             }
-            Err(e) => refuse(request, 400, &e.to_string()),
+            Err(e) => refuse(400, &e.to_string()),
         }
     }
 
     /// Writes the current view as `view-NNN.toml`, `.png` and `.exr` in the output folder.
-    fn save(&self, request: Request) {
+    fn save(&self) -> Response {
         let _one_at_a_time = self.saving.lock();
         let result = (|| -> Result<serde_json::Value> {
             let wanted = self
@@ -400,8 +341,8 @@ impl ViewServer {
             }))
         })();
         match result {
-            Ok(value) => respond_json(request, 200, &value),
-            Err(e) => refuse(request, 500, &e.to_string()),
+            Ok(value) => respond_json(200, &value),
+            Err(e) => refuse(500, &e.to_string()),
         }
     }
 }

@@ -45,6 +45,8 @@ pub struct Built {
     pub build_ms: f64,
     /// Milliseconds the tracer took to build.
     pub tracer_ms: f64,
+    /// The joints of the surface by the patch edges on either side, for the probe.
+    pub joints: super::JointIndex,
 }
 
 /// What the page asked for: the merged scene table and its job, of one generation.
@@ -170,11 +172,13 @@ impl Session {
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
         let start = Instant::now();
         let tracer = job.tracer(surface)?;
+        let tracer_ms = start.elapsed().as_secs_f64() * 1e3;
         let built = Arc::new(Built {
             surface,
             tracer,
             build_ms,
-            tracer_ms: start.elapsed().as_secs_f64() * 1e3,
+            tracer_ms,
+            joints: super::JointIndex::new(surface, self.mesh),
         });
         lock(&self.state)
             .built
@@ -245,13 +249,21 @@ impl Session {
 
     /// The exact hit under image point `(x, y)` (pixels of the full-size frame) of the
     /// newest request.
-    pub fn probe(&self, x: f64, y: f64) -> Result<(Wanted, Option<ShadingPoint>)> {
+    pub fn probe(
+        &self,
+        x: f64,
+        y: f64,
+    ) -> Result<(Wanted, Option<ShadingPoint>, Option<super::JointUnder>)> {
         let wanted = self
             .wanted()
             .ok_or_else(|| Error::Invalid("nothing is shown yet".into()))?;
         let built = self.built(&wanted.scheme, &wanted.job)?;
         let sp = wanted.job.probe(&built.tracer, x, y)?;
-        Ok((wanted, sp))
+        let joint = match &sp {
+            Some(sp) => built.joints.near(&wanted.job, built.surface, x, y, sp)?,
+            None => None,
+        };
+        Ok((wanted, sp, joint))
     }
 
     /// The converged frame of `wanted`: the one rendered for the page if it is of that
