@@ -179,7 +179,8 @@ impl JointIndex {
         );
         let pixel = ((r1.origin - r0.origin) + (r1.dir - r0.dir) * sp.hit.t).length();
         let pixels = (sp.jet.p - on_edge).length() / pixel;
-        if !(pixels <= JOINT_PIXELS) {
+        // A NaN distance (a degenerate pixel) is no joint either.
+        if pixels.is_nan() || pixels > JOINT_PIXELS {
             return Ok(None);
         }
         // `along` is the fraction on the hit patch's side; the joint counts it on side a.
