@@ -514,3 +514,75 @@ fn three_commits_with_a_regression_show_the_step_at_its_commit() {
     );
     assert!(html.contains("src=\"figures/trend-interp_max_rel.svg\""));
 }
+
+/// `report --baseline` compares the thumbnails too: one pixel changed in one of the
+/// baseline's thumbnails is shown before / after / difference with its count, the others
+/// (same pixels) are not listed, and the page renders with the three extra images.
+#[test]
+fn a_changed_thumbnail_is_shown_before_and_after_with_its_pixel_count() {
+    let dir = scratch("image-changes");
+    let meshes = dir.join("meshes");
+    std::fs::create_dir_all(&meshes).expect("folder");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/icosahedron.obj"),
+        meshes.join("icosahedron.obj"),
+    )
+    .expect("mesh");
+    let run = |out: &Path, baseline: Option<&Path>| {
+        let mut args = vec![
+            "report",
+            "--meshes",
+            common::path_str(&meshes),
+            "--out",
+            common::path_str(out),
+        ];
+        if let Some(b) = baseline {
+            args.extend(["--baseline", common::path_str(b)]);
+        }
+        let out = common::smoothlab(&args);
+        assert!(out.status.success(), "{}", common::stderr(&out));
+    };
+    let (old, new) = (dir.join("old"), dir.join("new"));
+    run(&old, None);
+    let name = page::thumbnail_name("icosahedron.obj", "hb", "zebra");
+    let mut image = image::open(old.join(&name)).expect("thumbnail").to_rgb8();
+    let pixel = image.get_pixel(10, 20).0;
+    image.put_pixel(10, 20, image::Rgb([pixel[0] ^ 0x40, pixel[1], pixel[2]]));
+    image.save(old.join(&name)).expect("save");
+    run(&new, Some(&old.join("metrics.json")));
+    let html = std::fs::read_to_string(new.join(page::PAGE)).expect("page");
+    let thumbnails = page::THUMB_MODES.len() * 8;
+    assert!(
+        html.contains(&format!(
+            "1 of {thumbnails} thumbnail(s) differ from the baseline's."
+        )),
+        "{html}"
+    );
+    assert!(
+        html.contains("<td>1 of 16384 (0.01 %), largest channel difference 64</td>"),
+        "{html}"
+    );
+    let before = new.join("thumbs-baseline/icosahedron.obj-hb-zebra.png");
+    assert_eq!(
+        std::fs::read(&before).expect("copied baseline"),
+        std::fs::read(old.join(&name)).expect("baseline"),
+        "the baseline's own bytes"
+    );
+    let diff = image::open(new.join("thumbs-diff/icosahedron.obj-hb-zebra.png"))
+        .expect("difference image")
+        .to_rgb8();
+    let marked: Vec<(u32, u32)> = diff
+        .enumerate_pixels()
+        .filter(|(_, _, p)| p.0 == [255, 0, 255])
+        .map(|(x, y, _)| (x, y))
+        .collect();
+    assert_eq!(marked, [(10, 20)]);
+    let Some(browser) = chromium() else { return };
+    let report = report::read(&new.join("metrics.json")).expect("report");
+    let check = open_in_browser(&browser, &new.join(page::PAGE), &dir.join("page.png"));
+    assert_page_ok(
+        &check,
+        table_count(&report) + 1,
+        plots::PLOTS.len() + trend_count(&new) + thumbnails + 3,
+    );
+}

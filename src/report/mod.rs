@@ -14,6 +14,7 @@ pub mod analytic;
 pub mod batch;
 pub mod compare;
 pub mod history;
+pub mod image_changes;
 pub mod page;
 pub mod partial;
 pub mod plots;
@@ -776,6 +777,15 @@ pub fn write_outputs(
     {
         write_atomic(&out_dir.join(name), text.as_bytes())?;
     }
+    // The baseline's thumbnails sit beside its metrics.json.
+    let images = match baseline {
+        Some((path, _)) => Some(image_changes::compare_thumbnails(
+            path.parent().unwrap_or(Path::new(".")),
+            out_dir,
+            thumbnails,
+        )?),
+        None => None,
+    };
     let html = page::to_html(
         report,
         thumbnails,
@@ -785,6 +795,7 @@ pub fn write_outputs(
                 path,
                 report: old,
                 comparison,
+                images: images.as_ref(),
             })
             .as_ref(),
         &page::History {

@@ -23,6 +23,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::compare::{Comparison, Verdict};
+use super::image_changes::ImageChanges;
 use super::trends::Trend;
 use super::{COLUMNS, Report, TIMING_RUNS, plots, value_text};
 use crate::error::{Error, Result};
@@ -203,6 +204,8 @@ pub struct Baseline<'a> {
     pub report: &'a Report,
     /// The new report compared with the baseline ([`super::compare::compare`]).
     pub comparison: &'a Comparison,
+    /// The thumbnails compared with the baseline's ([`super::image_changes`]).
+    pub images: Option<&'a ImageChanges>,
 }
 
 /// A relative file path as a URL path: every byte but the unreserved characters of RFC 3986
@@ -747,6 +750,62 @@ fn baseline_section(out: &mut String, b: &Baseline) {
         );
     }
     *out += "</tbody></table>\n";
+    if let Some(images) = b.images {
+        image_section(out, images);
+    }
+}
+
+/// The thumbnails that changed against the baseline: before, after and the changed pixels
+/// (magenta on grey) side by side, with their count.
+fn image_section(out: &mut String, images: &ImageChanges) {
+    let _ = write!(
+        out,
+        "<h3 id=\"image-changes\">Thumbnails that changed</h3>\n<p>{} of {} thumbnail(s) \
+         differ from the baseline's{}.</p>\n",
+        images.changes.len(),
+        images.compared,
+        if images.missing > 0 {
+            format!(
+                "; {} have no baseline thumbnail to compare with",
+                images.missing
+            )
+        } else {
+            String::new()
+        }
+    );
+    if images.changes.is_empty() {
+        return;
+    }
+    *out += "<table class=\"thumbs\" id=\"image-changes-table\"><thead><tr><th>mesh</th>\
+             <th>scheme</th><th>mode</th><th>before</th><th>after</th><th>changed pixels</th>\
+             <th></th></tr></thead>\n<tbody>\n";
+    let img = |src: &str| {
+        format!(
+            "<img src=\"{}\" alt=\"{}\">",
+            escape(&url_path(src)),
+            escape(src)
+        )
+    };
+    for c in &images.changes {
+        let _ = writeln!(
+            out,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
+             <td>{} of {} ({:.2} %), largest channel difference {}</td></tr>",
+            escape(&c.mesh),
+            escape(&c.scheme),
+            escape(&c.mode),
+            img(&c.before),
+            img(&c.after),
+            c.diff
+                .as_deref()
+                .map_or_else(|| "size changed".to_string(), img),
+            c.changed,
+            c.pixels,
+            100.0 * c.changed as f64 / c.pixels.max(1) as f64,
+            c.max_delta
+        );
+    }
+    *out += "</tbody></table>\n";
 }
 
 /// The CSS class of a change's row or cell: `worse`, `better` or `same`.
@@ -894,6 +953,7 @@ mod tests {
                 path: Path::new("old.json"),
                 report: &new,
                 comparison: &comparison,
+                images: None,
             }),
             &History::NONE,
         );
