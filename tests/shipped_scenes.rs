@@ -121,8 +121,11 @@ fn tiny_spec(spec: &Path, output: &Path) -> String {
     let text = std::fs::read_to_string(spec).expect("spec");
     let mut table: toml::Table = text.parse().expect("spec is TOML");
     let folder = spec.parent().expect("folder");
-    table.insert("size".into(), toml::Value::Array(vec![24.into(), 24.into()]));
-    table.insert("spp".into(), 1.into());
+    table.insert(
+        "size".into(),
+        toml::Value::Array(vec![toml::Value::Integer(24), toml::Value::Integer(24)]),
+    );
+    table.insert("spp".into(), toml::Value::Integer(1));
     table.insert("exr".into(), false.into());
     table.insert("output".into(), path_str(output).into());
     let absolute = |value: &mut toml::Value| {
