@@ -164,7 +164,9 @@ fn cli_reference() -> String {
 #[test]
 fn cli_reference_is_the_programs_help() {
     let generated = cli_reference();
-    for command in ["render", "figure", "metrics", "export", "report", "view", "merge"] {
+    for command in [
+        "render", "figure", "metrics", "export", "report", "view", "merge",
+    ] {
         assert!(
             generated.contains(&format!("## `smoothlab {command}`")),
             "{command} missing from the generated reference"
@@ -388,12 +390,19 @@ fn every_relative_link_resolves() {
 fn the_readme_is_short_and_opens_with_a_picture() {
     let readme = std::fs::read_to_string(root().join("README.md")).expect("README");
     let lines = readme.lines().count();
-    assert!(lines <= 200, "README.md has {lines} lines; the guide is docs/");
+    assert!(
+        lines <= 200,
+        "README.md has {lines} lines; the guide is docs/"
+    );
     let first_image = readme
         .lines()
         .position(|line| line.starts_with("!["))
         .expect("an image");
-    assert!(first_image < 8, "the first image is on line {}", first_image + 1);
+    assert!(
+        first_image < 8,
+        "the first image is on line {}",
+        first_image + 1
+    );
     // The first two commands are the default job and the tests (CI runs them as documented).
     let commands: Vec<&str> = readme
         .lines()
@@ -417,7 +426,10 @@ fn the_readme_quickstart_runs() {
         .map_or(readme.len(), |e| start + 3 + e);
     let section = &readme[start..end];
     let block = |fence: &str| -> String {
-        let at = section.find(fence).unwrap_or_else(|| panic!("no {fence} block")) + fence.len();
+        let at = section
+            .find(fence)
+            .unwrap_or_else(|| panic!("no {fence} block"))
+            + fence.len();
         let len = section[at..].find("```").expect("closed block");
         section[at..at + len].to_owned()
     };
@@ -441,7 +453,12 @@ fn the_readme_quickstart_runs() {
             .expect("run smoothlab");
         assert!(out.status.success(), "{args:?}: {}", stderr(&out));
     }
-    for written in ["my-hb-zebra.png", "my-hb-zebra.exr", "compare.png", "compare.svg"] {
+    for written in [
+        "my-hb-zebra.png",
+        "my-hb-zebra.exr",
+        "compare.png",
+        "compare.svg",
+    ] {
         assert!(dir.join(written).is_file(), "{written} not written");
     }
 }

@@ -81,7 +81,10 @@ fn every_render_scene_renders() {
 fn the_peer_scene_renders_with_its_map() {
     let dir = scratch("shipped_scenes", "peer");
     let text = std::fs::read_to_string(scenes().join("shaded-hb-torus-peer.toml")).expect("scene");
-    assert!(text.contains("environment = \"../out/studio.exr\""), "{text}");
+    assert!(
+        text.contains("environment = \"../out/studio.exr\""),
+        "{text}"
+    );
     let mesh = scenes().join("torus.obj");
     let copy = text.replace(
         "mesh = \"torus.obj\"",
@@ -94,7 +97,11 @@ fn the_peer_scene_renders_with_its_map() {
     let out = smoothlab(&["render", path_str(&dir.join("scene/peer.toml"))]);
     common::assert_fails_naming(
         &out,
-        &["studio.exr", "cannot read environment map", "--example studio_map"],
+        &[
+            "studio.exr",
+            "cannot read environment map",
+            "--example studio_map",
+        ],
     );
     exr::prelude::write_rgb_file(dir.join("out/studio.exr"), 16, 8, |x, y| {
         let v = 0.2 + 0.05 * (x + y) as f32;
@@ -143,7 +150,10 @@ fn tiny_spec(spec: &Path, output: &Path) -> String {
     }
     if let Some(toml::Value::Array(modes)) = table.get_mut("modes") {
         for mode in modes {
-            if let Some(env) = mode.get_mut("params").and_then(|p| p.get_mut("environment")) {
+            if let Some(env) = mode
+                .get_mut("params")
+                .and_then(|p| p.get_mut("environment"))
+            {
                 absolute(env);
             }
         }
@@ -162,7 +172,10 @@ fn every_figure_spec_renders() {
         std::fs::write(&copy, tiny_spec(spec, &dir.join(name))).expect("spec copy");
         let out = smoothlab(&["figure", path_str(&copy)]);
         assert!(out.status.success(), "{name}: {}", stderr(&out));
-        assert!(dir.join(format!("{name}.png")).is_file(), "{name}: no sheet");
+        assert!(
+            dir.join(format!("{name}.png")).is_file(),
+            "{name}: no sheet"
+        );
         assert!(dir.join(format!("{name}.svg")).is_file(), "{name}: no SVG");
     }
 }
