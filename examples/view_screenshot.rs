@@ -1,5 +1,5 @@
 //! A screenshot of a running `smoothlab view` once its frame has converged, taken with
-//! headless Chromium over the DevTools protocol (the README's `results/figures/viewer.png`):
+//! headless Chromium over the DevTools protocol (`results/figures/viewer.png`, shown in docs/guide/viewer.md):
 //!
 //! ```text
 //! smoothlab view scenes/bunny.obj --scheme hb --no-browser   # prints open URL

@@ -1931,7 +1931,7 @@ fn a_report_batch_records_an_unreadable_mesh_and_goes_on() {
 }
 
 /// A report that would overwrite its own baseline is refused before any work, naming the flag
-/// (the baseline is copied first, as the README's workflow does).
+/// (the baseline is copied first, as the documented workflow does).
 #[test]
 fn a_report_onto_its_own_baseline_is_refused() {
     let dir = scratch("report-onto-baseline");

@@ -279,7 +279,7 @@ pub fn metrics_table(metrics: &[Metrics]) -> String {
     metrics_table_header() + &rows.concat()
 }
 
-/// The metrics JSON of the README's Contracts: a list with one object per scheme.
+/// The metrics JSON of docs/guide/contracts.md: a list with one object per scheme.
 pub fn metrics_json(metrics: &[Metrics]) -> Result<String> {
     serde_json::to_string_pretty(metrics).map_err(|e| Error::Invalid(format!("metrics JSON: {e}")))
 }

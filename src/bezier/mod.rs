@@ -1,6 +1,6 @@
 //! Bézier curves and triangular Bézier patches of any degree, in f64.
 //!
-//! Conventions used everywhere in smoothlab (and in the JSON export of the README's Contracts): a triangular
+//! Conventions used everywhere in smoothlab (and in the JSON export of docs/guide/contracts.md): a triangular
 //! patch of degree d has control points `b(i,j,k)`, `i+j+k = d`, stored with i from d down to 0,
 //! then j from d−i down to 0. Corner `b(d,0,0)` is at barycentric (1,0,0). The patch is also
 //! read as a map of `(u, v)` through the barycentric point `(1−u−v, u, v)`.

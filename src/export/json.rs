@@ -1,4 +1,4 @@
-//! The patch JSON of the README's Contracts:
+//! The patch JSON of docs/guide/contracts.md:
 //!
 //! ```text
 //! {"format":"smoothlab-patches","version":1,"scheme":"hb","params":{...},

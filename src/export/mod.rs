@@ -1,4 +1,4 @@
-//! Writing surfaces for other tools: the patch JSON of the README's Contracts ([`json`]), BezierView's
+//! Writing surfaces for other tools: the patch JSON of docs/guide/contracts.md ([`json`]), BezierView's
 //! `.bv` files ([`bezierview`]), a tessellated OBJ with exact normals ([`obj`]) and the edge
 //! samples of `smoothlab sample` ([`samples`]).
 //!

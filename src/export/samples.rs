@@ -1,4 +1,4 @@
-//! Edge samples (`smoothlab sample`, a contract of the README): for every mesh edge with two faces, points
+//! Edge samples (`smoothlab sample`, a contract of docs/guide/contracts.md): for every mesh edge with two faces, points
 //! and unit normals of the surface at the same points of the edge, evaluated once from each
 //! face's patches. Any scheme — polynomial or blended — can so be checked from outside
 //! without knowing how its patches are represented:

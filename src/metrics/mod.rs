@@ -11,7 +11,7 @@
 //!   folds: samples where the patch's normal points against its face's normal.
 //!
 //! Lengths are relative to the bounding-box diagonal of the mesh vertices. The result
-//! serialises to the metrics JSON of the README's Contracts. Joints and patches are measured in parallel;
+//! serialises to the metrics JSON of docs/guide/contracts.md. Joints and patches are measured in parallel;
 //! the per-item results are collected in order and reduced sequentially, so every figure
 //! (including the mean) is bit-for-bit the same for any thread count.
 
@@ -35,7 +35,7 @@ use crate::surface::{LocalFrame, Surface};
 
 pub use joints::{CurvatureFloor, JOINT_SAMPLES, JointStats, normal_angle};
 
-/// The keys every object of the metrics JSON has: the contract in the README (`continuity_order`
+/// The keys every object of the metrics JSON has: the contract in docs/guide/contracts.md (`continuity_order`
 /// included) and the regularity figure. Tools reading the JSON may rely on them.
 pub const CONTRACT_KEYS: [&str; 14] = [
     "scheme",
@@ -55,7 +55,7 @@ pub const CONTRACT_KEYS: [&str; 14] = [
 ];
 
 /// The measured figures of one surface (one scheme on one mesh). Field names are the keys of
-/// the metrics JSON contract in the README. Figures over an empty set (e.g. joints inside
+/// the metrics JSON contract (docs/guide/contracts.md). Figures over an empty set (e.g. joints inside
 /// faces, for a scheme with one patch per face) are `None`, written as `null`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Metrics {

@@ -48,7 +48,7 @@ pub fn patch_regularity(patch: &Patch) -> f64 {
 
 /// Samples where a patch turns over its mesh face: at a sample of the regularity grid, the
 /// patch's normal `Su × Sv` points against the face's normal `(P1 − P0) × (P2 − P0)`. A patch
-/// is parametrised with the orientation of its face (the README's export contract), so a
+/// is parametrised with the orientation of its face (the export contract, docs/guide/contracts.md), so a
 /// surface that follows its mesh has none; a fold is where the surface doubles back over the
 /// face. Samples where `Su × Sv = 0` are not counted.
 pub fn patch_fold_samples(patch: &Patch, face_normal: DVec3) -> usize {

@@ -58,8 +58,19 @@ impl LatLongMap {
             },
         )
         .map_err(|e| {
+            // A missing map is most often the studio map of a scene that compares renderers:
+            // say how to write it.
+            let hint = if path.exists() {
+                String::new()
+            } else {
+                format!(
+                    " (no such file; `cargo run --release --example studio_map -- {}` writes the \
+                     built-in studio as a lat-long map there)",
+                    path.display()
+                )
+            };
             Error::Invalid(format!(
-                "{}: cannot read environment map: {e}",
+                "{}: cannot read environment map: {e}{hint}",
                 path.display()
             ))
         })?;

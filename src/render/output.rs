@@ -1,5 +1,5 @@
 //! Image files: PNG (8-bit, sRGB transfer, with an `sRGB` chunk and `tEXt` metadata) and EXR
-//! (linear f32) with the channels of the README's Contracts:
+//! (linear f32) with the channels of docs/guide/contracts.md:
 //! `R, G, B, Z, N.X, N.Y, N.Z, P.X, P.Y, P.Z, u, v, patch_id, face_id, K, H`, plus the ids as
 //! u32 in `id.patch` and `id.face` (miss: `u32::MAX`), and header attributes for the camera
 //! and the command line (see [`OutputMeta`]).
@@ -122,7 +122,7 @@ impl Default for OutputOptions {
     }
 }
 
-/// The EXR channel names, in the order of the README's Contracts (the file stores them sorted by name, as
+/// The EXR channel names, in the order of docs/guide/contracts.md (the file stores them sorted by name, as
 /// the format requires).
 pub const EXR_CHANNELS: [&str; 16] = [
     "R", "G", "B", "Z", "N.X", "N.Y", "N.Z", "P.X", "P.Y", "P.Z", "u", "v", "patch_id", "face_id",

@@ -1,4 +1,4 @@
-//! Named render statistics, written by `--stats F.json` with exactly the keys of the README's Contracts
+//! Named render statistics, written by `--stats F.json` with exactly the keys of docs/guide/contracts.md
 //! (plus a few extra keys after them).
 
 use serde::Serialize;

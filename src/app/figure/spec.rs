@@ -8,7 +8,7 @@
 //! title = "G1 schemes"                  # optional title line
 //! mesh = "deformed-icosahedron"         # a scenes/ mesh name, or an OBJ path (relative to this file)
 //! crease_angle = 40                     # optional: edges turning by more than 40° are sharp
-//! output = "../results/figures/g1"      # stem, relative to this file (as every path here)
+//! output = "../../results/figures/g1"   # stem, relative to this file (as every path here)
 //! size = [256, 256]                     # per cell
 //! spp = 4
 //! exr = true                            # one EXR per cell
