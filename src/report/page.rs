@@ -277,6 +277,8 @@ th[data-dir=asc]::after { content: ' \\25B2'; } th[data-dir=desc]::after { conte
 tr.worse td, td.worse { background: #fde2e2; }
 tr.better td, td.better { background: #dff3df; }
 td.same { background: #f4f4f4; }
+td.best { font-weight: bold; box-shadow: inset 4px 0 #2a8a3a; }
+td.worst { box-shadow: inset 4px 0 #c8463c; }
 .scroll { overflow-x: auto; }
 table.figure { min-width: 24em; }
 figure.trend { margin: 0.5em 0 1.5em; }
@@ -380,6 +382,41 @@ fn figure_cell(value: Option<&serde_json::Value>) -> String {
         ),
         Some(serde_json::Value::String(s)) => format!("<td>{}</td>", escape(s)),
         _ => "<td data-v=\"\">-</td>".to_string(),
+    }
+}
+
+/// Whether `value` of quality figure `key` is the best or the worst among the schemes
+/// measured on `mesh`: `"best"` when no other scheme's value is better beyond the comparison's
+/// tolerance ([`super::compare::judge_quality`] at the default relative tolerance),
+/// `"worst"` when none is worse; `None` for the others, for figures without a better
+/// direction, and where every scheme is the same within tolerance (nothing stands out).
+fn rank_among(report: &Report, key: &str, mesh: &str, value: f64) -> Option<&'static str> {
+    let rel = super::compare::Thresholds::default().quality_rel;
+    let others: Vec<f64> = report
+        .records
+        .iter()
+        .filter(|r| r.mesh == mesh && r.error.is_none())
+        .filter_map(|r| r.figures.get(key).and_then(serde_json::Value::as_f64))
+        .collect();
+    // `judge_quality(key, a, b)` says what moving from a to b would be.
+    let verdicts: Vec<Verdict> = others
+        .iter()
+        .map(|&other| super::compare::judge_quality(key, value, other, rel))
+        .collect::<Option<_>>()?;
+    let stands_out = others.iter().any(|&a| {
+        others
+            .iter()
+            .any(|&b| super::compare::judge_quality(key, a, b, rel) == Some(Verdict::Better))
+    });
+    if !stands_out {
+        return None;
+    }
+    if !verdicts.contains(&Verdict::Better) {
+        Some("best")
+    } else if !verdicts.contains(&Verdict::Worse) {
+        Some("worst")
+    } else {
+        None
     }
 }
 
@@ -549,7 +586,9 @@ fn figure_tables(out: &mut String, report: &Report, comparison: Option<&Comparis
     };
     let _ = writeln!(
         out,
-        "<h2 id=\"tables\">Metrics</h2>\n<p class=\"note\">One table per figure.{}</p>",
+        "<h2 id=\"tables\">Metrics</h2>\n<p class=\"note\">One table per figure. On each \
+         mesh, the best scheme's value (beyond the comparison's tolerance) is bold with a green \
+         bar, the worst's has a red bar.{}</p>",
         if comparison.is_some() {
             " Cells that changed against the baseline are marked: red worse, green better, \
              grey the same within tolerance (hover for the value before)."
@@ -600,21 +639,38 @@ fn figure_tables(out: &mut String, report: &Report, comparison: Option<&Comparis
                         .find(|c| c.key == key && c.record == record)
                 });
                 let cell = figure_cell(r.figures.get(key));
-                match change {
-                    Some(c) => {
-                        *out += &cell.replacen(
-                            "<td",
-                            &format!(
-                                "<td class=\"{}\" title=\"{}: before {}, {}\"",
-                                verdict_class(c.verdict),
-                                c.verdict.word(),
-                                super::compare::number_text(c.old),
-                                escape(&c.ratio_text())
-                            ),
-                            1,
-                        )
-                    }
-                    None => *out += &cell,
+                let mut classes = Vec::new();
+                let mut titles = Vec::new();
+                if let Some(c) = change {
+                    classes.push(verdict_class(c.verdict));
+                    titles.push(format!(
+                        "{}: before {}, {}",
+                        c.verdict.word(),
+                        super::compare::number_text(c.old),
+                        c.ratio_text()
+                    ));
+                }
+                let rank = r
+                    .figures
+                    .get(key)
+                    .and_then(serde_json::Value::as_f64)
+                    .and_then(|v| rank_among(report, key, mesh, v));
+                if let Some(rank) = rank {
+                    classes.push(rank);
+                    titles.push(format!("the {rank} scheme on {mesh}"));
+                }
+                if classes.is_empty() {
+                    *out += &cell;
+                } else {
+                    *out += &cell.replacen(
+                        "<td",
+                        &format!(
+                            "<td class=\"{}\" title=\"{}\"",
+                            classes.join(" "),
+                            escape(&titles.join("; "))
+                        ),
+                        1,
+                    );
                 }
             }
             *out += "</tr>\n";
@@ -875,6 +931,45 @@ mod tests {
             machine: None,
             shards: None,
         }
+    }
+
+    /// Best and worst per mesh, beyond the comparison's tolerance, in the figure's direction.
+    #[test]
+    fn the_best_and_worst_scheme_of_each_mesh_are_marked() {
+        let mut r = report();
+        let base = r.records[0].clone();
+        r.records.clear();
+        for (mesh, scheme, g1, order) in [
+            ("cube", "a", 1e-3, 2),
+            ("cube", "b", 1.02e-3, 1),
+            ("cube", "c", 5e-3, 1),
+            ("ball", "a", 1e-3, 1),
+            ("ball", "b", 1.01e-3, 1),
+        ] {
+            let mut rec = base.clone();
+            rec.mesh = mesh.into();
+            rec.scheme = scheme.into();
+            rec.figures.insert("g1_max_rad".into(), g1.into());
+            rec.figures.insert("continuity_order".into(), order.into());
+            r.records.push(rec);
+        }
+        let rank = |mesh, key, v| rank_among(&r, key, mesh, v);
+        // a and b are the same within 5 %: both best; c is worst.
+        assert_eq!(rank("cube", "g1_max_rad", 1e-3), Some("best"));
+        assert_eq!(rank("cube", "g1_max_rad", 1.02e-3), Some("best"));
+        assert_eq!(rank("cube", "g1_max_rad", 5e-3), Some("worst"));
+        // Higher is better for the order, judged exactly.
+        assert_eq!(rank("cube", "continuity_order", 2.0), Some("best"));
+        assert_eq!(rank("cube", "continuity_order", 1.0), Some("worst"));
+        // On the ball nothing stands out; a figure without a direction is never ranked.
+        assert_eq!(rank("ball", "g1_max_rad", 1e-3), None);
+        assert_eq!(rank("ball", "continuity_order", 1.0), None);
+        assert_eq!(rank("cube", "patches", 4.0), None);
+        let page = to_html(&r, &[], None, &History::NONE);
+        assert!(
+            page.contains("<td class=\"best\" title=\"the best scheme on cube\" data-v=\"2\">"),
+            "{page}"
+        );
     }
 
     #[test]
