@@ -1,7 +1,8 @@
 //! Renderer throughput (a few minutes in total; the job group is the longest):
 //! - BVH build over subdivided patch bounds, in patches per second, for an `hb` torus of
 //!   15 360 quintic patches;
-//! - primary-ray throughput (closest hit, one thread) on that surface;
+//! - primary-ray throughput (closest hit, one thread) on that surface, and on the scanned bunny
+//!   seen close up (`primary_rays/exact_hb_bunny_view_256`);
 //! - exact patches against the tessellated path at the level whose largest normal error is
 //!   ≤ 0.01°, on a 1600-patch hb torus (the 15k-patch one would need ~16M triangles).
 //!
@@ -106,6 +107,39 @@ fn primary_rays(c: &mut Criterion) {
     group.finish();
 }
 
+/// The scanned bunny (`scenes/bunny.obj`, 1000 faces, 4000 hb patches) seen close up, the
+/// camera of `smoothlab render scenes/bunny.obj --scheme hb --eye 0,4,12 --target 0,3.5,0
+/// --up 0,0,1 --fov 40`: 256² rays through the pixel centres, one thread.
+fn bunny_view(c: &mut Criterion) {
+    use smoothlab::render::camera::{Camera, Projection};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bunny.obj");
+    let (mesh, _) = Mesh::load(&path).expect("scenes/bunny.obj");
+    let surface = smoothlab::schemes::build("hb", &mesh, &[]).expect("hb on the bunny");
+    let camera = Camera::look_at(
+        glam::DVec3::new(0.0, 4.0, 12.0),
+        glam::DVec3::new(0.0, 3.5, 0.0),
+        glam::DVec3::Z,
+        Projection::Perspective { fov_deg: 40.0 },
+    )
+    .expect("camera");
+    let side = 256u32;
+    let rays: Vec<Ray64> = (0..side * side)
+        .map(|i| {
+            let (x, y) = (f64::from(i % side), f64::from(i / side));
+            let nx = 2.0 * (x + 0.5) / f64::from(side) - 1.0;
+            let ny = 1.0 - 2.0 * (y + 0.5) / f64::from(side);
+            camera.ray(nx, ny, 1.0)
+        })
+        .collect();
+    let exact = Tracer::with_default_settings(&surface).expect("tracer");
+    report_exact("hb bunny view", &surface, &exact, &rays);
+    let mut group = ray_throughput_group(c, "primary_rays", rays.len(), 5);
+    group.bench_function("exact_hb_bunny_view_256", |b| {
+        b.iter(|| trace_all(&exact, black_box(&rays)))
+    });
+    group.finish();
+}
+
 fn report_exact(name: &str, surface: &Surface, exact: &Tracer, rays: &[Ray64]) {
     let (hits, counters) = trace_all(exact, rays);
     println!(
@@ -188,6 +222,7 @@ criterion_group!(
     bvh_build,
     bvh_build_at_scale,
     primary_rays,
+    bunny_view,
     exact_vs_tessellated,
     render_job
 );

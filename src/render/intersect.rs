@@ -33,7 +33,8 @@ use crate::render::evaluate::{
 };
 pub use crate::render::newton::NewtonSettings;
 use crate::render::newton::{
-    Newton, PieceBounds, Start, hull_clears_origin, newton, planar_start, search, taylor_excludes,
+    Newton, PieceBounds, Start, hull_clears_origin, newton_clearing, planar_start, search,
+    taylor_excludes,
 };
 pub use crate::render::ray::{Ray64, RayPlanes, ray_enters_box};
 use crate::surface::{Patch, Surface};
@@ -276,7 +277,18 @@ impl<'s> Tracer<'s> {
         if !leaf.ray_meets_box(ray.origin, ray.dir, t_min, t_max) {
             return None;
         }
-        let bounds = PieceBounds {
+        let bounds = self.piece_bounds(leaf);
+        let start = planar_start(&bounds, ray);
+        if start == Start::Outside {
+            return None;
+        }
+        let query = Query { ray, planes, t_min };
+        self.solve_leaf(leaf, &bounds, start, &query, t_max, counters)
+    }
+
+    /// The bounds of `leaf` that certify its misses, in f64.
+    fn piece_bounds(&self, leaf: &Leaf) -> PieceBounds {
+        PieceBounds {
             corners: leaf.corners.map(|p| p.as_dvec3()),
             affine_radius: f64::from(leaf.affine_radius),
             tilt: f64::from(leaf.tilt),
@@ -286,13 +298,7 @@ impl<'s> Tracer<'s> {
                     .bvh
                     .whole_patch(leaf.patch)
                     .is_some_and(|p| p.as_blend().is_none()),
-        };
-        let start = planar_start(&bounds, ray);
-        if start == Start::Outside {
-            return None;
         }
-        let query = Query { ray, planes, t_min };
-        self.solve_leaf(leaf, &bounds, start, &query, t_max, counters)
     }
 
     /// The closest root of `ray` in `leaf` (certified Newton, then the in-leaf search when
@@ -395,13 +401,20 @@ impl<'s> Tracer<'s> {
     ) -> Option<Hit> {
         let tri = leaf.tri();
         counters.newton_runs += 1;
-        let outcome = newton(
+        // The hull clearance is tried at most once per run: by Newton when its target first
+        // leaves the leaf, else after an undecided run.
+        let clearance_tried = std::cell::Cell::new(false);
+        let outcome = newton_clearing(
             &eval,
             bounds,
             start,
             query.planes,
             self.tolerance,
             &self.newton,
+            &|| {
+                clearance_tried.set(true);
+                clears()
+            },
         );
         let first = match outcome {
             Newton::NoRoot => return None,
@@ -424,7 +437,7 @@ impl<'s> Tracer<'s> {
             Newton::Failed => {
                 counters.newton_unconverged += 1;
                 // A leaf proved free of roots needs no search.
-                if clears() {
+                if !clearance_tried.get() && clears() {
                     return None;
                 }
                 None
@@ -910,5 +923,87 @@ mod tests {
         assert!(mean <= 3.0, "mean Newton iterations {mean}; {counters:?}");
         assert!(counters.accepted_iterations_max <= 8, "{counters:?}");
         assert_eq!(counters.newton_failures, 0, "{counters:?}");
+    }
+
+    /// Newton's early hull clearance ([`newton_clearing`]) only settles sooner the runs that
+    /// would have ended undecided and then been cleared by the same test: every other outcome
+    /// is the same, bit for bit and evaluation for evaluation. Rays aimed at the polynomial
+    /// extension of quintic leaves just beyond one of their edges (the runs that stall on the
+    /// boundary), and at points inside.
+    #[test]
+    fn early_clearance_settles_only_runs_that_would_be_cleared() {
+        use crate::render::newton::newton;
+        use std::cell::Cell;
+        let surface = octahedron_sphere(5, 1.0, 1);
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
+        let (mut settled_early, mut unchanged, mut evaluations_saved) = (0u64, 0u64, 0u64);
+        for (n, leaf) in tracer.bvh.leaves.iter().enumerate() {
+            assert_eq!(leaf.degree, 5, "leaf {n}");
+            let c = &tracer.bvh.power[leaf.power as usize..];
+            let bounds = tracer.piece_bounds(leaf);
+            let normal = leaf.normal();
+            for k in 0..24u64 {
+                // Beyond the edge s + t = 1, s = 0 or t = 0 by 10^-1 … 10^-6 of the leaf, or
+                // inside it.
+                let a = uniform(11, n as u64 * 24 + k, 0, 0);
+                let beyond = 10f64.powi(-((k % 6) as i32 + 1));
+                let x = match k % 4 {
+                    0 => DVec2::new(a * (1.0 + beyond), (1.0 - a) * (1.0 + beyond)),
+                    1 => DVec2::new(-beyond, a),
+                    2 => DVec2::new(a, -beyond),
+                    _ => DVec2::new(0.3 * a, 0.5 * (1.0 - a)),
+                };
+                let (p, _, _) = local_point_and_tangents::<5>(c, x.x, x.y);
+                let tilt = DVec3::new(
+                    uniform(11, n as u64 * 24 + k, 0, 1) - 0.5,
+                    uniform(11, n as u64 * 24 + k, 0, 2) - 0.5,
+                    0.0,
+                );
+                let ray = Ray64::new(p + (normal + tilt * 0.8) * 0.5, -(normal + tilt * 0.8));
+                let planes = RayPlanes::new(&ray);
+                let start = planar_start(&bounds, &ray);
+                let evaluations = Cell::new(0u64);
+                let eval = |x: DVec2| {
+                    evaluations.set(evaluations.get() + 1);
+                    local_point_and_tangents::<5>(c, x.x, x.y)
+                };
+                let clears = || tracer.net_clears::<5>(c, &planes);
+                let settings = &tracer.newton;
+                let late = newton(&eval, &bounds, start, &planes, tracer.tolerance, settings);
+                let late_evaluations = evaluations.replace(0);
+                let early = newton_clearing(
+                    &eval,
+                    &bounds,
+                    start,
+                    &planes,
+                    tracer.tolerance,
+                    settings,
+                    &clears,
+                );
+                let early_evaluations = evaluations.get();
+                match (late, early) {
+                    // A proof of no root, sooner or not.
+                    (Newton::NoRoot, Newton::NoRoot) => {
+                        assert!(early_evaluations <= late_evaluations, "leaf {n}, ray {k}");
+                        unchanged += 1;
+                    }
+                    (late, early) if late == early => {
+                        assert_eq!(late_evaluations, early_evaluations, "leaf {n}, ray {k}");
+                        unchanged += 1;
+                    }
+                    (Newton::Failed, Newton::NoRoot) => {
+                        assert!(clears(), "leaf {n}, ray {k}: settled without a proof");
+                        assert!(early_evaluations < late_evaluations, "leaf {n}, ray {k}");
+                        settled_early += 1;
+                        evaluations_saved += late_evaluations - early_evaluations;
+                    }
+                    (late, early) => panic!("leaf {n}, ray {k}: {late:?} became {early:?}"),
+                }
+            }
+        }
+        println!(
+            "{settled_early} runs settled early ({evaluations_saved} evaluations saved), {unchanged} unchanged"
+        );
+        assert!(settled_early > 0 && unchanged > settled_early);
     }
 }

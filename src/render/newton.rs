@@ -210,6 +210,28 @@ pub fn newton(
     tolerance: f64,
     settings: &NewtonSettings,
 ) -> Newton {
+    newton_clearing(eval, bounds, start, planes, tolerance, settings, &|| false)
+}
+
+/// [`newton`] with `clears`, a proof that the whole piece keeps further than `tolerance` from
+/// the ray (the projected control net's hull clearance,
+/// [`crate::render::intersect::Tracer`]'s `net_clears`), tried once, the first time a Newton
+/// target lands outside `T` without the error bounds settling the piece: that is how a ray
+/// passing just beside the piece shows itself, and without the proof such a run iterates on
+/// the boundary to its cap. When `clears` answers true no point of the piece lies within
+/// `tolerance` of the ray, so no run could have accepted a root there: the outcome
+/// [`Newton::NoRoot`] is the one the caller would reach after [`Newton::Failed`] and the
+/// same test, only sooner.
+pub fn newton_clearing(
+    eval: &impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
+    bounds: &PieceBounds,
+    start: Start,
+    planes: &RayPlanes,
+    tolerance: f64,
+    settings: &NewtonSettings,
+    clears: &impl Fn() -> bool,
+) -> Newton {
+    let mut clearance_tried = false;
     let Some((from, radius, half_m)) = start.region(bounds) else {
         return Newton::NoRoot;
     };
@@ -284,6 +306,12 @@ pub fn newton(
                 )
             {
                 return Newton::NoRoot;
+            }
+            if !clearance_tried {
+                clearance_tried = true;
+                if clears() {
+                    return Newton::NoRoot;
+                }
             }
         }
         let next = project_to_unit_triangle(target);
