@@ -131,8 +131,8 @@ pub const PLANE_TRIGGER: f64 = crate::mesh::front_facing::FRONT_MARGIN;
 /// Above this tilt (rad) the ring's first harmonic projected into the moved plane is no
 /// guide to the tangents (it was computed for a plane far from this one, and its projection
 /// can turn the wrong way round): it is replaced by its closest rotation-and-scale
-/// ([`RingFourier`]'s conformal part). Below it, and whenever the projection would not turn
-/// the right way round by a sine of at least [`PLANE_MIN_SINE`], likewise.
+/// ([`RingFourier`]'s conformal part). Below it, likewise whenever the projection would not
+/// turn the right way round by a sine of at least [`PLANE_MIN_SINE`].
 pub const LARGE_TILT: f64 = 0.35;
 
 /// The smallest sine between the projected harmonic's `C` and `S` (turning the right way
@@ -166,10 +166,10 @@ fn ring_face_normals(v: DVec3, ring: &[DVec3]) -> Vec<DVec3> {
         .collect()
 }
 
-/// A vertex's tangent plane made front-facing (HB00 §6 and Loop94 take
-/// the plane of the ring's first Fourier sums, which slivers can turn away from a face): `fourier`'s plane (normal `C × S`) is
-/// kept when every face `(v, ring[i], ring[i+1])` sees it from the front
-/// ([`PLANE_TRIGGER`]); otherwise its normal is tilted to the closest one that every face
+/// A vertex's tangent plane made front-facing (HB00 §6 and Loop94 take the plane of the ring's
+/// first Fourier sums, which slivers and pinched rings can turn away from a face): `fourier`'s
+/// plane (normal `C × S`) is kept when every face `(v, ring[i], ring[i+1])` sees it from the
+/// front ([`PLANE_TRIGGER`]); otherwise its normal is tilted to the closest one that every face
 /// sees from the front by [`PLANE_MARGIN`], and the harmonic is projected into the new plane
 /// — or, when the tilt exceeds [`LARGE_TILT`] or the projection would turn the wrong way,
 /// replaced by its closest rotation-and-scale in the new plane. The G¹ conditions at the
@@ -195,7 +195,8 @@ pub fn front_facing_plane(
     let projected = fourier.in_plane(tilted);
     let (c, s) = (projected.cos_part, projected.sin_part);
     let sine = c.cross(s).dot(tilted) / (c.length() * s.length()).max(f64::MIN_POSITIVE);
-    let conformal = angle > LARGE_TILT || !(sine >= PLANE_MIN_SINE);
+    // A NaN sine (a vanishing projection) takes the fit too.
+    let conformal = angle > LARGE_TILT || sine.is_nan() || sine < PLANE_MIN_SINE;
     let moved = if conformal {
         fourier.conformal_in(tilted)
     } else {
@@ -717,11 +718,20 @@ mod tests {
             // The tilt is the closest admissible one: one face sits on the margin.
             assert!(worst <= PLANE_MARGIN * (1.0 + 1e-9), "n = {n}: {worst}");
             let turned = normal.angle_between(fourier.normal());
-            assert!((turned - angle).abs() <= 1e-12, "n = {n}: {turned} vs {angle}");
+            assert!(
+                (turned - angle).abs() <= 1e-12,
+                "n = {n}: {turned} vs {angle}"
+            );
             for i in 0..n {
                 let (a, b) = (moved.cos_sum(i), moved.cos_sum(i + 1));
-                assert!(a.dot(normal).abs() <= 1e-12 * a.length(), "n = {n}: in the plane");
-                assert!(a.cross(b).dot(normal) > 0.0, "n = {n}, i = {i}: tangents turn");
+                assert!(
+                    a.dot(normal).abs() <= 1e-12 * a.length(),
+                    "n = {n}: in the plane"
+                );
+                assert!(
+                    a.cross(b).dot(normal) > 0.0,
+                    "n = {n}, i = {i}: tangents turn"
+                );
             }
         }
     }
