@@ -9,6 +9,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::mesh::Mesh;
+use crate::mesh::front_facing::{FrontFacing, front_facing_by, min_cosine};
 
 /// `Φ_i(0) = cos(2π/n)` [HB00 eq. 6].
 pub fn phi0(n: usize) -> f64 {
@@ -86,6 +87,259 @@ impl RingFourier {
     pub fn twist_preimage_sum(&self, i: usize) -> DVec3 {
         self.cos_sum(i) + (self.theta / 2.0).tan() * self.sin_sum(i)
     }
+}
+
+impl RingFourier {
+    /// The same ring with its first harmonic replaced by `cos_part`, `sin_part` (centroid and
+    /// angle step kept).
+    fn with_harmonic(self, cos_part: DVec3, sin_part: DVec3) -> RingFourier {
+        RingFourier {
+            cos_part,
+            sin_part,
+            ..self
+        }
+    }
+
+    /// The closest rotation-and-scale of the ring's first harmonic in the plane with the unit
+    /// `normal`: with `C`, `S` projected into the plane and written in an orthonormal frame
+    /// `(e1, e2 = normal × e1)`, the harmonic `C e^{iθj}`-part `z = ½((C1 + S2) + i(C2 − S1))`
+    /// (the conformal part of the linear map `(cos, sin) ↦ C cos + S sin`). The result has
+    /// `C ⊥ S`, `|C| = |S|` and `C × S` along `+normal` (unless it vanishes): tangents evenly
+    /// spaced by the angle step, turning the right way round the normal.
+    fn conformal_in(self, normal: DVec3) -> RingFourier {
+        let e1 = normal.any_orthonormal_vector();
+        let e2 = normal.cross(e1);
+        let (c, s) = (self.cos_part, self.sin_part);
+        let a = 0.5 * (c.dot(e1) + s.dot(e2));
+        let b = 0.5 * (c.dot(e2) - s.dot(e1));
+        self.with_harmonic(a * e1 + b * e2, a * e2 - b * e1)
+    }
+}
+
+/// The margin a moved tangent plane keeps from every face around its vertex: the plane's
+/// normal `N` is tilted until `N · n_f ≥ 0.1` for the unit normal `n_f` of each face (about
+/// 5.7° off the face's plane), the largest decade below that the one-ring admits otherwise
+/// ([`front_facing_by`]). A face seen this close to edge-on is projected into the plane as a
+/// corner of tiny but right-handed angle.
+pub const PLANE_MARGIN: f64 = 0.1;
+
+/// A plane is moved only when a face around the vertex sees its normal from behind or
+/// edge-on: `N · n_f < 1e-3` ([`crate::mesh::front_facing::FRONT_MARGIN`]). A clean mesh,
+/// whose faces all see their vertices' planes from the front, keeps every plane bit for bit.
+pub const PLANE_TRIGGER: f64 = crate::mesh::front_facing::FRONT_MARGIN;
+
+/// Above this tilt (rad) the ring's first harmonic projected into the moved plane is no
+/// guide to the tangents (it was computed for a plane far from this one, and its projection
+/// can turn the wrong way round): it is replaced by its closest rotation-and-scale
+/// ([`RingFourier`]'s conformal part). Below it, likewise whenever the projection would not
+/// turn the right way round by a sine of at least [`PLANE_MIN_SINE`].
+pub const LARGE_TILT: f64 = 0.35;
+
+/// The smallest sine between the projected harmonic's `C` and `S` (turning the right way
+/// round the moved plane's normal) kept as it is; below, the conformal fit is used.
+pub const PLANE_MIN_SINE: f64 = 0.2;
+
+/// What [`front_facing_plane`] did with a vertex's tangent plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PlaneMove {
+    /// Every face sees the plane from the front: kept bit for bit.
+    Kept,
+    /// Tilted by `angle` (rad) to the closest plane the faces see from the front; `conformal`
+    /// when the harmonic was replaced by its rotation-and-scale fit.
+    Tilted {
+        /// Angle between the old and the new normal.
+        angle: f64,
+        /// The harmonic was replaced by its closest rotation-and-scale.
+        conformal: bool,
+    },
+    /// No plane is seen from the front by every face (the one-ring folds over itself): the
+    /// plane is kept, and the surface folds at this vertex.
+    Folded,
+}
+
+/// The unit normals of the faces `(v, ring[i], ring[i+1])` of a closed one-ring (zero for a
+/// face of zero area, which is then skipped).
+fn ring_face_normals(v: DVec3, ring: &[DVec3]) -> Vec<DVec3> {
+    let n = ring.len();
+    (0..n)
+        .filter_map(|i| (ring[i] - v).cross(ring[(i + 1) % n] - v).try_normalize())
+        .collect()
+}
+
+/// A vertex's tangent plane made front-facing (HB00 §6 and Loop94 take the plane of the ring's
+/// first Fourier sums, which slivers and pinched rings can turn away from a face): `fourier`'s
+/// plane (normal `C × S`) is kept when every face `(v, ring[i], ring[i+1])` sees it from the
+/// front ([`PLANE_TRIGGER`]); otherwise its normal is tilted to the closest one that every face
+/// sees from the front by [`PLANE_MARGIN`], and the harmonic is projected into the new plane
+/// — or, when the tilt exceeds [`LARGE_TILT`] or the projection would turn the wrong way,
+/// replaced by its closest rotation-and-scale in the new plane. The G¹ conditions at the
+/// vertex (eqs. 19, (II_T)) hold for any harmonic, so this changes shape, not continuity.
+pub fn front_facing_plane(
+    v: DVec3,
+    ring: &[DVec3],
+    fourier: RingFourier,
+) -> (RingFourier, PlaneMove) {
+    let normal = fourier.normal();
+    let faces = ring_face_normals(v, ring);
+    if faces.is_empty() || normal == DVec3::ZERO || min_cosine(normal, &faces) >= PLANE_TRIGGER {
+        return (fourier, PlaneMove::Kept);
+    }
+    let FrontFacing::Moved {
+        normal: tilted,
+        angle,
+        ..
+    } = front_facing_by(normal, &faces, PLANE_MARGIN)
+    else {
+        return (fourier, PlaneMove::Folded);
+    };
+    let projected = fourier.in_plane(tilted);
+    let (c, s) = (projected.cos_part, projected.sin_part);
+    let sine = c.cross(s).dot(tilted) / (c.length() * s.length()).max(f64::MIN_POSITIVE);
+    // A NaN sine (a vanishing projection) takes the fit too.
+    let conformal = angle > LARGE_TILT || sine.is_nan() || sine < PLANE_MIN_SINE;
+    let moved = if conformal {
+        fourier.conformal_in(tilted)
+    } else {
+        projected
+    };
+    (moved, PlaneMove::Tilted { angle, conformal })
+}
+
+/// How far a boundary curve's first control point may swerve sideways at HB00 vertices
+/// ([`swerve_cap`]): `b¹ − b⁰` strays from its chord's direction by at most 0.03 of the chord
+/// times the sine of the angle of the face it swerves into. HB00's tangents are evenly spaced
+/// around the vertex (eq. 12) while a scanned ring's edges are not; a curve that leaves its
+/// edge towards a thin face crosses that face's far edge and the macro-patch turns over it.
+/// Measured on the two bunny scenes (fold samples on the regularity grid of 12, hb): 81 / 691
+/// with a cap of 0.1 chord whatever the face, 23 / 123 with 0.1 times the face's sine, 14 / 9
+/// with 0.03, 14 / 6 with 0.02 (examples/fold_sites.rs).
+pub const HB_SWERVE: f64 = 0.03;
+
+/// The same bound at Loop94 vertices. Loop's middle point `f²` is fixed (eq. 2), so a shorter
+/// tangent raises the curvature at the vertex instead of straightening the curve, and short
+/// tangents fold too: fold samples on the two bunny scenes 11 / 40 at 0.1, 11 / 31 at 0.05,
+/// 13 / 54 at 0.03, 27 / 280 at 0.01.
+pub const LOOP_SWERVE: f64 = 0.05;
+
+/// ... and reach at most this fraction of the chord along it (the edge's midpoint, where the
+/// curves from the two ends meet).
+pub const REACH: f64 = 0.5;
+
+/// The largest β at a vertex `v` for which no boundary curve leaving it swerves: with
+/// `step(i)` the first control point's offset `b¹_i − b⁰` per unit β (HB00 eq. 11: `r¹_i / 6`;
+/// Loop94: `r¹_i / 4`, both `cos_sum(i) / n` at an interior vertex) and the chord `p_i − v`
+/// projected into the tangent plane with unit `normal` (length `ℓ_i`), β keeps the component
+/// of `β step(i)` across the chord within `swerve ℓ_i sin α_i` (`α_i` the angle, in the plane,
+/// between the chord and the neighbouring chord it swerves towards: the face it swerves into)
+/// and along it within [`REACH`]` ℓ_i`. A tangent that points along its chord gives no bound
+/// from the first, so on regular and symmetric rings only the reach bounds β (at 1 for a
+/// regular planar ring). `closed`: the ring goes all round `v` (else it is a half-ring whose
+/// first and last chords are boundary edges, with no face beyond them). `f64::INFINITY` when
+/// nothing bounds it. Everything is measured in the
+/// tangent plane, so the cap commutes with similarities of the mesh.
+pub fn swerve_cap(
+    v: DVec3,
+    ring: &[DVec3],
+    normal: DVec3,
+    swerve: f64,
+    closed: bool,
+    step: impl Fn(usize) -> DVec3,
+) -> f64 {
+    let n = ring.len();
+    let chords: Vec<DVec3> = ring
+        .iter()
+        .map(|p| (*p - v).reject_from_normalized(normal))
+        .collect();
+    let mut cap = f64::INFINITY;
+    for (i, chord) in chords.iter().enumerate() {
+        let length = chord.length();
+        let Some(dir) = chord.try_normalize() else {
+            continue;
+        };
+        let offset = step(i).reject_from_normalized(normal);
+        let along = offset.dot(dir);
+        let side = offset - along * dir;
+        let across = side.length();
+        if across > 0.0 {
+            // The neighbouring chord the curve swerves towards, and the face between them.
+            // On an open fan, the side past a boundary edge has no face: no bound but the chord.
+            let towards = if dir.cross(side).dot(normal) > 0.0 {
+                (closed || i + 1 < n).then(|| chords[(i + 1) % n])
+            } else {
+                (closed || i > 0).then(|| chords[(i + n - 1) % n])
+            };
+            let width = towards.map_or(1.0, |t| dir.cross(t.normalize_or_zero()).length().min(1.0));
+            cap = cap.min(swerve * width * length / across);
+        }
+        if along > 0.0 {
+            cap = cap.min(REACH * length / along);
+        }
+    }
+    cap
+}
+
+/// The warnings of [`front_facing_plane`] over a whole mesh, for the scheme `scheme` whose
+/// default plane at an interior vertex with one-ring `ring` is that of `plane(v, ring)`: one
+/// line counting the tilted planes (first vertex, its angle, the largest, how many took the
+/// rotation-and-scale fit), one counting the vertices whose faces fold over themselves.
+/// Boundary vertices keep their half-ring planes and are not counted.
+pub fn plane_warnings(
+    mesh: &Mesh,
+    scheme: &str,
+    plane: impl Fn(DVec3, &[DVec3]) -> RingFourier + Sync,
+) -> Vec<String> {
+    let positions = mesh.positions();
+    let moves: Vec<(u32, PlaneMove)> = (0..mesh.vertex_count() as u32)
+        .into_par_iter()
+        .filter(|&v| !mesh.is_boundary_vertex(v) && mesh.valence(v) >= 3)
+        .filter_map(|v| {
+            let at = positions[v as usize];
+            let ring: Vec<DVec3> = mesh
+                .one_ring(v)
+                .iter()
+                .map(|&p| positions[p as usize])
+                .collect();
+            match front_facing_plane(at, &ring, plane(at, &ring)).1 {
+                PlaneMove::Kept => None,
+                other => Some((v, other)),
+            }
+        })
+        .collect();
+    let mut warnings = Vec::new();
+    let tilted: Vec<(u32, f64, bool)> = moves
+        .iter()
+        .filter_map(|(v, m)| match m {
+            PlaneMove::Tilted { angle, conformal } => Some((*v, *angle, *conformal)),
+            _ => None,
+        })
+        .collect();
+    if let Some(&(v, angle, _)) = tilted.first() {
+        let largest = tilted.iter().map(|t| t.1).fold(0.0, f64::max);
+        let conformal = tilted.iter().filter(|t| t.2).count();
+        warnings.push(format!(
+            "{scheme}: tilted {} vertex tangent planes that a face around them saw from behind \
+             or edge-on (first: vertex {v}, by {:.2}°; largest {:.2}°; {conformal} of them with \
+             the ring's tangents refitted in the new plane), so that the surface does not fold \
+             there",
+            tilted.len(),
+            angle.to_degrees(),
+            largest.to_degrees()
+        ));
+    }
+    let folded: Vec<u32> = moves
+        .iter()
+        .filter(|(_, m)| *m == PlaneMove::Folded)
+        .map(|(v, _)| *v)
+        .collect();
+    if let Some(&v) = folded.first() {
+        warnings.push(format!(
+            "{scheme}: the faces around {} vertices fold over themselves (first: vertex {v}): no \
+             tangent plane sees them all from the front, so the surface folds there; repair the \
+             mesh at that vertex",
+            folded.len()
+        ));
+    }
+    warnings
 }
 
 /// Per-directed-edge data of a mesh, computed vertex by vertex.
@@ -410,5 +664,128 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A regular ring of `n` points on the unit circle in the plane z = `height`.
+    fn regular_ring(n: usize, height: f64) -> Vec<DVec3> {
+        (0..n)
+            .map(|j| {
+                let a = 2.0 * PI * j as f64 / n as f64;
+                DVec3::new(a.cos(), a.sin(), height)
+            })
+            .collect()
+    }
+
+    /// A plane every face sees from the front is returned as it came, bit for bit.
+    #[test]
+    fn a_front_facing_plane_is_kept_bit_for_bit() {
+        for n in 3..=12 {
+            let ring = regular_ring(n, -0.3);
+            let fourier = RingFourier::new(&ring);
+            let (kept, how) = front_facing_plane(DVec3::ZERO, &ring, fourier);
+            assert_eq!(how, PlaneMove::Kept, "n = {n}");
+            for i in 0..n {
+                assert_eq!(kept.cos_sum(i), fourier.cos_sum(i), "n = {n}");
+                assert_eq!(kept.sin_sum(i), fourier.sin_sum(i), "n = {n}");
+            }
+        }
+    }
+
+    /// The apex of a leaning cone: the ring's plane (z = 0) is seen from behind by the faces
+    /// next to the side the apex leans over. The plane is tilted until every face sees it from
+    /// the front by the margin, and its tangents still turn the right way round it.
+    #[test]
+    fn a_plane_seen_from_behind_is_tilted_to_the_front_of_every_face() {
+        for n in [5, 6, 9] {
+            let ring = regular_ring(n, 0.0);
+            let v = DVec3::new(1.2, 0.0, 1.0);
+            let fourier = RingFourier::new(&ring);
+            let faces = ring_face_normals(v, &ring);
+            assert!(
+                min_cosine(fourier.normal(), &faces) < 0.0,
+                "n = {n}: the premise, a face behind the ring's plane"
+            );
+            let (moved, how) = front_facing_plane(v, &ring, fourier);
+            let PlaneMove::Tilted { angle, .. } = how else {
+                panic!("n = {n}: {how:?}");
+            };
+            let normal = moved.normal();
+            let worst = min_cosine(normal, &faces);
+            assert!(
+                worst >= PLANE_MARGIN * (1.0 - 1e-9),
+                "n = {n}: smallest cosine {worst}"
+            );
+            // The tilt is the closest admissible one: one face sits on the margin.
+            assert!(worst <= PLANE_MARGIN * (1.0 + 1e-9), "n = {n}: {worst}");
+            let turned = normal.angle_between(fourier.normal());
+            assert!(
+                (turned - angle).abs() <= 1e-12,
+                "n = {n}: {turned} vs {angle}"
+            );
+            for i in 0..n {
+                let (a, b) = (moved.cos_sum(i), moved.cos_sum(i + 1));
+                assert!(
+                    a.dot(normal).abs() <= 1e-12 * a.length(),
+                    "n = {n}: in the plane"
+                );
+                assert!(
+                    a.cross(b).dot(normal) > 0.0,
+                    "n = {n}, i = {i}: tangents turn"
+                );
+            }
+        }
+    }
+
+    /// A ring whose faces fold over themselves (a flattened ring with faces on both sides of
+    /// the sheet) has no front-facing plane: it is kept and reported.
+    #[test]
+    fn a_ring_folded_over_itself_keeps_its_plane_and_says_so() {
+        // The ring of (1, 0, 0) on the octahedron flattened onto z = 0: two faces above the
+        // sheet, two below, and every direction is behind one of them.
+        let ring = [DVec3::Y, 1e-9 * DVec3::Z, -DVec3::Y, -1e-9 * DVec3::Z];
+        let fourier = RingFourier::new(&ring);
+        let (kept, how) = front_facing_plane(DVec3::X, &ring, fourier);
+        assert_eq!(how, PlaneMove::Folded);
+        assert_eq!(kept.cos_sum(0), fourier.cos_sum(0));
+    }
+
+    /// On a regular planar ring only the reach bounds β: at 1 (the first control point at the
+    /// midpoint). Tangents swerving off their chords are capped so that the largest swerve is
+    /// exactly `swerve · ℓ · sin α` on one edge and within it on every other.
+    #[test]
+    fn the_swerve_cap_bounds_the_sideways_and_forward_reach() {
+        for n in 3..=12 {
+            let ring = regular_ring(n, 0.0);
+            let fourier = RingFourier::new(&ring);
+            let step = |i: usize| fourier.cos_sum(i) / n as f64;
+            let cap = swerve_cap(DVec3::ZERO, &ring, DVec3::Z, HB_SWERVE, true, step);
+            assert!((cap - 1.0).abs() <= 1e-12, "n = {n}: {cap}");
+        }
+        // Uneven angles: tangents evenly spaced, chords not.
+        let angles = [0.0f64, 0.3, 1.9, 2.4, 4.0];
+        let ring: Vec<DVec3> = angles
+            .iter()
+            .map(|a| DVec3::new(a.cos(), a.sin(), 0.0))
+            .collect();
+        let fourier = RingFourier::new(&ring);
+        let step = |i: usize| fourier.cos_sum(i) / 5.0;
+        let cap = swerve_cap(DVec3::ZERO, &ring, DVec3::Z, HB_SWERVE, true, step);
+        assert!(cap < 1.0, "{cap}");
+        let mut tightest = 0.0f64;
+        for i in 0..5 {
+            let (dir, offset) = (ring[i].normalize(), cap * step(i));
+            let side = offset - offset.dot(dir) * dir;
+            let towards = if dir.cross(side).z > 0.0 {
+                ring[(i + 1) % 5]
+            } else {
+                ring[(i + 4) % 5]
+            };
+            let width = dir.cross(towards.normalize()).length();
+            let used = side.length() / (HB_SWERVE * width);
+            assert!(used <= 1.0 + 1e-12, "edge {i}: {used}");
+            assert!(offset.dot(dir) <= REACH * (1.0 + 1e-12), "edge {i}");
+            tightest = tightest.max(used.max(offset.dot(dir) / REACH));
+        }
+        assert!((tightest - 1.0).abs() <= 1e-12, "{tightest}");
     }
 }

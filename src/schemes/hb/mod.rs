@@ -232,7 +232,11 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
                 };
             }
         });
-    Ok(params.surface(SPEC.name, patches))
+    let mut surface = params.surface(SPEC.name, patches);
+    surface.warnings = crate::schemes::vertex_rings::plane_warnings(mesh, SPEC.name, |v, ring| {
+        shape.plane.ring_fourier(v, ring)
+    });
+    Ok(surface)
 }
 
 /// Largest disagreement between the two ways of computing the points two edges share at a

@@ -20,7 +20,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use crate::schemes::vertex_rings::{RingFourier, psi0};
+use crate::schemes::vertex_rings::{HB_SWERVE, RingFourier, front_facing_plane, psi0, swerve_cap};
 
 /// The shape parameters of HB00: α (eq. 9), β (eq. 12), γ0, γ1, γ2 (eq. 15, γ0+γ1+γ2 = 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -102,7 +102,7 @@ impl ShapeRule {
         ring_valence: &[usize],
         out: &mut [HalfEdgeData],
     ) {
-        let fourier = self.plane.ring_fourier(v, ring);
+        let (fourier, _) = front_facing_plane(v, ring, self.plane.ring_fourier(v, ring));
         let shape = self.at_vertex(v, ring, &fourier);
         let edge_curvature = self.gamma.is_none();
         half_edges(v, ring, ring_valence, &fourier, &shape, edge_curvature, out);
@@ -184,14 +184,16 @@ pub fn adaptive_shape(
         |i: usize| (2.0 * v + ring[(i + n - 1) % n] + 2.0 * ring[i] + ring[(i + 1) % n]) / 6.0;
     ShapeParams {
         alpha,
-        ..fit_shape(v, ring, b0, beta, &unit_tangent, normal, loop_point)
+        ..fit_shape(v, ring, b0, beta, &unit_tangent, normal, true, loop_point)
     }
 }
 
 /// The fits of [`adaptive_shape`] over the edges `v → ring[i]`, given the vertex point `b0`,
 /// the tangents `unit_tangent[i]` for β = 1, the tangent plane's `normal` and Loop's point
-/// `loop_point(i)` of each edge; shared by interior and boundary vertices. The returned α is
+/// `loop_point(i)` of each edge; shared by interior and boundary vertices (`closed`: the ring
+/// goes all round `v`). The returned α is
 /// 1: the caller's α goes in its place.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_shape(
     v: DVec3,
     ring: &[DVec3],
@@ -199,6 +201,7 @@ pub(crate) fn fit_shape(
     beta: Option<f64>,
     unit_tangent: &[DVec3],
     normal: DVec3,
+    closed: bool,
     loop_point: impl Fn(usize) -> DVec3,
 ) -> ShapeParams {
     let n = ring.len();
@@ -212,7 +215,11 @@ pub(crate) fn fit_shape(
             den += q * q;
         }
         let fitted = if den > 0.0 { num / den } else { 1.0 / 3.0 };
-        fitted.clamp(BETA_RANGE[0], BETA_RANGE[1])
+        // b¹ − b⁰ = β r¹/6 (eq. 11): no boundary curve swerves off its edge.
+        let cap = swerve_cap(v, ring, normal, HB_SWERVE, closed, |i| {
+            unit_tangent[i] / 6.0
+        });
+        fitted.clamp(BETA_RANGE[0], BETA_RANGE[1]).min(cap)
     });
     let (mut num, mut den, mut reference, mut scale) = (0.0, 0.0, 0.0, 0.0);
     let mut tangential = Vec::with_capacity(n);

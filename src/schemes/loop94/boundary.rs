@@ -17,7 +17,8 @@ use glam::DVec3;
 use super::vertex::{LoopHalfEdge, LoopShape, half_edges};
 use crate::mesh::Mesh;
 use crate::schemes::vertex_rings::{
-    Fan, HalfEdgeTable, half_ring_tangent_basis, open_fan_cross_data, open_loop_point,
+    Fan, HalfEdgeTable, LOOP_SWERVE, half_ring_tangent_basis, open_fan_cross_data, open_loop_point,
+    swerve_cap,
 };
 
 /// The per-vertex pass of Loop's scheme on a mesh that may be open.
@@ -39,6 +40,12 @@ pub fn boundary_half_edges(fan: &Fan, shape: &LoopShape, out: &mut [LoopHalfEdge
     let (s, c) = theta.sin_cos();
     let (a, b) = half_ring_tangent_basis(v, ring, theta);
     let LoopShape { alpha, beta } = *shape;
+    // β is the upper limit: f¹ − f⁰ = β (A cos jθ + B sin jθ)/2 swerves off no edge.
+    let normal = a.cross(b).normalize_or_zero();
+    let beta = beta.min(swerve_cap(v, ring, normal, LOOP_SWERVE, false, |j| {
+        let (sj, cj) = (theta * j as f64).sin_cos();
+        0.5 * (cj * a + sj * b)
+    }));
     let f0 = alpha * v + (1.0 - alpha) * ring.iter().sum::<DVec3>() / n as f64;
     let mut r1 = Vec::with_capacity(n);
     let mut r2 = Vec::with_capacity(n);

@@ -100,7 +100,11 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
             geometry: PatchGeometry::Bezier(sextic(&face_edges(&table, *face, f))),
         })
         .collect();
-    Ok(params.surface(SPEC.name, patches))
+    let mut surface = params.surface(SPEC.name, patches);
+    surface.warnings = crate::schemes::vertex_rings::plane_warnings(mesh, SPEC.name, |_, ring| {
+        crate::schemes::vertex_rings::RingFourier::new(ring)
+    });
+    Ok(surface)
 }
 
 /// Largest disagreement of the twist points computed from either edge, and of Loop's middle

@@ -16,7 +16,7 @@
 
 use glam::DVec3;
 
-use crate::schemes::vertex_rings::RingFourier;
+use crate::schemes::vertex_rings::{LOOP_SWERVE, RingFourier, front_facing_plane, swerve_cap};
 use crate::schemes::vertex_rings::{phi0, psi0};
 
 /// Loop's shape parameters α and β (eq. 2).
@@ -51,10 +51,19 @@ pub fn half_edges(
 ) {
     let n = ring.len();
     let nf = n as f64;
-    let fourier = RingFourier::new(ring);
+    let (fourier, _) = front_facing_plane(p, ring, RingFourier::new(ring));
     let (c, s) = (phi0(n), psi0(n));
     let (phi_0, phi_1) = (c, 1.0 - 2.0 * c);
     let LoopShape { alpha, beta } = *shape;
+    // β is the upper limit: f¹ − f⁰ = β cos_sum(i)/n swerves off no edge.
+    let beta = beta.min(swerve_cap(
+        p,
+        ring,
+        fourier.normal(),
+        LOOP_SWERVE,
+        true,
+        |i| fourier.cos_sum(i) / nf,
+    ));
     let f0 = alpha * p + (1.0 - alpha) * fourier.mean();
     let r1 = |i: usize| (4.0 * beta / nf) * fourier.cos_sum(i % n);
     for i in 0..n {
