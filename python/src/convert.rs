@@ -227,45 +227,16 @@ pub(crate) fn array<'py, T: numpy::Element + Copy>(
     Ok(flat.reshape(shape.to_vec())?.into_any())
 }
 
-/// A JSON value (a serialised library result) as a Python object: objects as dicts (keys in
-/// the JSON's order), arrays as lists, numbers as int or float, null as None.
-pub(crate) fn json_to_py<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
-    use serde_json::Value;
-    Ok(match value {
-        Value::Null => py.None().into_bound(py),
-        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
-        Value::Number(n) => {
-            if let Some(i) = n.as_i64() {
-                i.into_pyobject(py)?.into_any()
-            } else if let Some(u) = n.as_u64() {
-                u.into_pyobject(py)?.into_any()
-            } else {
-                PyFloat::new(py, n.as_f64().unwrap_or(f64::NAN)).into_any()
-            }
-        }
-        Value::String(s) => PyString::new(py, s).into_any(),
-        Value::Array(items) => {
-            let list = PyList::empty(py);
-            for item in items {
-                list.append(json_to_py(py, item)?)?;
-            }
-            list.into_any()
-        }
-        Value::Object(map) => {
-            let dict = PyDict::new(py);
-            for (k, v) in map {
-                dict.set_item(k, json_to_py(py, v)?)?;
-            }
-            dict.into_any()
-        }
-    })
-}
-
-/// A serialisable library value as a Python object (through its JSON form, the contract's).
-pub(crate) fn serialised<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
-    let json = serde_json::to_value(value)
+/// A serialisable library value as a Python object: its JSON text (the contract's, keys in
+/// the order the command line writes them; numbers in the shortest form that reads back
+/// exactly) read by Python's `json.loads`.
+pub(crate) fn serialised<'py>(
+    py: Python<'py>,
+    value: &impl serde::Serialize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(value)
         .map_err(|e| PyValueError::new_err(format!("cannot serialise a result: {e}")))?;
-    json_to_py(py, &json)
+    py.import("json")?.call_method1("loads", (text,))
 }
 
 /// A Python value as a TOML value of scene key `key`: bool, int, float, str, sequences of

@@ -160,6 +160,10 @@ fn evaluate_points(
 /// The `(u, v)` of parameter rows: (n, 2) as they are, (n, 3) barycentric `(1−u−v, u, v)`
 /// (their sum must be 1 within 1e-12).
 fn parameters(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<(f64, f64)>> {
+    let obj = &obj
+        .py()
+        .import("numpy")?
+        .call_method1("asarray", (obj, "float64"))?;
     let columns = match obj.getattr("shape").ok().and_then(|s| s.extract::<Vec<usize>>().ok()) {
         Some(shape) if shape.len() == 2 => shape[1],
         _ => 2,

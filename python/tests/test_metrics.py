@@ -59,11 +59,12 @@ def test_metrics_equal_the_cli_on_an_open_mesh_with_parameters(tmp_path):
         assert compare(surface.metrics(), reference) == [], reference["scheme"]
     # A parameter set from Python is the one set with --param.
     run_cli(
-        "metrics", str(mesh_file), "--scheme", "hb", "--param", "normals=estimate",
+        "metrics", str(mesh_file), "--scheme", "hb", "--param", "beta=0.3", "--param", "plane=fourier",
         "--json", str(tmp_path / "p.json"),
     )
     [reference] = json.loads((tmp_path / "p.json").read_text())
-    ours = smoothlab.build(mesh, "hb", normals="estimate").metrics()
+    ours = smoothlab.build(mesh, "hb", beta=0.3, plane="fourier").metrics()
+    assert ours["params"]["beta"] == "0.3" and ours["params"]["plane"] == "fourier"
     assert compare(ours, reference) == []
 
 
