@@ -51,4 +51,3 @@ pub use error::{Error, Result};
 /// [`SceneFile::job`] with the errors naming the key at fault. The `render` command and the
 /// Python package (`python/`) both make their jobs through it.
 pub use app::scene::SceneFile;
-

@@ -2,8 +2,9 @@
 //! finiteness with errors naming the argument; JSON values (the library's serialised results)
 //! as Python objects; Python values as TOML values (scene keys) and as parameter text.
 
-use numpy::{PyArray1, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray,
-    PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
@@ -31,14 +32,22 @@ fn shape_text(shape: &[usize]) -> String {
         [one] => format!("({one},)"),
         _ => format!(
             "({})",
-            shape.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
+            shape
+                .iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
         ),
     }
 }
 
 /// Checks that `array` (argument `name`) is C-contiguous and two-dimensional with `columns`
 /// columns (any when None); returns the number of rows.
-fn check_2d(array: &Bound<'_, PyUntypedArray>, name: &str, columns: Option<usize>) -> PyResult<usize> {
+fn check_2d(
+    array: &Bound<'_, PyUntypedArray>,
+    name: &str,
+    columns: Option<usize>,
+) -> PyResult<usize> {
     let shape = array.shape();
     let want = columns.map_or("(n, k)".to_string(), |c| format!("(n, {c})"));
     if shape.len() != 2 || columns.is_some_and(|c| shape[1] != c) {
@@ -103,12 +112,22 @@ fn integers(array: &Bound<'_, PyUntypedArray>, name: &str) -> PyResult<Vec<i128>
         b'i' => {
             let wide = array.call_method1("astype", ("int64",))?;
             let typed = wide.cast::<numpy::PyArrayDyn<i64>>()?;
-            Ok(typed.readonly().as_slice()?.iter().map(|&x| i128::from(x)).collect())
+            Ok(typed
+                .readonly()
+                .as_slice()?
+                .iter()
+                .map(|&x| i128::from(x))
+                .collect())
         }
         b'u' => {
             let wide = array.call_method1("astype", ("uint64",))?;
             let typed = wide.cast::<numpy::PyArrayDyn<u64>>()?;
-            Ok(typed.readonly().as_slice()?.iter().map(|&x| i128::from(x)).collect())
+            Ok(typed
+                .readonly()
+                .as_slice()?
+                .iter()
+                .map(|&x| i128::from(x))
+                .collect())
         }
         _ => Err(PyTypeError::new_err(format!(
             "{name} must be an integer array, got dtype {}",
@@ -187,7 +206,12 @@ pub(crate) fn faces(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Faces> {
     let values = integers(&array, name)?;
     let mut corners = Vec::with_capacity(values.len());
     for (k, &value) in values.iter().enumerate() {
-        corners.push(vertex_index(value, name, k / columns.max(1), k % columns.max(1))?);
+        corners.push(vertex_index(
+            value,
+            name,
+            k / columns.max(1),
+            k % columns.max(1),
+        )?);
     }
     Ok(Faces {
         corners,
@@ -208,11 +232,14 @@ pub(crate) fn indices(obj: &Bound<'_, PyAny>, name: &str, count: usize) -> PyRes
         .into_iter()
         .enumerate()
         .map(|(k, i)| {
-            usize::try_from(i).ok().filter(|&i| i < count).ok_or_else(|| {
-                pyo3::exceptions::PyIndexError::new_err(format!(
-                    "{name}[{k}] = {i} is not a patch index (the surface has {count} patches)"
-                ))
-            })
+            usize::try_from(i)
+                .ok()
+                .filter(|&i| i < count)
+                .ok_or_else(|| {
+                    pyo3::exceptions::PyIndexError::new_err(format!(
+                        "{name}[{k}] = {i} is not a patch index (the surface has {count} patches)"
+                    ))
+                })
         })
         .collect()
 }
@@ -301,7 +328,12 @@ pub(crate) fn toml_table(dict: &Bound<'_, PyDict>, prefix: &str) -> PyResult<tom
 /// a bool as `true`/`false`, a number as Python writes it (`repr`, which reads back exactly).
 pub(crate) fn param_text(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<String> {
     if obj.is_instance_of::<PyBool>() {
-        return Ok(if obj.extract::<bool>()? { "true" } else { "false" }.into());
+        return Ok(if obj.extract::<bool>()? {
+            "true"
+        } else {
+            "false"
+        }
+        .into());
     }
     if obj.is_instance_of::<PyString>() {
         return obj.extract();

@@ -53,7 +53,10 @@ pub(crate) struct Mesh {
 }
 
 impl Mesh {
-    fn finish(py: Python<'_>, (mesh, report): (smoothlab::mesh::Mesh, LoadReport)) -> PyResult<Mesh> {
+    fn finish(
+        py: Python<'_>,
+        (mesh, report): (smoothlab::mesh::Mesh, LoadReport),
+    ) -> PyResult<Mesh> {
         warn_lines(py, &report.warnings)?;
         Ok(Mesh {
             mesh: Arc::new(mesh),
@@ -114,7 +117,12 @@ impl Mesh {
     /// Vertex positions after loading (unused vertices dropped, near ones welded), (n, 3) float64.
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let values = self.mesh.positions().iter().flat_map(|p| p.to_array()).collect();
+        let values = self
+            .mesh
+            .positions()
+            .iter()
+            .flat_map(|p| p.to_array())
+            .collect();
         convert::array(py, values, &[self.mesh.vertex_count(), 3])
     }
 
@@ -133,7 +141,12 @@ impl Mesh {
     /// The input face (polygon) every triangle was cut from, (m,) int64.
     #[getter]
     fn input_faces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let values = self.mesh.face_origins().iter().map(|&f| i64::from(f)).collect();
+        let values = self
+            .mesh
+            .face_origins()
+            .iter()
+            .map(|&f| i64::from(f))
+            .collect();
         convert::array(py, values, &[self.mesh.face_count()])
     }
 
@@ -189,7 +202,11 @@ impl Mesh {
             "<smoothlab.Mesh: {} vertices, {} faces, {}>",
             self.mesh.vertex_count(),
             self.mesh.face_count(),
-            if self.mesh.is_closed() { "closed" } else { "open" }
+            if self.mesh.is_closed() {
+                "closed"
+            } else {
+                "open"
+            }
         )
     }
 }

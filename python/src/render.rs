@@ -296,7 +296,10 @@ impl Render {
         for (name, plane) in EXR_CHANNELS.iter().zip(planes) {
             dict.set_item(*name, convert::array(py, plane, &[h, w])?)?;
         }
-        for (name, plane) in EXR_ID_CHANNELS.iter().zip(output::exr_id_planes(&self.frame)) {
+        for (name, plane) in EXR_ID_CHANNELS
+            .iter()
+            .zip(output::exr_id_planes(&self.frame))
+        {
             dict.set_item(*name, convert::array(py, plane, &[h, w])?)?;
         }
         Ok(dict)

@@ -164,7 +164,11 @@ fn parameters(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<(f64, f64)>> {
         .py()
         .import("numpy")?
         .call_method1("asarray", (obj, "float64"))?;
-    let columns = match obj.getattr("shape").ok().and_then(|s| s.extract::<Vec<usize>>().ok()) {
+    let columns = match obj
+        .getattr("shape")
+        .ok()
+        .and_then(|s| s.extract::<Vec<usize>>().ok())
+    {
         Some(shape) if shape.len() == 2 => shape[1],
         _ => 2,
     };
@@ -272,14 +276,26 @@ impl Surface {
     /// the input faces (polygons).
     #[getter]
     fn faces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let values = self.built.user.patches.iter().map(|p| i64::from(p.face)).collect();
+        let values = self
+            .built
+            .user
+            .patches
+            .iter()
+            .map(|p| i64::from(p.face))
+            .collect();
         convert::array(py, values, &[self.built.user.patches.len()])
     }
 
     /// The piece of its face every patch is (the scheme's numbering), (p,) int64.
     #[getter]
     fn pieces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let values = self.built.user.patches.iter().map(|p| i64::from(p.piece)).collect();
+        let values = self
+            .built
+            .user
+            .patches
+            .iter()
+            .map(|p| i64::from(p.piece))
+            .collect();
         convert::array(py, values, &[self.built.user.patches.len()])
     }
 
@@ -309,7 +325,12 @@ impl Surface {
 
     /// The face-barycentric coordinates of the corners of patch ``patch``'s domain, (3, 3).
     fn domain<'py>(&self, py: Python<'py>, patch: usize) -> PyResult<Bound<'py, PyAny>> {
-        let values = self.patch(patch)?.domain.iter().flat_map(|c| c.to_array()).collect();
+        let values = self
+            .patch(patch)?
+            .domain
+            .iter()
+            .flat_map(|c| c.to_array())
+            .collect();
         convert::array(py, values, &[3, 3])
     }
 
@@ -361,7 +382,11 @@ impl Surface {
                 uv.len()
             )));
         }
-        let points = patches.into_iter().zip(uv).map(|(p, (u, v))| (p, u, v)).collect();
+        let points = patches
+            .into_iter()
+            .zip(uv)
+            .map(|(p, (u, v))| (p, u, v))
+            .collect();
         evaluation(py, &self.built.user, points)
     }
 

@@ -487,7 +487,17 @@ mod tests {
             &LoadOptions::default(),
         )
         .expect_err("vertex 8 does not exist");
-        assert!(matches!(out, Error::VertexIndexOutOfRange { face: 2, vertex: 8, count: 8 }), "{out}");
+        assert!(
+            matches!(
+                out,
+                Error::VertexIndexOutOfRange {
+                    face: 2,
+                    vertex: 8,
+                    count: 8
+                }
+            ),
+            "{out}"
+        );
     }
 
     /// The refusal of `--strict`, which must name `element`.
