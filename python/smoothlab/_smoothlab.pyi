@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from os import PathLike
+from pathlib import Path
 from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -103,7 +104,7 @@ class Render:
         *,
         exr: Optional[bool] = None,
         exr_compression: Optional[str] = None,
-    ) -> List[str]: ...
+    ) -> List[Path]: ...
     def __iter__(self) -> Iterator[Any]: ...
 
 def load(
