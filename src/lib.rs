@@ -45,3 +45,9 @@ pub mod text;
 pub mod tolerance;
 
 pub use error::{Error, Result};
+
+/// A render job from scene keys: the scene file of the README's Contracts as a value
+/// ([`SceneFile::parse`] of its TOML text), validated once into a [`render::RenderJob`] by
+/// [`SceneFile::job`] with the errors naming the key at fault. The `render` command and the
+/// Python package (`python/`) both make their jobs through it.
+pub use app::scene::SceneFile;

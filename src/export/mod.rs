@@ -81,6 +81,15 @@ pub fn export(surface: &Surface, format: Format, tess: usize) -> Result<String> 
     }
 }
 
+/// Writes [`export`]'s text of `surface` in `format` to `path` as `smoothlab export` writes
+/// it: the path checked first ([`check_writable`](crate::files::check_writable)), the file
+/// written atomically ([`write_atomic`](crate::files::write_atomic): a complete file or the
+/// old one, never a part).
+pub fn write(surface: &Surface, format: Format, tess: usize, path: &std::path::Path) -> Result<()> {
+    crate::files::check_writable(path)?;
+    crate::files::write_atomic(path, export(surface, format, tess)?.as_bytes())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -199,6 +199,39 @@ impl Mesh {
         )
     }
 
+    /// Builds a mesh from `positions` and polygons of any number of corners with `options`,
+    /// by the pipeline every file reader takes (see the module docs): planar convex polygons
+    /// are split into triangles with a warning, any other polygon is refused naming it, and
+    /// errors and repairs name polygons by their index. `corners` are the polygons' vertex
+    /// indices one polygon after the other, `arities` the number of corners of each (their sum
+    /// must be `corners.len()`). The mesh carries no normals and no sharp edges of its own
+    /// (a crease angle in `options` still marks edges sharp).
+    pub fn from_polygons_with(
+        positions: Vec<DVec3>,
+        corners: Vec<u32>,
+        arities: Vec<u32>,
+        options: &LoadOptions,
+    ) -> Result<(Mesh, LoadReport)> {
+        let total: u64 = arities.iter().map(|&a| u64::from(a)).sum();
+        if total != corners.len() as u64 {
+            return Err(Error::Invalid(format!(
+                "the polygons' corner counts add up to {total}, but {} corners are given",
+                corners.len()
+            )));
+        }
+        polygon::assemble(
+            polygon::PolygonMesh {
+                positions,
+                corners,
+                arities,
+            },
+            None,
+            Err("the mesh was given as polygons, which carry no normals".to_string()),
+            &[],
+            options,
+        )
+    }
+
     /// Loads a mesh file in the format its extension names ([`MeshFormat::from_path`], case
     /// ignored), with the default [`LoadOptions`].
     ///

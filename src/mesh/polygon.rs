@@ -452,6 +452,54 @@ mod tests {
         )
     }
 
+    /// Polygons given as corner lists go through the pipeline of the files: the cube of
+    /// quads is the same mesh either way, and a bad corner count or index names the polygon.
+    #[test]
+    fn polygons_given_as_lists_load_as_a_file_would() {
+        let cube = cube();
+        let (from_file, file_report) = load(cube.clone()).expect("the cube loads");
+        let (given, report) = Mesh::from_polygons_with(
+            cube.positions.clone(),
+            cube.corners.clone(),
+            cube.arities.clone(),
+            &LoadOptions::default(),
+        )
+        .expect("the cube loads");
+        assert_eq!(given.faces(), from_file.faces());
+        assert_eq!(given.positions(), from_file.positions());
+        assert_eq!(given.face_origins(), from_file.face_origins());
+        assert_eq!(report.warnings, file_report.warnings);
+        assert_eq!(given.face_count(), 12);
+        let short = Mesh::from_polygons_with(
+            cube.positions.clone(),
+            cube.corners.clone(),
+            vec![4; 5],
+            &LoadOptions::default(),
+        )
+        .expect_err("20 corners counted, 24 given");
+        assert!(short.to_string().contains("add up to 20"), "{short}");
+        let mut corners = cube.corners.clone();
+        corners[9] = 8;
+        let out = Mesh::from_polygons_with(
+            cube.positions,
+            corners,
+            cube.arities,
+            &LoadOptions::default(),
+        )
+        .expect_err("vertex 8 does not exist");
+        assert!(
+            matches!(
+                out,
+                Error::VertexIndexOutOfRange {
+                    face: 2,
+                    vertex: 8,
+                    count: 8
+                }
+            ),
+            "{out}"
+        );
+    }
+
     /// The refusal of `--strict`, which must name `element`.
     fn strict_refusal(polygons: PolygonMesh, element: &str) -> String {
         let options = LoadOptions {
