@@ -184,3 +184,14 @@ mod tests {
         assert_eq!(filtered_square_wave(edge + 0.75, 0.0, 0.5), 0.0);
     }
 }
+
+/// `--no-stripe-filter`: declared by every stripe mode (zebra, highlight, isophote); one flag
+/// on the command line sets `filter = false` in each of their sections.
+pub const NO_STRIPE_FILTER: crate::render::modes::Flag = crate::render::modes::Flag::off(
+    "no-stripe-filter",
+    "filter",
+    "Point-sample the zebra, highlight and isophote stripes instead of box-filtering them over each pixel's footprint.",
+);
+
+/// The `filter` key of a stripe mode.
+pub const FILTER_KEY: crate::render::modes::Key = crate::render::modes::Key::new("filter", "box-filter the stripes over each pixel's footprint (default true)");
