@@ -62,7 +62,11 @@ fn the_registry_lists_every_mode_once() {
     let mut names = MODE_NAMES.to_vec();
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), MODE_NAMES.len(), "a mode name twice: {MODE_NAMES:?}");
+    assert_eq!(
+        names.len(),
+        MODE_NAMES.len(),
+        "a mode name twice: {MODE_NAMES:?}"
+    );
     // A flag declared by several modes (a shared switch) sets the same key in each.
     for (mode, flags) in MODE_FLAGS {
         for flag in flags.iter() {

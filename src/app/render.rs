@@ -59,14 +59,18 @@ impl ModeFlags {
             .find(|f| f.long == long)
             .ok_or_else(|| Error::Invalid(format!("no mode has the flag --{long}")))?;
         let value = match (flag.value, text) {
-            (Some(parse), Some(text)) => Some(
-                parse(text).map_err(|e| Error::Invalid(format!("--{long} {text}: {e}")))?,
-            ),
+            (Some(parse), Some(text)) => {
+                Some(parse(text).map_err(|e| Error::Invalid(format!("--{long} {text}: {e}")))?)
+            }
             (None, None) => None,
             _ => {
                 return Err(Error::Invalid(format!(
                     "--{long} {} a value",
-                    if flag.value.is_some() { "takes" } else { "takes no" }
+                    if flag.value.is_some() {
+                        "takes"
+                    } else {
+                        "takes no"
+                    }
                 )));
             }
         };
@@ -148,16 +152,13 @@ impl clap::Args for ModeFlags {
             arg = match flag.value {
                 None => arg.action(clap::ArgAction::SetTrue),
                 Some(_) if !flag.choices.is_empty() => {
-                    let choices = clap::builder::PossibleValuesParser::new(
-                        flag.choices
-                            .iter()
-                            .map(|(name, help)| clap::builder::PossibleValue::new(*name).help(*help)),
-                    );
-                    arg.action(clap::ArgAction::Set)
-                        .value_parser(clap::builder::TypedValueParser::map(
-                            choices,
-                            toml::Value::String,
-                        ))
+                    let choices =
+                        clap::builder::PossibleValuesParser::new(flag.choices.iter().map(
+                            |(name, help)| clap::builder::PossibleValue::new(*name).help(*help),
+                        ));
+                    arg.action(clap::ArgAction::Set).value_parser(
+                        clap::builder::TypedValueParser::map(choices, toml::Value::String),
+                    )
                 }
                 Some(parse) => arg
                     .action(clap::ArgAction::Set)
@@ -244,7 +245,7 @@ pub struct RenderArgs {
     /// Scheme parameter `name=value` (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub params: Vec<String>,
-    /// Shading mode [default: the scene's, else the first listed].
+    /// Shading mode [default: the scene's, else zebra].
     #[arg(long, value_parser = mode_value_parser())]
     pub mode: Option<String>,
     /// Eye position `X,Y,Z`.
@@ -571,7 +572,11 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     if is_scene_file(&args.input) {
         read.push(("the scene file", &args.input));
     }
-    read.extend(mode_files.iter().map(|(what, file)| (*what, file.as_path())));
+    read.extend(
+        mode_files
+            .iter()
+            .map(|(what, file)| (*what, file.as_path())),
+    );
     check_distinct(&read, &written)?;
     let (mesh, mut report) = Mesh::load_with(&mesh_path, &load_options)?;
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
@@ -697,7 +702,11 @@ mod tests {
         assert!(!zebra.contains_key("width"));
         for mode in ["zebra", "highlight", "isophote"] {
             let section = flagged.mode_section(mode);
-            assert_eq!(section.get("filter"), Some(&toml::Value::Boolean(false)), "{mode}");
+            assert_eq!(
+                section.get("filter"),
+                Some(&toml::Value::Boolean(false)),
+                "{mode}"
+            );
         }
         assert!(flagged.mode_section("curvature").is_empty());
         let both = flags.with("zebra-width", Some("thin")).expect("flags");

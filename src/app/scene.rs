@@ -677,7 +677,15 @@ mod tests {
         assert!(err.contains("`foo`") && err.contains("`stripes`"), "{err}");
         for bad in ["[sparkle]\nx = 1", "zebra = 3", "colour = 3"] {
             let err = SceneFile::parse(bad).expect_err(bad).to_string();
-            assert!(err.contains(bad.trim_start_matches('[').split([']', ' ']).next().unwrap_or(bad)), "{bad}: {err}");
+            assert!(
+                err.contains(
+                    bad.trim_start_matches('[')
+                        .split([']', ' '])
+                        .next()
+                        .unwrap_or(bad)
+                ),
+                "{bad}: {err}"
+            );
         }
         let scene = SceneFile::parse("[render]\nmode = \"sparkle\"").expect("parses");
         assert!(

@@ -30,9 +30,9 @@ use crate::mesh::Mesh;
 use crate::render::camera::Camera;
 use crate::render::film::{Frame, RenderSettings};
 use crate::render::job::{CameraSpec, Geometry, RenderJob, SurfaceSamples};
+use crate::render::modes::Mode;
 use crate::render::modes::curvature::abs_percentile;
 use crate::render::modes::palette::rdbu;
-use crate::render::modes::Mode;
 use crate::render::output::write_png;
 use crate::surface::Surface;
 

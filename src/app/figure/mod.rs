@@ -269,10 +269,7 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
             "figure cell {k} does not exist (the figure has {count} cells)"
         )));
     }
-    let first_curvature = job
-        .modes
-        .iter()
-        .find(|m| m.mode.has_scale());
+    let first_curvature = job.modes.iter().find(|m| m.mode.has_scale());
     let needs_range = matches!(job.curvature, CurvatureChoice::Common)
         && wanted
             .iter()

@@ -42,10 +42,6 @@ use crate::app::figure::{
     render_figure,
 };
 use crate::app::scene::{BvhSection, CameraSection, file_beside};
-use crate::render::job::{
-    DEFAULT_CELL_SIZE, DEFAULT_SPP, MAX_CELL_SIDE, MAX_CELL_SPP, check_size, check_spp,
-};
-use crate::render::modes::{Mode, keys_of};
 use crate::app::toml_input::{self, exact};
 use crate::error::{Error, Result};
 use crate::files::{check_distinct, check_writable, create_folder, write_atomic};
@@ -54,6 +50,10 @@ use crate::mesh::{LoadOptions, Mesh, check_crease_angle};
 use crate::render::camera::Projection;
 use crate::render::curves::CurveOverlay;
 use crate::render::job::DEFAULT_FOV;
+use crate::render::job::{
+    DEFAULT_CELL_SIZE, DEFAULT_SPP, MAX_CELL_SIDE, MAX_CELL_SPP, check_size, check_spp,
+};
+use crate::render::modes::{Mode, keys_of};
 use crate::render::output::{
     check_output_name, output_stem, with_suffix, write_exr, write_rgb_png,
 };

@@ -54,7 +54,7 @@ pub struct ViewArgs {
     /// Scheme parameter `name=value` (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub params: Vec<String>,
-    /// Shading mode to start with [default: the scene's, else the first listed].
+    /// Shading mode to start with [default: the scene's, else zebra].
     #[arg(long, value_parser = crate::app::render::mode_value_parser())]
     pub mode: Option<String>,
     /// Port to listen on (0: any free port; the URL printed names it).

@@ -7,9 +7,9 @@
 use std::path::{Path, PathBuf};
 
 use crate::app::scene::{SceneFile, file_beside};
-use crate::render::modes::MODE_KEYS;
 use crate::error::{Error, Result};
 use crate::render::RenderJob;
+use crate::render::modes::MODE_KEYS;
 
 /// The largest image side the view renders (the page's canvas, clamped by the page).
 pub const MAX_VIEW_SIDE: u32 = 2048;

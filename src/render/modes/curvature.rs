@@ -469,11 +469,23 @@ impl ModeKind for CurvatureParams {
     const NAME: &'static str = "curvature";
     const HELP: &'static str = "A curvature quantity through a colour map, with a legend.";
     const KEYS: &'static [Key] = &[
-        Key::new("quantity", "gaussian, mean, maxabs, k1 or k2 (default mean)"),
-        Key::new("range", "\"auto\" or a fixed positive half-range (default auto)"),
-        Key::new("percentile", "percentile of |value| in view for the automatic range, in [0, 100] (default 95)"),
+        Key::new(
+            "quantity",
+            "gaussian, mean, maxabs, k1 or k2 (default mean)",
+        ),
+        Key::new(
+            "range",
+            "\"auto\" or a fixed positive half-range (default auto)",
+        ),
+        Key::new(
+            "percentile",
+            "percentile of |value| in view for the automatic range, in [0, 100] (default 95)",
+        ),
         Key::new("legend", "draw the colour bar (default true)"),
-        Key::new("map", "diverging or sequential (default diverging; sequential for maxabs)"),
+        Key::new(
+            "map",
+            "diverging or sequential (default diverging; sequential for maxabs)",
+        ),
         Key::new("sign", "convex or normal (default convex)"),
     ];
     const FLAGS: &'static [Flag] = &[
@@ -648,7 +660,10 @@ fn auto_range<T: SurfaceTracer>(
 }
 
 /// Curvature values seen through a coarse grid (≤ 96 × 96) of pixel centres.
-fn curvature_probe<T: SurfaceTracer>(setup: &Setup<'_, T>, quantity: CurvatureQuantity) -> Vec<f64> {
+fn curvature_probe<T: SurfaceTracer>(
+    setup: &Setup<'_, T>,
+    quantity: CurvatureQuantity,
+) -> Vec<f64> {
     let (tracer, camera) = (setup.tracer, setup.camera);
     let (w, h) = (setup.width.min(96), setup.height.min(96));
     let aspect = f64::from(setup.width) / f64::from(setup.height);
@@ -684,12 +699,16 @@ mod tests {
     /// The `[curvature]` keys set the parameters they name; bad values name the key.
     #[test]
     fn keys_configure_the_curvature_mode() {
-        let table: toml::Table =
-            toml::from_str("quantity = \"gaussian\"\nrange = 2.5\nlegend = false\nsign = \"normal\"")
-                .expect("toml");
+        let table: toml::Table = toml::from_str(
+            "quantity = \"gaussian\"\nrange = 2.5\nlegend = false\nsign = \"normal\"",
+        )
+        .expect("toml");
         let mut p = CurvatureParams::default();
-        ModeKind::configure(&mut p, &Keys::new("curvature", &table, CurvatureParams::KEYS).expect("keys"))
-            .expect("valid");
+        ModeKind::configure(
+            &mut p,
+            &Keys::new("curvature", &table, CurvatureParams::KEYS).expect("keys"),
+        )
+        .expect("valid");
         assert_eq!(p.quantity, CurvatureQuantity::Gaussian);
         assert_eq!(p.range, CurvatureRange::Fixed(2.5));
         assert!(!p.legend);

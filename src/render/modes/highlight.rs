@@ -7,7 +7,9 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::render::interaction::ShadingPoint;
 use crate::render::modes::keys::{self, Flag, Key, Keys};
-use crate::render::modes::stripes::{FILTER_KEY, Footprint, NO_STRIPE_FILTER, filtered_square_wave};
+use crate::render::modes::stripes::{
+    FILTER_KEY, Footprint, NO_STRIPE_FILTER, filtered_square_wave,
+};
 use crate::render::modes::zebra::{BRIGHT, DARK};
 use crate::render::modes::{ModeKind, Setup};
 use crate::render::stats::RenderStats;
@@ -107,12 +109,27 @@ impl ModeKind for HighlightParams {
     const NAME: &'static str = "highlight";
     const HELP: &'static str = "View-independent highlight lines of parallel line lights.";
     const KEYS: &'static [Key] = &[
-        Key::new("origin", "a point of the light plane (default: one scene diagonal above the centre)"),
-        Key::new("plane_normal", "normal of the light plane (non-zero, default [0, 1, 0])"),
-        Key::new("direction", "direction of the line lights (non-zero, not along plane_normal; default [1, 0, 0])"),
-        Key::new("spacing", "distance between lights (positive; instead of lines)"),
+        Key::new(
+            "origin",
+            "a point of the light plane (default: one scene diagonal above the centre)",
+        ),
+        Key::new(
+            "plane_normal",
+            "normal of the light plane (non-zero, default [0, 1, 0])",
+        ),
+        Key::new(
+            "direction",
+            "direction of the line lights (non-zero, not along plane_normal; default [1, 0, 0])",
+        ),
+        Key::new(
+            "spacing",
+            "distance between lights (positive; instead of lines)",
+        ),
         Key::new("lines", "lights per scene diagonal (positive, default 4)"),
-        Key::new("duty", "bright fraction of a period in [0, 1] (default 0.5)"),
+        Key::new(
+            "duty",
+            "bright fraction of a period in [0, 1] (default 0.5)",
+        ),
         FILTER_KEY,
     ];
     const FLAGS: &'static [Flag] = &[
@@ -174,4 +191,3 @@ impl ModeKind for HighlightParams {
         self.resolved(bounds.center(), bounds.diagonal())
     }
 }
-

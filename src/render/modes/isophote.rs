@@ -7,9 +7,11 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::render::interaction::ShadingPoint;
-use crate::render::modes::keys::{self, Flag, Key, Keys};
-use crate::render::modes::stripes::{FILTER_KEY, Footprint, NO_STRIPE_FILTER, filtered_square_wave};
 use crate::render::modes::ModeKind;
+use crate::render::modes::keys::{self, Flag, Key, Keys};
+use crate::render::modes::stripes::{
+    FILTER_KEY, Footprint, NO_STRIPE_FILTER, filtered_square_wave,
+};
 
 /// Parameters of the isophote mode.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -71,9 +73,15 @@ impl ModeKind for IsophoteParams {
     const NAME: &'static str = "isophote";
     const HELP: &'static str = "Bands of constant n·L.";
     const KEYS: &'static [Key] = &[
-        Key::new("light", "direction towards the light (non-zero, default [0.3, 0.8, 0.5])"),
+        Key::new(
+            "light",
+            "direction towards the light (non-zero, default [0.3, 0.8, 0.5])",
+        ),
         Key::new("bands", "bands of equal n·L (at least 1, default 16)"),
-        Key::new("step_deg", "an isophote every this many degrees in (0, 90] (instead of bands)"),
+        Key::new(
+            "step_deg",
+            "an isophote every this many degrees in (0, 90] (instead of bands)",
+        ),
         FILTER_KEY,
     ];
     const FLAGS: &'static [Flag] = &[

@@ -166,7 +166,8 @@ pub fn number_or_text(text: &str) -> std::result::Result<toml::Value, String> {
 
 /// Flag value: `X,Y,Z` of finite numbers, as an array.
 pub fn triple(text: &str) -> std::result::Result<toml::Value, String> {
-    parse_triple(text).map(|v| toml::Value::Array(v.iter().map(|x| toml::Value::Float(*x)).collect()))
+    parse_triple(text)
+        .map(|v| toml::Value::Array(v.iter().map(|x| toml::Value::Float(*x)).collect()))
 }
 
 /// Flag value: `X,Y,Z` as an array when it is one, else the trimmed text (a name, or anything
@@ -315,9 +316,7 @@ impl<'a> Keys<'a> {
 
     /// An array of exactly three numbers.
     pub fn triple(&self, key: &str) -> Result<Option<[f64; 3]>> {
-        self.value(key)
-            .map(|v| self.as_triple(key, v))
-            .transpose()
+        self.value(key).map(|v| self.as_triple(key, v)).transpose()
     }
 
     /// `v`, the value of `key`, as an array of exactly three numbers.
@@ -440,10 +439,7 @@ pub fn direction(name: &str, p: [f64; 3]) -> Result<DVec3> {
 mod tests {
     use super::*;
 
-    const KNOWN: &[Key] = &[
-        Key::new("a", ""),
-        Key::new("b", ""),
-    ];
+    const KNOWN: &[Key] = &[Key::new("a", ""), Key::new("b", "")];
 
     fn table(text: &str) -> toml::Table {
         toml::from_str(text).expect("toml")

@@ -17,7 +17,10 @@ impl ModeKind for ShadedParams {
     const HELP: &'static str = "Path-traced clear coat in a studio.";
     const KEYS: &'static [Key] = &[
         Key::new("base_colour", "base albedo, linear RGB in [0, 1]"),
-        Key::new("coat_roughness_deg", "clear-coat gloss cone half-angle in degrees (positive)"),
+        Key::new(
+            "coat_roughness_deg",
+            "clear-coat gloss cone half-angle in degrees (positive)",
+        ),
         Key::new("bounces", "longest path (at least 1)"),
         Key::file(
             "environment",
@@ -25,8 +28,14 @@ impl ModeKind for ShadedParams {
             "the environment map",
             &["studio"],
         ),
-        Key::new("light_sampling", "next-event estimation with MIS (true) or BRDF sampling only"),
-        Key::new("rr_depth", "first bounce after which Russian roulette may end a path"),
+        Key::new(
+            "light_sampling",
+            "next-event estimation with MIS (true) or BRDF sampling only",
+        ),
+        Key::new(
+            "rr_depth",
+            "first bounce after which Russian roulette may end a path",
+        ),
     ];
     /// How much dearer a sample is than a zebra, isophote or curvature sample of the same
     /// surface (bounces and shadow rays): measured on `scenes/bunny.obj`, 128 × 128 pixels at 2
@@ -58,9 +67,8 @@ impl ModeKind for ShadedParams {
         if let Some(env) = keys.text("environment")?
             && env != "studio"
         {
-            self.environment = Environment::Map(std::sync::Arc::new(LatLongMap::load(
-                Path::new(env),
-            )?));
+            self.environment =
+                Environment::Map(std::sync::Arc::new(LatLongMap::load(Path::new(env))?));
         }
         Ok(())
     }

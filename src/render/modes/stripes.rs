@@ -194,4 +194,7 @@ pub const NO_STRIPE_FILTER: crate::render::modes::Flag = crate::render::modes::F
 );
 
 /// The `filter` key of a stripe mode.
-pub const FILTER_KEY: crate::render::modes::Key = crate::render::modes::Key::new("filter", "box-filter the stripes over each pixel's footprint (default true)");
+pub const FILTER_KEY: crate::render::modes::Key = crate::render::modes::Key::new(
+    "filter",
+    "box-filter the stripes over each pixel's footprint (default true)",
+);

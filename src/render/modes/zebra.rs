@@ -10,7 +10,9 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::render::interaction::ShadingPoint;
 use crate::render::modes::keys::{self, Flag, Key, Keys};
-use crate::render::modes::stripes::{FILTER_KEY, Footprint, NO_STRIPE_FILTER, filtered_square_wave};
+use crate::render::modes::stripes::{
+    FILTER_KEY, Footprint, NO_STRIPE_FILTER, filtered_square_wave,
+};
 use crate::render::modes::{ModeKind, Setup};
 use crate::render::stats::RenderStats;
 use crate::render::trace::SurfaceTracer;
@@ -180,12 +182,30 @@ impl ModeKind for ZebraParams {
     const NAME: &'static str = "zebra";
     const HELP: &'static str = "Reflection lines of parallel light tubes.";
     const KEYS: &'static [Key] = &[
-        Key::new("axis", "direction of the light tubes: \"view\", \"view-horizontal\" or [x, y, z] (default view)"),
-        Key::new("stripes", "bright stripes per full turn (positive, default 16)"),
-        Key::new("width", "period of the stripes: thin, medium, thick or degrees in (0, 360] (instead of stripes)"),
-        Key::new("duty", "bright fraction of a period in [0, 1] (default 0.5)"),
-        Key::new("bright", "linear RGB of the bright stripes (default [0.9, 0.9, 0.9])"),
-        Key::new("dark", "linear RGB of the dark stripes (default [0.015, 0.015, 0.015])"),
+        Key::new(
+            "axis",
+            "direction of the light tubes: \"view\", \"view-horizontal\" or [x, y, z] (default view)",
+        ),
+        Key::new(
+            "stripes",
+            "bright stripes per full turn (positive, default 16)",
+        ),
+        Key::new(
+            "width",
+            "period of the stripes: thin, medium, thick or degrees in (0, 360] (instead of stripes)",
+        ),
+        Key::new(
+            "duty",
+            "bright fraction of a period in [0, 1] (default 0.5)",
+        ),
+        Key::new(
+            "bright",
+            "linear RGB of the bright stripes (default [0.9, 0.9, 0.9])",
+        ),
+        Key::new(
+            "dark",
+            "linear RGB of the dark stripes (default [0.015, 0.015, 0.015])",
+        ),
         FILTER_KEY,
     ];
     const FLAGS: &'static [Flag] = &[
