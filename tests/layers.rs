@@ -3,9 +3,8 @@
 //! directly or through others.
 //!
 //! What counts as an import: every `crate::…`, `super::…` and `self::…` path in non-test code
-//! (every line of a file but the items marked `#[cfg(test)]` — a test module, a test-only
-//! function or field — each to its end; files named `tests.rs` or `test_support.rs` are test
-//! code), comments left out. Test code may use any module, as may `testing`, the
+//! (a file's lines up to its first `#[cfg(test)]`; files named `tests.rs` or `test_support.rs`
+//! are test code), comments left out. Test code may use any module, as may `testing`, the
 //! test support shared by the unit tests, `tests/` and `benches/`.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -100,116 +99,16 @@ fn code_of(file: &Path) -> Option<String> {
         return None;
     }
     let text = std::fs::read_to_string(file).expect("read source");
-    let lines: Vec<&str> = text
+    let code = text
         .lines()
+        .take_while(|l| l.trim() != "#[cfg(test)]")
         .map(|l| match l.find("//") {
             Some(i) => &l[..i],
             None => l,
         })
-        .collect();
-    Some(without_test_items(&lines).join("\n"))
-}
-
-/// The braces `{` minus `}` on `line`, outside string and character literals.
-fn brace_balance(line: &str) -> i64 {
-    let (mut depth, mut in_string, mut escaped) = (0, false, false);
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        if in_string {
-            match c {
-                _ if escaped => escaped = false,
-                '\\' => escaped = true,
-                '"' => in_string = false,
-                _ => {}
-            }
-            continue;
-        }
-        match c {
-            '"' => in_string = true,
-            '\'' => {
-                // A character literal `'{'`, `'}'` or `'"'`: skip it; a lifetime has no
-                // closing quote right after one character.
-                let rest: String = chars.clone().take(2).collect();
-                if ["{'", "}'", "\"'"].contains(&rest.as_str()) {
-                    chars.next();
-                    chars.next();
-                }
-            }
-            '{' => depth += 1,
-            '}' => depth -= 1,
-            _ => {}
-        }
-    }
-    depth
-}
-
-/// `lines` without the items marked `#[cfg(test)]`: the attribute, any further attributes,
-/// and the item to its end — a braced block to its closing brace (a test module, a
-/// function), else to the line ending it with `;` or `,` (a `mod tests;`, a field, a `use`).
-fn without_test_items<'a>(lines: &[&'a str]) -> Vec<&'a str> {
-    let mut out = Vec::with_capacity(lines.len());
-    let mut k = 0;
-    while k < lines.len() {
-        if lines[k].trim() != "#[cfg(test)]" {
-            out.push(lines[k]);
-            k += 1;
-            continue;
-        }
-        k += 1;
-        while k < lines.len() && lines[k].trim_start().starts_with("#[") {
-            k += 1;
-        }
-        let mut depth = 0;
-        let mut opened = false;
-        while k < lines.len() {
-            let line = lines[k];
-            depth += brace_balance(line);
-            opened |= line.contains('{');
-            k += 1;
-            let ended = if opened {
-                depth <= 0
-            } else {
-                let t = line.trim_end();
-                t.ends_with(';') || t.ends_with(',')
-            };
-            if ended {
-                break;
-            }
-        }
-    }
-    out
-}
-
-/// Only `#[cfg(test)]` items are left out: a test module and a test-only field go, the
-/// production code after them stays.
-#[test]
-fn test_items_are_skipped_and_nothing_else() {
-    let text = [
-        "use crate::a;",
-        "#[cfg(test)]",
-        "use crate::testing;",
-        "struct S {",
-        "    #[cfg(test)]",
-        "    probe: crate::b::P,",
-        "    kept: crate::c::K,",
-        "}",
-        "#[cfg(test)]",
-        "#[allow(dead_code)]",
-        "fn helper() { let _ = '{'; let _ = \"}\"; crate::d::f(); }",
-        "#[cfg(test)]",
-        "mod tests {",
-        "    fn f() { crate::e::g(); }",
-        "}",
-        "fn after() { crate::f::h(); }",
-    ];
-    let kept = without_test_items(&text);
-    let joined = kept.join("\n");
-    for gone in ["testing", "crate::b", "crate::d", "crate::e"] {
-        assert!(!joined.contains(gone), "{gone} kept:\n{joined}");
-    }
-    for stays in ["crate::a", "crate::c", "crate::f"] {
-        assert!(joined.contains(stays), "{stays} dropped:\n{joined}");
-    }
+        .collect::<Vec<_>>()
+        .join("\n");
+    Some(code)
 }
 
 /// Every path that starts with `crate::`, `super::` or `self::` in `code`, as module paths

@@ -302,9 +302,18 @@ impl SceneFile {
         {
             scene.render.output = Some(dir.join(output));
         }
-        scene
-            .check_sections()
-            .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
+        scene.check_sections().map_err(|e| {
+            if toml_input::has_top_level_key(&text, &["schemes", "modes"]) {
+                Error::Invalid(format!(
+                    "{}: this is a figure spec ([[schemes]], [[modes]]), not a scene file: \
+                     run `smoothlab figure {}`",
+                    path.display(),
+                    path.display()
+                ))
+            } else {
+                Error::Invalid(format!("{}: {e}", path.display()))
+            }
+        })?;
         scene.files_beside(dir);
         Ok(scene)
     }

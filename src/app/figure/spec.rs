@@ -241,7 +241,7 @@ impl FigureSpec {
                 if let Some(toml::Value::String(file)) = mode.params.get(key.name)
                     && key.names_file(file)
                 {
-                    files.push((key.what, PathBuf::from(file)));
+                    files.push((key.what_an, PathBuf::from(file)));
                 }
             }
         }

@@ -187,7 +187,7 @@ impl Session {
     pub fn request(&self, settings: &serde_json::Value) -> Result<Wanted> {
         let (table, scene, job) = self.base.with_page(settings)?;
         let scheme = scheme_of(&scene)?;
-        let mut job = job.for_mesh(&self.mesh);
+        let mut job = job.for_mesh(self.mesh);
         job.settings.progress = false;
         let mut state = lock(&self.state);
         let generation = self.generation.fetch_add(1, Ordering::SeqCst) + 1;

@@ -17,8 +17,10 @@ pub struct Key {
     /// Whether its value names a file (made relative to the folder of the file it is written
     /// in; never settable from the viewer's page).
     pub file: bool,
-    /// What the file is, for messages about inputs and outputs ("an environment map").
+    /// What the file is, for messages about inputs and outputs ("the environment map").
     pub what: &'static str,
+    /// The same with the indefinite article ("an environment map").
+    pub what_an: &'static str,
     /// Values of a file key that name no file but something built in.
     pub builtins: &'static [&'static str],
 }
@@ -31,15 +33,17 @@ impl Key {
             help,
             file: false,
             what: "",
+            what_an: "",
             builtins: &[],
         }
     }
 
-    /// A key whose value names a file (`what` it is), or one of `builtins`.
+    /// A key whose value names a file (`what` it is, `what_an` with the indefinite
+    /// article), or one of `builtins`.
     pub const fn file(
         name: &'static str,
         help: &'static str,
-        what: &'static str,
+        [what, what_an]: [&'static str; 2],
         builtins: &'static [&'static str],
     ) -> Key {
         Key {
@@ -47,6 +51,7 @@ impl Key {
             help,
             file: true,
             what,
+            what_an,
             builtins,
         }
     }

@@ -25,7 +25,7 @@ impl ModeKind for ShadedParams {
         Key::file(
             "environment",
             "\"studio\" or the path of a lat-long EXR",
-            "the environment map",
+            ["the environment map", "an environment map"],
             &["studio"],
         ),
         Key::new(
