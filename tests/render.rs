@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use glam::DVec3;
-use smoothlab::app::render::{ModeArg, RenderArgs, render_command};
+use smoothlab::app::render::{RenderArgs, render_command};
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::{Triangles, icosahedron, mixed_valence};
 use smoothlab::render::intersect::IntersectCounters;
@@ -75,7 +75,7 @@ fn render_command_writes_png_exr_and_stats() {
     let args = RenderArgs {
         input: obj.clone(),
         scheme: Some("hb".into()),
-        mode: Some(ModeArg::Curvature),
+        mode: Some("curvature".into()),
         size: Some([40, 30]),
         spp: Some(4),
         output: Some(stem.clone()),
@@ -207,7 +207,7 @@ fn exr_bytes_do_not_depend_on_threads() {
         let args = RenderArgs {
             input: obj.clone(),
             scheme: Some("pn".into()),
-            mode: Some(ModeArg::Shaded),
+            mode: Some("shaded".into()),
             size: Some([384, 320]),
             spp: Some(1),
             output: Some(stem.clone()),

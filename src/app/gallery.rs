@@ -14,7 +14,8 @@ use crate::files::{check_writable, create_folder};
 use crate::mesh::Mesh;
 use crate::mesh::generate::deformed_icosahedron;
 use crate::render::curves::CurveOverlay;
-use crate::render::modes::{CurvatureParams, Mode};
+use crate::render::job::Geometry;
+use crate::render::modes::Mode;
 use crate::render::output::{
     ExrCompression, OutputMeta, write_exr_with, write_png_with, write_rgb_png,
 };
@@ -101,10 +102,7 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
     let modes = GALLERY_MODES
         .iter()
         .map(|name| {
-            let mode = match Mode::by_name(name)? {
-                Mode::Curvature(p) => Mode::Curvature(CurvatureParams { legend: true, ..p }),
-                other => other,
-            };
+            let mode = Mode::by_name(name)?;
             Ok(FigureMode {
                 label: name.to_string(),
                 mode,
@@ -124,6 +122,7 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
         spp: options.spp,
         curvature: CurvatureChoice::Common,
         transpose: false,
+        geometry: Geometry::default(),
     };
     let figure = render_figure(&job)?;
     let mut images = Vec::with_capacity(figure.cells.len());

@@ -9,44 +9,174 @@ use crate::app::{parse_crease_angle, parse_weld_tolerance};
 use crate::error::{Error, Result};
 use crate::files::{check_distinct, check_writable, utf8_path};
 use crate::mesh::Mesh;
+use crate::render::modes::{DEFAULT_MODE, Flag, MODE_FLAGS, MODE_HELP};
 use crate::render::output::{OutputMeta, OutputOptions, prepare_outputs, write_outputs_with};
 use crate::render::stats::RenderStats;
 use crate::schemes;
 
-/// Render modes (`--mode`).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ModeArg {
-    /// Reflection lines of parallel light tubes.
-    Zebra,
-    /// View-independent highlight lines of parallel line lights.
-    Highlight,
-    /// Bands of constant n·L.
-    Isophote,
-    /// A curvature quantity through a colour map, with a legend.
-    Curvature,
-    /// The normal as a colour.
-    Normals,
-    /// One colour per face and piece.
-    Patches,
-    /// Plain grey lit from the eye.
-    Diffuse,
-    /// Path-traced clear coat in a studio.
-    Shaded,
+/// The values of `--mode`: every registered mode, with its help.
+pub fn mode_value_parser() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(
+        MODE_HELP
+            .iter()
+            .map(|(name, help)| clap::builder::PossibleValue::new(*name).help(clap_help(help))),
+    )
 }
 
-impl ModeArg {
-    /// The mode's name in scenes.
-    pub fn name(self) -> &'static str {
-        match self {
-            ModeArg::Zebra => "zebra",
-            ModeArg::Highlight => "highlight",
-            ModeArg::Isophote => "isophote",
-            ModeArg::Curvature => "curvature",
-            ModeArg::Normals => "normals",
-            ModeArg::Patches => "patches",
-            ModeArg::Diffuse => "diffuse",
-            ModeArg::Shaded => "shaded",
+/// A sentence of help as clap shows it: without its final full stop (as clap's derive does
+/// with doc comments).
+fn clap_help(text: &str) -> &str {
+    text.strip_suffix('.').unwrap_or(text)
+}
+
+/// Every registered mode's command-line flags, once each (a flag several modes declare, as
+/// `--no-stripe-filter`, is one flag), in registry order.
+fn mode_flags() -> Vec<&'static Flag> {
+    let mut flags: Vec<&'static Flag> = Vec::new();
+    for (_, declared) in MODE_FLAGS {
+        for flag in declared.iter() {
+            if !flags.iter().any(|f| f.long == flag.long) {
+                flags.push(flag);
+            }
         }
+    }
+    flags
+}
+
+/// The mode flags given on a command line (`--zebra-stripes 8`, `--no-legend`, …, from the
+/// modes' [`Flag`]s): each sets one key of its mode's scene section, over the scene.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModeFlags {
+    /// Flag name and value (None: a switch) of every flag given, in registry order.
+    pub given: Vec<(&'static str, Option<toml::Value>)>,
+}
+
+impl ModeFlags {
+    /// `--long VALUE` (the value as its parser gives it) or the switch `--long`, as if given.
+    pub fn with(mut self, long: &str, text: Option<&str>) -> Result<ModeFlags> {
+        let flag = mode_flags()
+            .into_iter()
+            .find(|f| f.long == long)
+            .ok_or_else(|| Error::Invalid(format!("no mode has the flag --{long}")))?;
+        let value = match (flag.value, text) {
+            (Some(parse), Some(text)) => {
+                Some(parse(text).map_err(|e| Error::Invalid(format!("--{long} {text}: {e}")))?)
+            }
+            (None, None) => None,
+            _ => {
+                return Err(Error::Invalid(format!(
+                    "--{long} {} a value",
+                    if flag.value.is_some() {
+                        "takes"
+                    } else {
+                        "takes no"
+                    }
+                )));
+            }
+        };
+        self.given.push((flag.long, value));
+        Ok(self)
+    }
+
+    /// Writes the flags into the scene's mode sections, each replacing the keys its flag
+    /// replaces. Two given flags that set the same thing are refused.
+    fn apply(&self, scene: &mut SceneFile) -> Result<()> {
+        let flags = mode_flags();
+        let spec = |long: &str| flags.iter().copied().find(|f| f.long == long);
+        for (long, _) in &self.given {
+            let Some(flag) = spec(long) else { continue };
+            if let Some(other) = flag
+                .conflicts
+                .iter()
+                .find(|c| self.given.iter().any(|(l, _)| l == *c))
+            {
+                let (a, b) = if flags.iter().position(|f| f.long == *long)
+                    < flags.iter().position(|f| f.long == *other)
+                {
+                    (*long, *other)
+                } else {
+                    (*other, *long)
+                };
+                return Err(Error::Invalid(format!(
+                    "--{a} and --{b} both given: they set the same parameter, give one, not both"
+                )));
+            }
+        }
+        for (long, value) in &self.given {
+            for (mode, declared) in MODE_FLAGS {
+                for flag in declared.iter().filter(|f| f.long == *long) {
+                    let section = scene.mode_section_mut(mode);
+                    for key in flag.replaces {
+                        section.remove(*key);
+                    }
+                    let value = value.clone().unwrap_or(toml::Value::Boolean(false));
+                    section.insert(flag.key.to_string(), value);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl clap::FromArgMatches for ModeFlags {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> std::result::Result<Self, clap::Error> {
+        let mut given = Vec::new();
+        for flag in mode_flags() {
+            if flag.value.is_none() {
+                if matches.get_flag(flag.long) {
+                    given.push((flag.long, None));
+                }
+            } else if let Some(v) = matches.get_one::<toml::Value>(flag.long) {
+                given.push((flag.long, Some(v.clone())));
+            }
+        }
+        Ok(ModeFlags { given })
+    }
+
+    fn update_from_arg_matches(
+        &mut self,
+        matches: &clap::ArgMatches,
+    ) -> std::result::Result<(), clap::Error> {
+        *self = ModeFlags::from_arg_matches(matches)?;
+        Ok(())
+    }
+}
+
+impl clap::Args for ModeFlags {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        let mut cmd = cmd;
+        for flag in mode_flags() {
+            let mut arg = clap::Arg::new(flag.long)
+                .long(flag.long)
+                .help(clap_help(flag.help));
+            arg = match flag.value {
+                None => arg.action(clap::ArgAction::SetTrue),
+                Some(_) if !flag.choices.is_empty() => {
+                    let choices =
+                        clap::builder::PossibleValuesParser::new(flag.choices.iter().map(
+                            |(name, help)| clap::builder::PossibleValue::new(*name).help(*help),
+                        ));
+                    arg.action(clap::ArgAction::Set).value_parser(
+                        clap::builder::TypedValueParser::map(choices, toml::Value::String),
+                    )
+                }
+                Some(parse) => arg
+                    .action(clap::ArgAction::Set)
+                    .value_parser(clap::builder::ValueParser::new(parse)),
+            };
+            if !flag.value_name.is_empty() {
+                arg = arg.value_name(flag.value_name);
+            }
+            if flag.hyphen_values {
+                arg = arg.allow_hyphen_values(true);
+            }
+            cmd = cmd.arg(arg);
+        }
+        cmd
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        ModeFlags::augment_args(cmd)
     }
 }
 
@@ -103,45 +233,6 @@ impl ExrCompressionArg {
     }
 }
 
-/// Curvature quantities (`--curvature-quantity`).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum QuantityArg {
-    /// K = κ1 κ2.
-    Gaussian,
-    /// H = (κ1 + κ2) / 2.
-    Mean,
-    /// max(|κ1|, |κ2|).
-    Maxabs,
-    /// The larger principal curvature.
-    K1,
-    /// The smaller principal curvature.
-    K2,
-}
-
-/// Curvature colour maps (`--curvature-map`).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MapArg {
-    /// ColorBrewer RdBu over [−r, r], zero white.
-    Diverging,
-    /// viridis over [−r, r] ([0, r] for maxabs).
-    Sequential,
-}
-
-/// Curvature sign conventions (`--curvature-sign`).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SignArg {
-    /// Positive where convex seen from the side the normal points to (outward normals).
-    Convex,
-    /// II/I with respect to the patch normal (convex is negative with outward normals).
-    Normal,
-}
-
-/// The name of a clap value as written on the command line.
-fn value_name(v: impl clap::ValueEnum) -> String {
-    v.to_possible_value()
-        .map_or_else(String::new, |p| p.get_name().to_string())
-}
-
 /// `smoothlab render SCENE.toml | MESH.obj [options]` — every option overrides the scene.
 #[derive(clap::Args, Clone, Debug, Default)]
 pub struct RenderArgs {
@@ -155,8 +246,8 @@ pub struct RenderArgs {
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub params: Vec<String>,
     /// Shading mode [default: the scene's, else zebra].
-    #[arg(long, value_enum)]
-    pub mode: Option<ModeArg>,
+    #[arg(long, value_parser = mode_value_parser())]
+    pub mode: Option<String>,
     /// Eye position `X,Y,Z`.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<[f64; 3]>,
@@ -231,52 +322,10 @@ pub struct RenderArgs {
     /// EXR compression [default: rle] (scene: `render.exr_compression`).
     #[arg(long, value_enum)]
     pub exr_compression: Option<ExrCompressionArg>,
-    /// Zebra light-tube axis: `view` (stripes vertical on screen, poles only on the
-    /// silhouette), `view-horizontal`, or a world direction `X,Y,Z` [default: view].
-    #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
-    pub zebra_axis: Option<String>,
-    /// Zebra bright stripes per full turn of the reflected direction [default: 16].
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub zebra_stripes: Option<f64>,
-    /// Zebra stripe period: thin (11.25°), medium (22.5°), thick (45°) or degrees.
-    #[arg(long, value_name = "WIDTH")]
-    pub zebra_width: Option<String>,
-    /// Bright fraction of a zebra period, 0..1 [default: 0.5].
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
-    pub zebra_duty: Option<f64>,
-    /// Linear RGB of the bright zebra stripes `R,G,B` [default: 0.9,0.9,0.9].
-    #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
-    pub zebra_bright: Option<[f64; 3]>,
-    /// Linear RGB of the dark zebra stripes `R,G,B` [default: 0.015,0.015,0.015].
-    #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
-    pub zebra_dark: Option<[f64; 3]>,
-    /// Point-sample the zebra, highlight and isophote stripes instead of box-filtering them
-    /// over each pixel's footprint.
-    #[arg(long)]
-    pub no_stripe_filter: bool,
-    /// Highlight lights per scene diagonal [default: 4].
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub highlight_lines: Option<f64>,
-    /// An isophote every DEG degrees between normal and light [default: 16 bands of equal
-    /// n·L].
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
-    pub isophote_step: Option<f64>,
-    /// Curvature quantity [default: mean].
-    #[arg(long, value_enum)]
-    pub curvature_quantity: Option<QuantityArg>,
-    /// Curvature colour map [default: diverging; sequential for maxabs].
-    #[arg(long, value_enum)]
-    pub curvature_map: Option<MapArg>,
-    /// Sign convention of mean, κ1 and κ2 [default: convex].
-    #[arg(long, value_enum)]
-    pub curvature_sign: Option<SignArg>,
-    /// Curvature half-range: `auto` (95th percentile of |value| in view) or a number
-    /// [default: auto].
-    #[arg(long, value_name = "auto|R", allow_hyphen_values = true)]
-    pub curvature_range: Option<String>,
-    /// No curvature legend (scene: `curvature.legend = false`).
-    #[arg(long)]
-    pub no_legend: bool,
+    /// The modes' own flags (`--zebra-stripes`, `--curvature-range`, …; see each mode's
+    /// [`crate::render::modes::ModeKind::FLAGS`]).
+    #[command(flatten)]
+    pub mode_flags: ModeFlags,
     /// The command line as typed, recorded in the PNG and EXR (set by the binary).
     #[arg(skip)]
     pub command_line: Option<String>,
@@ -391,8 +440,8 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
         scene.scheme.params.insert(name, toml::Value::String(value));
     }
     let r = &mut scene.render;
-    if let Some(m) = args.mode {
-        r.mode = Some(m.name().to_string());
+    if let Some(m) = &args.mode {
+        r.mode = Some(m.clone());
     }
     if args.size.is_some() {
         r.size = args.size;
@@ -427,7 +476,7 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     if args.sweep.is_some() {
         r.sweep = args.sweep;
     }
-    apply_mode_options(args, &mut scene)?;
+    args.mode_flags.apply(&mut scene)?;
     let c = &mut scene.camera;
     if args.eye.is_some() {
         c.eye = args.eye;
@@ -445,76 +494,6 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
         c.ortho = Some(true);
     }
     Ok(scene)
-}
-
-/// The zebra, highlight, isophote and curvature options of `args` written into the scene's
-/// sections (validated with the scene). Either of `--zebra-stripes` and `--zebra-width`
-/// replaces the scene's choice of the other; both on one command line are refused.
-fn apply_mode_options(args: &RenderArgs, scene: &mut SceneFile) -> Result<()> {
-    if args.zebra_stripes.is_some() && args.zebra_width.is_some() {
-        return Err(Error::Invalid(
-            "--zebra-stripes and --zebra-width both given: they set the same period, give one, \
-             not both"
-                .into(),
-        ));
-    }
-    let z = &mut scene.zebra;
-    if let Some(axis) = &args.zebra_axis {
-        z.axis = Some(match parse_vec3(axis) {
-            Ok(v) => toml::Value::Array(v.iter().map(|x| toml::Value::Float(*x)).collect()),
-            // A view axis by name, or anything else for the scene's check to name.
-            Err(_) => toml::Value::String(axis.trim().to_string()),
-        });
-    }
-    if args.zebra_stripes.is_some() {
-        z.stripes = args.zebra_stripes;
-        z.width = None;
-    }
-    if let Some(w) = &args.zebra_width {
-        z.width = Some(toml::Value::String(w.clone()));
-        z.stripes = None;
-    }
-    if args.zebra_duty.is_some() {
-        z.duty = args.zebra_duty;
-    }
-    if args.zebra_bright.is_some() {
-        z.bright = args.zebra_bright;
-    }
-    if args.zebra_dark.is_some() {
-        z.dark = args.zebra_dark;
-    }
-    if args.no_stripe_filter {
-        z.filter = Some(false);
-        scene.highlight.filter = Some(false);
-        scene.isophote.filter = Some(false);
-    }
-    if args.highlight_lines.is_some() {
-        scene.highlight.lines = args.highlight_lines;
-        scene.highlight.spacing = None;
-    }
-    if args.isophote_step.is_some() {
-        scene.isophote.step_deg = args.isophote_step;
-    }
-    let c = &mut scene.curvature;
-    if let Some(q) = args.curvature_quantity {
-        c.quantity = Some(value_name(q));
-    }
-    if let Some(m) = args.curvature_map {
-        c.map = Some(value_name(m));
-    }
-    if let Some(s) = args.curvature_sign {
-        c.sign = Some(value_name(s));
-    }
-    if let Some(r) = &args.curvature_range {
-        c.range = Some(match r.trim().parse::<f64>() {
-            Ok(x) => toml::Value::Float(x),
-            Err(_) => toml::Value::String(r.trim().to_string()),
-        });
-    }
-    if args.no_legend {
-        c.legend = Some(false);
-    }
-    Ok(())
 }
 
 /// Runs `smoothlab render`: checks the output paths, loads the mesh, builds the scheme,
@@ -548,7 +527,7 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     let name = match scene.render.output.clone() {
         Some(name) => name,
         None => {
-            let mode = scene.render.mode.as_deref().unwrap_or("zebra");
+            let mode = scene.render.mode.as_deref().unwrap_or(DEFAULT_MODE);
             let stem = mesh_path.file_stem().map_or(Path::new("render"), Path::new);
             let mesh = utf8_path(stem).map_err(|e| {
                 Error::Invalid(format!(
@@ -588,26 +567,21 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     }
     written.extend(part.as_deref().map(|p| ("the shard's part file", p)));
     written.extend(args.stats.as_deref().map(|p| ("--stats", p)));
-    let environment = scene
-        .shaded
-        .environment
-        .as_deref()
-        .filter(|e| *e != "studio")
-        .map(Path::new);
+    let mode_files = scene.mode_files();
     let mut read: Vec<(&str, &Path)> = vec![("the mesh", &mesh_path)];
     if is_scene_file(&args.input) {
         read.push(("the scene file", &args.input));
     }
-    read.extend(environment.map(|e| ("the environment map", e)));
+    read.extend(
+        mode_files
+            .iter()
+            .map(|(what, file)| (*what, file.as_path())),
+    );
     check_distinct(&read, &written)?;
     let (mesh, mut report) = Mesh::load_with(&mesh_path, &load_options)?;
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
     report.warnings.extend(surface.warnings.iter().cloned());
-    // The back of an open surface shows: tint it in the quality modes.
-    let mut job = job;
-    if !mesh.is_closed() {
-        job.settings.mode = job.settings.mode.with_back_faces_tinted();
-    }
+    let job = job.for_mesh(&mesh);
     let stats = match (animation, frames) {
         (Some(animation), Some((pngs, gif))) => match (args.shard, &part) {
             (Some(shard), Some(part)) => turntable::render_animation_shard(
@@ -682,7 +656,7 @@ mod tests {
     fn options_override_the_scene() {
         let args = RenderArgs {
             input: PathBuf::from("bunny.obj"),
-            mode: Some(ModeArg::Isophote),
+            mode: Some("isophote".into()),
             size: Some([32, 16]),
             params: vec!["normals=obj".into()],
             ortho: true,
@@ -715,6 +689,32 @@ mod tests {
             .and_then(|s| s.animation())
             .expect_err("isophote");
         assert!(err.to_string().contains("isophote"), "{err}");
+        // Mode flags land in their modes' sections; a switch several modes declare sets
+        // each; a flag replaces the key it stands for.
+        let flags = ModeFlags::default()
+            .with("zebra-stripes", Some("8"))
+            .and_then(|f| f.with("no-stripe-filter", None))
+            .expect("flags");
+        let mut flagged = SceneFile::parse("[zebra]\nwidth = \"thin\"").expect("scene");
+        flags.apply(&mut flagged).expect("applied");
+        let zebra = flagged.mode_section("zebra");
+        assert_eq!(zebra.get("stripes"), Some(&toml::Value::Float(8.0)));
+        assert!(!zebra.contains_key("width"));
+        for mode in ["zebra", "highlight", "isophote"] {
+            let section = flagged.mode_section(mode);
+            assert_eq!(
+                section.get("filter"),
+                Some(&toml::Value::Boolean(false)),
+                "{mode}"
+            );
+        }
+        assert!(flagged.mode_section("curvature").is_empty());
+        let both = flags.with("zebra-width", Some("thin")).expect("flags");
+        let err = both
+            .apply(&mut SceneFile::default())
+            .expect_err("one period")
+            .to_string();
+        assert!(err.contains("--zebra-stripes and --zebra-width"), "{err}");
         let welded = scene_of(&RenderArgs {
             weld_tolerance: Some(0.0),
             ..args.clone()

@@ -52,6 +52,7 @@
 //! sign = "convex"             # convex: > 0 where convex (outward normal); normal: II/I
 //! ```
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
@@ -64,24 +65,22 @@ use crate::mesh::{LoadOptions, check_crease_angle, check_weld_tolerance};
 use crate::render::bvh::SubdivisionCriterion;
 use crate::render::curves::CurveOverlay;
 use crate::render::film::RenderSettings;
-use crate::render::job::{CameraSpec, DEFAULT_FOV, DEFAULT_MAX_LEAVES, Geometry, RenderJob};
-use crate::render::modes::{
-    CurvatureMap, CurvatureParams, CurvatureQuantity, CurvatureRange, CurvatureSign,
-    HighlightParams, IsophoteParams, Mode, Overlay, ZebraAxis, ZebraParams,
+use crate::render::job::{
+    CameraSpec, DEFAULT_FOV, DEFAULT_MAX_LEAVES, Geometry, MAX_SIDE, RenderJob, check_size,
+    check_spp,
 };
+use crate::render::modes::keys::direction;
+use crate::render::modes::{DEFAULT_MODE, Key, MODE_KEYS, MODE_NAMES, Mode, Overlay};
 use crate::render::output::ExrCompression;
-use crate::render::shaded::{Environment, LatLongMap, ShadedParams};
 
-/// Default image size.
-pub const DEFAULT_SIZE: [u32; 2] = [640, 480];
-/// Default samples per pixel.
-pub const DEFAULT_SPP: u32 = 4;
-/// The most samples per pixel a render takes (`render.spp`, `--spp`).
-pub const MAX_SPP: u32 = 65536;
+pub use crate::render::job::{DEFAULT_SIZE, DEFAULT_SPP, MAX_SPP};
 
 /// A scene file as written (every key optional).
+///
+/// Beside the sections below, a scene has one section per render mode (`[zebra]`,
+/// `[curvature]`, …, [`crate::render::modes::MODE_NAMES`]): its keys are the mode's own, read
+/// and checked by the mode. Any other key is refused, naming the known ones.
 #[derive(Clone, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct SceneFile {
     /// Mesh file (OBJ, PLY, OFF or STL), relative to the scene file.
     pub mesh: Option<PathBuf>,
@@ -105,22 +104,23 @@ pub struct SceneFile {
     /// BVH subdivision criterion.
     #[serde(default)]
     pub bvh: BvhSection,
-    /// Zebra parameters.
-    #[serde(default)]
-    pub zebra: ZebraSection,
-    /// Highlight-line parameters.
-    #[serde(default)]
-    pub highlight: HighlightSection,
-    /// Isophote parameters.
-    #[serde(default)]
-    pub isophote: IsophoteSection,
-    /// Curvature parameters.
-    #[serde(default)]
-    pub curvature: CurvatureSection,
-    /// Path-tracer parameters.
-    #[serde(default)]
-    pub shaded: ShadedSection,
+    /// The modes' sections by mode name, as written (checked by [`SceneFile::parse`] and
+    /// [`SceneFile::load`]: only mode names, each a table).
+    #[serde(flatten)]
+    pub modes: BTreeMap<String, toml::Value>,
 }
+
+/// The top-level keys of a scene file other than the modes' sections.
+const TOP_KEYS: &[&str] = &[
+    "mesh",
+    "weld_tolerance",
+    "crease_angle",
+    "strict",
+    "scheme",
+    "camera",
+    "render",
+    "bvh",
+];
 
 /// `[scheme]`
 #[derive(Clone, Debug, Default, Deserialize)]
@@ -215,6 +215,47 @@ pub struct BvhSection {
     pub max_leaves: Option<u64>,
 }
 
+impl BvhSection {
+    /// The subdivision criterion (defaults where unset).
+    pub fn criterion(&self) -> Result<SubdivisionCriterion> {
+        let mut c = SubdivisionCriterion::default();
+        if let Some(f) = self.flatness {
+            c.flatness = in_range("bvh.flatness", f, FLATNESS_RANGE)?;
+        }
+        if let Some(a) = self.cone_deg {
+            c.max_cone_deg = in_range("bvh.cone_deg", a, CONE_DEG_RANGE)?;
+        }
+        if let Some(d) = self.max_depth {
+            if d > MAX_DEPTH_LIMIT {
+                return Err(Error::Invalid(format!(
+                    "bvh.max_depth = {d} must be in 0..={MAX_DEPTH_LIMIT}"
+                )));
+            }
+            c.max_depth = d;
+        }
+        Ok(c)
+    }
+
+    /// The largest number of BVH leaves `max_leaves` allows (at least 1).
+    pub fn max_leaves(&self) -> Result<u64> {
+        match self.max_leaves {
+            Some(0) => Err(Error::Invalid(
+                "bvh.max_leaves = 0 must be at least 1".to_string(),
+            )),
+            Some(n) => Ok(n),
+            None => Ok(DEFAULT_MAX_LEAVES),
+        }
+    }
+
+    /// The exact geometry these settings describe.
+    pub fn geometry(&self) -> Result<Geometry> {
+        Ok(Geometry::Exact {
+            criterion: self.criterion()?,
+            max_leaves: self.max_leaves()?,
+        })
+    }
+}
+
 /// Allowed range of `bvh.flatness`.
 pub const FLATNESS_RANGE: (f64, f64) = (1e-4, 1.0);
 /// Allowed range of `bvh.cone_deg`.
@@ -222,110 +263,14 @@ pub const CONE_DEG_RANGE: (f64, f64) = (1.0, 90.0);
 /// Largest `bvh.max_depth` (a piece then covers 4^-16 of its patch).
 pub const MAX_DEPTH_LIMIT: u32 = 16;
 
-/// `[zebra]`
-#[derive(Clone, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ZebraSection {
-    /// Direction of the light tubes: `"view"`, `"view-horizontal"` or `[x, y, z]`.
-    pub axis: Option<toml::Value>,
-    /// Bright stripes per full turn.
-    pub stripes: Option<f64>,
-    /// Period of the stripes: `"thin"`, `"medium"`, `"thick"` or degrees.
-    pub width: Option<toml::Value>,
-    /// Bright fraction of a period.
-    pub duty: Option<f64>,
-    /// Linear RGB of the bright stripes.
-    #[serde(default, deserialize_with = "exact")]
-    pub bright: Option<[f64; 3]>,
-    /// Linear RGB of the dark stripes.
-    #[serde(default, deserialize_with = "exact")]
-    pub dark: Option<[f64; 3]>,
-    /// Box-filter the stripes over the pixel footprint.
-    pub filter: Option<bool>,
-}
-
-/// `[highlight]`
-#[derive(Clone, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct HighlightSection {
-    /// A point of the light plane.
-    #[serde(default, deserialize_with = "exact")]
-    pub origin: Option<[f64; 3]>,
-    /// Light plane normal.
-    #[serde(default, deserialize_with = "exact")]
-    pub plane_normal: Option<[f64; 3]>,
-    /// Direction of the line lights.
-    #[serde(default, deserialize_with = "exact")]
-    pub direction: Option<[f64; 3]>,
-    /// Distance between lights.
-    pub spacing: Option<f64>,
-    /// Lights per scene diagonal (instead of `spacing`).
-    pub lines: Option<f64>,
-    /// Bright fraction of a period.
-    pub duty: Option<f64>,
-    /// Box-filter the stripes over the pixel footprint.
-    pub filter: Option<bool>,
-}
-
-/// `[isophote]`
-#[derive(Clone, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct IsophoteSection {
-    /// Direction towards the light.
-    #[serde(default, deserialize_with = "exact")]
-    pub light: Option<[f64; 3]>,
-    /// Number of bands.
-    pub bands: Option<u32>,
-    /// Angle between neighbouring isophotes in degrees (instead of `bands`).
-    pub step_deg: Option<f64>,
-    /// Box-filter the bands over the pixel footprint.
-    pub filter: Option<bool>,
-}
-
-/// `[curvature]`
-#[derive(Clone, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CurvatureSection {
-    /// gaussian, mean, maxabs, k1, k2.
-    pub quantity: Option<String>,
-    /// "auto" or a fixed half-range.
-    pub range: Option<toml::Value>,
-    /// Percentile of |value| for the automatic range.
-    pub percentile: Option<f64>,
-    /// Draw a colour bar.
-    pub legend: Option<bool>,
-    /// Colour map: diverging or sequential.
-    pub map: Option<String>,
-    /// Sign convention: convex or normal.
-    pub sign: Option<String>,
-}
-
-/// `[shaded]`
-#[derive(Clone, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ShadedSection {
-    /// Base albedo (linear RGB).
-    #[serde(default, deserialize_with = "exact")]
-    pub base_colour: Option<[f64; 3]>,
-    /// Clear-coat gloss cone half-angle, degrees.
-    pub coat_roughness_deg: Option<f64>,
-    /// Longest path.
-    pub bounces: Option<u32>,
-    /// "studio" or the path of a lat-long EXR.
-    pub environment: Option<String>,
-    /// Next-event estimation with MIS (true, default) or BRDF sampling only.
-    pub light_sampling: Option<bool>,
-    /// First bounce after which Russian roulette may end a path.
-    pub rr_depth: Option<u32>,
-}
-
-/// The `environment` value of a file in folder `dir`: `studio` as it is, a relative map path
-/// made relative to `dir` (as every path of scene files and figure specs is).
-pub fn environment_beside(env: &str, dir: &Path) -> String {
-    if env == "studio" || Path::new(env).is_absolute() {
-        return env.to_string();
+/// The value `value` of mode key `key` written in a file in folder `dir`: a relative file
+/// name made relative to `dir` (as every path of scene files and figure specs is); built-in
+/// names, absolute paths and keys naming no file as they are.
+pub fn file_beside(key: &Key, value: &str, dir: &Path) -> String {
+    if !key.names_file(value) || Path::new(value).is_absolute() {
+        return value.to_string();
     }
-    dir.join(env).to_string_lossy().into_owned()
+    dir.join(value).to_string_lossy().into_owned()
 }
 
 impl SceneFile {
@@ -357,15 +302,104 @@ impl SceneFile {
         {
             scene.render.output = Some(dir.join(output));
         }
-        if let Some(env) = &scene.shaded.environment {
-            scene.shaded.environment = Some(environment_beside(env, dir));
-        }
+        scene.check_sections().map_err(|e| {
+            if toml_input::has_top_level_key(&text, &["schemes", "modes"]) {
+                Error::Invalid(format!(
+                    "{}: this is a figure spec ([[schemes]], [[modes]]), not a scene file: \
+                     run `smoothlab figure {}`",
+                    path.display(),
+                    path.display()
+                ))
+            } else {
+                Error::Invalid(format!("{}: {e}", path.display()))
+            }
+        })?;
+        scene.files_beside(dir);
         Ok(scene)
     }
 
     /// Parses scene text (errors are one line, see [`toml_input::one_line`]).
     pub fn parse(text: &str) -> Result<SceneFile> {
-        toml_input::parse(text, "scene file")
+        let scene: SceneFile = toml_input::parse(text, "scene file")?;
+        scene.check_sections()?;
+        Ok(scene)
+    }
+
+    /// Refuses a top-level key that is neither a section of its own nor a mode's section
+    /// (a table named after a registered mode).
+    fn check_sections(&self) -> Result<()> {
+        for (name, value) in &self.modes {
+            if !MODE_NAMES.contains(&name.as_str()) {
+                let known: Vec<String> = TOP_KEYS
+                    .iter()
+                    .chain(MODE_NAMES)
+                    .map(|k| format!("`{k}`"))
+                    .collect();
+                return Err(Error::Invalid(format!(
+                    "unknown field `{name}`, expected one of {}",
+                    known.join(", ")
+                )));
+            }
+            if !value.is_table() {
+                return Err(Error::Invalid(format!(
+                    "{name} = {value} is not a section [{name}]"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Every mode key that names a file made relative to `dir` ([`file_beside`]).
+    fn files_beside(&mut self, dir: &Path) {
+        for (name, keys) in MODE_KEYS {
+            let Some(toml::Value::Table(section)) = self.modes.get_mut(*name) else {
+                continue;
+            };
+            for key in keys.iter() {
+                if let Some(toml::Value::String(file)) = section.get_mut(key.name) {
+                    *file = file_beside(key, file, dir);
+                }
+            }
+        }
+    }
+
+    /// The section of mode `name` as written (empty when the scene has none).
+    pub fn mode_section(&self, name: &str) -> toml::Table {
+        match self.modes.get(name) {
+            Some(toml::Value::Table(t)) => t.clone(),
+            _ => toml::Table::new(),
+        }
+    }
+
+    /// The section of mode `name`, made when missing, to write keys into.
+    pub fn mode_section_mut(&mut self, name: &str) -> &mut toml::Table {
+        let value = self
+            .modes
+            .entry(name.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        if !value.is_table() {
+            *value = toml::Value::Table(toml::Table::new());
+        }
+        match value {
+            toml::Value::Table(t) => t,
+            _ => unreachable!("made a table above"),
+        }
+    }
+
+    /// The files the scene's mode keys name (lat-long maps), each with what it is.
+    pub fn mode_files(&self) -> Vec<(&'static str, PathBuf)> {
+        let mut files = Vec::new();
+        for (name, keys) in MODE_KEYS {
+            let section = self.mode_section(name);
+            for key in keys.iter() {
+                if let Some(toml::Value::String(file)) = section.get(key.name)
+                    && key.names_file(file)
+                {
+                    files.push((key.what, PathBuf::from(file)));
+                }
+            }
+        }
+        files
     }
 
     /// How the mesh is loaded (defaults where unset).
@@ -406,17 +440,9 @@ impl SceneFile {
     pub fn job(&self) -> Result<RenderJob> {
         let r = &self.render;
         let [width, height] = r.size.unwrap_or(DEFAULT_SIZE);
-        if width == 0 || height == 0 || width > 16384 || height > 16384 {
-            return Err(Error::Invalid(format!(
-                "render.size {width}x{height} must be between 1 and 16384 per side"
-            )));
-        }
+        check_size("render.size", width, height, MAX_SIDE)?;
         let spp = r.spp.unwrap_or(DEFAULT_SPP);
-        if spp == 0 || spp > MAX_SPP {
-            return Err(Error::Invalid(format!(
-                "render.spp {spp} must be in 1..={MAX_SPP}"
-            )));
-        }
+        check_spp("render.spp", spp, MAX_SPP)?;
         let mut settings = RenderSettings {
             width,
             height,
@@ -495,10 +521,10 @@ impl SceneFile {
             ))),
             (None, Some(n)) => {
                 let frames = Animation::check_frames("render.sweep (--sweep)", n)?;
-                let mode = r.mode.as_deref().unwrap_or("zebra");
-                if mode != "zebra" {
+                let mode = r.mode.as_deref().unwrap_or(DEFAULT_MODE);
+                if !Mode::by_name(mode)?.sweeps() {
                     return Err(Error::Invalid(format!(
-                        "render.sweep (--sweep) moves zebra stripes; mode '{mode}' has none"
+                        "render.sweep (--sweep) moves a mode's stripes; mode '{mode}' has none"
                     )));
                 }
                 Ok(Some(Animation::Sweep { frames }))
@@ -509,33 +535,12 @@ impl SceneFile {
 
     /// The subdivision criterion (defaults where unset).
     pub fn criterion(&self) -> Result<SubdivisionCriterion> {
-        let mut c = SubdivisionCriterion::default();
-        if let Some(f) = self.bvh.flatness {
-            c.flatness = in_range("bvh.flatness", f, FLATNESS_RANGE)?;
-        }
-        if let Some(a) = self.bvh.cone_deg {
-            c.max_cone_deg = in_range("bvh.cone_deg", a, CONE_DEG_RANGE)?;
-        }
-        if let Some(d) = self.bvh.max_depth {
-            if d > MAX_DEPTH_LIMIT {
-                return Err(Error::Invalid(format!(
-                    "bvh.max_depth = {d} must be in 0..={MAX_DEPTH_LIMIT}"
-                )));
-            }
-            c.max_depth = d;
-        }
-        Ok(c)
+        self.bvh.criterion()
     }
 
     /// The largest number of BVH leaves `bvh.max_leaves` allows (at least 1).
     pub fn max_leaves(&self) -> Result<u64> {
-        match self.bvh.max_leaves {
-            Some(0) => Err(Error::Invalid(
-                "bvh.max_leaves = 0 must be at least 1".to_string(),
-            )),
-            Some(n) => Ok(n),
-            None => Ok(DEFAULT_MAX_LEAVES),
-        }
+        self.bvh.max_leaves()
     }
 
     /// The boundary overlay.
@@ -578,238 +583,16 @@ impl SceneFile {
         Ok(c)
     }
 
-    /// The mode with its section's parameters.
+    /// The mode with its section's parameters, read and checked by the mode.
     pub fn mode(&self) -> Result<Mode> {
-        let name = self.render.mode.as_deref().unwrap_or("zebra");
-        let mut mode = Mode::by_name(name)?;
-        match &mut mode {
-            Mode::Zebra(p) => self.zebra_into(p)?,
-            Mode::Highlight(p) => self.highlight_into(p)?,
-            Mode::Isophote(p) => self.isophote_into(p)?,
-            Mode::Curvature(p) => self.curvature_into(p)?,
-            Mode::Shaded(p) => self.shaded_into(p)?,
-            Mode::Normals | Mode::Patches | Mode::Diffuse => {}
-        }
-        Ok(mode)
-    }
-
-    fn zebra_into(&self, p: &mut ZebraParams) -> Result<()> {
-        let z = &self.zebra;
-        match &z.axis {
-            None => {}
-            Some(toml::Value::String(name)) if ZebraAxis::VIEW_NAMES.contains(&name.as_str()) => {
-                p.axis = ZebraAxis::parse(name)?;
-            }
-            Some(toml::Value::Array(items)) if items.len() == 3 => {
-                let mut a = [0.0; 3];
-                for (slot, item) in a.iter_mut().zip(items) {
-                    *slot = match item {
-                        toml::Value::Float(x) => *x,
-                        toml::Value::Integer(x) => *x as f64,
-                        other => {
-                            return Err(Error::Invalid(format!(
-                                "zebra.axis element {other} is not a number"
-                            )));
-                        }
-                    };
-                }
-                p.axis = ZebraAxis::World(direction("zebra.axis", a)?);
-            }
-            Some(other) => {
-                return Err(Error::Invalid(format!(
-                    "zebra.axis = {other} is neither \"view\", \"view-horizontal\" nor [x, y, z]"
-                )));
-            }
-        }
-        if z.stripes.is_some() && z.width.is_some() {
-            return Err(Error::Invalid(
-                "zebra.stripes and zebra.width both set: give one".into(),
-            ));
-        }
-        if let Some(s) = z.stripes {
-            p.stripes = positive("zebra.stripes", s)?;
-        }
-        if let Some(w) = &z.width {
-            let text = match w {
-                toml::Value::String(s) => s.clone(),
-                other => other.to_string(),
-            };
-            p.stripes = 360.0 / zebra_width_deg(&text)?;
-        }
-        if let Some(d) = z.duty {
-            p.duty = fraction("zebra.duty", d)?;
-        }
-        if let Some(c) = z.bright {
-            p.bright = colour("zebra.bright", c)?;
-        }
-        if let Some(c) = z.dark {
-            p.dark = colour("zebra.dark", c)?;
-        }
-        if let Some(f) = z.filter {
-            p.filter = f;
-        }
-        Ok(())
-    }
-
-    fn highlight_into(&self, p: &mut HighlightParams) -> Result<()> {
-        let h = &self.highlight;
-        if let Some(o) = h.origin {
-            p.origin = Some(finite_point("highlight.origin", o)?);
-        }
-        if let Some(n) = h.plane_normal {
-            p.plane_normal = direction("highlight.plane_normal", n)?;
-        }
-        if let Some(d) = h.direction {
-            p.direction = direction("highlight.direction", d)?;
-        }
-        if h.spacing.is_some() && h.lines.is_some() {
-            return Err(Error::Invalid(
-                "highlight.spacing and highlight.lines both set: give one".into(),
-            ));
-        }
-        if let Some(s) = h.spacing {
-            p.spacing = Some(positive("highlight.spacing", s)?);
-        }
-        if let Some(n) = h.lines {
-            p.lines = positive("highlight.lines", n)?;
-        }
-        if let Some(f) = h.filter {
-            p.filter = f;
-        }
-        if let Some(d) = h.duty {
-            p.duty = fraction("highlight.duty", d)?;
-        }
-        if p.plane_normal.cross(p.direction).length() < 1e-9 {
-            return Err(Error::Invalid(
-                "highlight.direction must not be parallel to highlight.plane_normal".into(),
-            ));
-        }
-        Ok(())
-    }
-
-    fn isophote_into(&self, p: &mut IsophoteParams) -> Result<()> {
-        if let Some(l) = self.isophote.light {
-            p.light = direction("isophote.light", l)?;
-        }
-        if let Some(b) = self.isophote.bands {
-            if b == 0 {
-                return Err(Error::Invalid("isophote.bands must be at least 1".into()));
-            }
-            p.bands = b;
-        }
-        if let Some(step) = self.isophote.step_deg {
-            if !(step > 0.0 && step <= 90.0) {
-                return Err(Error::Invalid(format!(
-                    "isophote.step_deg = {step} must be in (0, 90]"
-                )));
-            }
-            p.step_deg = Some(step);
-        }
-        if let Some(f) = self.isophote.filter {
-            p.filter = f;
-        }
-        Ok(())
-    }
-
-    fn curvature_into(&self, p: &mut CurvatureParams) -> Result<()> {
-        let c = &self.curvature;
-        if let Some(q) = &c.quantity {
-            p.quantity = CurvatureQuantity::by_name(q)?;
-        }
-        let percentile = match c.percentile {
-            Some(x) if (0.0..=100.0).contains(&x) => x,
-            Some(x) => {
-                return Err(Error::Invalid(format!(
-                    "curvature.percentile {x} is not in [0, 100]"
-                )));
-            }
-            None => 95.0,
-        };
-        p.range = match &c.range {
-            None => CurvatureRange::Auto { percentile },
-            Some(toml::Value::String(s)) if s == "auto" => CurvatureRange::Auto { percentile },
-            Some(toml::Value::Float(x)) => CurvatureRange::Fixed(positive("curvature.range", *x)?),
-            Some(toml::Value::Integer(x)) => {
-                CurvatureRange::Fixed(positive("curvature.range", *x as f64)?)
-            }
-            Some(other) => {
-                return Err(Error::Invalid(format!(
-                    "curvature.range {other} is neither \"auto\" nor a number"
-                )));
-            }
-        };
-        if let Some(l) = c.legend {
-            p.legend = l;
-        }
-        if let Some(m) = &c.map {
-            p.map = Some(
-                CurvatureMap::by_name(m)
-                    .map_err(|e| Error::Invalid(format!("curvature.map: {e}")))?,
-            );
-        }
-        if let Some(sign) = &c.sign {
-            p.sign = CurvatureSign::by_name(sign)
-                .map_err(|e| Error::Invalid(format!("curvature.sign: {e}")))?;
-        }
-        Ok(())
-    }
-
-    fn shaded_into(&self, p: &mut ShadedParams) -> Result<()> {
-        let s = &self.shaded;
-        if let Some(c) = s.base_colour {
-            if c.iter().any(|x| !(0.0..=1.0).contains(x)) {
-                return Err(Error::Invalid(format!(
-                    "shaded.base_colour {c:?} must lie in [0, 1]"
-                )));
-            }
-            p.base_colour = DVec3::from_array(c);
-        }
-        if let Some(r) = s.coat_roughness_deg {
-            p.coat_roughness = positive("shaded.coat_roughness_deg", r)?.to_radians();
-        }
-        if let Some(b) = s.bounces {
-            p.max_bounces = b.max(1);
-        }
-        if let Some(l) = s.light_sampling {
-            p.light_sampling = l;
-        }
-        if let Some(d) = s.rr_depth {
-            p.rr_depth = d;
-        }
-        if let Some(env) = &s.environment
-            && env != "studio"
-        {
-            p.environment =
-                Environment::Map(std::sync::Arc::new(LatLongMap::load(Path::new(env))?));
-        }
-        Ok(())
+        let name = self.render.mode.as_deref().unwrap_or(DEFAULT_MODE);
+        Mode::configured(name, &self.mode_section(name))
     }
 }
 
-/// The period in degrees of a zebra width: `thin` (11.25°), `medium` (22.5°), `thick` (45°)
-/// or a number of degrees in (0, 360].
-pub fn zebra_width_deg(text: &str) -> Result<f64> {
-    match text.trim() {
-        "thin" => Ok(11.25),
-        "medium" => Ok(22.5),
-        "thick" => Ok(45.0),
-        other => match other.parse::<f64>() {
-            Ok(x) if x > 0.0 && x <= 360.0 => Ok(x),
-            _ => Err(Error::Invalid(format!(
-                "zebra.width = {text} is neither thin, medium, thick nor degrees in (0, 360]"
-            ))),
-        },
-    }
-}
-
-fn colour(name: &str, c: [f64; 3]) -> Result<DVec3> {
-    if c.iter().all(|x| x.is_finite() && *x >= 0.0) {
-        Ok(DVec3::from_array(c))
-    } else {
-        Err(Error::Invalid(format!(
-            "{name} = {c:?} must be non-negative linear RGB"
-        )))
-    }
+/// `x` when positive and finite; else an error naming `name`.
+fn positive(name: &str, x: f64) -> Result<f64> {
+    crate::render::modes::keys::positive(name, x)
 }
 
 fn in_range(name: &str, x: f64, (lo, hi): (f64, f64)) -> Result<f64> {
@@ -819,42 +602,6 @@ fn in_range(name: &str, x: f64, (lo, hi): (f64, f64)) -> Result<f64> {
         Err(Error::Invalid(format!(
             "{name} = {x:e} must be in [{lo:e}, {hi:e}]"
         )))
-    }
-}
-
-fn positive(name: &str, x: f64) -> Result<f64> {
-    if x > 0.0 && x.is_finite() {
-        Ok(x)
-    } else {
-        Err(Error::Invalid(format!(
-            "{name} = {x} must be a positive number"
-        )))
-    }
-}
-
-fn fraction(name: &str, x: f64) -> Result<f64> {
-    if (0.0..=1.0).contains(&x) {
-        Ok(x)
-    } else {
-        Err(Error::Invalid(format!("{name} = {x} must lie in [0, 1]")))
-    }
-}
-
-fn finite_point(name: &str, p: [f64; 3]) -> Result<DVec3> {
-    let v = DVec3::from_array(p);
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(Error::Invalid(format!("{name} = {p:?} must be finite")))
-    }
-}
-
-fn direction(name: &str, p: [f64; 3]) -> Result<DVec3> {
-    let v = finite_point(name, p)?;
-    if v.length() > 0.0 {
-        Ok(v.normalize())
-    } else {
-        Err(Error::Invalid(format!("{name} = {p:?} must be non-zero")))
     }
 }
 
@@ -888,12 +635,11 @@ mod tests {
         assert_eq!(scene.scheme.name.as_deref(), Some("hb"));
         let params = scene.scheme_params();
         assert!(params.contains(&("t".into(), "0.5".into())), "{params:?}");
-        let Mode::Curvature(c) = scene.mode().expect("mode") else {
-            panic!("curvature mode expected");
-        };
-        assert_eq!(c.quantity, CurvatureQuantity::Gaussian);
-        assert_eq!(c.range, CurvatureRange::Fixed(2.5));
-        assert!(c.legend);
+        // The mode reads its own section (its keys are checked in render/modes/).
+        let mode = scene.mode().expect("mode");
+        assert_eq!(mode.name(), "curvature");
+        assert_ne!(mode, Mode::by_name("curvature").expect("curvature"));
+        assert!(!mode.scale_is_automatic());
         let o = scene.overlay().expect("overlay");
         assert!(o.face_edges && o.patch_edges);
     }
@@ -935,6 +681,21 @@ mod tests {
         let scene = SceneFile::parse("[zebra]\nduty = 1.5").expect("parses");
         let err = scene.mode().expect_err("duty out of range");
         assert!(err.to_string().contains("zebra.duty"), "{err}");
+        let err = SceneFile::parse("[zebra]\nfoo = 1").expect("parses").mode();
+        let err = err.expect_err("unknown mode key").to_string();
+        assert!(err.contains("`foo`") && err.contains("`stripes`"), "{err}");
+        for bad in ["[sparkle]\nx = 1", "zebra = 3", "colour = 3"] {
+            let err = SceneFile::parse(bad).expect_err(bad).to_string();
+            assert!(
+                err.contains(
+                    bad.trim_start_matches('[')
+                        .split([']', ' '])
+                        .next()
+                        .unwrap_or(bad)
+                ),
+                "{bad}: {err}"
+            );
+        }
         let scene = SceneFile::parse("[render]\nmode = \"sparkle\"").expect("parses");
         assert!(
             scene

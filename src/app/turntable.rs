@@ -6,7 +6,7 @@
 //!   default the camera's up, `--up` or +Y) in N equal steps of a full turn: reflection lines
 //!   sliding across a seam show a break far better than one view.
 //! - A **stripe sweep** (`--sweep N`, `render.sweep`, zebra mode only) keeps the camera and
-//!   moves the zebra stripes over one period in N steps ([`ZebraParams::phase`] = k / N).
+//!   moves the zebra stripes over one period in N steps ([`crate::render::modes::ModeKind::swept`] with shift k / N).
 //!
 //! The surface does not change between frames, so the BVH (or tessellation) is built once and
 //! every frame is traced through it. Frames are rendered one after the other, each split into
@@ -28,14 +28,10 @@ use crate::error::{Error, Result};
 use crate::files::{check_writable, create_folder, write_atomic};
 use crate::mesh::Mesh;
 use crate::render::camera::{Camera, Projection, unit};
-use crate::render::film::{Frame, RenderSettings, render};
-use crate::render::intersect::{NewtonSettings, Tracer};
-use crate::render::job::{Geometry, RenderJob, SurfaceSamples, check_bvh_size};
-use crate::render::modes::{CurvatureParams, CurvatureRange, Mode, ZebraParams};
+use crate::render::film::{Frame, RenderSettings};
+use crate::render::job::{JobTracer, RenderJob, SurfaceSamples};
 use crate::render::output::{check_output_name, output_stem, srgb8, with_suffix, write_png};
 use crate::render::stats::RenderStats;
-use crate::render::tessellate::TessellatedTracer;
-use crate::render::trace::SurfaceTracer;
 use crate::report::shard::{Manifest, Shard, items_of, read_complete_parts};
 use crate::surface::Surface;
 
@@ -126,16 +122,15 @@ pub fn frame_view(
             Ok((camera.orbit(axis, angle)?, settings.clone()))
         }
         Animation::Sweep { frames } => {
-            let Mode::Zebra(p) = &settings.mode else {
-                return Err(Error::Invalid(format!(
-                    "a stripe sweep needs mode zebra, not '{}'",
-                    settings.mode.name()
-                )));
-            };
-            let mode = Mode::Zebra(ZebraParams {
-                shift: f64::from(k) / f64::from(frames),
-                ..*p
-            });
+            let mode = settings
+                .mode
+                .swept(f64::from(k) / f64::from(frames))
+                .ok_or_else(|| {
+                    Error::Invalid(format!(
+                        "a stripe sweep needs a mode with stripes to move, not '{}'",
+                        settings.mode.name()
+                    ))
+                })?;
             Ok((
                 *camera,
                 RenderSettings {
@@ -450,27 +445,13 @@ fn render_animation_frames(
     gif: Option<&Path>,
     wanted: &dyn Fn(u32) -> bool,
 ) -> Result<RenderStats> {
-    let mut settings = job.settings.clone();
-    settings.curves = job.curves.tubes(surface, mesh)?;
+    let mut settings = job.settings_for(surface, mesh)?;
     settings.progress = false;
     let aspect = f64::from(settings.width) / f64::from(settings.height);
     let camera = first_camera(job, animation, surface, aspect)?;
-    match &job.geometry {
-        Geometry::Tessellated(n) => {
-            let tracer = TessellatedTracer::new(surface, *n)?;
-            let frames = Frames { pngs, gif, wanted };
-            render_frames(&tracer, job, animation, &camera, settings, &frames)
-        }
-        Geometry::Exact {
-            criterion,
-            max_leaves,
-        } => {
-            check_bvh_size(surface, criterion, *max_leaves)?;
-            let tracer = Tracer::new(surface, criterion, NewtonSettings::default())?;
-            let frames = Frames { pngs, gif, wanted };
-            render_frames(&tracer, job, animation, &camera, settings, &frames)
-        }
-    }
+    let tracer = job.tracer(surface)?;
+    let frames = Frames { pngs, gif, wanted };
+    render_frames(&tracer, job, animation, &camera, settings, &frames)
 }
 
 /// The frame as an RGBA image (opaque).
@@ -492,8 +473,8 @@ struct Frames<'a> {
 }
 
 /// [`render_animation_frames`] through one built tracer.
-fn render_frames<T: SurfaceTracer>(
-    tracer: &T,
+fn render_frames(
+    tracer: &JobTracer<'_>,
     job: &RenderJob,
     animation: &Animation,
     camera: &Camera,
@@ -515,7 +496,7 @@ fn render_frames<T: SurfaceTracer>(
             .gif
             .map(|gif| gif_encoder(&mut bytes, gif))
             .transpose()?;
-        let auto_range = matches!(&settings.mode, Mode::Curvature(p) if matches!(p.range, CurvatureRange::Auto { .. }));
+        let auto_range = settings.mode.scale_is_automatic();
         for (k, png) in (0..animation.frames()).zip(out.pngs) {
             let wanted = (out.wanted)(k);
             // Frame 0 fixes an automatic curvature range for every frame: rendered even when
@@ -524,16 +505,10 @@ fn render_frames<T: SurfaceTracer>(
                 continue;
             }
             let (view, frame_settings) = frame_view(animation, k, camera, axis, &settings)?;
-            let (frame, stats) = render(tracer, &view, &frame_settings)?;
-            if k == 0
-                && let (Mode::Curvature(p), Some(r)) = (&settings.mode, stats.curvature_half_range)
-                && matches!(p.range, CurvatureRange::Auto { .. })
-            {
+            let (frame, stats) = tracer.render_frame(&view, &frame_settings)?;
+            if k == 0 {
                 // Every frame in the colours of the first.
-                settings.mode = Mode::Curvature(CurvatureParams {
-                    range: CurvatureRange::Fixed(r),
-                    ..*p
-                });
+                settings.mode = settings.mode.pinned(&stats);
             }
             accumulate(&mut total, &stats);
             if !wanted {
@@ -556,6 +531,7 @@ fn render_frames<T: SurfaceTracer>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::modes::Mode;
 
     #[test]
     fn frame_files_are_numbered_in_order() {
@@ -595,10 +571,8 @@ mod tests {
         let sweep = Animation::Sweep { frames: 4 };
         let (same, s3) = frame_view(&sweep, 3, &camera, DVec3::Y, &settings).expect("view");
         assert_eq!(same, camera);
-        let Mode::Zebra(z) = s3.mode else {
-            panic!("zebra expected");
-        };
-        assert_eq!(z.shift, 0.75);
+        assert_eq!(Some(s3.mode), settings.mode.swept(0.75));
+        assert_ne!(settings.mode.swept(0.75), settings.mode.swept(0.5));
         let diffuse = RenderSettings {
             mode: Mode::by_name("diffuse").expect("mode"),
             ..settings

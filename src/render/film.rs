@@ -16,10 +16,8 @@ use rayon::prelude::*;
 use crate::render::camera::Camera;
 use crate::render::interaction::ShadingPoint;
 use crate::render::intersect::{Hit, IntersectCounters};
-use crate::render::modes::curvature::{CurvatureRange, abs_percentile, draw_legend};
-use crate::render::modes::{Footprint, Mode, Overlay};
+use crate::render::modes::{Footprint, Mode, Overlay, Sample, Setup};
 use crate::render::sampler::pixel_offset;
-use crate::render::shaded;
 use crate::render::stats::RenderStats;
 use crate::render::trace::SurfaceTracer;
 use crate::render::tubes::Tubes;
@@ -58,7 +56,7 @@ impl Default for RenderSettings {
             width: 640,
             height: 480,
             spp: 4,
-            mode: Mode::by_name("zebra").unwrap_or(Mode::Normals),
+            mode: Mode::default(),
             overlay: Overlay::default(),
             background: DVec3::splat(0.045),
             seed: 0,
@@ -227,7 +225,15 @@ pub fn render_cancellable<T: SurfaceTracer>(
     check_frame_memory(w, h, 0.0)?;
     let start = Instant::now();
     let mut stats = RenderStats::default();
-    let mode = resolve_mode(tracer, camera, settings, &mut stats);
+    let mode = settings.mode.set_up(
+        &Setup {
+            tracer,
+            camera,
+            width: w,
+            height: h,
+        },
+        &mut stats,
+    );
     let mut frame = Frame {
         width: w,
         height: h,
@@ -263,11 +269,7 @@ pub fn render_cancellable<T: SurfaceTracer>(
         stats.rays += tile.rays;
         stats.hits += tile.hits;
     }
-    if let Mode::Curvature(p) = &mode
-        && p.legend
-    {
-        draw_legend(&mut frame.rgb, w, h, p);
-    }
+    mode.finish(&mut frame.rgb, w, h);
     stats.misses = stats.rays - stats.hits;
     stats.set_newton(&counters);
     stats.render_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -292,84 +294,6 @@ fn progress_bar(settings: &RenderSettings, tiles: u64) -> Option<indicatif::Prog
         bar.set_style(style);
     }
     Some(bar)
-}
-
-/// The mode with its scene-dependent parameters filled in: highlight-light placement and the
-/// automatic curvature range (percentile of |value| over a coarse grid of centre rays).
-fn resolve_mode<T: SurfaceTracer>(
-    tracer: &T,
-    camera: &Camera,
-    settings: &RenderSettings,
-    stats: &mut RenderStats,
-) -> Mode {
-    let bounds = tracer.bounds();
-    match &settings.mode {
-        Mode::Highlight(p) => Mode::Highlight(p.resolved(bounds.center(), bounds.diagonal())),
-        Mode::Zebra(p) => Mode::Zebra(crate::render::modes::ZebraParams {
-            view_up: camera.up(),
-            ..*p
-        }),
-        Mode::Curvature(p) => {
-            let mut p = *p;
-            p.half_range = match p.range {
-                CurvatureRange::Fixed(r) => r,
-                CurvatureRange::Auto { percentile } => {
-                    auto_curvature_range(tracer, camera, settings, p.quantity, percentile)
-                }
-            };
-            stats.curvature_half_range = Some(p.half_range);
-            Mode::Curvature(p)
-        }
-        other => other.clone(),
-    }
-}
-
-/// The automatic half-range of the curvature map: the `percentile` of |value| seen through a
-/// coarse grid of pixel centres (1 where nothing curved is in view).
-pub fn auto_curvature_range<T: SurfaceTracer>(
-    tracer: &T,
-    camera: &Camera,
-    settings: &RenderSettings,
-    quantity: crate::render::modes::CurvatureQuantity,
-    percentile: f64,
-) -> f64 {
-    let mut values = curvature_probe(tracer, camera, settings, quantity);
-    let r = abs_percentile(&mut values, percentile);
-    if r > 0.0 && r.is_finite() { r } else { 1.0 }
-}
-
-/// Curvature values seen through a coarse grid (≤ 96 × 96) of pixel centres.
-fn curvature_probe<T: SurfaceTracer>(
-    tracer: &T,
-    camera: &Camera,
-    settings: &RenderSettings,
-    quantity: crate::render::modes::CurvatureQuantity,
-) -> Vec<f64> {
-    let (w, h) = (settings.width.min(96), settings.height.min(96));
-    let aspect = f64::from(settings.width) / f64::from(settings.height);
-    let rows: Vec<Vec<f64>> = (0..h)
-        .into_par_iter()
-        .map(|y| {
-            let mut counters = IntersectCounters::default();
-            let mut row = Vec::new();
-            for x in 0..w {
-                let nx = 2.0 * (f64::from(x) + 0.5) / f64::from(w) - 1.0;
-                let ny = 1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(h);
-                let ray = camera.ray(nx, ny, aspect);
-                if let Some(hit) = tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counters) {
-                    let sp = tracer.shading_point(&hit, &ray);
-                    if let Some(c) = sp.curvature {
-                        let value = quantity.value(&c);
-                        if value.is_finite() {
-                            row.push(value);
-                        }
-                    }
-                }
-            }
-            row
-        })
-        .collect();
-    rows.into_iter().flatten().collect()
 }
 
 /// Renders one tile into its slices of the frame and returns what it counted.
@@ -456,28 +380,17 @@ fn render_tile<T: SurfaceTracer>(
                         } else {
                             None
                         };
-                        let base = match mode {
-                            Mode::Shaded(params) => {
-                                let mut path = shaded::PathState {
-                                    seed: settings.seed,
-                                    pixel,
-                                    sample: s,
-                                    rays: 0,
-                                    hits: 0,
-                                };
-                                let c = shaded::trace_path(
-                                    tracer,
-                                    params,
-                                    &sp,
-                                    &mut path,
-                                    &mut counts.counters,
-                                );
-                                counts.rays += path.rays;
-                                counts.hits += path.hits;
-                                c
-                            }
-                            _ => mode.shade_filtered(&sp, footprint.as_ref()),
+                        let mut sample = Sample {
+                            seed: settings.seed,
+                            pixel,
+                            sample: s,
+                            counters: &mut counts.counters,
+                            rays: 0,
+                            hits: 0,
                         };
+                        let base = mode.radiance(tracer, &sp, footprint.as_ref(), &mut sample);
+                        counts.rays += sample.rays;
+                        counts.hits += sample.hits;
                         if settings.overlay.enabled() {
                             let footprint = camera.pixel_footprint(hit.t, h);
                             settings.overlay.apply(
@@ -508,7 +421,6 @@ fn render_tile<T: SurfaceTracer>(
 mod tests {
     use super::*;
     use crate::render::intersect::Tracer;
-    use crate::render::modes::ZebraParams;
     use crate::testing::surfaces::octahedron_sphere;
 
     fn small_settings(mode: Mode) -> RenderSettings {
@@ -534,7 +446,7 @@ mod tests {
         let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let camera = Camera::frame(&surface.bounds(), Camera::DEFAULT_VIEW, 35.0, 48.0 / 40.0)
             .expect("camera");
-        let settings = small_settings(Mode::Zebra(ZebraParams::default()));
+        let settings = small_settings(Mode::by_name("zebra").expect("zebra"));
         let run = |threads: usize| {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -559,7 +471,7 @@ mod tests {
         let (w, h) = (40u32, 30u32);
         let camera = Camera::frame(&surface.bounds(), Camera::DEFAULT_VIEW, 35.0, 4.0 / 3.0)
             .expect("camera");
-        let mut settings = small_settings(Mode::Normals);
+        let mut settings = small_settings(Mode::by_name("normals").expect("normals"));
         (settings.width, settings.height, settings.spp) = (w, h, 1);
         let (frame, stats) = render(&tracer, &camera, &settings).expect("render");
         assert_eq!(stats.rays, u64::from(w * h));
@@ -601,7 +513,7 @@ mod tests {
             f64::from(w) / f64::from(h),
         )
         .expect("camera");
-        let mut settings = small_settings(Mode::Normals);
+        let mut settings = small_settings(Mode::by_name("normals").expect("normals"));
         (settings.width, settings.height, settings.spp) = (w, h, 1);
         let (frame, _) = render(&tracer, &camera, &settings).expect("render");
         let diag = surface.bounds().diagonal();

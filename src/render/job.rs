@@ -16,6 +16,7 @@ use crate::render::curves::CurveOverlay;
 use crate::render::film::{Frame, RenderSettings, render_cancellable};
 use crate::render::interaction::ShadingPoint;
 use crate::render::intersect::{IntersectCounters, NewtonSettings, Ray64, Tracer};
+use crate::render::modes::{Mode, Setup};
 use crate::render::stats::RenderStats;
 use crate::render::tessellate::TessellatedTracer;
 use crate::render::trace::SurfaceTracer;
@@ -23,6 +24,21 @@ use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Default vertical field of view, degrees.
 pub const DEFAULT_FOV: f64 = 35.0;
+
+/// Default image size of a render.
+pub const DEFAULT_SIZE: [u32; 2] = [640, 480];
+/// Default samples per pixel of a render.
+pub const DEFAULT_SPP: u32 = 4;
+/// The largest image side of a render (`render.size`, `--size`).
+pub const MAX_SIDE: u32 = 16384;
+/// The most samples per pixel a render takes (`render.spp`, `--spp`).
+pub const MAX_SPP: u32 = 65536;
+/// Default cell size of a figure.
+pub const DEFAULT_CELL_SIZE: [u32; 2] = [256, 256];
+/// The largest cell side of a figure.
+pub const MAX_CELL_SIDE: u32 = 4096;
+/// The most samples per pixel of a figure cell.
+pub const MAX_CELL_SPP: u32 = 4096;
 
 /// Steps of the framing grid on a patch's domain: `(i/N, j/N)`, `i + j ≤ N`.
 const FRAMING_STEPS: u32 = 6;
@@ -284,7 +300,7 @@ pub const DEFAULT_MAX_LEAVES: u64 = 1 << 24;
 
 /// What the rays meet: the exact patches (through a BVH of subdivided patch bounds) or a
 /// tessellation of them.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Geometry {
     /// The exact patches.
     Exact {
@@ -358,17 +374,12 @@ impl JobTracer<'_> {
     }
 }
 
-impl RenderJob {
-    /// The camera this job renders `surface` with (as [`RenderJob::render`] computes it).
-    pub fn camera_of(&self, surface: &Surface) -> Result<Camera> {
-        let aspect = f64::from(self.settings.width) / f64::from(self.settings.height);
-        self.camera.camera(surface, aspect)
-    }
-
-    /// The tracer this job renders `surface` with: a tessellation, or the exact patches after
-    /// the BVH's size and memory are checked ([`check_bvh_size`]).
-    pub fn tracer<'s>(&self, surface: &'s Surface) -> Result<JobTracer<'s>> {
-        match &self.geometry {
+impl<'s> JobTracer<'s> {
+    /// The tracer of `surface` for `geometry`: a tessellation, or the exact patches after the
+    /// BVH's size and memory are checked against the budget ([`check_bvh_size`]), built with
+    /// the geometry's BVH settings. Every render builds its tracer here.
+    pub fn new(surface: &'s Surface, geometry: &Geometry) -> Result<JobTracer<'s>> {
+        match geometry {
             Geometry::Tessellated(n) => {
                 Ok(JobTracer::Tessellated(TessellatedTracer::new(surface, *n)?))
             }
@@ -384,6 +395,113 @@ impl RenderJob {
                 )?))
             }
         }
+    }
+
+    /// The surface it traces.
+    pub fn surface(&self) -> &Surface {
+        match self {
+            JobTracer::Exact(t) => t.surface,
+            JobTracer::Tessellated(t) => SurfaceTracer::surface(t),
+        }
+    }
+
+    /// The frame of `settings` seen by `camera` (faces as the tracer numbers them: the
+    /// surface's triangles), and its statistics.
+    pub fn render_frame(
+        &self,
+        camera: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<(Frame, RenderStats)> {
+        self.render(camera, settings, &|| false)?
+            .ok_or_else(|| Error::Invalid("a render that cannot be cancelled was".into()))
+    }
+
+    /// The automatic colour scale `mode` chooses for the view of `camera` at `width` ×
+    /// `height` ([`crate::render::modes::ModeKind::measure_scale`]).
+    pub fn measure_scale(
+        &self,
+        mode: &Mode,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+    ) -> Option<f64> {
+        match self {
+            JobTracer::Exact(tracer) => mode.measure_scale(&Setup {
+                tracer,
+                camera,
+                width,
+                height,
+            }),
+            JobTracer::Tessellated(tracer) => mode.measure_scale(&Setup {
+                tracer,
+                camera,
+                width,
+                height,
+            }),
+        }
+    }
+
+    /// Leaves of the BVH (0 for a tessellation's).
+    pub fn leaf_count(&self) -> usize {
+        match self {
+            JobTracer::Exact(t) => SurfaceTracer::leaf_count(t),
+            JobTracer::Tessellated(t) => SurfaceTracer::leaf_count(t),
+        }
+    }
+}
+
+/// `mode` as a surface built on `mesh` is rendered with: an open mesh's back shows, so the
+/// quality modes tint it ([`Mode::with_back_faces_tinted`]).
+pub fn mode_for_mesh(mode: &Mode, mesh: &Mesh) -> Mode {
+    if mesh.is_closed() {
+        mode.clone()
+    } else {
+        mode.with_back_faces_tinted()
+    }
+}
+
+/// Refuses an image of `width` × `height` outside `1..=max_side` per side, naming `what`.
+pub fn check_size(what: &str, width: u32, height: u32, max_side: u32) -> Result<()> {
+    if width == 0 || height == 0 || width > max_side || height > max_side {
+        return Err(Error::Invalid(format!(
+            "{what} {width}x{height} must be between 1 and {max_side} per side"
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses samples per pixel outside `1..=max`, naming `what`.
+pub fn check_spp(what: &str, spp: u32, max: u32) -> Result<()> {
+    if spp == 0 || spp > max {
+        return Err(Error::Invalid(format!("{what} {spp} must be in 1..={max}")));
+    }
+    Ok(())
+}
+
+impl RenderJob {
+    /// The settings this job renders `surface` (built on `mesh`) with: its own, the curve
+    /// tubes built from the mesh's edges.
+    pub fn settings_for(&self, surface: &Surface, mesh: &Mesh) -> Result<RenderSettings> {
+        let mut settings = self.settings.clone();
+        settings.curves = self.curves.tubes(surface, mesh)?;
+        Ok(settings)
+    }
+
+    /// This job with its mode as a surface built on `mesh` is shown ([`mode_for_mesh`]).
+    pub fn for_mesh(mut self, mesh: &Mesh) -> RenderJob {
+        self.settings.mode = mode_for_mesh(&self.settings.mode, mesh);
+        self
+    }
+
+    /// The camera this job renders `surface` with (as [`RenderJob::render`] computes it).
+    pub fn camera_of(&self, surface: &Surface) -> Result<Camera> {
+        let aspect = f64::from(self.settings.width) / f64::from(self.settings.height);
+        self.camera.camera(surface, aspect)
+    }
+
+    /// The tracer this job renders `surface` with ([`JobTracer::new`] of its geometry).
+    pub fn tracer<'s>(&self, surface: &'s Surface) -> Result<JobTracer<'s>> {
+        JobTracer::new(surface, &self.geometry)
     }
 
     /// Renders `surface` (built on `mesh`) with this job's camera, settings and curves; the
@@ -403,12 +521,8 @@ impl RenderJob {
         mesh: &Mesh,
         cancelled: &(dyn Fn() -> bool + Sync),
     ) -> Result<Option<(Frame, RenderStats)>> {
-        let surface = match tracer {
-            JobTracer::Exact(t) => t.surface,
-            JobTracer::Tessellated(t) => SurfaceTracer::surface(t),
-        };
-        let mut settings = self.settings.clone();
-        settings.curves = self.curves.tubes(surface, mesh)?;
+        let surface = tracer.surface();
+        let settings = self.settings_for(surface, mesh)?;
         let camera = self.camera_of(surface)?;
         let Some((mut frame, stats)) = tracer.render(&camera, &settings, cancelled)? else {
             return Ok(None);
@@ -428,11 +542,7 @@ impl RenderJob {
     /// job's image; a pixel's centre is at `+0.5`), traced as the render traces the ray
     /// through a pixel centre, and its shading point (None: the ray misses).
     pub fn probe(&self, tracer: &JobTracer<'_>, x: f64, y: f64) -> Result<Option<ShadingPoint>> {
-        let surface = match tracer {
-            JobTracer::Exact(t) => t.surface,
-            JobTracer::Tessellated(t) => SurfaceTracer::surface(t),
-        };
-        Ok(tracer.shade(&self.pixel_ray(surface, x, y)?))
+        Ok(tracer.shade(&self.pixel_ray(tracer.surface(), x, y)?))
     }
 
     /// The camera ray through image point `(x, y)` (pixels from the top-left corner; pixel

@@ -30,10 +30,10 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::render::camera::Camera;
 use crate::render::film::{Frame, RenderSettings};
-use crate::render::job::{CameraSpec, RenderJob, SurfaceSamples};
+use crate::render::job::{CameraSpec, Geometry, RenderJob, SurfaceSamples};
+use crate::render::modes::Mode;
 use crate::render::modes::curvature::abs_percentile;
 use crate::render::modes::palette::rdbu;
-use crate::render::modes::{Mode, ZebraParams};
 use crate::render::output::write_png;
 use crate::surface::Surface;
 
@@ -62,11 +62,17 @@ pub struct ThumbnailOptions {
     pub size: u32,
     /// Samples per pixel.
     pub spp: u32,
+    /// The tracer: BVH settings and leaf budget (or a tessellation).
+    pub geometry: Geometry,
 }
 
 impl Default for ThumbnailOptions {
     fn default() -> Self {
-        ThumbnailOptions { size: 128, spp: 1 }
+        ThumbnailOptions {
+            size: 128,
+            spp: 1,
+            geometry: Geometry::default(),
+        }
     }
 }
 
@@ -126,13 +132,13 @@ pub fn render_thumbnails(
             fov_deg: THUMB_FOV,
             orthographic: false,
         },
+        geometry: options.geometry,
         ..RenderJob::default()
     };
     // Half the default stripe count: the default's stripes alias at thumbnail size.
-    let zebra = job(Mode::Zebra(ZebraParams {
-        stripes: THUMB_STRIPES,
-        ..ZebraParams::default()
-    }));
+    let mut stripes = toml::Table::new();
+    stripes.insert("stripes".into(), toml::Value::Float(THUMB_STRIPES));
+    let zebra = job(Mode::configured(THUMB_MODES[0], &stripes)?);
     // One render per surface: the zebra image, and the mean curvature seen through each pixel
     // centre (the frame's geometry record, the EXR's `H`), which the curvature thumbnail shows.
     let mut means = Vec::with_capacity(surfaces.len());

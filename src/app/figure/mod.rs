@@ -17,9 +17,9 @@ use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::render::camera::{Camera, Projection};
 use crate::render::curves::CurveOverlay;
-use crate::render::film::{Frame, RenderSettings, auto_curvature_range, render};
-use crate::render::intersect::Tracer;
-use crate::render::modes::{CurvatureRange, Mode, Overlay};
+use crate::render::film::{Frame, RenderSettings};
+use crate::render::job::{Geometry, JobTracer, mode_for_mesh};
+use crate::render::modes::{Mode, Overlay};
 use crate::render::stats::RenderStats;
 use crate::surface::Surface;
 
@@ -94,6 +94,8 @@ pub struct FigureJob {
     pub curvature: CurvatureChoice,
     /// Surfaces as columns and modes as rows.
     pub transpose: bool,
+    /// The tracer of every surface: exact (BVH settings and leaf budget) or tessellated.
+    pub geometry: Geometry,
 }
 
 /// One rendered cell.
@@ -161,21 +163,14 @@ pub fn edge_side_camera(mesh: &Mesh, edge: usize, aspect: f64) -> Result<Camera>
 /// The median of the automatic curvature ranges of the curved surfaces' tracers `curved` (1
 /// if none is curved).
 fn common_curvature_range(
-    curved: &[&Tracer<'_>],
+    curved: &[&JobTracer<'_>],
     camera: &Camera,
     settings: &RenderSettings,
     mode: &Mode,
 ) -> f64 {
-    let Mode::Curvature(p) = mode else {
-        return 1.0;
-    };
-    let percentile = match p.range {
-        CurvatureRange::Auto { percentile } => percentile,
-        CurvatureRange::Fixed(_) => 95.0,
-    };
     let mut ranges: Vec<f64> = curved
         .iter()
-        .map(|&t| auto_curvature_range(t, camera, settings, p.quantity, percentile))
+        .filter_map(|t| t.measure_scale(mode, camera, settings.width, settings.height))
         .collect();
     ranges.sort_by(f64::total_cmp);
     ranges.get(ranges.len() / 2).copied().unwrap_or(1.0)
@@ -210,7 +205,7 @@ impl FigureJob {
         let modes: Vec<(String, bool)> = self
             .modes
             .iter()
-            .map(|m| (m.label.clone(), matches!(m.mode, Mode::Curvature(_))))
+            .map(|m| (m.label.clone(), m.mode.has_scale()))
             .collect();
         sheet_labels(&self.title, surfaces, &modes, self.transpose, half_range)
     }
@@ -274,14 +269,11 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
             "figure cell {k} does not exist (the figure has {count} cells)"
         )));
     }
-    let first_curvature = job
-        .modes
-        .iter()
-        .find(|m| matches!(m.mode, Mode::Curvature(_)));
+    let first_curvature = job.modes.iter().find(|m| m.mode.has_scale());
     let needs_range = matches!(job.curvature, CurvatureChoice::Common)
         && wanted
             .iter()
-            .any(|&k| matches!(job.modes[job.cell(k).1].mode, Mode::Curvature(_)));
+            .any(|&k| job.modes[job.cell(k).1].mode.has_scale());
     // The tracers, in surface order, of the surfaces this call needs.
     let mut needed = vec![false; job.surfaces.len()];
     for &k in wanted {
@@ -297,7 +289,7 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
         .iter()
         .zip(&needed)
         .map(|(s, n)| {
-            n.then(|| Tracer::with_default_settings(&s.surface))
+            n.then(|| JobTracer::new(&s.surface, &job.geometry))
                 .transpose()
         })
         .collect::<Result<Vec<_>>>()?;
@@ -313,7 +305,7 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
         (None, _) => None,
         (Some(_), CurvatureChoice::Fixed(r)) => Some(r),
         (Some(m), CurvatureChoice::Common) if needs_range => {
-            let curved: Vec<&Tracer<'_>> = tracers
+            let curved: Vec<&JobTracer<'_>> = tracers
                 .iter()
                 .zip(&job.surfaces)
                 .filter(|(_, s)| is_curved(&s.surface))
@@ -334,21 +326,11 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
     for &k in wanted {
         let (s, m) = job.cell(k);
         let spec = &job.modes[m];
-        let mode = match (&spec.mode, half_range) {
-            (Mode::Curvature(p), Some(r)) => {
-                Mode::Curvature(crate::render::modes::CurvatureParams {
-                    range: CurvatureRange::Fixed(r),
-                    ..*p
-                })
-            }
-            (other, _) => other.clone(),
+        let mode = match half_range {
+            Some(r) if spec.mode.has_scale() => spec.mode.with_scale(r),
+            _ => spec.mode.clone(),
         };
-        // The back of an open surface shows: tint it in the quality modes.
-        let mode = if job.mesh.is_closed() {
-            mode
-        } else {
-            mode.with_back_faces_tinted()
-        };
+        let mode = mode_for_mesh(&mode, &job.mesh);
         let surface = &job.surfaces[s].surface;
         let tracer = tracers[s].as_ref().ok_or_else(|| {
             crate::Error::Invalid(format!("figure cell {k}: surface {s} has no tracer"))
@@ -360,7 +342,7 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
             curves,
             ..base.clone()
         };
-        let (frame, stats) = render(tracer, &cameras[m], &settings)?;
+        let (frame, stats) = tracer.render_frame(&cameras[m], &settings)?;
         cells.push(FigureCell {
             surface: s,
             mode: m,

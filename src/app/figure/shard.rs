@@ -24,7 +24,6 @@ use super::spec::FigureSpec;
 use super::{FigureJob, render_cells, sheet_labels, svg_images};
 use crate::error::{Error, Result};
 use crate::files::{check_writable, create_folder, write_atomic};
-use crate::render::modes::Mode;
 use crate::render::output::{
     check_output_name, output_stem, with_suffix, write_exr, write_png, write_rgb_png,
 };
@@ -54,12 +53,6 @@ const RENDER_COST: &[(&str, f64)] = &[
     ("gk", 4.8),
 ];
 
-/// How much dearer a `shaded` cell (the path tracer: bounces and shadow rays) is than a zebra,
-/// isophote or curvature cell of the same surface: measured on `scenes/bunny.obj`, 128 × 128
-/// pixels at 2 samples, one mode at a time — shaded / zebra 2.7 (flat), 2.5 (hb), 3.6
-/// (nielson), 3.3 (gk); isophote and curvature are within 30 % of zebra.
-const SHADED_COST: f64 = 3.0;
-
 /// The relative rendering cost per pixel sample of `scheme` ([`RENDER_COST`]); a scheme
 /// missing from the table costs as much as the dearest one (a wrong guess only unbalances the
 /// shards).
@@ -74,17 +67,14 @@ pub fn render_cost(scheme: &str) -> f64 {
 }
 
 /// The estimated cost of every cell of `job` in sheet order: pixels × samples × the scheme's
-/// [`render_cost`], × [`SHADED_COST`] for the path tracer. The mesh's face count is left out:
+/// [`render_cost`], × the mode's cost per sample ([`crate::render::modes::ModeKind::COST`]). The mesh's face count is left out:
 /// it is the same for every cell of a figure.
 pub fn cell_costs(job: &FigureJob) -> Vec<f64> {
     let samples = f64::from(job.size[0]) * f64::from(job.size[1]) * f64::from(job.spp);
     (0..job.cell_count())
         .map(|k| {
             let (s, m) = job.cell(k);
-            let mode = match job.modes[m].mode {
-                Mode::Shaded(_) => SHADED_COST,
-                _ => 1.0,
-            };
+            let mode = job.modes[m].mode.cost();
             samples * render_cost(&job.surfaces[s].surface.scheme) * mode
         })
         .collect()
@@ -213,7 +203,7 @@ pub fn run_figure_spec_shard(path: &Path, shard: Shard) -> Result<FigureShardFil
         modes: job
             .modes
             .iter()
-            .map(|m| (m.label.clone(), matches!(m.mode, Mode::Curvature(_))))
+            .map(|m| (m.label.clone(), m.mode.has_scale()))
             .collect(),
         transpose: job.transpose,
         curvature_half_range: half_range,
@@ -411,20 +401,25 @@ mod tests {
     fn cells_cost_by_pixels_scheme_and_mode() {
         let costs = cell_costs(&job(SPEC));
         let samples = 16.0 * 8.0 * 2.0;
+        // The path tracer's cost per sample, as the mode states it (3, not 1).
+        let shaded = crate::render::modes::Mode::by_name("shaded")
+            .expect("shaded")
+            .cost();
+        assert_eq!(shaded, 3.0);
         // Row-major: flat zebra, flat shaded, nielson zebra, nielson shaded.
         assert_eq!(
             costs,
             [
                 samples,
-                samples * SHADED_COST,
+                samples * shaded,
                 samples * 17.4,
-                samples * 17.4 * SHADED_COST
+                samples * 17.4 * shaded
             ]
         );
         // Transposed: modes are rows, the same cells in another order.
         let costs = cell_costs(&job(&SPEC.replace("spp = 2", "spp = 2\ntranspose = true")));
         assert_eq!(costs[1], samples * 17.4);
-        assert_eq!(costs[2], samples * SHADED_COST);
+        assert_eq!(costs[2], samples * shaded);
         assert_eq!(render_cost("future"), render_cost("fang-mann"));
     }
 

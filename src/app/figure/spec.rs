@@ -16,6 +16,8 @@
 //! curvature_range = "auto"              # or a number: fixed half-range of every curvature cell
 //! [camera]                              # as in scene files; omitted: frames all surfaces
 //! fov = 30
+//! [bvh]                                 # as in scene files: every cell's BVH and leaf budget
+//! max_leaves = 16777216
 //! [[schemes]]
 //! name = "hb"
 //! label = "HB00"                        # optional; default "name k=v ..."
@@ -39,7 +41,7 @@ use crate::app::figure::{
     CurvatureChoice, Figure, FigureJob, FigureMode, FigureSurface, View, framing_camera,
     render_figure,
 };
-use crate::app::scene::{CameraSection, SceneFile, environment_beside};
+use crate::app::scene::{BvhSection, CameraSection, file_beside};
 use crate::app::toml_input::{self, exact};
 use crate::error::{Error, Result};
 use crate::files::{check_distinct, check_writable, create_folder, write_atomic};
@@ -48,6 +50,10 @@ use crate::mesh::{LoadOptions, Mesh, check_crease_angle};
 use crate::render::camera::Projection;
 use crate::render::curves::CurveOverlay;
 use crate::render::job::DEFAULT_FOV;
+use crate::render::job::{
+    DEFAULT_CELL_SIZE, DEFAULT_SPP, MAX_CELL_SIDE, MAX_CELL_SPP, check_size, check_spp,
+};
+use crate::render::modes::{Mode, keys_of};
 use crate::render::output::{
     check_output_name, output_stem, with_suffix, write_exr, write_rgb_png,
 };
@@ -84,6 +90,9 @@ pub struct FigureSpec {
     /// The common camera.
     #[serde(default)]
     pub camera: CameraSection,
+    /// BVH subdivision and leaf budget of every cell's tracer (the scene file's `[bvh]`).
+    #[serde(default)]
+    pub bvh: BvhSection,
     /// The schemes.
     pub schemes: Vec<SchemeEntry>,
     /// The modes.
@@ -168,8 +177,10 @@ impl FigureSpec {
         check_output_name(&spec.output)
             .map_err(|e| Error::Invalid(format!("{}: output: {e}", path.display())))?;
         for mode in &mut spec.modes {
-            if let Some(toml::Value::String(env)) = mode.params.get_mut("environment") {
-                *env = environment_beside(env, dir);
+            for key in keys_of(&mode.name) {
+                if let Some(toml::Value::String(file)) = mode.params.get_mut(key.name) {
+                    *file = file_beside(key, file, dir);
+                }
             }
         }
         Ok(spec)
@@ -226,10 +237,12 @@ impl FigureSpec {
             files.push(("the mesh", self.mesh_file(dir)));
         }
         for mode in &self.modes {
-            if let Some(toml::Value::String(env)) = mode.params.get("environment")
-                && env != "studio"
-            {
-                files.push(("an environment map", PathBuf::from(env)));
+            for key in keys_of(&mode.name) {
+                if let Some(toml::Value::String(file)) = mode.params.get(key.name)
+                    && key.names_file(file)
+                {
+                    files.push((key.what_an, PathBuf::from(file)));
+                }
             }
         }
         files
@@ -248,36 +261,14 @@ impl FigureSpec {
     fn figure_mode(&self, k: usize) -> Result<FigureMode> {
         let entry = &self.modes[k];
         let context = |e: Error| Error::Invalid(format!("modes[{k}] ({}): {e}", entry.name));
-        let section = match entry.name.as_str() {
-            "zebra" | "highlight" | "isophote" | "curvature" | "shaded" => Some(entry.name.clone()),
-            _ => None,
-        };
-        let mut table = toml::Table::new();
-        let mut render = toml::Table::new();
-        render.insert("mode".into(), toml::Value::String(entry.name.clone()));
-        table.insert("render".into(), toml::Value::Table(render));
-        match section {
-            Some(name) => {
-                table.insert(name, toml::Value::Table(entry.params.clone()));
-            }
-            None if !entry.params.is_empty() => {
-                return Err(context(Error::Invalid(format!(
-                    "mode '{}' takes no params",
-                    entry.name
-                ))));
-            }
-            None => {}
+        let mut mode = Mode::by_name(&entry.name).map_err(context)?;
+        if keys_of(&entry.name).is_empty() && !entry.params.is_empty() {
+            return Err(context(Error::Invalid(format!(
+                "mode '{}' takes no params",
+                entry.name
+            ))));
         }
-        let scene: SceneFile =
-            toml::Value::Table(table)
-                .try_into()
-                .map_err(|e: toml::de::Error| {
-                    context(Error::Invalid(format!(
-                        "params: {}",
-                        toml_input::describe(&e)
-                    )))
-                })?;
-        let mode = scene.mode().map_err(context)?;
+        mode.configure(&entry.params).map_err(context)?;
         let mut curves = CurveOverlay {
             curves: entry.curves.unwrap_or(false),
             control_polygons: entry.control_polygons.unwrap_or(false),
@@ -347,19 +338,14 @@ impl FigureSpec {
         let modes = (0..self.modes.len())
             .map(|k| self.figure_mode(k))
             .collect::<Result<Vec<_>>>()?;
-        let size = self.size.unwrap_or([256, 256]);
-        if size[0] == 0 || size[1] == 0 || size[0] > 4096 || size[1] > 4096 {
-            return Err(Error::Invalid(format!(
-                "figure spec: size {}x{} must be between 1 and 4096 per side",
-                size[0], size[1]
-            )));
-        }
-        let spp = self.spp.unwrap_or(4);
-        if spp == 0 || spp > 4096 {
-            return Err(Error::Invalid(format!(
-                "figure spec: spp {spp} must be in 1..=4096"
-            )));
-        }
+        let size = self.size.unwrap_or(DEFAULT_CELL_SIZE);
+        check_size("figure spec: size", size[0], size[1], MAX_CELL_SIDE)?;
+        let spp = self.spp.unwrap_or(DEFAULT_SPP);
+        check_spp("figure spec: spp", spp, MAX_CELL_SPP)?;
+        let geometry = self
+            .bvh
+            .geometry()
+            .map_err(|e| Error::Invalid(format!("figure spec: {e}")))?;
         let curvature = match &self.curvature_range {
             None => CurvatureChoice::Common,
             Some(toml::Value::String(s)) if s == "auto" => CurvatureChoice::Common,
@@ -383,6 +369,7 @@ impl FigureSpec {
             spp,
             curvature,
             transpose: self.transpose.unwrap_or(false),
+            geometry,
         })
     }
 
@@ -576,10 +563,13 @@ mod tests {
             Some("0.1")
         );
         assert!(job.modes[0].curves.curves && !job.modes[0].curves.control_polygons);
-        let crate::render::modes::Mode::Zebra(z) = &job.modes[0].mode else {
-            panic!("zebra expected");
-        };
-        assert_eq!(z.stripes, 8.0);
+        let mut eight = toml::Table::new();
+        eight.insert("stripes".into(), toml::Value::Integer(8));
+        assert_eq!(
+            job.modes[0].mode,
+            Mode::configured("zebra", &eight).expect("zebra")
+        );
+        assert_ne!(job.modes[0].mode, Mode::by_name("zebra").expect("zebra"));
     }
 
     #[test]

@@ -44,7 +44,6 @@ use std::net::{IpAddr, SocketAddr};
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use crate::app::render::ModeArg;
 use crate::error::{Error, Result};
 use crate::metrics::joints::{JumpAt, jump_at};
 use crate::render::interaction::ShadingPoint;
@@ -63,8 +62,8 @@ pub struct ViewArgs {
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub params: Vec<String>,
     /// Shading mode to start with [default: the scene's, else zebra].
-    #[arg(long, value_enum)]
-    pub mode: Option<ModeArg>,
+    #[arg(long, value_parser = crate::app::render::mode_value_parser())]
+    pub mode: Option<String>,
     /// Port to listen on (0: any free port; the URL printed names it).
     #[arg(long, default_value_t = 0)]
     pub port: u16,
@@ -271,7 +270,7 @@ pub fn view_command(args: &ViewArgs, report: &mut dyn ViewReport) -> Result<()> 
         &args.input,
         args.scheme.as_deref(),
         &params,
-        args.mode.map(ModeArg::name),
+        args.mode.as_deref(),
     )?;
     if let Some(w) = args.weld_tolerance {
         base.table

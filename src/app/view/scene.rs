@@ -6,9 +6,10 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::app::scene::{SceneFile, environment_beside};
+use crate::app::scene::{SceneFile, file_beside};
 use crate::error::{Error, Result};
 use crate::render::RenderJob;
+use crate::render::modes::MODE_KEYS;
 
 /// The largest image side the view renders (the page's canvas, clamped by the page).
 pub const MAX_VIEW_SIDE: u32 = 2048;
@@ -16,9 +17,10 @@ pub const MAX_VIEW_SIDE: u32 = 2048;
 /// The most samples per pixel the view renders for its converged frame.
 pub const MAX_VIEW_SPP: u32 = 256;
 
-/// The keys a page may set, by section: no key names a file (no `mesh`, `render.output`,
-/// `shaded.environment`), none changes the BVH or what is written (`[bvh]`, `render.exr`,
-/// animations), so a page can make the server read or write nothing but its own outputs.
+/// The keys a page may set, by section, beside every mode's keys that name no file
+/// ([`page_keys`]): no key names a file (no `mesh`, `render.output`, `shaded.environment`),
+/// none changes the BVH or what is written (`[bvh]`, `render.exr`, animations), so a page can
+/// make the server read or write nothing but its own outputs.
 const PAGE_KEYS: &[(&str, &[&str])] = &[
     ("camera", &["eye", "target", "up", "fov", "ortho"]),
     (
@@ -38,41 +40,20 @@ const PAGE_KEYS: &[(&str, &[&str])] = &[
             "curve_edge",
         ],
     ),
-    (
-        "zebra",
-        &[
-            "axis", "stripes", "width", "duty", "bright", "dark", "filter",
-        ],
-    ),
-    (
-        "highlight",
-        &[
-            "origin",
-            "plane_normal",
-            "direction",
-            "spacing",
-            "lines",
-            "duty",
-            "filter",
-        ],
-    ),
-    ("isophote", &["light", "bands", "step_deg", "filter"]),
-    (
-        "curvature",
-        &["quantity", "range", "percentile", "legend", "map", "sign"],
-    ),
-    (
-        "shaded",
-        &[
-            "base_colour",
-            "coat_roughness_deg",
-            "bounces",
-            "light_sampling",
-            "rr_depth",
-        ],
-    ),
     ("scheme", &["name", "params"]),
 ];
+
+/// The keys a page may set in section `name` ([`PAGE_KEYS`], or a mode's keys naming no
+/// file); None: the page may not set that section.
+fn page_keys(name: &str) -> Option<Vec<&'static str>> {
+    if let Some((_, keys)) = PAGE_KEYS.iter().find(|(section, _)| *section == name) {
+        return Some(keys.to_vec());
+    }
+    MODE_KEYS
+        .iter()
+        .find(|(mode, _)| *mode == name)
+        .map(|(_, keys)| keys.iter().filter(|k| !k.file).map(|k| k.name).collect())
+}
 
 /// The scene a view starts from: a scene file's keys (its relative paths made absolute) or a
 /// bare mesh, with the command line's scheme, parameters and mode.
@@ -115,11 +96,14 @@ impl BaseScene {
                 let mesh = dir.join(mesh);
                 table.insert("mesh".into(), path_value(&mesh)?);
             }
-            if let Some(toml::Value::Table(shaded)) = table.get_mut("shaded")
-                && let Some(toml::Value::String(env)) = shaded.get("environment")
-            {
-                let env = environment_beside(env, &dir);
-                shaded.insert("environment".into(), toml::Value::String(env));
+            for (name, keys) in MODE_KEYS {
+                if let Some(toml::Value::Table(section)) = table.get_mut(*name) {
+                    for key in keys.iter() {
+                        if let Some(toml::Value::String(file)) = section.get_mut(key.name) {
+                            *file = file_beside(key, file, &dir);
+                        }
+                    }
+                }
             }
             table
         } else {
@@ -194,13 +178,9 @@ impl BaseScene {
         };
         let mut table = self.table.clone();
         for (name, keys) in sections {
-            let allowed = PAGE_KEYS
-                .iter()
-                .find(|(section, _)| section == name)
-                .map(|(_, keys)| *keys)
-                .ok_or_else(|| {
-                    Error::Invalid(format!("the view cannot set the scene section '{name}'"))
-                })?;
+            let allowed = page_keys(name).ok_or_else(|| {
+                Error::Invalid(format!("the view cannot set the scene section '{name}'"))
+            })?;
             let serde_json::Value::Object(keys) = keys else {
                 return Err(Error::Invalid(format!(
                     "view settings: '{name}' must be an object of scene keys"

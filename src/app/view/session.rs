@@ -189,11 +189,9 @@ impl Session {
     /// Checks the page's `settings` and makes them the newest generation; returns it. The
     /// render of an older generation stops at its next tile.
     pub fn request(&self, settings: &serde_json::Value) -> Result<Wanted> {
-        let (table, scene, mut job) = self.base.with_page(settings)?;
+        let (table, scene, job) = self.base.with_page(settings)?;
         let scheme = scheme_of(&scene)?;
-        if !self.mesh.is_closed() {
-            job.settings.mode = job.settings.mode.with_back_faces_tinted();
-        }
+        let mut job = job.for_mesh(self.mesh);
         job.settings.progress = false;
         let mut state = lock(&self.state);
         let generation = self.generation.fetch_add(1, Ordering::SeqCst) + 1;

@@ -5,10 +5,16 @@
 //! numeric ticks.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
+use crate::error::{Error, Result};
 use crate::geom::Curvature;
 use crate::render::interaction::ShadingPoint;
-use crate::render::modes::palette;
+use crate::render::intersect::IntersectCounters;
+use crate::render::modes::keys::{self, Flag, Key, Keys};
+use crate::render::modes::{Footprint, ModeKind, Setup, palette};
+use crate::render::stats::RenderStats;
+use crate::render::trace::SurfaceTracer;
 use crate::text::{draw_text_linear, text_width};
 
 /// Which curvature to show.
@@ -459,9 +465,268 @@ pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &Curva
     }
 }
 
+impl ModeKind for CurvatureParams {
+    const NAME: &'static str = "curvature";
+    const HELP: &'static str = "A curvature quantity through a colour map, with a legend.";
+    const KEYS: &'static [Key] = &[
+        Key::new(
+            "quantity",
+            "gaussian, mean, maxabs, k1 or k2 (default mean)",
+        ),
+        Key::new(
+            "range",
+            "\"auto\" or a fixed positive half-range (default auto)",
+        ),
+        Key::new(
+            "percentile",
+            "percentile of |value| in view for the automatic range, in [0, 100] (default 95)",
+        ),
+        Key::new("legend", "draw the colour bar (default true)"),
+        Key::new(
+            "map",
+            "diverging or sequential (default diverging; sequential for maxabs)",
+        ),
+        Key::new("sign", "convex or normal (default convex)"),
+    ];
+    const FLAGS: &'static [Flag] = &[
+        Flag {
+            value_name: "CURVATURE_QUANTITY",
+            ..Flag::choice(
+                "curvature-quantity",
+                "quantity",
+                "Curvature quantity [default: mean].",
+                &[
+                    ("gaussian", "K = κ1 κ2"),
+                    ("mean", "H = (κ1 + κ2) / 2"),
+                    ("maxabs", "max(|κ1|, |κ2|)"),
+                    ("k1", "The larger principal curvature"),
+                    ("k2", "The smaller principal curvature"),
+                ],
+            )
+        },
+        Flag {
+            value_name: "CURVATURE_MAP",
+            ..Flag::choice(
+                "curvature-map",
+                "map",
+                "Curvature colour map [default: diverging; sequential for maxabs].",
+                &[
+                    ("diverging", "ColorBrewer RdBu over [−r, r], zero white"),
+                    ("sequential", "viridis over [−r, r] ([0, r] for maxabs)"),
+                ],
+            )
+        },
+        Flag {
+            value_name: "CURVATURE_SIGN",
+            ..Flag::choice(
+                "curvature-sign",
+                "sign",
+                "Sign convention of mean, κ1 and κ2 [default: convex].",
+                &[
+                    (
+                        "convex",
+                        "Positive where convex seen from the side the normal points to (outward normals)",
+                    ),
+                    (
+                        "normal",
+                        "II/I with respect to the patch normal (convex is negative with outward normals)",
+                    ),
+                ],
+            )
+        },
+        Flag::value(
+            "curvature-range",
+            "range",
+            "auto|R",
+            "Curvature half-range: `auto` (95th percentile of |value| in view) or a number [default: auto].",
+            keys::number_or_text,
+        ),
+        Flag::off(
+            "no-legend",
+            "legend",
+            "No curvature legend (scene: `curvature.legend = false`).",
+        ),
+    ];
+
+    fn configure(&mut self, keys: &Keys<'_>) -> Result<()> {
+        if let Some(q) = keys.text("quantity")? {
+            self.quantity = CurvatureQuantity::by_name(q)?;
+        }
+        let percentile = match keys.number("percentile")? {
+            Some(x) if (0.0..=100.0).contains(&x) => x,
+            Some(x) => {
+                return Err(Error::Invalid(format!(
+                    "curvature.percentile {x} is not in [0, 100]"
+                )));
+            }
+            None => 95.0,
+        };
+        self.range = match keys.value("range") {
+            None => CurvatureRange::Auto { percentile },
+            Some(toml::Value::String(s)) if s == "auto" => CurvatureRange::Auto { percentile },
+            Some(toml::Value::Float(x)) => {
+                CurvatureRange::Fixed(keys::positive("curvature.range", *x)?)
+            }
+            Some(toml::Value::Integer(x)) => {
+                CurvatureRange::Fixed(keys::positive("curvature.range", *x as f64)?)
+            }
+            Some(other) => {
+                return Err(Error::Invalid(format!(
+                    "curvature.range {other} is neither \"auto\" nor a number"
+                )));
+            }
+        };
+        if let Some(l) = keys.flag("legend")? {
+            self.legend = l;
+        }
+        if let Some(m) = keys.text("map")? {
+            self.map = Some(
+                CurvatureMap::by_name(m)
+                    .map_err(|e| Error::Invalid(format!("curvature.map: {e}")))?,
+            );
+        }
+        if let Some(sign) = keys.text("sign")? {
+            self.sign = CurvatureSign::by_name(sign)
+                .map_err(|e| Error::Invalid(format!("curvature.sign: {e}")))?;
+        }
+        Ok(())
+    }
+
+    fn shade(&self, sp: &ShadingPoint, _footprint: Option<&Footprint>) -> DVec3 {
+        CurvatureParams::shade(self, sp)
+    }
+
+    /// The half-range in use: the fixed one, or the percentile of |value| in view (recorded
+    /// in the statistics either way).
+    fn set_up<T: SurfaceTracer>(&self, setup: &Setup<'_, T>, stats: &mut RenderStats) -> Self {
+        let mut p = *self;
+        p.half_range = match p.range {
+            CurvatureRange::Fixed(r) => r,
+            CurvatureRange::Auto { percentile } => auto_range(setup, p.quantity, percentile),
+        };
+        stats.curvature_half_range = Some(p.half_range);
+        p
+    }
+
+    /// The legend.
+    fn finish(&self, rgb: &mut [[f32; 3]], width: u32, height: u32) {
+        if self.legend {
+            draw_legend(rgb, width, height, self);
+        }
+    }
+
+    fn with_back_faces_tinted(&self) -> Self {
+        CurvatureParams {
+            tint_back_faces: true,
+            ..*self
+        }
+    }
+
+    fn has_scale(&self) -> bool {
+        true
+    }
+
+    fn scale_is_automatic(&self) -> bool {
+        matches!(self.range, CurvatureRange::Auto { .. })
+    }
+
+    fn with_scale(&self, half_range: f64) -> Self {
+        CurvatureParams {
+            range: CurvatureRange::Fixed(half_range),
+            ..*self
+        }
+    }
+
+    /// The automatic range at the mode's percentile (95 when its range is fixed).
+    fn measure_scale<T: SurfaceTracer>(&self, setup: &Setup<'_, T>) -> Option<f64> {
+        let percentile = match self.range {
+            CurvatureRange::Auto { percentile } => percentile,
+            CurvatureRange::Fixed(_) => 95.0,
+        };
+        Some(auto_range(setup, self.quantity, percentile))
+    }
+}
+
+/// The automatic half-range of the curvature map: the `percentile` of |value| seen through a
+/// coarse grid of pixel centres (1 where nothing curved is in view).
+fn auto_range<T: SurfaceTracer>(
+    setup: &Setup<'_, T>,
+    quantity: CurvatureQuantity,
+    percentile: f64,
+) -> f64 {
+    let mut values = curvature_probe(setup, quantity);
+    let r = abs_percentile(&mut values, percentile);
+    if r > 0.0 && r.is_finite() { r } else { 1.0 }
+}
+
+/// Curvature values seen through a coarse grid (≤ 96 × 96) of pixel centres.
+fn curvature_probe<T: SurfaceTracer>(
+    setup: &Setup<'_, T>,
+    quantity: CurvatureQuantity,
+) -> Vec<f64> {
+    let (tracer, camera) = (setup.tracer, setup.camera);
+    let (w, h) = (setup.width.min(96), setup.height.min(96));
+    let aspect = f64::from(setup.width) / f64::from(setup.height);
+    let rows: Vec<Vec<f64>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let mut counters = IntersectCounters::default();
+            let mut row = Vec::new();
+            for x in 0..w {
+                let nx = 2.0 * (f64::from(x) + 0.5) / f64::from(w) - 1.0;
+                let ny = 1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(h);
+                let ray = camera.ray(nx, ny, aspect);
+                if let Some(hit) = tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counters) {
+                    let sp = tracer.shading_point(&hit, &ray);
+                    if let Some(c) = sp.curvature {
+                        let value = quantity.value(&c);
+                        if value.is_finite() {
+                            row.push(value);
+                        }
+                    }
+                }
+            }
+            row
+        })
+        .collect();
+    rows.into_iter().flatten().collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The `[curvature]` keys set the parameters they name; bad values name the key.
+    #[test]
+    fn keys_configure_the_curvature_mode() {
+        let table: toml::Table = toml::from_str(
+            "quantity = \"gaussian\"\nrange = 2.5\nlegend = false\nsign = \"normal\"",
+        )
+        .expect("toml");
+        let mut p = CurvatureParams::default();
+        ModeKind::configure(
+            &mut p,
+            &Keys::new("curvature", &table, CurvatureParams::KEYS).expect("keys"),
+        )
+        .expect("valid");
+        assert_eq!(p.quantity, CurvatureQuantity::Gaussian);
+        assert_eq!(p.range, CurvatureRange::Fixed(2.5));
+        assert!(!p.legend);
+        assert_eq!(p.sign, CurvatureSign::Normal);
+        for (bad, key) in [
+            ("range = -1", "curvature.range"),
+            ("range = \"x\"", "curvature.range"),
+            ("percentile = 120", "curvature.percentile"),
+            ("map = \"hot\"", "curvature.map"),
+        ] {
+            let table: toml::Table = toml::from_str(bad).expect("toml");
+            let keys = Keys::new("curvature", &table, CurvatureParams::KEYS).expect("keys");
+            let err = ModeKind::configure(&mut CurvatureParams::default(), &keys)
+                .expect_err(bad)
+                .to_string();
+            assert!(err.contains(key), "{bad}: {err}");
+        }
+    }
 
     #[test]
     fn percentile_of_absolute_values() {

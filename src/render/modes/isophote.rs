@@ -5,8 +5,13 @@
 
 use glam::DVec3;
 
+use crate::error::{Error, Result};
 use crate::render::interaction::ShadingPoint;
-use crate::render::modes::stripes::{Footprint, filtered_square_wave};
+use crate::render::modes::ModeKind;
+use crate::render::modes::keys::{self, Flag, Key, Keys};
+use crate::render::modes::stripes::{
+    FILTER_KEY, Footprint, NO_STRIPE_FILTER, filtered_square_wave,
+};
 
 /// Parameters of the isophote mode.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -61,6 +66,65 @@ impl IsophoteParams {
         let light_fraction = filtered_square_wave(0.5 * band, width, 0.5);
         let shade = 0.55 + 0.45 * c;
         DVec3::new(0.05, 0.09, 0.25).lerp(DVec3::new(0.95, 0.78, 0.35), light_fraction) * shade
+    }
+}
+
+impl ModeKind for IsophoteParams {
+    const NAME: &'static str = "isophote";
+    const HELP: &'static str = "Bands of constant n·L.";
+    const KEYS: &'static [Key] = &[
+        Key::new(
+            "light",
+            "direction towards the light (non-zero, default [0.3, 0.8, 0.5])",
+        ),
+        Key::new("bands", "bands of equal n·L (at least 1, default 16)"),
+        Key::new(
+            "step_deg",
+            "an isophote every this many degrees in (0, 90] (instead of bands)",
+        ),
+        FILTER_KEY,
+    ];
+    const FLAGS: &'static [Flag] = &[
+        Flag::value(
+            "isophote-step",
+            "step_deg",
+            "DEG",
+            "An isophote every DEG degrees between normal and light [default: 16 bands of equal n·L].",
+            keys::number,
+        ),
+        NO_STRIPE_FILTER,
+    ];
+
+    fn configure(&mut self, keys: &Keys<'_>) -> Result<()> {
+        if let Some(l) = keys.direction("light")? {
+            self.light = l;
+        }
+        if let Some(b) = keys.count("bands")? {
+            if b == 0 {
+                return Err(Error::Invalid("isophote.bands must be at least 1".into()));
+            }
+            self.bands = b;
+        }
+        if let Some(step) = keys.number("step_deg")? {
+            if !(step > 0.0 && step <= 90.0) {
+                return Err(Error::Invalid(format!(
+                    "isophote.step_deg = {step} must be in (0, 90]"
+                )));
+            }
+            self.step_deg = Some(step);
+        }
+        if let Some(f) = keys.flag("filter")? {
+            self.filter = f;
+        }
+        Ok(())
+    }
+
+    fn shade(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
+        IsophoteParams::shade(self, sp, footprint)
+    }
+
+    fn filtered(&self) -> bool {
+        self.filter
     }
 }
 

@@ -3,27 +3,311 @@
 //! at the hit, never interpolated, so stripes and colours do not depend on any mesh density.
 
 pub mod curvature;
+pub mod diffuse;
+pub mod highlight;
 pub mod isophote;
+pub mod keys;
+pub mod normals;
 pub mod overlay;
 pub mod palette;
+pub mod patches;
+pub mod shaded;
 pub mod stripes;
 pub mod zebra;
 
 use glam::DVec3;
 
+use crate::render::camera::Camera;
 use crate::render::interaction::ShadingPoint;
+use crate::render::intersect::IntersectCounters;
+use crate::render::stats::RenderStats;
+use crate::render::trace::SurfaceTracer;
 
 pub use curvature::{
     CurvatureMap, CurvatureParams, CurvatureQuantity, CurvatureRange, CurvatureSign,
 };
+pub use diffuse::Diffuse;
+pub use highlight::HighlightParams;
 pub use isophote::IsophoteParams;
+pub use keys::{Flag, Key, Keys};
+pub use normals::Normals;
 pub use overlay::Overlay;
+pub use patches::Patches;
 pub use stripes::Footprint;
-pub use zebra::{HighlightParams, ZebraAxis, ZebraParams};
+pub use zebra::{ZebraAxis, ZebraParams};
 
-/// A shading mode with its parameters.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Mode {
+/// What a mode's scene-dependent set-up sees before a frame is rendered: the tracer (bounds,
+/// probe rays), the camera and the image size.
+pub struct Setup<'a, T: SurfaceTracer> {
+    /// The surface's tracer.
+    pub tracer: &'a T,
+    /// The camera of the frame.
+    pub camera: &'a Camera,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+}
+
+/// The identity of one camera sample, for modes whose colour is a random estimate (the path
+/// tracer), and the rays it traced beyond the camera ray.
+pub struct Sample<'a> {
+    /// Render seed.
+    pub seed: u64,
+    /// Pixel index (row-major).
+    pub pixel: u64,
+    /// Sample index in the pixel.
+    pub sample: u32,
+    /// Intersection counters of the tile.
+    pub counters: &'a mut IntersectCounters,
+    /// Secondary rays traced.
+    pub rays: u64,
+    /// Secondary rays that hit.
+    pub hits: u64,
+}
+
+/// A render mode: one type holding its parameters, and everything about the mode — its name,
+/// help, scene keys and command-line flags with their checks, its set-up from the scene, its
+/// colour of a hit, its pass over the finished image, its cost. One file per mode implements
+/// it; one line of [`modes!`] registers it. Nothing outside `render/modes/` names a mode.
+///
+/// Every method has the plain answer as default; a mode overrides what it has.
+pub trait ModeKind: Clone + std::fmt::Debug + PartialEq + Default + Send + Sync {
+    /// Name in `--mode`, scene files (`render.mode`) and figure specs; also its section's
+    /// name (`[zebra]`).
+    const NAME: &'static str;
+    /// One line for `render -h`.
+    const HELP: &'static str;
+    /// The keys of its section.
+    const KEYS: &'static [Key] = &[];
+    /// Its command-line flags, each setting one key of its section.
+    const FLAGS: &'static [Flag] = &[];
+    /// Cost of a sample relative to a directly shaded one (sharding balances on it).
+    const COST: f64 = 1.0;
+
+    /// Reads the keys of its section into `self` (the defaults), checking each.
+    fn configure(&mut self, keys: &Keys<'_>) -> crate::Result<()> {
+        let _ = keys;
+        Ok(())
+    }
+
+    /// Linear RGB of a hit, point-sampled, or box-filtered over `footprint` when given (the
+    /// change of the hit across one sample cell, see [`ModeKind::filtered`]).
+    fn shade(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3;
+
+    /// The colour of a camera sample whose closest hit is `sp`: [`ModeKind::shade`] unless the
+    /// mode traces further rays (the path tracer).
+    fn radiance<T: SurfaceTracer>(
+        &self,
+        tracer: &T,
+        sp: &ShadingPoint,
+        footprint: Option<&Footprint>,
+        sample: &mut Sample<'_>,
+    ) -> DVec3 {
+        let _ = (tracer, sample);
+        self.shade(sp, footprint)
+    }
+
+    /// Whether it wants each sample's [`Footprint`] (the stripe filter).
+    fn filtered(&self) -> bool {
+        false
+    }
+
+    /// The mode with its scene-dependent parameters filled in before a frame (light
+    /// placement, the camera's up, an automatic colour range, recorded in `stats`).
+    fn set_up<T: SurfaceTracer>(&self, setup: &Setup<'_, T>, stats: &mut RenderStats) -> Self {
+        let _ = (setup, stats);
+        self.clone()
+    }
+
+    /// Its pass over the finished linear RGB image (a legend).
+    fn finish(&self, rgb: &mut [[f32; 3]], width: u32, height: u32) {
+        let _ = (rgb, width, height);
+    }
+
+    /// The mode with back-face hits tinted where it shows surface quality (what an open
+    /// surface is rendered with, so that its other side stands out).
+    fn with_back_faces_tinted(&self) -> Self {
+        self.clone()
+    }
+
+    /// Frame `shift` (0 to 1: one period) of a stripe sweep at a fixed camera; None: the mode
+    /// has no stripes to move.
+    fn swept(&self, shift: f64) -> Option<Self> {
+        let _ = shift;
+        None
+    }
+
+    /// Whether its colours follow a scale fitted to the scene (a half-range, as the
+    /// curvature map's), which figures share across cells and animations across frames.
+    fn has_scale(&self) -> bool {
+        false
+    }
+
+    /// Whether that scale is chosen from the view (automatic) rather than given.
+    fn scale_is_automatic(&self) -> bool {
+        false
+    }
+
+    /// The mode with its scale fixed to `half_range`.
+    fn with_scale(&self, half_range: f64) -> Self {
+        let _ = half_range;
+        self.clone()
+    }
+
+    /// The automatic scale this mode would choose for the view of `setup` (None: no scale).
+    fn measure_scale<T: SurfaceTracer>(&self, setup: &Setup<'_, T>) -> Option<f64> {
+        let _ = setup;
+        None
+    }
+}
+
+/// The registry: one line per mode (`Variant(Type)`, `Type` implementing [`ModeKind`]). It
+/// makes the [`Mode`] enum, the list of names and every dispatch (a `match`, no dynamic
+/// dispatch in the render loop).
+macro_rules! modes {
+    ($($(#[$doc:meta])* $variant:ident($ty:ty),)*) => {
+        /// A render mode with its parameters: one variant per registered [`ModeKind`].
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum Mode {
+            $($(#[$doc])* $variant($ty),)*
+        }
+
+        /// Mode names accepted by `--mode` and scene files, in registry order.
+        pub const MODE_NAMES: &[&str] = &[$(<$ty as ModeKind>::NAME,)*];
+
+        /// Every mode's name and one-line help, in registry order.
+        pub const MODE_HELP: &[(&str, &str)] = &[$((<$ty as ModeKind>::NAME, <$ty as ModeKind>::HELP),)*];
+
+        /// Every mode's name with its section's keys, in registry order.
+        pub const MODE_KEYS: &[(&str, &[Key])] = &[$((<$ty as ModeKind>::NAME, <$ty as ModeKind>::KEYS),)*];
+
+        /// Every mode's name with its command-line flags, in registry order.
+        pub const MODE_FLAGS: &[(&str, &[Flag])] = &[$((<$ty as ModeKind>::NAME, <$ty as ModeKind>::FLAGS),)*];
+
+        impl Mode {
+            /// The mode called `name` with default parameters.
+            pub fn by_name(name: &str) -> crate::Result<Mode> {
+                $(if name == <$ty as ModeKind>::NAME {
+                    return Ok(Mode::$variant(<$ty>::default()));
+                })*
+                Err(crate::Error::Invalid(format!(
+                    "unknown render mode '{name}' (known: {})",
+                    MODE_NAMES.join(", ")
+                )))
+            }
+
+            /// The mode's name.
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Mode::$variant(_) => <$ty as ModeKind>::NAME,)*
+                }
+            }
+
+            /// Cost of a sample relative to a directly shaded one.
+            pub fn cost(&self) -> f64 {
+                match self {
+                    $(Mode::$variant(_) => <$ty as ModeKind>::COST,)*
+                }
+            }
+
+            /// Reads the keys of the mode's section (`table`, checked against its keys).
+            pub fn configure(&mut self, table: &toml::Table) -> crate::Result<()> {
+                match self {
+                    $(Mode::$variant(p) => {
+                        let keys = Keys::new(<$ty as ModeKind>::NAME, table, <$ty as ModeKind>::KEYS)?;
+                        <$ty as ModeKind>::configure(p, &keys)
+                    })*
+                }
+            }
+
+            /// See [`ModeKind::shade`].
+            pub fn shade_filtered(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
+                match self {
+                    $(Mode::$variant(p) => <$ty as ModeKind>::shade(p, sp, footprint),)*
+                }
+            }
+
+            /// See [`ModeKind::radiance`].
+            pub fn radiance<T: SurfaceTracer>(
+                &self,
+                tracer: &T,
+                sp: &ShadingPoint,
+                footprint: Option<&Footprint>,
+                sample: &mut Sample<'_>,
+            ) -> DVec3 {
+                match self {
+                    $(Mode::$variant(p) => <$ty as ModeKind>::radiance(p, tracer, sp, footprint, sample),)*
+                }
+            }
+
+            /// See [`ModeKind::filtered`].
+            pub fn uses_footprint(&self) -> bool {
+                match self {
+                    $(Mode::$variant(p) => <$ty as ModeKind>::filtered(p),)*
+                }
+            }
+
+            /// See [`ModeKind::set_up`].
+            pub fn set_up<T: SurfaceTracer>(&self, setup: &Setup<'_, T>, stats: &mut RenderStats) -> Mode {
+                match self {
+                    $(Mode::$variant(p) => Mode::$variant(<$ty as ModeKind>::set_up(p, setup, stats)),)*
+                }
+            }
+
+            /// See [`ModeKind::finish`].
+            pub fn finish(&self, rgb: &mut [[f32; 3]], width: u32, height: u32) {
+                match self {
+                    $(Mode::$variant(p) => <$ty as ModeKind>::finish(p, rgb, width, height),)*
+                }
+            }
+
+            /// See [`ModeKind::with_back_faces_tinted`].
+            pub fn with_back_faces_tinted(&self) -> Mode {
+                match self {
+                    $(Mode::$variant(p) => Mode::$variant(<$ty as ModeKind>::with_back_faces_tinted(p)),)*
+                }
+            }
+
+            /// See [`ModeKind::swept`].
+            pub fn swept(&self, shift: f64) -> Option<Mode> {
+                match self {
+                    $(Mode::$variant(p) => <$ty as ModeKind>::swept(p, shift).map(Mode::$variant),)*
+                }
+            }
+
+            /// See [`ModeKind::has_scale`].
+            pub fn has_scale(&self) -> bool {
+                match self {
+                    $(Mode::$variant(p) => <$ty as ModeKind>::has_scale(p),)*
+                }
+            }
+
+            /// See [`ModeKind::scale_is_automatic`].
+            pub fn scale_is_automatic(&self) -> bool {
+                match self {
+                    $(Mode::$variant(p) => <$ty as ModeKind>::scale_is_automatic(p),)*
+                }
+            }
+
+            /// See [`ModeKind::with_scale`].
+            pub fn with_scale(&self, half_range: f64) -> Mode {
+                match self {
+                    $(Mode::$variant(p) => Mode::$variant(<$ty as ModeKind>::with_scale(p, half_range)),)*
+                }
+            }
+
+            /// See [`ModeKind::measure_scale`].
+            pub fn measure_scale<T: SurfaceTracer>(&self, setup: &Setup<'_, T>) -> Option<f64> {
+                match self {
+                    $(Mode::$variant(p) => <$ty as ModeKind>::measure_scale(p, setup),)*
+                }
+            }
+        }
+    };
+}
+
+modes! {
     /// Reflection lines of an environment of parallel light stripes.
     Zebra(ZebraParams),
     /// View-independent highlight lines (Beier–Chen) of an array of parallel line lights.
@@ -33,115 +317,60 @@ pub enum Mode {
     /// A curvature quantity through a diverging colour map.
     Curvature(CurvatureParams),
     /// The normal as a colour, `(n + 1) / 2`.
-    Normals,
+    Normals(Normals),
     /// One colour per face, shaded lighter or darker per piece.
-    Patches,
+    Patches(Patches),
     /// Plain light grey lit from the eye: a quiet background for the curve-network tubes.
-    Diffuse,
+    Diffuse(Diffuse),
     /// Path-traced clear-coat material in a studio environment.
     Shaded(crate::render::shaded::ShadedParams),
 }
 
-/// Mode names accepted by `--mode` and scene files.
-pub const MODE_NAMES: &[&str] = &[
-    "zebra",
-    "highlight",
-    "isophote",
-    "curvature",
-    "normals",
-    "patches",
-    "diffuse",
-    "shaded",
-];
+/// The keys of the section of mode `name` (none for a name not registered).
+pub fn keys_of(name: &str) -> &'static [Key] {
+    MODE_KEYS
+        .iter()
+        .find(|(mode, _)| *mode == name)
+        .map_or(&[], |(_, keys)| keys)
+}
+
+/// The mode of a scene or command line that names none: the first registered.
+pub const DEFAULT_MODE: &str = MODE_NAMES[0];
+
+impl Default for Mode {
+    /// The first registered mode with its defaults.
+    fn default() -> Mode {
+        // The registry above is not empty, and a registered name is always known.
+        Mode::by_name(DEFAULT_MODE).unwrap_or(Mode::Zebra(ZebraParams::default()))
+    }
+}
 
 impl Mode {
-    /// The mode called `name` with default parameters.
-    pub fn by_name(name: &str) -> crate::Result<Mode> {
-        Ok(match name {
-            "zebra" => Mode::Zebra(ZebraParams::default()),
-            "highlight" => Mode::Highlight(HighlightParams::default()),
-            "isophote" => Mode::Isophote(IsophoteParams::default()),
-            "curvature" => Mode::Curvature(CurvatureParams::default()),
-            "normals" => Mode::Normals,
-            "patches" => Mode::Patches,
-            "diffuse" => Mode::Diffuse,
-            "shaded" => Mode::Shaded(Default::default()),
-            _ => {
-                return Err(crate::Error::Invalid(format!(
-                    "unknown render mode '{name}' (known: {})",
-                    MODE_NAMES.join(", ")
-                )));
-            }
-        })
+    /// The mode called `name` with the keys of its section (`table`) read and checked.
+    pub fn configured(name: &str, table: &toml::Table) -> crate::Result<Mode> {
+        let mut mode = Mode::by_name(name)?;
+        mode.configure(table)?;
+        Ok(mode)
     }
 
-    /// The mode's name.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Mode::Zebra(_) => "zebra",
-            Mode::Highlight(_) => "highlight",
-            Mode::Isophote(_) => "isophote",
-            Mode::Curvature(_) => "curvature",
-            Mode::Normals => "normals",
-            Mode::Patches => "patches",
-            Mode::Diffuse => "diffuse",
-            Mode::Shaded(_) => "shaded",
-        }
-    }
-
-    /// The mode with back-face hits tinted ([`palette::back_face`]) where it shows surface
-    /// quality (zebra, curvature): what an open surface is rendered with, so that its other
-    /// side stands out. Other modes are returned as they are.
-    pub fn with_back_faces_tinted(&self) -> Mode {
-        match self {
-            Mode::Zebra(p) => Mode::Zebra(ZebraParams {
-                tint_back_faces: true,
-                ..*p
-            }),
-            Mode::Curvature(p) => Mode::Curvature(CurvatureParams {
-                tint_back_faces: true,
-                ..*p
-            }),
-            other => other.clone(),
-        }
-    }
-
-    /// True for the stripe modes, which filter their stripes over the sample's
-    /// [`Footprint`] when given one.
-    pub fn uses_footprint(&self) -> bool {
-        match self {
-            Mode::Zebra(p) => p.filter,
-            Mode::Highlight(p) => p.filter,
-            Mode::Isophote(p) => p.filter,
-            _ => false,
-        }
-    }
-
-    /// Linear RGB of a hit for the direct (non path-traced) modes, point-sampled; `Shaded` is
-    /// handled by the path tracer and gets a plain diffuse preview here.
+    /// Linear RGB of a hit, point-sampled (the path tracer's mode gives a plain diffuse
+    /// preview here).
     pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
         self.shade_filtered(sp, None)
     }
 
-    /// As [`Mode::shade`], the stripe modes box-filtered over `footprint` (the change of the
-    /// hit across one sample cell) when given.
-    pub fn shade_filtered(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
-        match self {
-            Mode::Zebra(p) => p.shade(sp, footprint),
-            Mode::Highlight(p) => p.shade(sp, footprint),
-            Mode::Isophote(p) => p.shade(sp, footprint),
-            Mode::Curvature(p) => p.shade(sp),
-            Mode::Normals => palette::srgb_to_linear(0.5 * (sp.normal + DVec3::ONE)),
-            Mode::Patches => {
-                let base = palette::face_colour(sp.face, sp.piece);
-                base * (0.3 + 0.7 * sp.facing_normal.dot(-sp.view).max(0.0))
-            }
-            Mode::Diffuse => {
-                let facing = sp.facing_normal.dot(-sp.view).max(0.0);
-                DVec3::splat(0.12 + 0.6 * facing)
-            }
-            Mode::Shaded(_) => DVec3::splat(0.8 * sp.facing_normal.dot(-sp.view).max(0.0)),
+    /// The mode with the scale a render chose (`stats`) fixed, when the scale is automatic:
+    /// what every later frame of an animation is rendered with, in the colours of the first.
+    pub fn pinned(&self, stats: &RenderStats) -> Mode {
+        match stats.curvature_half_range {
+            Some(r) if self.scale_is_automatic() => self.with_scale(r),
+            _ => self.clone(),
         }
+    }
+
+    /// Whether a stripe sweep can move this mode's stripes.
+    pub fn sweeps(&self) -> bool {
+        self.swept(0.0).is_some()
     }
 }
 
@@ -182,8 +411,8 @@ mod tests {
         let (front, back) = (hit(-DVec3::Z), hit(DVec3::Z));
         assert!(!front.is_back_face() && back.is_back_face());
         for mode in [
-            Mode::Zebra(ZebraParams::default()),
-            Mode::Curvature(CurvatureParams::default()),
+            Mode::by_name("zebra").expect("zebra"),
+            Mode::by_name("curvature").expect("curvature"),
         ] {
             let tinted = mode.with_back_faces_tinted();
             assert_eq!(tinted.shade(&front), mode.shade(&front), "{}", mode.name());

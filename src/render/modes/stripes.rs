@@ -132,6 +132,20 @@ pub fn filtered_square_wave(phase: f64, width: f64, duty: f64) -> f64 {
     ((integral(phase + half) - integral(phase - half)) / width).clamp(0.0, 1.0)
 }
 
+/// `--no-stripe-filter`: declared by every stripe mode (zebra, highlight, isophote); one flag
+/// on the command line sets `filter = false` in each of their sections.
+pub const NO_STRIPE_FILTER: crate::render::modes::Flag = crate::render::modes::Flag::off(
+    "no-stripe-filter",
+    "filter",
+    "Point-sample the zebra, highlight and isophote stripes instead of box-filtering them over each pixel's footprint.",
+);
+
+/// The `filter` key of a stripe mode.
+pub const FILTER_KEY: crate::render::modes::Key = crate::render::modes::Key::new(
+    "filter",
+    "box-filter the stripes over each pixel's footprint (default true)",
+);
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,22 +1,25 @@
-//! Reflection lines (zebra) and highlight lines.
+//! Reflection lines (zebra).
 //!
-//! Zebra: the eye ray is mirrored at the hit and looks up an environment of infinitely long
+//! The eye ray is mirrored at the hit and looks up an environment of infinitely long
 //! light tubes parallel to `axis`, spread evenly around it: the stripe index is the angle of the
 //! reflected direction around `axis`. A G¹ break of the surface shows as a kink of the stripes,
 //! a G² break as a kink of their direction field.
-//!
-//! Highlight lines [Beier–Chen 1994]: the normal line through the hit meets the plane of an array
-//! of parallel line lights; the stripe is the distance, across the lights, of that meeting point.
-//! They depend on the normal only (not on the eye), so they stay put when the view turns.
 
 use glam::DVec3;
 
+use crate::error::{Error, Result};
 use crate::render::interaction::ShadingPoint;
-use crate::render::modes::stripes::{Footprint, filtered_square_wave};
+use crate::render::modes::keys::{self, Flag, Key, Keys};
+use crate::render::modes::stripes::{
+    FILTER_KEY, Footprint, NO_STRIPE_FILTER, filtered_square_wave,
+};
+use crate::render::modes::{ModeKind, Setup};
+use crate::render::stats::RenderStats;
+use crate::render::trace::SurfaceTracer;
 
 /// Linear-light brightness of a bright stripe and of a dark one.
-const BRIGHT: f64 = 0.9;
-const DARK: f64 = 0.015;
+pub(crate) const BRIGHT: f64 = 0.9;
+pub(crate) const DARK: f64 = 0.015;
 
 /// Where the light tubes of the zebra environment run.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -159,93 +162,180 @@ impl ZebraParams {
     }
 }
 
-/// Parameters of the highlight-line mode: line lights in the plane through `origin` with normal
-/// `plane_normal`, running along `direction`, `spacing` apart.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HighlightParams {
-    /// A point of the light plane; None: one scene diagonal above the scene centre along
-    /// `plane_normal`.
-    pub origin: Option<DVec3>,
-    /// Normal of the light plane.
-    pub plane_normal: DVec3,
-    /// Direction of the line lights (projected into the plane).
-    pub direction: DVec3,
-    /// Distance between neighbouring lights; None: the scene diagonal over `lines`.
-    pub spacing: Option<f64>,
-    /// Fraction of each period that is bright.
-    pub duty: f64,
-    /// Number of lights per scene diagonal when `spacing` is None.
-    pub lines: f64,
-    /// Box-filter the stripes over each sample's screen footprint; false: point samples.
-    pub filter: bool,
-}
-
-impl Default for HighlightParams {
-    fn default() -> Self {
-        HighlightParams {
-            origin: None,
-            plane_normal: DVec3::Y,
-            direction: DVec3::X,
-            spacing: None,
-            duty: 0.5,
-            lines: 4.0,
-            filter: true,
-        }
+/// The period in degrees of a zebra width: `thin` (11.25°), `medium` (22.5°), `thick` (45°)
+/// or a number of degrees in (0, 360].
+pub fn zebra_width_deg(text: &str) -> Result<f64> {
+    match text.trim() {
+        "thin" => Ok(11.25),
+        "medium" => Ok(22.5),
+        "thick" => Ok(45.0),
+        other => match other.parse::<f64>() {
+            Ok(x) if x > 0.0 && x <= 360.0 => Ok(x),
+            _ => Err(Error::Invalid(format!(
+                "zebra.width = {text} is neither thin, medium, thick nor degrees in (0, 360]"
+            ))),
+        },
     }
 }
 
-impl HighlightParams {
-    /// Fills in the scene-dependent defaults from the scene's centre and diagonal.
-    pub fn resolved(&self, center: DVec3, diagonal: f64) -> HighlightParams {
-        let normal = self.plane_normal.normalize_or(DVec3::Y);
-        HighlightParams {
-            origin: Some(self.origin.unwrap_or(center + normal * diagonal)),
-            plane_normal: normal,
-            direction: self.direction,
-            spacing: Some(
-                self.spacing
-                    .unwrap_or(diagonal / self.lines.max(f64::MIN_POSITIVE)),
-            ),
+impl ModeKind for ZebraParams {
+    const NAME: &'static str = "zebra";
+    const HELP: &'static str = "Reflection lines of parallel light tubes.";
+    const KEYS: &'static [Key] = &[
+        Key::new(
+            "axis",
+            "direction of the light tubes: \"view\", \"view-horizontal\" or [x, y, z] (default view)",
+        ),
+        Key::new(
+            "stripes",
+            "bright stripes per full turn (positive, default 16)",
+        ),
+        Key::new(
+            "width",
+            "period of the stripes: thin, medium, thick or degrees in (0, 360] (instead of stripes)",
+        ),
+        Key::new(
+            "duty",
+            "bright fraction of a period in [0, 1] (default 0.5)",
+        ),
+        Key::new(
+            "bright",
+            "linear RGB of the bright stripes (default [0.9, 0.9, 0.9])",
+        ),
+        Key::new(
+            "dark",
+            "linear RGB of the dark stripes (default [0.015, 0.015, 0.015])",
+        ),
+        FILTER_KEY,
+    ];
+    const FLAGS: &'static [Flag] = &[
+        Flag::value(
+            "zebra-axis",
+            "axis",
+            "AXIS",
+            "Zebra light-tube axis: `view` (stripes vertical on screen, poles only on the silhouette), `view-horizontal`, or a world direction `X,Y,Z` [default: view].",
+            keys::triple_or_text,
+        ),
+        Flag {
+            replaces: &["width"],
+            conflicts: &["zebra-width"],
+            ..Flag::value(
+                "zebra-stripes",
+                "stripes",
+                "N",
+                "Zebra bright stripes per full turn of the reflected direction [default: 16].",
+                keys::number,
+            )
+        },
+        Flag {
+            replaces: &["stripes"],
+            conflicts: &["zebra-stripes"],
+            hyphen_values: false,
+            ..Flag::value(
+                "zebra-width",
+                "width",
+                "WIDTH",
+                "Zebra stripe period: thin (11.25°), medium (22.5°), thick (45°) or degrees.",
+                keys::text,
+            )
+        },
+        Flag::value(
+            "zebra-duty",
+            "duty",
+            "F",
+            "Bright fraction of a zebra period, 0..1 [default: 0.5].",
+            keys::number,
+        ),
+        Flag {
+            hyphen_values: false,
+            ..Flag::value(
+                "zebra-bright",
+                "bright",
+                "R,G,B",
+                "Linear RGB of the bright zebra stripes `R,G,B` [default: 0.9,0.9,0.9].",
+                keys::triple,
+            )
+        },
+        Flag {
+            hyphen_values: false,
+            ..Flag::value(
+                "zebra-dark",
+                "dark",
+                "R,G,B",
+                "Linear RGB of the dark zebra stripes `R,G,B` [default: 0.015,0.015,0.015].",
+                keys::triple,
+            )
+        },
+        NO_STRIPE_FILTER,
+    ];
+
+    fn configure(&mut self, keys: &Keys<'_>) -> Result<()> {
+        match keys.value("axis") {
+            None => {}
+            Some(toml::Value::String(name)) if ZebraAxis::VIEW_NAMES.contains(&name.as_str()) => {
+                self.axis = ZebraAxis::parse(name)?;
+            }
+            Some(v @ toml::Value::Array(items)) if items.len() == 3 => {
+                let a = keys.as_triple("axis", v)?;
+                self.axis = ZebraAxis::World(keys::direction("zebra.axis", a)?);
+            }
+            Some(other) => {
+                return Err(Error::Invalid(format!(
+                    "zebra.axis = {other} is neither \"view\", \"view-horizontal\" nor [x, y, z]"
+                )));
+            }
+        }
+        keys.one_of("stripes", "width")?;
+        if let Some(s) = keys.positive("stripes")? {
+            self.stripes = s;
+        }
+        if let Some(w) = keys.value("width") {
+            let text = match w {
+                toml::Value::String(s) => s.clone(),
+                other => other.to_string(),
+            };
+            self.stripes = 360.0 / zebra_width_deg(&text)?;
+        }
+        if let Some(d) = keys.fraction("duty")? {
+            self.duty = d;
+        }
+        if let Some(c) = keys.colour("bright")? {
+            self.bright = c;
+        }
+        if let Some(c) = keys.colour("dark")? {
+            self.dark = c;
+        }
+        if let Some(f) = keys.flag("filter")? {
+            self.filter = f;
+        }
+        Ok(())
+    }
+
+    fn shade(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
+        ZebraParams::shade(self, sp, footprint)
+    }
+
+    fn filtered(&self) -> bool {
+        self.filter
+    }
+
+    /// The view-attached axes follow the camera's up.
+    fn set_up<T: SurfaceTracer>(&self, setup: &Setup<'_, T>, _stats: &mut RenderStats) -> Self {
+        ZebraParams {
+            view_up: setup.camera.up(),
             ..*self
         }
     }
 
-    /// The stripe phase (in periods) at point `p` with unit normal `n`; None where the normal
-    /// half-line does not reach the light plane.
-    pub fn phase(&self, p: DVec3, n: DVec3) -> Option<f64> {
-        let m = self.plane_normal;
-        let origin = self.origin.unwrap_or(DVec3::ZERO);
-        let spacing = self.spacing.unwrap_or(1.0);
-        let along = n.dot(m);
-        let reach = (origin - p).dot(m);
-        if along.abs() < 1e-9 || reach / along <= 0.0 {
-            return None;
+    fn with_back_faces_tinted(&self) -> Self {
+        ZebraParams {
+            tint_back_faces: true,
+            ..*self
         }
-        let meet = p + n * (reach / along);
-        let across = m
-            .cross(self.direction)
-            .normalize_or(m.any_orthonormal_vector());
-        Some((meet - origin).dot(across) / spacing)
     }
 
-    /// Bright or dark stripe at the hit ([`HighlightParams::resolved`] first), box-filtered
-    /// over `footprint` when given.
-    pub fn shade(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
-        // The outward normal half-line (turned towards the viewer, so both sides of an open
-        // surface behave alike) must reach the light plane; points facing away see no light.
-        let Some(phase) = self.phase(sp.jet.p, sp.facing_normal) else {
-            return DVec3::splat(DARK);
-        };
-        let width = match footprint {
-            Some(f) if self.filter => {
-                f.phase_width(sp, |p, n, _| self.phase(p, n).unwrap_or(phase))
-            }
-            _ => 0.0,
-        };
-        DVec3::splat(DARK).lerp(
-            DVec3::splat(BRIGHT),
-            filtered_square_wave(phase, width, self.duty),
-        )
+    fn swept(&self, shift: f64) -> Option<Self> {
+        Some(ZebraParams { shift, ..*self })
     }
 }
 
