@@ -248,9 +248,15 @@ fn a_report_with_a_baseline_renders_in_a_browser() {
         ),
         "the injected regression is on the page"
     );
+    // The changed cell is marked worse (and may also be marked as the mesh's best or worst
+    // scheme).
+    let at = html
+        .find("title=\"WORSE: before 1.000e-3, x")
+        .expect("the changed cell of the bending-energy table is marked");
+    let cell = &html[html[..at].rfind("<td").expect("its cell")..at];
     assert!(
-        html.contains("<td class=\"worse\" title=\"WORSE: before 1.000e-3, x"),
-        "the changed cell of the bending-energy table is marked"
+        cell.starts_with("<td class=\"worse"),
+        "the changed cell is marked worse: {cell}"
     );
     let thumbs = std::fs::read_dir(out_dir.join(page::THUMBS))
         .expect("thumbs")

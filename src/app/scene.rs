@@ -340,10 +340,15 @@ impl SceneFile {
                     known.join(", ")
                 )));
             }
-            if !value.is_table() {
+            let Some(section) = value.as_table() else {
                 return Err(Error::Invalid(format!(
                     "{name} = {value} is not a section [{name}]"
                 )));
+            };
+            // Every mode's section is checked for unknown keys, whether or not its mode is
+            // the one rendered: a misspelt key is an error, not silently ignored.
+            if let Some((_, keys)) = MODE_KEYS.iter().find(|(mode, _)| *mode == name.as_str()) {
+                crate::render::modes::Keys::new(name, section, keys)?;
             }
         }
         Ok(())

@@ -782,10 +782,15 @@ mod tests {
                     let along = x * azimuth.cos() + y * azimuth.sin();
                     let up = if k % 4 < 2 { normal } else { -normal };
                     let dir = along * (1.0 - sine * sine).sqrt() + up * sine;
+                    // A ray leaving the surface from `point` finds its own start again
+                    // within the root tolerance (1e-9 of the unit diagonal) over the sine of
+                    // its angle to the surface there: t_min steps past that root, ten times
+                    // over, so that only a second root can be found.
+                    let start_sine = jet.normal().dot(dir).abs();
                     let (ray, t_min) = if k % 2 == 0 {
                         (Ray64::new(point - dir * 0.5, dir), 0.0)
                     } else {
-                        (Ray64::new(point, dir), 1e-7)
+                        (Ray64::new(point, dir), (1e-8 / start_sine).max(1e-7))
                     };
                     let planes = RayPlanes::new(&ray);
                     let bounded =

@@ -10,7 +10,19 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::files::{create_folder, write_atomic};
-use crate::report::page::{MeshThumbnails, THUMB_MODES, thumbnail_name};
+
+/// One thumbnail of a report: what it shows and its path relative to the report folder.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Thumbnail {
+    /// Benchmark mesh.
+    pub mesh: String,
+    /// Scheme (variant label).
+    pub scheme: String,
+    /// Thumbnail mode.
+    pub mode: String,
+    /// Path relative to the report folder (the same in the baseline's folder).
+    pub name: String,
+}
 
 /// Folder (in the report folder) of the baseline's thumbnails that changed.
 pub const BEFORE: &str = "thumbs-baseline";
@@ -52,66 +64,61 @@ pub struct ImageChanges {
     pub missing: usize,
 }
 
-/// Compares the thumbnails `thumbnails` (in `out_dir/thumbs/`) with the baseline's in
-/// `baseline_dir/thumbs/`, writing the copies and difference images of those that changed.
+/// Compares the thumbnails `thumbnails` (in `out_dir`) with the baseline's of the same names
+/// in `baseline_dir`, writing the copies and difference images of those that changed.
 pub fn compare_thumbnails(
     baseline_dir: &Path,
     out_dir: &Path,
-    thumbnails: &[MeshThumbnails],
+    thumbnails: &[Thumbnail],
 ) -> Result<ImageChanges> {
     let mut found = ImageChanges::default();
     for t in thumbnails {
-        for scheme in &t.schemes {
-            for mode in THUMB_MODES {
-                let name = thumbnail_name(&t.mesh, scheme, mode);
-                let old_path = baseline_dir.join(&name);
-                if !old_path.is_file() {
-                    found.missing += 1;
-                    continue;
-                }
-                let old_bytes = std::fs::read(&old_path).map_err(|e| Error::io(&old_path, e))?;
-                let new_path = out_dir.join(&name);
-                let new_bytes = std::fs::read(&new_path).map_err(|e| Error::io(&new_path, e))?;
-                found.compared += 1;
-                if old_bytes == new_bytes {
-                    continue;
-                }
-                let (old, new) = (
-                    decode(&old_path, &old_bytes)?,
-                    decode(&new_path, &new_bytes)?,
-                );
-                let Some(change) = pixel_change(&old, &new) else {
-                    continue;
-                };
-                let file = name
-                    .strip_prefix(&format!("{}/", crate::report::page::THUMBS))
-                    .unwrap_or(&name)
-                    .to_string();
-                let before = format!("{BEFORE}/{file}");
-                create_folder(&out_dir.join(BEFORE))?;
-                write_atomic(&out_dir.join(&before), &old_bytes)?;
-                let diff = match change.image {
-                    Some(image) => {
-                        let diff = format!("{DIFF}/{file}");
-                        create_folder(&out_dir.join(DIFF))?;
-                        write_atomic(&out_dir.join(&diff), &png(&image)?)?;
-                        Some(diff)
-                    }
-                    None => None,
-                };
-                found.changes.push(ImageChange {
-                    mesh: t.mesh.clone(),
-                    scheme: scheme.clone(),
-                    mode: mode.to_string(),
-                    before,
-                    after: name,
-                    diff,
-                    changed: change.changed,
-                    pixels: (new.width() * new.height()) as usize,
-                    max_delta: change.max_delta,
-                });
-            }
+        let name = t.name.clone();
+        let old_path = baseline_dir.join(&name);
+        if !old_path.is_file() {
+            found.missing += 1;
+            continue;
         }
+        let old_bytes = std::fs::read(&old_path).map_err(|e| Error::io(&old_path, e))?;
+        let new_path = out_dir.join(&name);
+        let new_bytes = std::fs::read(&new_path).map_err(|e| Error::io(&new_path, e))?;
+        found.compared += 1;
+        if old_bytes == new_bytes {
+            continue;
+        }
+        let (old, new) = (
+            decode(&old_path, &old_bytes)?,
+            decode(&new_path, &new_bytes)?,
+        );
+        let Some(change) = pixel_change(&old, &new) else {
+            continue;
+        };
+        let file = Path::new(&name)
+            .file_name()
+            .map_or_else(|| name.clone(), |f| f.to_string_lossy().into_owned());
+        let before = format!("{BEFORE}/{file}");
+        create_folder(&out_dir.join(BEFORE))?;
+        write_atomic(&out_dir.join(&before), &old_bytes)?;
+        let diff = match change.image {
+            Some(image) => {
+                let diff = format!("{DIFF}/{file}");
+                create_folder(&out_dir.join(DIFF))?;
+                write_atomic(&out_dir.join(&diff), &png(&image)?)?;
+                Some(diff)
+            }
+            None => None,
+        };
+        found.changes.push(ImageChange {
+            mesh: t.mesh.clone(),
+            scheme: t.scheme.clone(),
+            mode: t.mode.clone(),
+            before,
+            after: name,
+            diff,
+            changed: change.changed,
+            pixels: (new.width() * new.height()) as usize,
+            max_delta: change.max_delta,
+        });
     }
     Ok(found)
 }
@@ -211,19 +218,21 @@ mod tests {
         for dir in [&old_dir, &new_dir] {
             create_folder(&dir.join("thumbs")).expect("folder");
         }
-        let thumbs = [MeshThumbnails {
-            mesh: "m".into(),
-            schemes: vec!["a".into(), "b".into()],
-            curvature_half_range: 1.0,
-            size: 4,
-            ms: 0.0,
-        }];
+        const THUMB_MODES: [&str; 2] = ["zebra", "curvature"];
+        let name = |scheme: &str, mode: &str| format!("thumbs/m-{scheme}-{mode}.png");
+        let thumbs: Vec<Thumbnail> = ["a", "b"]
+            .iter()
+            .flat_map(|scheme| {
+                THUMB_MODES.map(|mode| Thumbnail {
+                    mesh: "m".into(),
+                    scheme: scheme.to_string(),
+                    mode: mode.into(),
+                    name: name(scheme, mode),
+                })
+            })
+            .collect();
         let write = |dir: &Path, scheme: &str, mode: &str, img: &image::RgbImage| {
-            write_atomic(
-                &dir.join(thumbnail_name("m", scheme, mode)),
-                &png(img).expect("png"),
-            )
-            .expect("write");
+            write_atomic(&dir.join(name(scheme, mode)), &png(img).expect("png")).expect("write");
         };
         let plain = image(4, 4, |_, _| [50, 60, 70]);
         let mut dotted = plain.clone();

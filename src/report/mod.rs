@@ -779,11 +779,26 @@ pub fn write_outputs(
     }
     // The baseline's thumbnails sit beside its metrics.json.
     let images = match baseline {
-        Some((path, _)) => Some(image_changes::compare_thumbnails(
-            path.parent().unwrap_or(Path::new(".")),
-            out_dir,
-            thumbnails,
-        )?),
+        Some((path, _)) => {
+            let listed: Vec<image_changes::Thumbnail> = thumbnails
+                .iter()
+                .flat_map(|t| {
+                    t.schemes.iter().flat_map(move |scheme| {
+                        page::THUMB_MODES.map(|mode| image_changes::Thumbnail {
+                            mesh: t.mesh.clone(),
+                            scheme: scheme.clone(),
+                            mode: mode.to_string(),
+                            name: page::thumbnail_name(&t.mesh, scheme, mode),
+                        })
+                    })
+                })
+                .collect();
+            Some(image_changes::compare_thumbnails(
+                path.parent().unwrap_or(Path::new(".")),
+                out_dir,
+                &listed,
+            )?)
+        }
         None => None,
     };
     let html = page::to_html(

@@ -50,7 +50,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
         ParamSpec {
             name: "beta",
             default: "0.8",
-            help: "β of eq. 2 (> 0): tangent magnitude (default chosen by accuracy on analytic meshes; 0.5 gives linear precision)",
+            help: "β of eq. 2 (> 0): tangent magnitude, an upper limit: capped per vertex so that no boundary curve swerves off its edge (docs/folds.md; default chosen by accuracy on analytic meshes; 0.5 gives linear precision)",
         },
     ],
     needs_closed_mesh: false,
