@@ -69,7 +69,7 @@ pub struct Sample<'a> {
 /// A render mode: one type holding its parameters, and everything about the mode — its name,
 /// help, scene keys and command-line flags with their checks, its set-up from the scene, its
 /// colour of a hit, its pass over the finished image, its cost. One file per mode implements
-/// it; one line of [`modes!`] registers it. Nothing outside `render/modes/` names a mode.
+/// it; one line of `modes!` registers it. Nothing outside `render/modes/` names a mode.
 ///
 /// Every method has the plain answer as default; a mode overrides what it has.
 pub trait ModeKind: Clone + std::fmt::Debug + PartialEq + Default + Send + Sync {
