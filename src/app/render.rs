@@ -356,22 +356,9 @@ pub struct RenderArgs {
     pub shard: Option<crate::report::shard::Shard>,
 }
 
-/// Parses `X,Y,Z`.
+/// Parses `X,Y,Z` ([`crate::render::modes::keys::parse_triple`]).
 pub fn parse_vec3(text: &str) -> std::result::Result<[f64; 3], String> {
-    let parts: Vec<&str> = text.split(',').collect();
-    if parts.len() != 3 {
-        return Err(format!("'{text}' is not X,Y,Z"));
-    }
-    let mut out = [0.0; 3];
-    for (slot, part) in out.iter_mut().zip(parts) {
-        *slot = part
-            .trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("'{part}' in '{text}' is not a finite number"))?;
-    }
-    Ok(out)
+    crate::render::modes::keys::parse_triple(text)
 }
 
 /// Parses a vertical field of view in degrees (`--fov`): finite, at least

@@ -278,19 +278,21 @@ impl SceneFile {
     /// is made relative to the file's directory.
     pub fn load(path: &Path) -> Result<SceneFile> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        // A figure spec given to `render` is named as one, whichever check refuses it.
+        let figure_spec_or = |e: Error| {
+            if toml_input::has_top_level_key(&text, &["schemes", "modes"]) {
+                Error::Invalid(format!(
+                    "{}: this is a figure spec ([[schemes]], [[modes]]), not a scene file: \
+                     run `smoothlab figure {}`",
+                    path.display(),
+                    path.display()
+                ))
+            } else {
+                e
+            }
+        };
         let mut scene: SceneFile =
-            toml_input::parse(&text, &path.display().to_string()).map_err(|e| {
-                if toml_input::has_top_level_key(&text, &["schemes", "modes"]) {
-                    Error::Invalid(format!(
-                        "{}: this is a figure spec ([[schemes]], [[modes]]), not a scene file: \
-                         run `smoothlab figure {}`",
-                        path.display(),
-                        path.display()
-                    ))
-                } else {
-                    e
-                }
-            })?;
+            toml_input::parse(&text, &path.display().to_string()).map_err(figure_spec_or)?;
         let dir = path.parent().unwrap_or(Path::new(""));
         if let Some(mesh) = &scene.mesh
             && mesh.is_relative()
@@ -302,18 +304,9 @@ impl SceneFile {
         {
             scene.render.output = Some(dir.join(output));
         }
-        scene.check_sections().map_err(|e| {
-            if toml_input::has_top_level_key(&text, &["schemes", "modes"]) {
-                Error::Invalid(format!(
-                    "{}: this is a figure spec ([[schemes]], [[modes]]), not a scene file: \
-                     run `smoothlab figure {}`",
-                    path.display(),
-                    path.display()
-                ))
-            } else {
-                Error::Invalid(format!("{}: {e}", path.display()))
-            }
-        })?;
+        scene
+            .check_sections()
+            .map_err(|e| figure_spec_or(Error::Invalid(format!("{}: {e}", path.display()))))?;
         scene.files_beside(dir);
         Ok(scene)
     }

@@ -184,8 +184,8 @@ pub fn triple_or_text(text: &str) -> std::result::Result<toml::Value, String> {
     })
 }
 
-/// `X,Y,Z` of finite numbers.
-fn parse_triple(text: &str) -> std::result::Result<[f64; 3], String> {
+/// `X,Y,Z` of finite numbers (the text of a vector flag or key).
+pub fn parse_triple(text: &str) -> std::result::Result<[f64; 3], String> {
     let parts: Vec<&str> = text.split(',').collect();
     if parts.len() != 3 {
         return Err(format!("'{text}' is not X,Y,Z"));
