@@ -33,6 +33,28 @@ pub const DOMAIN_ZERO: f64 = 1e-12;
 /// systems are judged by scale-relative bounds beside their solvers, not by this.
 pub const DIVISION_GUARD: f64 = 1e-300;
 
+/// The G0 contract of every joint, relative to the bounding-box diagonal: two sides whose gap
+/// exceeds `G0_GAP_REL · diag` do not meet (continuity order −1), and the renderer's root
+/// tolerance stays below it so that a hit is never further from the surface than a joint's gap
+/// may be.
+pub const G0_GAP_REL: f64 = 1e-9;
+
+/// Relative growth of a bound computed in f64 before it is compared with a computed distance
+/// (the renderer's certified Newton: disk radii, Taylor remainders, root tolerances), so
+/// that rounding in the bound's own computation can never exclude a true root.
+pub const BOUND_GROWTH_REL: f64 = 1e-9;
+
+/// Absolute growth added to such a bound (after [`BOUND_GROWTH_REL`]), for bounds that are
+/// zero or underflow: distances are in the tracer's unit frame, so 1e-12 is ~4500 ulps of 1.
+pub const BOUND_GROWTH_ABS: f64 = 1e-12;
+
+/// A computed bound grown by its rounding: `bound · (1 + BOUND_GROWTH_REL) + BOUND_GROWTH_ABS`,
+/// in that order of operations.
+#[inline]
+pub fn inflate(bound: f64) -> f64 {
+    bound * (1.0 + BOUND_GROWTH_REL) + BOUND_GROWTH_ABS
+}
+
 /// Asserts `|a − b| ≤ tol` (all `f64`), printing both values, the difference and the bound
 /// (and an optional message) when it fails.
 #[macro_export]
@@ -60,6 +82,15 @@ macro_rules! assert_near {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn inflate_is_the_literal_arithmetic() {
+        for bound in [0.0, 1e-300, 0.1, 1.0 / 3.0, 7.5, 1e12] {
+            let literal = bound * (1.0 + 1e-9) + 1e-12;
+            assert_eq!(super::inflate(bound).to_bits(), literal.to_bits(), "{bound}");
+        }
+        assert!(super::inflate(1.0) > 1.0 && super::inflate(0.0) > 0.0);
+    }
+
     #[test]
     fn assert_near_passes_within_and_fails_beyond_the_bound() {
         crate::assert_near!(1.0, 1.0 + 1e-13, super::POSITION_REL);

@@ -11,7 +11,8 @@
 //! with them is the height function `h(x, y)` up to order [`MAX_ORDER`]. Order m of the two sides
 //! agrees when `max |h_A,ij − h_B,ij|` over `i + j = m` is at most `tolerance(m)` times the larger
 //! magnitude of the order-m coefficients (or `L^{1−m}`, `L` the bounding-box diagonal, if that is
-//! larger). Order 0 is the gap `|S_A − S_B| ≤ 1e-9 L`; a joint with a larger gap has order −1.
+//! larger). Order 0 is the gap `|S_A − S_B| ≤ 1e-9 L`
+//! ([`crate::tolerance::G0_GAP_REL`]); a joint with a larger gap has order −1.
 //! The normals are oriented (`Su × Sv` of each side, every patch parametrised with its face's
 //! orientation): where side B's normal points against side A's, the surface folds over the
 //! joint and the order is 0, however well the two height functions agree (a face folded flat
@@ -62,6 +63,7 @@ use crate::bezier::TriangleBezier;
 use crate::bezier::triangle::{de_casteljau_rows, de_casteljau_step, point_count};
 use crate::metrics::double_double::{DoubleDouble, Real};
 use crate::surface::{Joint, Patch, Surface, UV_CORNERS, edge_uv};
+use crate::tolerance::G0_GAP_REL;
 
 /// Highest order compared (a joint that agrees to this order is reported as this order).
 pub const MAX_ORDER: usize = 5;
@@ -739,7 +741,7 @@ fn measure_with_floor(
         unresolved: false,
     };
     let (gap, point) = exact_point(surface, joint, s, 1);
-    if gap > 1e-9 * diag {
+    if gap > G0_GAP_REL * diag {
         return plain(-1);
     }
     let Some(mut point) = point else {
@@ -961,7 +963,7 @@ pub struct PreciseMeasure {
 }
 
 impl PreciseMeasure {
-    /// The order the sides agree to: −1 for a gap above `1e-9 L`, else the largest m such
+    /// The order the sides agree to: −1 for a gap above [`G0_GAP_REL`]` L`, else the largest m such
     /// that every order up to m differs by at most [`precise_tolerance`]`(m)` of its scale.
     pub fn order(&self, diag: f64) -> i32 {
         self.order_within(diag, precise_tolerance)
@@ -970,7 +972,7 @@ impl PreciseMeasure {
     /// [`PreciseMeasure::order`] with the relative tolerance `tolerance(m)` of order m (e.g.
     /// the f64 measure's [`tolerance`], to read stored f64 nets exactly against it).
     pub fn order_within(&self, diag: f64, tolerance: impl Fn(usize) -> f64) -> i32 {
-        if self.gap > 1e-9 * diag {
+        if self.gap > G0_GAP_REL * diag {
             return -1;
         }
         if self.folded {

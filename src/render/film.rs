@@ -518,7 +518,7 @@ mod tests {
         let (frame, _) = render(&tracer, &camera, &settings).expect("render");
         let diag = surface.bounds().diagonal();
         assert!(
-            tracer.root_tolerance() < 1e-9 * diag,
+            tracer.root_tolerance() < crate::tolerance::G0_GAP_REL * diag,
             "root tolerance within the contract"
         );
         let mut checked = 0;

@@ -378,7 +378,7 @@ impl<'s> Tracer<'s> {
     fn net_clears<const D: usize>(&self, c: &[DVec3], planes: &RayPlanes) -> bool {
         let offset = -planes.residual(DVec3::ZERO);
         let (net, magnitude) = projected_net::<D>(c, |v| planes.project(v), offset);
-        let limit = self.tolerance * (1.0 + 1e-9) + 1e-12 + 64.0 * f64::EPSILON * magnitude;
+        let limit = crate::tolerance::inflate(self.tolerance) + 64.0 * f64::EPSILON * magnitude;
         hull_clears_origin(&net[..point_count(D)], limit)
     }
 

@@ -47,6 +47,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::render::ray::{Ray64, RayPlanes};
+use crate::tolerance::{BOUND_GROWTH_REL, inflate};
 
 /// Tunables of the per-piece Newton solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -181,13 +182,13 @@ pub fn planar_start(bounds: &PieceBounds, ray: &Ray64) -> Start {
     if !at.is_finite() || !radius.is_finite() {
         return Start::Unbounded;
     }
-    if distance_to_unit_triangle(at) > radius * (1.0 + 1e-9) + 1e-12 {
+    if distance_to_unit_triangle(at) > inflate(radius) {
         return Start::Outside;
     }
     let sin = (1.0 - cos.min(1.0).powi(2)).sqrt();
     // `cos` (to the normal) is the sine of the ray's angle with the plane.
     let once = if bounds.tilt.is_finite() {
-        cos > bounds.tilt * (1.0 + 1e-9) + 1e-12
+        cos > inflate(bounds.tilt)
     } else {
         sin <= 30f64.to_radians().cos()
     };
@@ -289,7 +290,7 @@ pub fn newton_clearing(
             let sigma = ju.perp_dot(jv).abs() / (ju.length_squared() + jv.length_squared()).sqrt();
             let reach = farthest_corner_distance(x).min((x - from).length() + radius);
             let error = half_m * reach * reach / sigma;
-            if outside > error * (1.0 + 1e-9) + 1e-12 {
+            if outside > inflate(error) {
                 return Newton::NoRoot;
             }
             // The Newton bound divides by σ, which vanishes at a silhouette; the residual's own
@@ -450,7 +451,7 @@ pub fn search(
             .fold(0.0, f64::max)
             .sqrt();
         // The sub-triangle lies in the disk of radius `size` about `y`.
-        if (from - y).length() - size > radius * (1.0 + 1e-9) + 1e-12 {
+        if (from - y).length() - size > inflate(radius) {
             continue;
         }
         if disks.cover(tri) {
@@ -465,7 +466,7 @@ pub fn search(
         // from `J(y)` by at most `2 half_m · size` there, so a root in Δ is the only one when
         // `σ` exceeds that. Else Δ is searched further, so that a ray meeting the piece twice
         // close together (grazing) finds the nearer root too.
-        let unique = once || sigma > 2.0 * half_m * size * (1.0 + 1e-9);
+        let unique = once || sigma > 2.0 * half_m * size * (1.0 + BOUND_GROWTH_REL);
         let root_here = f.length_squared() <= tolerance * tolerance;
         // Only a proved bound excludes by Taylor here; a blend's caller passes its own test.
         if !root_here
@@ -492,7 +493,7 @@ pub fn search(
         {
             let error = half_m * size * size / sigma;
             let outside = distance_to_triangle(y - step, tri);
-            if outside > error * (1.0 + 1e-9) + 1e-12 {
+            if outside > inflate(error) {
                 continue;
             }
             // Deep down, a root near the edge of Δ may have its target just outside: run too.
@@ -576,8 +577,8 @@ impl RootDisks {
         }
         let sigma = ju.perp_dot(jv).abs() / (ju.length_squared() + jv.length_squared()).sqrt();
         // Rounding: the bound grows by a relative 1e-9, the tolerance by 1e-12 as well.
-        let half_m = half_m * (1.0 + 1e-9);
-        let tau = tolerance * (1.0 + 1e-9) + 1e-12;
+        let half_m = half_m * (1.0 + BOUND_GROWTH_REL);
+        let tau = inflate(tolerance);
         let disc = sigma * sigma - 4.0 * half_m * tau;
         if !(disc > 0.0 && half_m > 0.0 && sigma.is_finite()) {
             return;
@@ -620,7 +621,7 @@ pub fn taylor_excludes(
 ) -> bool {
     let sum = parts.iter().fold(DVec2::ZERO, |a, p| a + p.0);
     let drop = 0.5 * second * size * size;
-    let limit = margin * (1.0 + 1e-9) + 1e-12;
+    let limit = inflate(margin);
     if !drop.is_finite() {
         return false;
     }
