@@ -86,7 +86,11 @@ mod tests {
     fn inflate_is_the_literal_arithmetic() {
         for bound in [0.0, 1e-300, 0.1, 1.0 / 3.0, 7.5, 1e12] {
             let literal = bound * (1.0 + 1e-9) + 1e-12;
-            assert_eq!(super::inflate(bound).to_bits(), literal.to_bits(), "{bound}");
+            assert_eq!(
+                super::inflate(bound).to_bits(),
+                literal.to_bits(),
+                "{bound}"
+            );
         }
         assert!(super::inflate(1.0) > 1.0 && super::inflate(0.0) > 0.0);
     }

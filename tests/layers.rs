@@ -3,8 +3,8 @@
 //! directly or through others.
 //!
 //! What counts as an import: every `crate::…`, `super::…` and `self::…` path in non-test code
-//! (a file's lines up to its first `#[cfg(test)]`; files named `tests.rs` or `test_support.rs`
-//! are test code), comments left out. Test code may use any module, as may `testing`, the
+//! (everything but the items and fields gated by `#[cfg(test)]`, found by bracket matching;
+//! files named `tests.rs` or `test_support.rs` are test code), comments left out. Test code may use any module, as may `testing`, the
 //! test support shared by the unit tests, `tests/` and `benches/`.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -99,16 +99,81 @@ fn code_of(file: &Path) -> Option<String> {
         return None;
     }
     let text = std::fs::read_to_string(file).expect("read source");
-    let code = text
-        .lines()
-        .take_while(|l| l.trim() != "#[cfg(test)]")
+    Some(without_test_items(&without_comments(&text)))
+}
+
+/// `text` without its `//` comments (to the end of the line; a `//` in a string literal
+/// ends the line's code as well, which only drops text).
+fn without_comments(text: &str) -> String {
+    text.lines()
         .map(|l| match l.find("//") {
             Some(i) => &l[..i],
             None => l,
         })
         .collect::<Vec<_>>()
-        .join("\n");
-    Some(code)
+        .join("\n")
+}
+
+/// `code` without the items and fields gated by `#[cfg(test)]`: from the attribute to the
+/// end of the item it gates — its `;` or `,` at nesting depth 0 (a `use`, `mod NAME;`, a
+/// struct field or a field of a struct literal), or the `}` closing its first brace (a `mod`
+/// block, a function, an `impl`). Everything else is kept, so every other line is checked.
+fn without_test_items(code: &str) -> String {
+    const GATE: &str = "#[cfg(test)]";
+    let mut out = String::with_capacity(code.len());
+    let mut rest = code;
+    while let Some(at) = rest.find(GATE) {
+        out.push_str(&rest[..at]);
+        let item = &rest[at + GATE.len()..];
+        rest = &item[gated_item_len(item)..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The length of the item at the start of `code` (after its `#[cfg(test)]`), by bracket
+/// matching with string and character literals skipped; all of `code` if it never ends.
+fn gated_item_len(code: &str) -> usize {
+    let bytes = code.as_bytes();
+    // Depth of (), [] and, before the first brace, the generics' <>; then depth of {}.
+    let mut depth = 0i32;
+    let mut braces = 0i32;
+    let mut i = 0;
+    while i < bytes.len() {
+        let c = bytes[i];
+        match c {
+            b'"' => {
+                i += 1;
+                while i < bytes.len() && bytes[i] != b'"' {
+                    i += if bytes[i] == b'\\' { 2 } else { 1 };
+                }
+            }
+            b'\'' if bytes.get(i + 2) == Some(&b'\'') => i += 2,
+            b'\'' if bytes.get(i + 1) == Some(&b'\\') => {
+                i += 2;
+                while i < bytes.len() && bytes[i] != b'\'' {
+                    i += 1;
+                }
+            }
+            b'{' => braces += 1,
+            b'}' => {
+                braces -= 1;
+                if braces <= 0 {
+                    return i + 1;
+                }
+            }
+            _ if braces > 0 => {}
+            b'(' | b'[' => depth += 1,
+            b')' | b']' => depth -= 1,
+            b'<' => depth += 1,
+            b'>' if i > 0 && matches!(bytes[i - 1], b'-' | b'=') => {}
+            b'>' => depth -= 1,
+            b';' | b',' if depth <= 0 => return i + 1,
+            _ => {}
+        }
+        i += 1;
+    }
+    bytes.len()
 }
 
 /// Every path that starts with `crate::`, `super::` or `self::` in `code`, as module paths
@@ -257,4 +322,21 @@ fn the_import_scan_sees_known_imports() {
     assert!(allowed("app").expect("a layer").contains("error"));
     let macro_patch = src().join("schemes/hb/macro_patch.rs");
     assert!(graph[&macro_patch].contains(&src().join("schemes/hb/energy.rs")));
+}
+
+/// Only the gated items are left out: code after a test module, a gated field and a gated
+/// function is still scanned, and an import there is seen.
+#[test]
+fn test_items_are_skipped_and_nothing_else() {
+    let code = "use crate::surface::Patch;\n\
+        struct Hole {\n    #[cfg(test)]\n    ring: Vec<(A, B)>,\n    #[cfg(test)]\n    map: HashMap<K, V>,\n    kept: crate::bezier::X,\n}\n\
+        #[cfg(test)]\nfn probe(a: u8) -> crate::metrics::Y { let s = \"}\"; let c = '}'; if a < 2 { } }\n\
+        fn after() { crate::mesh::Mesh::new(); }\n\
+        #[cfg(test)]\nmod tests {\n    use crate::testing::Rng;\n    fn f() { if 1 > 0 {} }\n}\n\
+        fn tail() -> crate::geom::Z { }\n";
+    let kept = without_test_items(code);
+    let paths = imported_paths(&kept, &["schemes".to_string()]);
+    let firsts: Vec<&str> = paths.iter().map(|p| p[0].as_str()).collect();
+    assert_eq!(firsts, ["surface", "bezier", "mesh", "geom"], "{kept}");
+    assert!(kept.contains("fn tail") && !kept.contains("HashMap") && !kept.contains("probe"));
 }
