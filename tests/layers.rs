@@ -4,8 +4,9 @@
 //!
 //! What counts as an import: every `crate::…`, `super::…` and `self::…` path in non-test code
 //! (everything but the items and fields gated by `#[cfg(test)]`, found by bracket matching;
-//! files named `tests.rs` or `test_support.rs` are test code), comments left out. Test code may use any module, as may `testing`, the
-//! test support shared by the unit tests, `tests/` and `benches/`.
+//! files named `tests.rs` or `test_support.rs` are test code), comments left out. Test code
+//! may use any module, as may `testing`, the test support shared by the unit tests, `tests/`
+//! and `benches/`.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
