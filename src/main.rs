@@ -223,7 +223,7 @@ enum FormatArg {
     Json,
     /// BezierView type-3 records.
     Bv,
-    /// Tessellated OBJ with exact normals.
+    /// Tessellated OBJ with exact normals, welded along patch edges.
     Obj,
 }
 

@@ -406,7 +406,11 @@ fn export_writes_json_bv_and_obj() {
     let (out, path) = export(&dir, "obj", &["--tess", "3"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let obj = std::fs::read_to_string(path).expect("obj written");
-    assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), 4 * 10);
+    // Welded: 4 corners, 2 more vertices on each of the 6 edges, 1 inside each face.
+    assert_eq!(
+        obj.lines().filter(|l| l.starts_with("v ")).count(),
+        4 + 6 * 2 + 4
+    );
     assert_eq!(obj.lines().filter(|l| l.starts_with("vn ")).count(), 4 * 10);
     assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 4 * 9);
 

@@ -1,8 +1,12 @@
 //! Tessellated OBJ: every patch sampled on a regular grid of `tess` subdivisions per edge,
 //! `(tess+1)(tess+2)/2` vertices shared by the triangles of that patch, each with the
 //! patch's exact unit normal `Su × Sv / |Su × Sv|` as `vn` (not an average of facet normals),
-//! so shading in any viewer shows the true normal field, jumps included. Patches do not share
-//! vertices with each other: a gap or kink between patches stays visible.
+//! so shading in any viewer shows the true normal field, jumps included. The vertices are
+//! welded: grid vertices of neighbouring patches closer than the G0 contract
+//! ([`crate::tolerance::G0_GAP_REL`] of the diagonal) are one `v`, so the file is one connected
+//! mesh that MeshLab or Blender need not weld, while a wider gap stays open. Normals are shared
+//! where they agree to [`crate::tolerance::NORMAL_RAD`] and kept one per side where they do not, so
+//! a kink stays visible in shading.
 //!
 //! Triangles are wound counter-clockwise in the patch's `(u, v)` domain, so they face the
 //! way the patch normal points.
@@ -12,6 +16,7 @@ use std::fmt::Write;
 use glam::{DVec2, DVec3};
 
 use crate::error::{Error, Result};
+use crate::mesh::PointWelder;
 use crate::surface::{Patch, Surface};
 
 /// Number of grid vertices of one patch at `tess` subdivisions per edge.
@@ -69,21 +74,14 @@ pub fn to_obj(surface: &Surface, tess: usize) -> Result<String> {
         estimated_bytes(surface.patches.len(), tess),
         "lower --tess",
     )?;
-    let mut out = String::new();
-    // Writing into a String cannot fail.
-    let _ = writeln!(
-        out,
-        "# smoothlab tessellation: scheme {}, {} patches, {tess} subdivisions per edge",
-        surface.scheme,
-        surface.patches.len()
-    );
     let per_patch = grid_vertex_count(tess);
+    let bounds = surface.bounds();
+    let tolerance = crate::tolerance::G0_GAP_REL * (bounds.max - bounds.min).length();
+    let mut welder = PointWelder::new(bounds, tolerance, surface.patches.len() * per_patch);
+    let mut normals = NormalsPerVertex::default();
+    // Per patch grid vertex: its welded position and normal numbers.
+    let mut corners = Vec::with_capacity(surface.patches.len() * per_patch);
     for (index, patch) in surface.patches.iter().enumerate() {
-        let _ = writeln!(
-            out,
-            "g patch{index}_face{}_piece{}",
-            patch.face, patch.piece
-        );
         for i in 0..=tess {
             for j in 0..=tess - i {
                 let uv = DVec2::new(i as f64, j as f64) / tess as f64;
@@ -102,25 +100,107 @@ pub fn to_obj(surface: &Surface, tess: usize) -> Result<String> {
                         },
                     });
                 }
-                let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
-                let _ = writeln!(out, "vn {} {} {}", n.x, n.y, n.z);
+                let v = welder.weld(p);
+                corners.push((v, normals.weld(v, n)));
             }
         }
-        // OBJ indices are 1-based and global; vertex and normal indices coincide.
-        let base = index * per_patch + 1;
-        let id = |i, j| base + grid_index(tess, i, j);
+    }
+    let mut faces = String::new();
+    let mut collapsed = 0;
+    for (index, patch) in surface.patches.iter().enumerate() {
+        // Writing into a String cannot fail.
+        let _ = writeln!(
+            faces,
+            "g patch{index}_face{}_piece{}",
+            patch.face, patch.piece
+        );
+        let grid = &corners[index * per_patch..(index + 1) * per_patch];
+        let mut triangle = |a: (usize, usize), b: (usize, usize), c: (usize, usize)| {
+            let [a, b, c] = [a, b, c].map(|(i, j)| grid[grid_index(tess, i, j)]);
+            if a.0 == b.0 || b.0 == c.0 || c.0 == a.0 {
+                collapsed += 1;
+                return;
+            }
+            // OBJ indices are 1-based.
+            let _ = writeln!(
+                faces,
+                "f {}//{} {}//{} {}//{}",
+                a.0 + 1,
+                a.1 + 1,
+                b.0 + 1,
+                b.1 + 1,
+                c.0 + 1,
+                c.1 + 1
+            );
+        };
         for i in 0..tess {
             for j in 0..tess - i {
-                let (a, b, c) = (id(i, j), id(i + 1, j), id(i, j + 1));
-                let _ = writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}");
+                triangle((i, j), (i + 1, j), (i, j + 1));
                 if i + j + 1 < tess {
-                    let d = id(i + 1, j + 1);
-                    let _ = writeln!(out, "f {b}//{b} {d}//{d} {c}//{c}");
+                    triangle((i + 1, j), (i + 1, j + 1), (i, j + 1));
                 }
             }
         }
     }
+    let mut out = String::with_capacity(faces.len() * 2);
+    let _ = writeln!(
+        out,
+        "# smoothlab tessellation: scheme {}, {} patches, {tess} subdivisions per edge",
+        surface.scheme,
+        surface.patches.len()
+    );
+    let _ = writeln!(
+        out,
+        "# welded within {:e} of the diagonal: {} vertices, {} normals; {collapsed} triangles \
+         dropped (corners welded into one)",
+        crate::tolerance::G0_GAP_REL,
+        welder.positions.len(),
+        normals.directions.len()
+    );
+    for p in &welder.positions {
+        let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
+    }
+    for n in &normals.directions {
+        let _ = writeln!(out, "vn {} {} {}", n.x, n.y, n.z);
+    }
+    out.push_str(&faces);
     Ok(out)
+}
+
+/// The distinct normals at each welded vertex: a normal within
+/// [`crate::tolerance::NORMAL_RAD`] of one already recorded at the same vertex is that one,
+/// so a G¹ joint shares its normals and a kink keeps one normal per side.
+#[derive(Default)]
+struct NormalsPerVertex {
+    /// The recorded unit normals, in order of first use.
+    directions: Vec<DVec3>,
+    /// Per welded vertex, its first normal (`u32::MAX`: none yet).
+    first: Vec<u32>,
+    /// Per normal, the next normal of the same vertex (`u32::MAX` ends the chain).
+    next: Vec<u32>,
+}
+
+impl NormalsPerVertex {
+    /// The number of unit normal `n` at welded vertex `v`, recorded if new there.
+    fn weld(&mut self, v: u32, n: DVec3) -> u32 {
+        let v = v as usize;
+        if v >= self.first.len() {
+            self.first.resize(v + 1, u32::MAX);
+        }
+        let mut at = self.first[v];
+        while at != u32::MAX {
+            let m = self.directions[at as usize];
+            if m.dot(n) > 0.0 && m.cross(n).length() <= crate::tolerance::NORMAL_RAD {
+                return at;
+            }
+            at = self.next[at as usize];
+        }
+        let id = self.directions.len() as u32;
+        self.directions.push(n);
+        self.next.push(self.first[v]);
+        self.first[v] = id;
+        id
+    }
 }
 
 #[cfg(test)]
@@ -213,6 +293,63 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Two flat triangles `(a, b, c)` and `(b, d, c)` sharing the edge `b c`, the second one
+    /// moved by `gap` along z.
+    fn two_triangles(d: DVec3, gap: f64) -> Surface {
+        let linear = |corners: [DVec3; 3]| {
+            PatchGeometry::Bezier(TriangleBezier::from_fn(1, |i, j, _| {
+                corners[if i == 1 {
+                    0
+                } else if j == 1 {
+                    1
+                } else {
+                    2
+                }]
+            }))
+        };
+        let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::Y);
+        let shift = DVec3::new(0.0, 0.0, gap);
+        let patch = |face, geometry| Patch {
+            face,
+            piece: 0,
+            domain: crate::surface::WHOLE_FACE,
+            geometry,
+        };
+        Surface {
+            scheme: "test".into(),
+            warnings: Vec::new(),
+            params: vec![],
+            patches: vec![
+                patch(0, linear([a, b, c])),
+                patch(1, linear([b + shift, d + shift, c + shift])),
+            ],
+        }
+    }
+
+    fn count(text: &str, prefix: &str) -> usize {
+        text.lines().filter(|l| l.starts_with(prefix)).count()
+    }
+
+    /// Grid vertices on a shared edge are one vertex; normals are shared across a flat joint
+    /// and kept one per side across a kink; a gap wider than the G0 contract stays open.
+    #[test]
+    fn patches_share_the_vertices_of_their_common_edge() {
+        let tess = 5;
+        let grid = grid_vertex_count(tess);
+        let flat = to_obj(&two_triangles(DVec3::new(1.0, 1.0, 0.0), 0.0), tess).unwrap();
+        assert_eq!(count(&flat, "v "), 2 * grid - (tess + 1));
+        assert_eq!(count(&flat, "vn "), 2 * grid - (tess + 1));
+        assert_eq!(count(&flat, "f "), 2 * tess * tess);
+        let kink = to_obj(&two_triangles(DVec3::new(1.0, 1.0, 0.5), 0.0), tess).unwrap();
+        assert_eq!(count(&kink, "v "), 2 * grid - (tess + 1));
+        assert_eq!(count(&kink, "vn "), 2 * grid);
+        // 1e-6 of the diagonal: a thousand times the G0 contract.
+        let open = to_obj(&two_triangles(DVec3::new(1.0, 1.0, 0.0), 1.5e-6), tess).unwrap();
+        assert_eq!(count(&open, "v "), 2 * grid);
+        assert!(flat.contains(&format!("{} vertices", 2 * grid - (tess + 1))));
+        assert!(flat.contains("0 triangles dropped"));
     }
 
     #[test]

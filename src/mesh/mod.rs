@@ -52,7 +52,7 @@ pub use polygon::{CONVEXITY_TOLERANCE, PLANARITY_TOLERANCE};
 pub use repair::{Element, Repair, RepairKind};
 pub use sharp::{SharpEdges, crease_tangent};
 pub use validate::{DEGENERATE_AREA_RATIO, MAX_COORDINATE_MAGNITUDE, MIN_COORDINATE_SPAN};
-pub use weld::{DEFAULT_WELD_TOLERANCE, check_weld_tolerance};
+pub use weld::{DEFAULT_WELD_TOLERANCE, PointWelder, check_weld_tolerance};
 
 use normals::ObjNormals;
 use topology::{NO_TWIN, Topology};

@@ -89,10 +89,9 @@ pub(super) fn weld(
 ) -> Result<Welding> {
     let diagonal = (bounds.max - bounds.min).length();
     let tolerance = relative * diagonal;
-    let mut grid = Grid::new(bounds.min, tolerance, diagonal, positions.len());
+    let mut welder = PointWelder::new(bounds, tolerance, positions.len());
 
     let mut remap = vec![u32::MAX; positions.len()];
-    let mut welded_positions = Vec::with_capacity(positions.len());
     let mut representative = Vec::with_capacity(positions.len());
     let (mut welded, mut welded_near, mut max_distance, mut unused) = (0, 0, 0.0f64, 0);
     for (i, &p) in positions.iter().enumerate() {
@@ -100,26 +99,18 @@ pub(super) fn weld(
             unused += 1;
             continue;
         }
-        let nearest = grid
-            .near(p)
-            .map(|s| (s, distance(p, welded_positions[s as usize])))
-            .filter(|&(_, d)| d <= tolerance)
-            .min_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)));
-        remap[i] = match nearest {
+        remap[i] = match welder.nearest(p) {
             Some((survivor, d)) => {
                 welded += 1;
-                if p != welded_positions[survivor as usize] {
+                if p != welder.positions[survivor as usize] {
                     welded_near += 1;
                     max_distance = max_distance.max(d);
                 }
                 survivor
             }
             None => {
-                let id = welded_positions.len() as u32;
-                grid.insert(p, id);
-                welded_positions.push(p);
                 representative.push(i as u32);
-                id
+                welder.push(p)
             }
         };
     }
@@ -144,7 +135,7 @@ pub(super) fn weld(
         }
     }
     Ok(Welding {
-        positions: welded_positions,
+        positions: welder.positions,
         faces,
         representative,
         welded,
@@ -155,6 +146,57 @@ pub(super) fn weld(
         remap,
         first_collapse,
     })
+}
+
+/// Greedy point welding in insertion order: a point within `tolerance` of an earlier
+/// survivor becomes that survivor (the nearest, ties to the earlier), otherwise it survives.
+/// Survivors are therefore more than the tolerance apart and a welded point moves by at most
+/// the tolerance. Lookups go through a hash grid ([`Grid`]), so welding n points takes O(n)
+/// expected time. Used by the mesh loader and by the welded OBJ tessellation
+/// (`export::obj`).
+pub struct PointWelder {
+    grid: Grid,
+    tolerance: f64,
+    /// The survivors, in insertion order.
+    pub positions: Vec<DVec3>,
+}
+
+impl PointWelder {
+    /// An empty welder for points inside `bounds` merging within `tolerance` (a distance,
+    /// 0 or more), with room for `capacity` survivors.
+    pub fn new(bounds: Aabb, tolerance: f64, capacity: usize) -> PointWelder {
+        let diagonal = (bounds.max - bounds.min).length();
+        PointWelder {
+            grid: Grid::new(bounds.min, tolerance, diagonal, capacity),
+            tolerance,
+            positions: Vec::with_capacity(capacity),
+        }
+    }
+
+    /// The nearest survivor within the tolerance of `p` and its distance.
+    pub fn nearest(&self, p: DVec3) -> Option<(u32, f64)> {
+        self.grid
+            .near(p)
+            .map(|s| (s, distance(p, self.positions[s as usize])))
+            .filter(|&(_, d)| d <= self.tolerance)
+            .min_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)))
+    }
+
+    /// Adds `p` as a survivor (whether or not one is near) and returns its number.
+    pub fn push(&mut self, p: DVec3) -> u32 {
+        let id = self.positions.len() as u32;
+        self.grid.insert(p, id);
+        self.positions.push(p);
+        id
+    }
+
+    /// The survivor `p` welds to, added first when none is within the tolerance.
+    pub fn weld(&mut self, p: DVec3) -> u32 {
+        match self.nearest(p) {
+            Some((survivor, _)) => survivor,
+            None => self.push(p),
+        }
+    }
 }
 
 /// The distance from `p` to `q`, without underflow when they differ by subnormal amounts.
