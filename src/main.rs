@@ -27,6 +27,10 @@ enum Command {
         /// Also write the metrics JSON here.
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
+        /// After the table, explain every column: its JSON key, definition and good value
+        /// (docs/metrics.md).
+        #[arg(long)]
+        explain: bool,
     },
     /// Build a scheme on a mesh and write its patches.
     Export {
@@ -274,7 +278,11 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                 failed: false,
             })
         }
-        Some(Command::Metrics { input, json }) => {
+        Some(Command::Metrics {
+            input,
+            json,
+            explain,
+        }) => {
             // Rows are printed as the schemes are measured; a closed pipe ends the printing
             // quietly, any other failure to print is the command's error.
             let (mut stdout, mut failure) = (std::io::stdout(), None);
@@ -294,6 +302,11 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
                     }
                 },
             )?;
+            if explain && failure.is_none() {
+                failure = stdout
+                    .write_all(app::metrics_explanation().as_bytes())
+                    .err();
+            }
             match failure {
                 Some(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(
                     smoothlab::error::Error::Invalid(format!("standard output: {e}")),

@@ -220,6 +220,41 @@ fn moebius_strip_is_not_orientable() {
     assert_fails_naming(&out, &["not orientable", "edge ("]);
 }
 
+/// `metrics --explain` prints the table, then every column's meaning from docs/metrics.md.
+#[test]
+fn metrics_explain_follows_the_table_with_the_columns() {
+    let dir = scratch("metrics-explain");
+    let out = metrics_of(
+        &dir,
+        "tet.obj",
+        TETRAHEDRON,
+        &["--scheme", "pn", "--explain"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let (table, footer) = text
+        .split_once("\ncolumns (docs/metrics.md):\n")
+        .expect("footer");
+    assert!(
+        table.starts_with("scheme") && table.contains("\npn "),
+        "{table}"
+    );
+    for column in [
+        "interp (interp_max_rel)",
+        "G^k (continuity_order",
+        "flat_vtx (vertex_flat",
+    ] {
+        assert!(
+            footer.contains(&format!("  {column}")),
+            "{column}: {footer}"
+        );
+    }
+    assert!(
+        footer.contains("Why curv_jump saturates at 2.00."),
+        "{footer}"
+    );
+}
+
 #[test]
 fn open_mesh_is_refused_by_gk_by_name() {
     let dir = scratch("open-gk");

@@ -223,6 +223,98 @@ const TABLE_COLUMNS: [(&str, usize); 19] = [
     ("G0_sharp", 8),
 ];
 
+/// The metrics glossary the `--explain` footer is read from: docs/metrics.md, compiled in so
+/// that the footer and the guide are one text.
+const METRICS_GLOSSARY: &str = include_str!("../../docs/metrics.md");
+
+/// What `metrics --explain` prints after the table: each column of [`TABLE_COLUMNS`] with its
+/// JSON key, definition and good value, then the notes under the guide's table (why
+/// `curv_jump` saturates, how `G^k` is measured), all taken from the "The text table" section
+/// of docs/metrics.md with the Markdown marks removed.
+pub fn metrics_explanation() -> String {
+    let section = glossary_section("## The text table");
+    let mut out = String::from("\ncolumns (docs/metrics.md):\n");
+    for line in section.lines().filter(|l| l.starts_with("| `")) {
+        let cells: Vec<&str> = line.trim_matches('|').split(" | ").map(str::trim).collect();
+        if let [column, key, definition, good] = cells[..] {
+            let good = if good == "—" {
+                String::new()
+            } else {
+                format!(" Good: {}.", plain(good))
+            };
+            out += &wrap(
+                &format!(
+                    "{} ({}): {}.{good}",
+                    plain(column),
+                    plain(key),
+                    plain(definition)
+                ),
+                "  ",
+                "      ",
+            );
+        }
+    }
+    for paragraph in section
+        .split("\n\n")
+        .filter(|p| !p.starts_with('|') && !p.trim().is_empty())
+    {
+        out += "\n";
+        out += &wrap(&plain(&paragraph.replace('\n', " ")), "", "");
+    }
+    out
+}
+
+/// The lines of docs/metrics.md from `heading` to the next `## ` heading.
+fn glossary_section(heading: &str) -> &'static str {
+    let start = METRICS_GLOSSARY
+        .find(heading)
+        .map_or(0, |i| i + heading.len());
+    let rest = &METRICS_GLOSSARY[start..];
+    &rest[..rest.find("\n## ").unwrap_or(rest.len())]
+}
+
+/// Markdown text without its marks: code spans and emphasis unmarked, links reduced to their
+/// text.
+fn plain(markdown: &str) -> String {
+    let mut out = String::with_capacity(markdown.len());
+    let mut rest = markdown;
+    while let Some(open) = rest.find('[') {
+        out += &rest[..open];
+        let after = &rest[open + 1..];
+        match after.find("](").zip(after.find(')')) {
+            Some((close, end)) if close < end && !after[..close].contains('[') => {
+                out += &after[..close];
+                rest = &after[end + 1..];
+            }
+            _ => {
+                out.push('[');
+                rest = after;
+            }
+        }
+    }
+    out += rest;
+    out.replace('`', "").replace("**", "")
+}
+
+/// `text` wrapped at 96 characters, its first line indented by `first`, the rest by `next`.
+fn wrap(text: &str, first: &str, next: &str) -> String {
+    let mut out = String::new();
+    let (mut line, mut empty) = (first.to_string(), true);
+    for word in text.split_whitespace() {
+        if !empty && line.chars().count() + 1 + word.chars().count() > 96 {
+            out += &line;
+            out.push('\n');
+            (line, empty) = (next.to_string(), true);
+        }
+        if !empty {
+            line.push(' ');
+        }
+        line += word;
+        empty = false;
+    }
+    out + &line + "\n"
+}
+
 /// One line of the metrics table: names left-aligned, numbers right-aligned.
 fn table_line(cells: &[String]) -> String {
     let scheme_width = SCHEMES.iter().map(|s| s.name.len()).max().unwrap_or(0);
@@ -627,6 +719,38 @@ pub fn run_compare(
 
 #[cfg(test)]
 mod tests {
+    /// Every column of the table is explained by docs/metrics.md exactly once, with its
+    /// JSON key, and the curv_jump note is in the footer without Markdown marks.
+    #[test]
+    fn every_metrics_column_is_explained() {
+        let text = super::metrics_explanation();
+        for (column, _) in super::TABLE_COLUMNS {
+            let lines = text
+                .lines()
+                .filter(|l| l.starts_with(&format!("  {column} (")))
+                .count();
+            assert_eq!(lines, 1, "column {column} explained {lines} times:\n{text}");
+        }
+        assert!(text.contains("  curv_jump (curvature_jump_max_rel): largest relative jump"));
+        assert!(text.contains("Why curv_jump saturates at 2.00."), "{text}");
+        assert!(
+            !text.contains('`') && !text.contains("**") && !text.contains("]("),
+            "{text}"
+        );
+        assert!(
+            text.lines()
+                .all(|l| l.chars().count() <= 96 || !l.contains(' '))
+        );
+    }
+
+    #[test]
+    fn markdown_marks_are_removed() {
+        assert_eq!(
+            super::plain("a [glossary](glossary.md) and `x` **bold** [HB00 §9]"),
+            "a glossary and x bold [HB00 §9]"
+        );
+    }
+
     use super::*;
 
     fn pair(n: &str, v: &str) -> (String, String) {

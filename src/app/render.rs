@@ -595,18 +595,23 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     Ok((stats, report.warnings))
 }
 
-/// One line about a finished render, for the terminal.
+/// One line about a finished render, for the terminal: what a user needs first (hits, rays
+/// that missed the surface, time), then the tracer's work. Roots the leaf's fallback
+/// subdivision found after Newton did not settle (`newton_failures` in the stats JSON) are
+/// said as such: they are hits, not missed rays (docs/metrics.md, "Words the renderer prints").
 pub fn render_summary(stats: &RenderStats) -> String {
     format!(
-        "{} rays, {} hits; Newton {:.2} mean, {} max, {} failures; BVH {:.1} ms ({} leaves), render {:.1} ms\n",
+        "{} rays: {} hit the surface, {} missed it; render {:.1} ms, BVH {:.1} ms ({} leaves); \
+         Newton {:.2} iterations mean, {} max, {} roots found by the fallback subdivision\n",
         stats.rays,
         stats.hits,
+        stats.misses,
+        stats.render_ms,
+        stats.bvh_build_ms,
+        stats.leaves,
         stats.newton_iter_mean,
         stats.newton_iter_max,
         stats.newton_failures,
-        stats.bvh_build_ms,
-        stats.leaves,
-        stats.render_ms
     )
 }
 
