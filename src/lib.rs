@@ -35,6 +35,7 @@ pub mod geom;
 pub(crate) mod linalg;
 pub mod mesh;
 pub mod metrics;
+pub mod progress;
 pub mod render;
 pub mod report;
 pub mod schemes;

@@ -16,6 +16,10 @@ use smoothlab::export::Format;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// Draw no progress bars or spinners on standard error (they are drawn only on a
+    /// terminal anyway); warnings and errors are still printed.
+    #[arg(long, global = true)]
+    quiet: bool,
 }
 
 #[derive(Subcommand)]
@@ -478,6 +482,7 @@ fn main() -> ExitCode {
     if let Some(w) = smoothlab::app::limit_threads() {
         to_stderr(&format!("warning: {w}\n"));
     }
+    smoothlab::progress::set_quiet(cli.quiet);
     match run(cli) {
         Ok(output) => {
             for w in &output.warnings {

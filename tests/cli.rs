@@ -255,6 +255,51 @@ fn metrics_explain_follows_the_table_with_the_columns() {
     );
 }
 
+/// On a terminal, a long step draws a spinner on standard error and clears it; `--quiet`
+/// (before or after the command) draws none. The terminal is `script`'s pseudo-terminal
+/// (util-linux); without `script` the test says so and checks nothing.
+#[test]
+fn progress_is_drawn_on_a_terminal_unless_quiet() {
+    if std::process::Command::new("script")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        eprintln!("skipped: no `script` to give the command a terminal");
+        return;
+    }
+    let dir = scratch("progress-terminal");
+    let mesh = write(&dir, "tet.obj", TETRAHEDRON);
+    let on_terminal = |args: &str| {
+        let command = format!(
+            "{} {args}",
+            env!("CARGO_BIN_EXE_smoothlab").replace(' ', "\\ ")
+        )
+        .replace("MESH", path_str(&mesh));
+        let out = std::process::Command::new("script")
+            .args(["-qec", &command, "/dev/null"])
+            .output()
+            .expect("script runs");
+        assert!(out.status.success(), "{command}: {}", stderr(&out));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let shown = on_terminal("metrics MESH --scheme hb");
+    assert!(shown.contains("building hb on 4 faces"), "{shown}");
+    assert!(shown.contains("measuring hb"), "{shown}");
+    assert!(shown.contains(" 1/1 "), "the table row: {shown}");
+    for quiet in [
+        "--quiet metrics MESH --scheme hb",
+        "metrics MESH --scheme hb --quiet",
+    ] {
+        let text = on_terminal(quiet);
+        assert!(
+            !text.contains("building") && !text.contains("measuring"),
+            "{text}"
+        );
+        assert!(text.contains(" 1/1 "), "the table row: {text}");
+    }
+}
+
 #[test]
 fn open_mesh_is_refused_by_gk_by_name() {
     let dir = scratch("open-gk");

@@ -23,15 +23,22 @@ const BELOW: &[(&str, &[&str])] = &[
     ("files", &["error", "tolerance"]),
     ("budget", &["error", "tolerance"]),
     ("text", &[]),
+    ("progress", &[]),
     ("bezier", &["geom", "linalg"]),
     ("mesh", &["geom", "linalg", "files", "budget"]),
     ("blend", &["bezier"]),
     ("surface", &["blend"]),
-    ("schemes", &["surface", "mesh"]),
+    ("schemes", &["surface", "mesh", "progress"]),
     ("metrics", &["surface", "mesh"]),
     ("export", &["surface", "mesh", "files", "budget"]),
-    ("render", &["surface", "mesh", "files", "budget", "text"]),
-    ("report", &["schemes", "metrics", "export", "render"]),
+    (
+        "render",
+        &["surface", "mesh", "files", "budget", "text", "progress"],
+    ),
+    (
+        "report",
+        &["schemes", "metrics", "export", "render", "progress"],
+    ),
     ("app", &["report"]),
 ];
 

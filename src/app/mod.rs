@@ -170,7 +170,9 @@ pub fn measure_schemes_each(
         match schemes::build_timed_in_frame(run.scheme, mesh, &run.params) {
             Ok((surface, frame, ms)) => {
                 warnings.extend(surface.warnings.iter().cloned());
+                let measuring = crate::progress::spinner(format!("measuring {}", run.scheme));
                 let metrics = Metrics::measure_in_frame(&surface, &frame, mesh, ms);
+                measuring.finish_and_clear();
                 metrics.check_finite()?;
                 each(&metrics);
                 results.push(metrics);
@@ -474,7 +476,13 @@ pub fn run_export(
 ) -> Result<Output> {
     let (_, surface, warnings) =
         build_on_file(mesh_path, load, scheme, raw_params, ("-o", out_path))?;
+    let writing = crate::progress::spinner(format!(
+        "writing {} patches to {}",
+        surface.patches.len(),
+        out_path.display()
+    ));
     write_atomic(out_path, export::export(&surface, format, tess)?.as_bytes())?;
+    writing.finish_and_clear();
     Ok(Output {
         stdout: format!(
             "wrote {} patches of '{scheme}' to {}\n",

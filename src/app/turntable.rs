@@ -17,7 +17,6 @@
 //! it is a terminal.
 
 use std::f64::consts::TAU;
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
@@ -232,22 +231,16 @@ fn accumulate(total: &mut RenderStats, frame: &RenderStats) {
     total.set_rates();
 }
 
-/// A progress bar over `frames` frames on standard error, hidden when it is not a terminal.
+/// A progress bar over `frames` frames on standard error (see [`crate::progress`]).
 fn progress_bar(animation: &Animation) -> indicatif::ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(u64::from(animation.frames()));
-    let what = match animation {
+    let bar = crate::progress::bar(
+        u64::from(animation.frames()),
+        "{prefix} {bar:40} {pos}/{len} frames {elapsed} (eta {eta})",
+    );
+    bar.set_prefix(match animation {
         Animation::Turntable { .. } => "turntable",
         Animation::Sweep { .. } => "sweep",
-    };
-    if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "{prefix} {bar:40} {pos}/{len} frames {elapsed} (eta {eta})",
-    ) {
-        bar.set_style(style);
-    }
-    bar.set_prefix(what);
+    });
     bar
 }
 

@@ -7,7 +7,6 @@
 //! are summed in tile order, so the image and statistics do not depend on the number of
 //! threads.
 
-use std::io::IsTerminal;
 use std::time::Instant;
 
 use glam::DVec3;
@@ -282,18 +281,10 @@ pub fn render_cancellable<T: SurfaceTracer>(
     Ok(Some((frame, stats)))
 }
 
-/// A progress bar on stderr when asked for and stderr is a terminal.
+/// A progress bar over the tiles on stderr when asked for and [`crate::progress::shown`].
 fn progress_bar(settings: &RenderSettings, tiles: u64) -> Option<indicatif::ProgressBar> {
-    if !settings.progress || !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let bar = indicatif::ProgressBar::new(tiles);
-    if let Ok(style) =
-        indicatif::ProgressStyle::with_template("render {bar:40} {percent:>3}% {elapsed}")
-    {
-        bar.set_style(style);
-    }
-    Some(bar)
+    (settings.progress && crate::progress::shown())
+        .then(|| crate::progress::bar(tiles, "render {bar:40} {percent:>3}% {elapsed}"))
 }
 
 /// Renders one tile into its slices of the frame and returns what it counted.

@@ -929,17 +929,11 @@ fn check(report: &Report) -> Result<()> {
     Ok(())
 }
 
-/// A progress bar for [`write_with_progress`] on standard error, drawn only when standard
-/// error is a terminal (hidden when it is redirected, so logs stay clean). Returns the
-/// callback; the bar clears itself when the run is done.
+/// A progress bar for [`write_with_progress`] on standard error (see [`crate::progress`]:
+/// hidden when standard error is redirected or with `--quiet`). Returns the callback; the bar
+/// clears itself when the run is done.
 pub fn terminal_progress() -> impl Fn(usize, usize, &str) {
-    let bar =
-        indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
-    if let Ok(style) =
-        indicatif::ProgressStyle::with_template("report {bar:40} {pos}/{len} {elapsed} {msg}")
-    {
-        bar.set_style(style);
-    }
+    let bar = crate::progress::bar(0, "report {bar:40} {pos}/{len} {elapsed} {msg}");
     move |done: usize, total: usize, record: &str| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);

@@ -143,6 +143,11 @@ pub fn build_in_frame(
         spec.bytes_per_face * mesh.face_count() as f64,
         "use a mesh with fewer faces",
     )?;
+    let _building = crate::progress::spinner(format!(
+        "building {} on {} faces",
+        spec.name,
+        mesh.face_count()
+    ));
     let frame = LocalFrame::of_points(mesh.positions());
     let local = mesh.framed(frame.centre, frame.scale);
     let surface = (spec.build)(&local, &params)?;

@@ -323,9 +323,14 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
         });
     }
     let mut cells = Vec::with_capacity(wanted.len());
+    let bar = crate::progress::bar(
+        wanted.len() as u64,
+        "figure {bar:40} {pos}/{len} cells {elapsed} {msg}",
+    );
     for &k in wanted {
         let (s, m) = job.cell(k);
         let spec = &job.modes[m];
+        bar.set_message(format!("{} / {}", job.surfaces[s].label, spec.label));
         let mode = match half_range {
             Some(r) if spec.mode.has_scale() => spec.mode.with_scale(r),
             _ => spec.mode.clone(),
@@ -349,7 +354,9 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
             frame,
             stats,
         });
+        bar.inc(1);
     }
+    bar.finish_and_clear();
     Ok((cells, half_range))
 }
 
