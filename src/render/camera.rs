@@ -32,6 +32,11 @@ impl FramedPoints for [DVec3] {
     }
 }
 
+/// Automatic framing leaves this factor of room around the framed points: their extent is at
+/// most `1/FRAMING_MARGIN` of the half-image on the axis that sets the distance, so each
+/// margin is `(1 − 1/FRAMING_MARGIN)/2` ≈ 4.5 % of the image there.
+pub const FRAMING_MARGIN: f64 = 1.1;
+
 /// How the image plane maps to rays.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
@@ -159,7 +164,7 @@ impl Camera {
     /// A perspective camera looking at the centre of `bounds` from direction `from`
     /// (eye = centre + distance · from), with vertical field of view `fov_deg` and image aspect
     /// `aspect` (width / height), as close as possible while all eight box corners stay in view
-    /// with a 5 % margin.
+    /// with the [`FRAMING_MARGIN`], centred ([`Camera::frame_points_with_up`]).
     pub fn frame(bounds: &Aabb, from: DVec3, fov_deg: f64, aspect: f64) -> Result<Camera> {
         let corners: Vec<DVec3> = (0..8)
             .map(|k| {
@@ -186,7 +191,10 @@ impl Camera {
     }
 
     /// Like [`Camera::frame`] but keeps the given points in view (e.g. points sampled on a
-    /// surface, which frame it tighter than its box), looking at the centre of their box.
+    /// surface, which frame it tighter than its box), centred in the image: the camera is
+    /// shifted sideways from the centre of their box so that the margins left and right (and
+    /// top and bottom) are even on the axis that sets the distance, and the other axis is
+    /// centred in the same way.
     /// Up in the image is +y, or +z when looking along y.
     pub fn frame_points<P: FramedPoints + ?Sized>(
         points: &P,
@@ -234,27 +242,98 @@ impl Camera {
             ))
         })?;
         let true_up = back.cross(right);
-        let tan_v = (0.5 * fov_deg.to_radians()).tan() / 1.05;
+        let tan_v = (0.5 * fov_deg.to_radians()).tan() / FRAMING_MARGIN;
         let tan_h = tan_v * aspect;
-        // A point c (relative to the centre) is in view from distance D when
-        // |c·right| ≤ tan_h (D − c·back) and |c·up| ≤ tan_v (D − c·back).
+        // With the eye at centre + s + D·back (s a sideways shift in the image plane), a point
+        // c (relative to the centre) is in view when ±(c·right − s·right) ≤ tan_h (D − c·back)
+        // and ±(c·up − s·up) ≤ tan_v (D − c·back). Each side needs D ≥ A_side ∓ shift/tan, with
+        // A_side the maximum over the points of an affine (so convex) function of p; the shift
+        // that makes opposite sides need the same D centres the view with even margins.
         let floor = 1e-6 * bounds.diagonal().max(crate::tolerance::DIVISION_GUARD);
-        // The distance is convex in the point (a maximum of affine functions and their
-        // absolute values); its rounding stays far below this margin.
+        // Rounding of the affine functions stays far below this margin.
         let reach = bounds.diagonal() + center.abs().max_element();
         let margin = 1e-9 * reach * (1.0 + 1.0 / tan_h.min(tan_v));
-        let distance = points.max_convex(
-            &|p| {
-                let c = p - center;
-                let depth = c.dot(back);
-                (depth + c.dot(right).abs() / tan_h).max(depth + c.dot(true_up).abs() / tan_v)
-            },
-            floor,
-            margin,
-        );
+        let side = |axis: DVec3, tan: f64| {
+            points.max_convex(
+                &|p| {
+                    let c = p - center;
+                    c.dot(back) + c.dot(axis) / tan
+                },
+                f64::NEG_INFINITY,
+                margin,
+            )
+        };
+        let (a_right, a_left) = (side(right, tan_h), side(-right, tan_h));
+        let (a_up, a_down) = (side(true_up, tan_v), side(-true_up, tan_v));
+        let distance = (0.5 * (a_right + a_left))
+            .max(0.5 * (a_up + a_down))
+            .max(floor);
+        // The axis that sets the distance is now centred exactly; on the other, points nearer
+        // the eye look larger, so the shift is refined until the largest image extents on both
+        // sides agree: `extent(axis, s)` is the largest `(c·axis − s)/(D − c·back)`, a
+        // quasi-convex function of p (its maximum over a hull is at a hull point), and its
+        // slope in `s` is about −1/D on each side.
+        let extent = |axis: DVec3, shift: f64| {
+            points.max_convex(
+                &|p| {
+                    let c = p - center;
+                    (c.dot(axis) - shift) / (distance - c.dot(back))
+                },
+                f64::NEG_INFINITY,
+                1e-12,
+            )
+        };
+        let imbalance = |axis: DVec3, shift: f64| extent(axis, shift) - extent(-axis, -shift);
+        let centred = |axis: DVec3, start: f64| {
+            // The imbalance falls as the shift grows: bracket its zero from `start` with steps
+            // of the slope estimate, then close in by regula falsi (Illinois variant).
+            let (mut a, mut ga) = (start, imbalance(axis, start));
+            if ga == 0.0 {
+                return a;
+            }
+            let mut step = 0.5 * distance * ga;
+            let (mut b, mut gb) = (a + step, imbalance(axis, a + step));
+            for _ in 0..60 {
+                if ga.signum() != gb.signum() || gb == 0.0 {
+                    break;
+                }
+                step *= 2.0;
+                (a, ga) = (b, gb);
+                b = a + step;
+                gb = imbalance(axis, b);
+            }
+            if ga.signum() == gb.signum() {
+                return start;
+            }
+            let mut side = 0;
+            for _ in 0..60 {
+                let c = (a * gb - b * ga) / (gb - ga);
+                let gc = imbalance(axis, c);
+                if gc == 0.0 || (b - a).abs() <= 1e-15 * (a.abs() + b.abs() + floor) {
+                    return c;
+                }
+                if gc.signum() == gb.signum() {
+                    (b, gb) = (c, gc);
+                    if side == 1 {
+                        ga *= 0.5;
+                    }
+                    side = 1;
+                } else {
+                    (a, ga) = (c, gc);
+                    if side == -1 {
+                        gb *= 0.5;
+                    }
+                    side = -1;
+                }
+            }
+            0.5 * (a + b)
+        };
+        let shift = right * centred(right, 0.5 * (a_right - a_left) * tan_h)
+            + true_up * centred(true_up, 0.5 * (a_up - a_down) * tan_v);
+        let target = center + shift;
         Camera::look_at(
-            center + back * distance,
-            center,
+            target + back * distance,
+            target,
             up,
             Projection::Perspective { fov_deg },
         )
@@ -437,7 +516,61 @@ mod tests {
             );
             widest = widest.max(x.abs()).max(y.abs());
         }
-        assert!(widest > 0.9, "framing is tight: widest corner at {widest}");
+        assert!(
+            (widest - 1.0 / FRAMING_MARGIN).abs() < 1e-12,
+            "framing is tight: widest corner at {widest}"
+        );
+    }
+
+    /// Automatic framing centres the points: the largest image extents left and right (and
+    /// up and down) agree, and on the axis that sets the distance they are exactly the
+    /// margin's, for point sets far off their box's centre in the image (an L, a cone).
+    #[test]
+    fn framing_is_centred_with_even_margins() {
+        let l_shape: Vec<DVec3> = (0..40)
+            .map(|k| {
+                let t = f64::from(k) / 39.0;
+                if k % 2 == 0 {
+                    DVec3::new(3.0 * t, 0.0, 0.2 * t)
+                } else {
+                    DVec3::new(0.0, 2.0 * t, -1.5 * t)
+                }
+            })
+            .collect();
+        let cone: Vec<DVec3> = (0..60)
+            .map(|k| {
+                let a = f64::from(k) * 0.7;
+                let r = f64::from(k % 6) / 5.0;
+                DVec3::new(r * a.cos(), 2.0 * (1.0 - r), r * a.sin())
+            })
+            .collect();
+        for (name, points) in [("L", &l_shape), ("cone", &cone)] {
+            for (fov, aspect) in [(30.0_f64, 1.5), (40.0, 0.6), (25.0, 1.0)] {
+                let cam =
+                    Camera::frame_points(points.as_slice(), Camera::DEFAULT_VIEW, fov, aspect)
+                        .expect("framing");
+                let tan_v = (0.5 * fov.to_radians()).tan();
+                let (mut x, mut y) = ([f64::NEG_INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for &p in points {
+                    let rel = p - cam.eye;
+                    let depth = rel.dot(cam.forward());
+                    let (px, py) = (
+                        rel.dot(cam.right) / (depth * tan_v * aspect),
+                        rel.dot(cam.up) / (depth * tan_v),
+                    );
+                    x = [x[0].max(px), x[1].max(-px)];
+                    y = [y[0].max(py), y[1].max(-py)];
+                }
+                let case = format!("{name}, fov {fov}, aspect {aspect}: x {x:?}, y {y:?}");
+                assert!((x[0] - x[1]).abs() < 1e-12, "left/right uneven: {case}");
+                assert!((y[0] - y[1]).abs() < 1e-12, "top/bottom uneven: {case}");
+                let widest = x[0].max(y[0]);
+                assert!(
+                    (widest - 1.0 / FRAMING_MARGIN).abs() < 1e-12,
+                    "margin: {case}"
+                );
+            }
+        }
     }
 
     /// The frame does not depend on the scale: far, huge and tiny cameras give the same view
