@@ -8,7 +8,8 @@ use glam::DVec3;
 use super::{Triangles, octahedron, tetrahedron};
 
 /// A Möbius strip of `segments` quads (at least 3), each split in two: one-sided, so
-/// [`crate::mesh::Mesh::from_triangles`] fails with `NonOrientable`. Vertices 2i and 2i+1 are
+/// [`crate::mesh::Mesh::from_triangles`] cuts it open across one edge
+/// (`RepairKind::NonOrientableEdgeCut`). Vertices 2i and 2i+1 are
 /// the two edges of the strip at angle 2πi/segments; the last quad joins segment
 /// `segments − 1` to segment 0 with its sides exchanged.
 pub fn mobius_strip(segments: u32) -> Triangles {
