@@ -18,7 +18,7 @@ fn metrics(c: &mut Criterion) {
     let scaled = surface.scaled(factor);
     let positions: Vec<_> = mesh.positions().iter().map(|&p| p * factor).collect();
     let diag = Aabb::from_points(&positions).diagonal();
-    let joints = scaled.joints(mesh.faces());
+    let joints = scaled.joints(mesh.faces(), Some(&mesh.edge_ids()));
 
     let mut group = c.benchmark_group("metrics");
     group.sample_size(10);

@@ -180,14 +180,6 @@ pub enum Error {
         /// Number of fans found around it.
         fans: usize,
     },
-    /// The surface cannot be oriented consistently (e.g. a Möbius strip).
-    #[error("the mesh is not orientable: no consistent orientation across edge ({a}, {b})")]
-    NonOrientable {
-        /// First vertex of the edge.
-        a: usize,
-        /// Second vertex of the edge.
-        b: usize,
-    },
     /// A scheme that needs a closed mesh was given one with a boundary.
     #[error("scheme '{scheme}' needs a closed mesh, but edge ({a}, {b}) is a boundary edge")]
     OpenMesh {

@@ -120,8 +120,8 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         history: Option<PathBuf>,
         /// Refuse to repair --meshes files (non-planar or concave polygons, degenerate,
-        /// duplicate or inconsistently oriented faces, non-manifold edges and vertices): the
-        /// first repair needed is an error naming the element.
+        /// duplicate or inconsistently oriented faces, non-manifold edges and vertices,
+        /// non-orientable surfaces): the first repair needed is an error naming the element.
         #[arg(long)]
         strict: bool,
     },
@@ -207,8 +207,8 @@ struct SchemeOnMesh {
     #[arg(long, value_name = "DEG", value_parser = app::parse_crease_angle, allow_hyphen_values = true)]
     crease_angle: Option<f64>,
     /// Refuse to repair the mesh (non-planar or concave polygons, degenerate, duplicate or
-    /// inconsistently oriented faces, non-manifold edges and vertices): the first repair
-    /// needed is an error naming the element.
+    /// inconsistently oriented faces, non-manifold edges and vertices, non-orientable
+    /// surfaces): the first repair needed is an error naming the element.
     #[arg(long)]
     strict: bool,
 }

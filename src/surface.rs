@@ -380,8 +380,13 @@ impl Surface {
 
     /// Every pair of patch edges that cover the same domain curve, found from the patch
     /// domains and the mesh faces. Patch edges with no partner (mesh boundary) are left out.
-    pub fn joints(&self, faces: &[[u32; 3]]) -> Vec<Joint> {
-        let mut open: HashMap<(DomainKey, DomainKey), PatchEdge> = HashMap::new();
+    ///
+    /// `edge_ids` names the mesh edge of every half-edge `3·face + edge` by a number shared by
+    /// exactly its two half-edges (`Mesh::edge_ids`), so that patch edges along a mesh edge
+    /// pair only across that edge even where two edges join the same two vertices; `None`
+    /// identifies mesh edges by their two vertices, which is right where no two edges do.
+    pub fn joints(&self, faces: &[[u32; 3]], edge_ids: Option<&[u32]>) -> Vec<Joint> {
+        let mut open: HashMap<(Option<u32>, DomainKey, DomainKey), PatchEdge> = HashMap::new();
         let mut joints = Vec::new();
         for (pi, patch) in self.patches.iter().enumerate() {
             let fv = faces[patch.face as usize];
@@ -391,13 +396,24 @@ impl Surface {
                     patch: pi as u32,
                     edge: e as u8,
                 };
+                let (b0, b1) = (patch.domain[e], patch.domain[(e + 1) % 3]);
+                // Face edge c (corner c to c + 1) carries the patch edge when both its ends
+                // have no weight on the opposite corner.
+                let carrier = edge_ids.and_then(|ids| {
+                    (0..3)
+                        .find(|&c| {
+                            let opposite = (c + 2) % 3;
+                            quantise(b0[opposite]) == 0 && quantise(b1[opposite]) == 0
+                        })
+                        .map(|c| ids[3 * patch.face as usize + c])
+                });
                 let (k0, k1) = (keys[e], keys[(e + 1) % 3]);
-                if let Some(other) = open.remove(&(k1, k0)) {
+                if let Some(other) = open.remove(&(carrier, k1, k0)) {
                     joints.push(self.joint(other, here, true));
-                } else if let Some(other) = open.remove(&(k0, k1)) {
+                } else if let Some(other) = open.remove(&(carrier, k0, k1)) {
                     joints.push(self.joint(other, here, false));
                 } else {
-                    open.insert((k0, k1), here);
+                    open.insert((carrier, k0, k1), here);
                 }
             }
         }
@@ -495,7 +511,7 @@ mod tests {
                 flat_patch(1, [e0, e1, e2]),
             ],
         };
-        let joints = surface.joints(&faces);
+        let joints = surface.joints(&faces, None);
         // Inside face 0: edge (corner 2 → 0) of patch 0 with edge (0 → 1) of patch 1.
         let inside: Vec<_> = joints.iter().filter(|j| !j.between_faces).collect();
         assert_eq!(inside.len(), 1, "{joints:?}");
@@ -505,5 +521,38 @@ mod tests {
         assert_eq!(joints.len(), 1, "{joints:?}");
         let corners = surface.vertex_corners(&faces);
         assert_eq!(corners.len(), 2 + 2 + 3);
+    }
+
+    /// Faces 0 and 2 share their edge 0 (vertices 0 and 1); face 1 runs between the same two
+    /// vertices along a boundary edge of its own. By vertices alone face 1 is paired with face
+    /// 0, the first face open there; the edge numbers pair faces 0 and 2.
+    #[test]
+    fn joints_follow_the_edge_numbers_where_two_edges_join_the_same_vertices() {
+        let faces = [[0, 1, 2], [0, 1, 4], [1, 0, 3]];
+        let whole = [DVec3::X, DVec3::Y, DVec3::Z];
+        let surface = Surface {
+            scheme: "test".into(),
+            warnings: Vec::new(),
+            params: vec![],
+            patches: (0..3).map(|f| flat_patch(f, whole)).collect(),
+        };
+        let faces_of = |joints: Vec<Joint>| -> Vec<(u32, u32, bool)> {
+            joints
+                .iter()
+                .map(|j| {
+                    let (f, g) = (
+                        surface.patches[j.a.patch as usize].face,
+                        surface.patches[j.b.patch as usize].face,
+                    );
+                    (f, g, j.reversed)
+                })
+                .collect()
+        };
+        assert_eq!(faces_of(surface.joints(&faces, None)), [(0, 1, false)]);
+        let edge_ids = [0, 1, 2, 3, 4, 5, 0, 7, 8];
+        assert_eq!(
+            faces_of(surface.joints(&faces, Some(&edge_ids))),
+            [(0, 2, true)]
+        );
     }
 }

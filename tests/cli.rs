@@ -209,15 +209,52 @@ fn faces_merged_by_welding_name_the_weld_and_the_flag() {
 }
 
 #[test]
-fn moebius_strip_is_not_orientable() {
-    let dir = scratch("moebius");
-    let out = metrics_of(
-        &dir,
-        "moebius.obj",
-        &smoothlab::mesh::generate::to_obj(&smoothlab::mesh::generate::bad::mobius_strip(8)),
-        &["--scheme", "flat"],
+fn moebius_strip_is_cut_open_unless_strict() {
+    // One-sided: the orientation fill meets one edge from both sides wanting opposite
+    // orientations; that edge is cut open.
+    let obj = smoothlab::mesh::generate::to_obj(&smoothlab::mesh::generate::bad::mobius_strip(8));
+    assert_repaired_unless_strict(
+        "moebius",
+        &obj,
+        &[
+            "cut open 1 edges where the surface is not orientable",
+            "first: edge (",
+            "2 vertices of the cuts duplicated",
+        ],
+        &["edge (", "the mesh is not orientable"],
     );
-    assert_fails_naming(&out, &["not orientable", "edge ("]);
+    // The cut strip is an open disk: the repair is recorded in the JSON, and the G1 schemes
+    // that take open meshes join their patches with G1 continuity across every interior edge.
+    let dir = scratch("moebius-json");
+    let mesh = write(&dir, "moebius.obj", &obj);
+    let json = dir.join("m.json");
+    let out = smoothlab(&[
+        "metrics",
+        path_str(&mesh),
+        "--scheme",
+        "all",
+        "--json",
+        path_str(&json),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&json).expect("metrics JSON");
+    let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    for run in value.as_array().expect("one object per scheme") {
+        assert_eq!(
+            run["repairs"][0]["kind"], "non_orientable_edge_cut",
+            "{text}"
+        );
+        assert_eq!(run["repairs"][0]["count"], 1, "{text}");
+        if ["hb", "loop94", "piper"].contains(&run["scheme"].as_str().expect("scheme")) {
+            let (g0, g1) = (&run["g0_max_rel"], &run["g1_max_rad"]);
+            assert!(
+                g0.as_f64().expect("g0") <= smoothlab::tolerance::POSITION_REL
+                    && g1.as_f64().expect("g1") <= smoothlab::tolerance::NORMAL_RAD,
+                "{}: G0 {g0}, G1 {g1}",
+                run["scheme"]
+            );
+        }
+    }
 }
 
 /// `metrics --explain` prints the table, then every column's meaning from docs/metrics.md.

@@ -1,5 +1,6 @@
 //! End to end on open meshes: `hb` and `loop94` build on the scanned bunny with its base cut
-//! open and measure G¹ across every interior edge; a render of an open surface tints the
+//! open and measure G¹ across every interior edge, every G¹ scheme that takes open meshes does
+//! so on a mesh where two edges (one interior, one boundary) join the same two vertices; a render of an open surface tints the
 //! inside seen through the opening, and a closed one has no tinted pixel.
 
 mod common;
@@ -33,6 +34,30 @@ fn hb_and_loop94_are_g1_on_the_open_bunny() {
         assert!(
             interpolation <= 1e-12,
             "{scheme}: interpolation {interpolation}"
+        );
+    }
+}
+
+#[test]
+fn g1_schemes_are_g1_where_two_edges_join_the_same_vertices() {
+    use smoothlab::mesh::{Mesh, generate::bad};
+    let (positions, faces) = bad::octahedron_with_fin();
+    let (mesh, _) = Mesh::from_triangles(positions, faces).expect("repaired");
+    let between = |a: u32, b: u32| {
+        mesh.edges()
+            .iter()
+            .filter(|e| (e.a, e.b) == (a, b))
+            .map(|e| e.faces.1.is_some())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(between(0, 4), [true, false], "the fin's edge");
+    for scheme in ["hb", "loop94", "piper", "nielson", "fang-mann"] {
+        let surface = smoothlab::schemes::build(scheme, &mesh, &[]).expect(scheme);
+        let m = smoothlab::metrics::Metrics::measure(&surface, &mesh, 0.0);
+        let (g0, g1) = (m.g0_max_rel.expect("joints"), m.g1_max_rad.expect("joints"));
+        assert!(
+            g0 <= smoothlab::tolerance::POSITION_REL && g1 <= smoothlab::tolerance::NORMAL_RAD,
+            "{scheme}: G0 {g0:e}, G1 {g1:e}"
         );
     }
 }

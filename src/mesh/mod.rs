@@ -380,6 +380,16 @@ impl Mesh {
         let twin = self.topology.twin[3 * f as usize + e];
         (twin != NO_TWIN).then_some((twin / 3, (twin % 3) as usize))
     }
+    /// The edge of every half-edge `3·f + e` as one number shared by exactly the edge's two
+    /// half-edges (the smaller of them; a boundary half-edge is its own), for
+    /// [`crate::surface::Surface::joints`]: distinct edges get distinct numbers even where two
+    /// of them join the same two vertices, which the repairs of non-manifold input can leave
+    /// (a face split off an edge whose ends stay one fan each).
+    pub fn edge_ids(&self) -> Vec<u32> {
+        (0..self.topology.twin.len() as u32)
+            .map(|he| he.min(self.topology.twin[he as usize]))
+            .collect()
+    }
     /// All undirected edges, each once, in order of their first half-edge (face by face).
     pub fn edges(&self) -> Vec<MeshEdge> {
         let mut edges = Vec::with_capacity(self.edge_count());

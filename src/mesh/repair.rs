@@ -1,6 +1,7 @@
 //! The repairs loading makes to what other tools write: what each one is, how it is counted and
 //! reported, and the topological repairs themselves (degenerate faces collapsed or removed,
-//! non-manifold edges and vertices split, orientation made consistent and outward).
+//! non-manifold edges and vertices split, non-orientable surfaces cut open, orientation made
+//! consistent and outward).
 //!
 //! Every repair is one [`Repair`] in [`super::LoadReport::repairs`]: its kind, how many
 //! elements it touched and the first of them in the input's own numbering (the face as the
@@ -35,6 +36,10 @@ pub enum RepairKind {
     NonManifoldEdgeSplit,
     /// Vertices whose faces form several fans split into one vertex per fan.
     NonManifoldVertexSplit,
+    /// Edges cut open where the surface cannot be oriented (a Möbius strip, faces tangled by
+    /// repeated copies): the orientation flood fill reached both faces of the edge and needs
+    /// them to run it the same way, so they no longer share it; it becomes two boundary edges.
+    NonOrientableEdgeCut,
     /// Faces flipped to agree with the orientation of their connected component.
     FacesReoriented,
     /// Connected components turned inside out as a whole, so that they face outward.
@@ -113,6 +118,10 @@ impl Repair {
             RepairKind::NonManifoldVertexSplit => format!(
                 "split {n} non-manifold vertices into one vertex per fan (the surface touches \
                  itself there)"
+            ),
+            RepairKind::NonOrientableEdgeCut => format!(
+                "cut open {n} edges where the surface is not orientable (their two faces no \
+                 longer share them: each becomes two boundary edges)"
             ),
             RepairKind::FacesReoriented => {
                 format!("re-oriented {n} faces for a consistent orientation of their component")
@@ -401,6 +410,71 @@ pub(super) fn pair_fan(
         }
     }
     pairs
+}
+
+/// The consistent orientation of every connected component, found by a flood fill over the
+/// twinned edges (see [`orient_cutting`]).
+pub(super) struct Orientation {
+    /// Per face, whether it is flipped to agree with the first face of its component.
+    pub(super) flip: Vec<bool>,
+    /// The faces of each connected component, in increasing order, components in order of
+    /// their first face.
+    pub(super) components: Vec<Vec<u32>>,
+    /// The edges cut open, each as its two former half-edges (first that of the face the
+    /// fill reached the edge from), in increasing order of that half-edge (face order).
+    pub(super) cut: Vec<(u32, u32)>,
+}
+
+/// Orients every connected component consistently: a breadth-first flood fill from each
+/// component's first face decides for every face whether it flips, so that every twinned edge
+/// is run in opposite directions by its two faces (`same_direction[he]`: the two faces of
+/// half-edge `he` run it the same way as written). An edge reached from a face whose
+/// neighbour across it is already decided, and decided the other way, closes a one-sided loop
+/// of faces (the surface is not orientable there): it is cut open, its two half-edges lose
+/// their twins in `twin`. The cut edges are the fill's conflicting edges, so the choice is
+/// deterministic; after the cut every remaining twinned edge agrees with the flips.
+pub(super) fn orient_cutting(twin: &mut [u32], same_direction: &[bool]) -> Orientation {
+    const UNSEEN: u8 = 2;
+    let face_count = twin.len() / 3;
+    let mut flip = vec![UNSEEN; face_count];
+    let mut components = Vec::new();
+    let mut cut = Vec::new();
+    let mut queue = std::collections::VecDeque::new();
+    for start in 0..face_count {
+        if flip[start] != UNSEEN {
+            continue;
+        }
+        let mut members = vec![start as u32];
+        flip[start] = 0;
+        queue.push_back(start);
+        while let Some(f) = queue.pop_front() {
+            for he in 3 * f..3 * f + 3 {
+                let t = twin[he];
+                if t == NO_TWIN {
+                    continue;
+                }
+                let g = t as usize / 3;
+                let wanted = flip[f] ^ u8::from(same_direction[he]);
+                if flip[g] == UNSEEN {
+                    flip[g] = wanted;
+                    members.push(g as u32);
+                    queue.push_back(g);
+                } else if flip[g] != wanted {
+                    twin[he] = NO_TWIN;
+                    twin[t as usize] = NO_TWIN;
+                    cut.push((he as u32, t));
+                }
+            }
+        }
+        members.sort_unstable();
+        components.push(members);
+    }
+    cut.sort_unstable();
+    Orientation {
+        flip: flip.iter().map(|&state| state == 1).collect(),
+        components,
+        cut,
+    }
 }
 
 /// Groups the corners of every vertex into fans (corners joined through twinned edges) and

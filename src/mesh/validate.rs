@@ -5,7 +5,10 @@
 use glam::DVec3;
 
 use super::normals::{self, CornerNormals};
-use super::repair::{Element, RepairKind, Repairs, collapse_degenerate, pair_fan, split_fans};
+use super::repair::{
+    Element, Orientation, RepairKind, Repairs, collapse_degenerate, orient_cutting, pair_fan,
+    split_fans,
+};
 use super::sharp;
 use super::topology::{NO_TWIN, Topology};
 use super::weld::{check_weld_tolerance, weld};
@@ -279,7 +282,7 @@ pub(super) fn assemble(
     }
 
     // Non-manifold edges, then vertices.
-    let (twin, same_direction, split_edges) = link_half_edges(&list.faces, &positions);
+    let (mut twin, same_direction, split_edges) = link_half_edges(&list.faces, &positions);
     if let Some(&(a, b, count)) = split_edges.first() {
         repairs.record(
             RepairKind::NonManifoldEdgeSplit,
@@ -304,6 +307,34 @@ pub(super) fn assemble(
         positions.push(positions[v as usize]);
         representative.push(representative[v as usize]);
     }
+    // Consistent orientation, cutting the surface open where it is one-sided; a cut leaves
+    // the fans of its ends apart, and those are split as above.
+    let orientation = orient_cutting(&mut twin, &same_direction);
+    if let Some(&(he, other)) = orientation.cut.first() {
+        let (f, e) = (he as usize / 3, he as usize % 3);
+        let (a, b) = (list.faces[f][e], list.faces[f][(e + 1) % 3]);
+        let first = Element::Edge(
+            input_name(&names_in, &representative, a),
+            input_name(&names_in, &representative, b),
+        );
+        let (split_from, _) = split_fans(&mut list.faces, &twin, positions.len());
+        repairs.record(
+            RepairKind::NonOrientableEdgeCut,
+            orientation.cut.len(),
+            first,
+            format!(
+                "the mesh is not orientable: no consistent orientation across this edge of \
+                 faces {} and {}; the edge is cut open ({} vertices of the cuts duplicated)",
+                list.origin[f],
+                list.origin[other as usize / 3],
+                split_from.len()
+            ),
+        )?;
+        for &v in &split_from {
+            positions.push(positions[v as usize]);
+            representative.push(representative[v as usize]);
+        }
+    }
     let names = VertexNames {
         representative: &representative,
         labels,
@@ -322,9 +353,8 @@ pub(super) fn assemble(
     let flipped = orientation_flips(
         &faces,
         &twin,
-        &same_direction,
+        orientation,
         &positions,
-        &names,
         &list.origin,
         &mut repairs,
     )?;
@@ -612,65 +642,31 @@ fn link_half_edges(faces: &[[u32; 3]], positions: &[DVec3]) -> Linked {
     (twin, same_direction, split)
 }
 
-/// Decides which faces to flip: first so that every interior edge is run in opposite
-/// directions by its two faces (a flood fill over each connected component; a component that
-/// needs a face both flipped and kept is not orientable, a Möbius strip), then each component
-/// as a whole so that it faces outward: a closed one by the sign of its enclosed volume, an
-/// open one (or a closed one enclosing no volume) as the larger part of its face area was
-/// written. Records the faces flipped as repairs: whole components turned outward, and faces
+/// Decides which faces to flip: those `orientation` flips so that every interior edge is run
+/// in opposite directions by its two faces ([`orient_cutting`]), then each component as a
+/// whole so that it faces outward: a closed one by the sign of its enclosed volume, an open
+/// one (or a closed one enclosing no volume) as the larger part of its face area was written.
+/// Records the faces flipped as repairs: whole components turned outward, and faces
 /// re-oriented to agree with the rest of their component.
 fn orientation_flips(
     faces: &[[u32; 3]],
     twin: &[u32],
-    same_direction: &[bool],
+    orientation: Orientation,
     positions: &[DVec3],
-    names: &VertexNames,
     origin: &[u32],
     repairs: &mut Repairs,
 ) -> Result<Vec<bool>> {
-    const UNSEEN: u8 = 2;
-    let mut flip = vec![UNSEEN; faces.len()];
-    let mut component = vec![0u32; faces.len()];
-    let mut members: Vec<Vec<u32>> = Vec::new();
-    let mut stack = Vec::new();
-    for start in 0..faces.len() {
-        if flip[start] != UNSEEN {
-            continue;
-        }
-        let id = members.len() as u32;
-        members.push(vec![start as u32]);
-        flip[start] = 0;
-        component[start] = id;
-        stack.push(start);
-        while let Some(f) = stack.pop() {
-            for e in 0..3 {
-                let he = 3 * f + e;
-                let t = twin[he];
-                if t == NO_TWIN {
-                    continue;
-                }
-                let g = t as usize / 3;
-                let wanted = flip[f] ^ u8::from(same_direction[he]);
-                if flip[g] == UNSEEN {
-                    flip[g] = wanted;
-                    component[g] = id;
-                    members[id as usize].push(g as u32);
-                    stack.push(g);
-                } else if flip[g] != wanted {
-                    return Err(Error::NonOrientable {
-                        a: names.welded(faces[f][e]),
-                        b: names.welded(faces[f][(e + 1) % 3]),
-                    });
-                }
-            }
-        }
-    }
-    let mut flipped: Vec<bool> = flip.iter().map(|&state| state == 1).collect();
+    let Orientation {
+        flip: mut flipped,
+        components,
+        ..
+    } = orientation;
+    // Faces of components turned as a whole, reported as a component, not face by face.
+    let mut turned_whole = vec![false; faces.len()];
     // Measured about each component's first vertex, in unit-size coordinates.
     let scale = normalising_scale(&Aabb::from_points(positions));
     let (mut turned, mut first_turned) = (0, None);
-    for faces_of in &mut members {
-        faces_of.sort_unstable();
+    for faces_of in &components {
         let closed = faces_of
             .iter()
             .all(|&f| (0..3).all(|e| twin[3 * f as usize + e] != NO_TWIN));
@@ -702,8 +698,7 @@ fn orientation_flips(
             turned += 1;
             first_turned.get_or_insert((faces_of[0], faces_of.len(), by_volume));
             for &f in faces_of.iter() {
-                // Reported as a component, not face by face.
-                component[f as usize] = u32::MAX;
+                turned_whole[f as usize] = true;
             }
         }
     }
@@ -721,7 +716,7 @@ fn orientation_flips(
         )?;
     }
     let reoriented: Vec<usize> = (0..faces.len())
-        .filter(|&f| flipped[f] && component[f] != u32::MAX)
+        .filter(|&f| flipped[f] && !turned_whole[f])
         .collect();
     if let Some(&first) = reoriented.first() {
         repairs.record(
@@ -1172,11 +1167,75 @@ mod tests {
         strict_refusal((shifted, faces), "vertex 1");
     }
 
+    /// Checks that every twinned edge of `mesh` is run in opposite directions by its faces.
+    fn assert_consistently_oriented(mesh: &Mesh) {
+        for f in 0..mesh.face_count() as u32 {
+            for e in 0..3 {
+                if let Some((g, k)) = mesh.neighbor(f, e) {
+                    let (face, other) = (mesh.faces()[f as usize], mesh.faces()[g as usize]);
+                    assert_eq!(
+                        (face[e], face[(e + 1) % 3]),
+                        (other[(k + 1) % 3], other[k]),
+                        "faces {f} and {g}"
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
-    fn mobius_strip_is_not_orientable() {
+    fn a_mobius_strip_is_cut_open_across_one_edge() {
         for segments in [3, 8, 15] {
-            let error = load(bad::mobius_strip(segments)).unwrap_err();
-            assert!(matches!(error, Error::NonOrientable { .. }), "{error}");
+            let (positions, faces) = bad::mobius_strip(segments);
+            let (mesh, report) = load((positions.clone(), faces.clone())).unwrap();
+            // The cut, then the faces on one side of it flipped to agree with the other.
+            let listed = repairs(&report);
+            assert_eq!(
+                listed.iter().map(|r| (r.0, r.1)).next(),
+                Some((RepairKind::NonOrientableEdgeCut, 1)),
+                "{segments}: {:?}",
+                report.warnings
+            );
+            assert!(
+                listed[1..]
+                    .iter()
+                    .all(|r| r.0 == RepairKind::FacesReoriented),
+                "{segments}: {:?}",
+                report.warnings
+            );
+            let Element::Edge(a, b) = listed[0].2 else {
+                panic!("{segments}: the cut names {}", listed[0].2);
+            };
+            assert!(
+                faces
+                    .iter()
+                    .any(|f| f.contains(&(a as u32)) && f.contains(&(b as u32))),
+                "{segments}: ({a}, {b}) is no edge of the input"
+            );
+            assert!(
+                report.warnings[0].contains("2 vertices of the cuts duplicated"),
+                "{:?}",
+                report.warnings
+            );
+            // One edge of 2n interior ones cut: its two ends (on the strip's two sides) are
+            // duplicated, and the strip becomes a disk with every face kept, consistently
+            // oriented, over the same corner positions.
+            assert_eq!(mesh.face_count(), faces.len(), "{segments}");
+            assert_eq!(mesh.vertex_count(), positions.len() + 2, "{segments}");
+            assert_eq!(mesh.euler_characteristic(), 1, "{segments}");
+            let interior = mesh.edges().iter().filter(|e| e.faces.1.is_some()).count();
+            assert_eq!(interior, 2 * segments as usize - 1, "{segments}");
+            assert_consistently_oriented(&mesh);
+            for (t, face) in mesh.faces().iter().enumerate() {
+                let mut corners = face.map(|v| mesh.positions()[v as usize].to_array());
+                let mut input =
+                    faces[mesh.input_face(t as u32)].map(|v| positions[v as usize].to_array());
+                corners.sort_by(|p, q| p.partial_cmp(q).unwrap());
+                input.sort_by(|p, q| p.partial_cmp(q).unwrap());
+                assert_eq!(corners, input, "{segments}: face {t}");
+            }
+            let message = strict_refusal((positions, faces), &format!("edge ({a}, {b})"));
+            assert!(message.contains("not orientable"), "{message}");
         }
     }
 

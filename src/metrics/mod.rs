@@ -189,6 +189,7 @@ impl Metrics {
             ..Self::measure_normalised(
                 surface,
                 mesh.faces(),
+                Some(&mesh.edge_ids()),
                 mesh.positions(),
                 &mesh.sharp_face_pairs(),
                 construct_ms,
@@ -198,7 +199,8 @@ impl Metrics {
 
     /// Measures `surface` against the mesh given as `faces` over `positions` (the form used
     /// by [`Metrics::measure`]; hand-made surfaces in tests use it directly). The curve-network
-    /// figures need the mesh topology and are left at zero here.
+    /// figures need the mesh topology and are left at zero here, and mesh edges are known by
+    /// their two vertices (see [`Surface::joints`]).
     pub fn measure_faces(
         surface: &Surface,
         faces: &[[u32; 3]],
@@ -210,6 +212,7 @@ impl Metrics {
         Self::measure_normalised(
             &surface.scaled(factor),
             faces,
+            None,
             &positions,
             &[],
             construct_ms,
@@ -217,18 +220,19 @@ impl Metrics {
     }
 
     /// [`Metrics::measure_faces`] on a surface and mesh already scaled by [`unit_scale`];
-    /// `sharp` are the face pairs `(f, g)`, `f < g`, across sharp edges, sorted (their joints
+    /// `edge_ids` number the mesh edges for [`Surface::joints`]; `sharp` are the face pairs `(f, g)`, `f < g`, across sharp edges, sorted (their joints
     /// are measured apart).
     fn measure_normalised(
         surface: &Surface,
         faces: &[[u32; 3]],
+        edge_ids: Option<&[u32]>,
         positions: &[DVec3],
         sharp: &[(u32, u32)],
         construct_ms: f64,
     ) -> Metrics {
         let diag = diagonal(positions);
         let floor = CurvatureFloor::for_diagonal(diag);
-        let all_joints = surface.joints(faces);
+        let all_joints = surface.joints(faces, edge_ids);
         let is_sharp = |j: &crate::surface::Joint| {
             let f = surface.patches[j.a.patch as usize].face;
             let g = surface.patches[j.b.patch as usize].face;

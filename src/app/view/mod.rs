@@ -135,7 +135,7 @@ impl JointIndex {
     pub fn new(surface: &Surface, mesh: &crate::mesh::Mesh) -> JointIndex {
         let sharp = mesh.sharp_face_pairs();
         let mut by_edge = HashMap::new();
-        for joint in surface.joints(mesh.faces()) {
+        for joint in surface.joints(mesh.faces(), Some(&mesh.edge_ids())) {
             let (f, g) = (
                 surface.patches[joint.a.patch as usize].face,
                 surface.patches[joint.b.patch as usize].face,

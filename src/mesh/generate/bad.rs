@@ -8,7 +8,8 @@ use glam::DVec3;
 use super::{Triangles, octahedron, tetrahedron};
 
 /// A Möbius strip of `segments` quads (at least 3), each split in two: one-sided, so
-/// [`crate::mesh::Mesh::from_triangles`] fails with `NonOrientable`. Vertices 2i and 2i+1 are
+/// [`crate::mesh::Mesh::from_triangles`] cuts it open across one edge
+/// (`RepairKind::NonOrientableEdgeCut`). Vertices 2i and 2i+1 are
 /// the two edges of the strip at angle 2πi/segments; the last quad joins segment
 /// `segments − 1` to segment 0 with its sides exchanged.
 pub fn mobius_strip(segments: u32) -> Triangles {
@@ -61,6 +62,34 @@ pub fn book() -> Triangles {
         faces.push([0, 1, positions.len() as u32]);
         positions.push(DVec3::new(angle.cos(), angle.sin(), 0.5));
     }
+    (positions, faces)
+}
+
+/// The [`octahedron`] with a fin on its edge (+X, +Z) (vertices 0 and 4): a face to (1, −1, 1),
+/// in the plane of the face (+X, +Y, +Z) and oriented with it. Loading pairs the fin with that
+/// face (they continue each other flat) and leaves the edge's third face, (+X, −Y, +Z), on a
+/// boundary edge of its own; the vertices 0 and 4 keep one fan each, so the mesh has two
+/// edges, one interior and one boundary, between the same two vertices.
+pub fn octahedron_with_fin() -> Triangles {
+    let (mut positions, mut faces) = octahedron();
+    let (a, b) = (0, 4);
+    let face = faces
+        .iter()
+        .find(|f| f.contains(&a) && f.contains(&b) && f.contains(&2))
+        .copied()
+        .unwrap_or_default();
+    // The face runs the edge from face[c] to face[c + 1]; the fin runs it the other way.
+    let c = (0..3)
+        .find(|&c| {
+            [face[c], face[(c + 1) % 3]]
+                .iter()
+                .all(|v| [a, b].contains(v))
+        })
+        .unwrap_or(0);
+    let (x, y) = (face[c], face[(c + 1) % 3]);
+    let tip = positions.len() as u32;
+    positions.push(DVec3::new(1.0, -1.0, 1.0));
+    faces.push([y, x, tip]);
     (positions, faces)
 }
 

@@ -26,8 +26,6 @@ pub mod nielson;
 #[cfg(test)]
 mod tests;
 
-use std::collections::HashMap;
-
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -234,18 +232,25 @@ impl EdgeFrames {
             first.push(frames.len());
             frames.extend(group);
         }
-        let index: HashMap<(u32, u32), usize> = edges
-            .iter()
-            .enumerate()
-            .map(|(i, e)| ((e.a, e.b), i))
-            .collect();
+        // `Mesh::edges` lists each edge at its first half-edge, which is its number in
+        // `Mesh::edge_ids`: the edge of a face edge by number, not by its two vertices (two
+        // edges can join the same vertices after repairs).
+        let edge_ids = mesh.edge_ids();
+        let mut index = vec![usize::MAX; edge_ids.len()];
+        let mut next = 0;
+        for (he, &id) in edge_ids.iter().enumerate() {
+            if id as usize == he {
+                index[he] = next;
+                next += 1;
+            }
+        }
         let face_edges = faces
             .iter()
             .enumerate()
             .map(|(f, fv)| {
                 std::array::from_fn(|e| {
                     let (x, y) = (fv[e], fv[(e + 1) % 3]);
-                    let i = index[&(x.min(y), x.max(y))];
+                    let i = index[edge_ids[3 * f + e] as usize];
                     // The right face's own frame follows the left face's.
                     let right_of_sharp = mesh.is_sharp(f as u32, e) && x > y;
                     first[i] + usize::from(right_of_sharp && mesh.neighbor(f as u32, e).is_some())

@@ -218,7 +218,7 @@ fn normal_in_the_face_plane_is_an_edge_error() {
 fn boundary_rows_are_shared_bit_for_bit() {
     let mesh = mesh(crate::mesh::generate::deformed_icosahedron());
     let surface = build(&fang_mann::SPEC, &mesh, &[]);
-    for joint in surface.joints(mesh.faces()) {
+    for joint in surface.joints(mesh.faces(), Some(&mesh.edge_ids())) {
         let side = |pe: crate::surface::PatchEdge| {
             let blend = surface.patches[pe.patch as usize]
                 .as_blend()

@@ -291,7 +291,7 @@ mod tests {
             let expected = if patch.piece == 0 { d } else { 2 * d };
             assert_eq!(patch.degree(), Some(expected), "{label}");
         }
-        let joints = surface.joints(mesh.faces());
+        let joints = surface.joints(mesh.faces(), Some(&mesh.edge_ids()));
         let mut worst = [0.0f64; 3]; // regular–regular, with a ring patch, inner–ring
         let mut smoother = 0usize;
         for j in &joints {
@@ -487,7 +487,7 @@ mod inner_joint_resolution {
             let k = 4;
             let surface = build(&mesh, &params(&SPEC, &[("k", "4")])).unwrap();
             let diag = mesh.bounds().diagonal();
-            let joints = surface.joints(mesh.faces());
+            let joints = surface.joints(mesh.faces(), Some(&mesh.edge_ids()));
             let mut worst = [[0.0f64; 2]; continuity::MAX_ORDER];
             let (mut samples, mut below) = (0, 0);
             for j in &joints {
@@ -661,7 +661,7 @@ mod inner_joint_precision {
             }
         }
         let diag = mesh.bounds().diagonal();
-        let joints = surface.joints(mesh.faces());
+        let joints = surface.joints(mesh.faces(), Some(&mesh.edge_ids()));
         let mut worst = [0.0f64; MAX_ORDER];
         let mut worst_stored = [0.0f64; MAX_ORDER];
         let (mut lowest, mut lowest_stored) = (i32::MAX, i32::MAX);
