@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::render::film::Frame;
 use crate::render::output::srgb8;
 use crate::report::page::escape;
-use crate::text::{FONT_FAMILY, ascent, draw_text, line_height, text_width};
+use crate::text::{FONT_FAMILY, ascent, draw_text, line_height, text_width, wrap};
 
 /// Background of the sheet (sRGB).
 pub const BACKGROUND: [u8; 3] = [24, 24, 24];
@@ -92,22 +92,6 @@ pub struct SheetLayout {
 /// 24 pixels.
 pub fn label_size(cell_height: u32) -> f32 {
     (0.08 * cell_height as f32).clamp(10.0, 24.0).round()
-}
-
-/// `text` broken at spaces into lines no wider than `max_width` pixels at `size` (a longer
-/// word gets a line of its own).
-pub fn wrap(text: &str, size: f32, max_width: f32) -> Vec<String> {
-    let mut lines: Vec<String> = Vec::new();
-    for word in text.split_whitespace() {
-        match lines.last_mut() {
-            Some(line) if text_width(size, &format!("{line} {word}")) <= max_width => {
-                line.push(' ');
-                line.push_str(word);
-            }
-            _ => lines.push(word.to_string()),
-        }
-    }
-    lines
 }
 
 /// Places `count` cells of size `cell` (row-major, `labels.columns.len()` per row) and the
@@ -314,26 +298,7 @@ mod tests {
     use super::*;
 
     fn flat_frame(w: u32, h: u32, value: f32) -> Frame {
-        Frame {
-            width: w,
-            height: h,
-            rgb: vec![[value; 3]; (w * h) as usize],
-            geometry: vec![None; (w * h) as usize],
-        }
-    }
-
-    #[test]
-    fn words_wrap_at_spaces() {
-        let wide = text_width(12.0, "hb g0=-3.7");
-        assert_eq!(
-            wrap("hb g0=-3.7 g1=4.6", 12.0, wide),
-            vec!["hb g0=-3.7", "g1=4.6"]
-        );
-        assert_eq!(
-            wrap("averyveryverylongword x", 12.0, 10.0),
-            vec!["averyveryverylongword", "x"]
-        );
-        assert!(wrap("   ", 12.0, 50.0).is_empty());
+        Frame::blank(w, h, [value; 3])
     }
 
     #[test]
