@@ -409,6 +409,8 @@ pub fn legend_strip(params: &CurvatureParams, height: u32, style: &LegendStyle) 
         return legend;
     }
     let (w, rgb) = (width as usize, &mut legend.rgb);
+    // Glyph coverage of the text, blended in at the end.
+    let mut cover = vec![[0.0f32; 3]; rgb.len()];
     let x0 = pad;
     for y in top..bottom {
         let t = 1.0 - (y - top) as f64 / (bottom - 1 - top) as f64;
@@ -436,26 +438,31 @@ pub fn legend_strip(params: &CurvatureParams, height: u32, style: &LegendStyle) 
             rgb[y * w + x] = style.ink;
         }
         if with_text {
-            let x = right as f32 + tick_gap;
-            draw_text_linear(
-                rgb,
-                width,
-                x,
-                y as f32 - 0.55 * font,
-                font,
-                style.ink,
-                label,
-            );
+            let (x, y) = (right as f32 + tick_gap, y as f32 - 0.55 * font);
+            draw_text_linear(&mut cover, width, x, y, font, [1.0; 3], label);
         }
     }
     if with_text {
         for (k, text) in head.iter().enumerate() {
             let y = pad as f32 + k as f32 * line;
-            draw_text_linear(rgb, width, pad as f32, y, font, style.ink, text);
+            draw_text_linear(&mut cover, width, pad as f32, y, font, [1.0; 3], text);
         }
         for (k, text) in note.iter().enumerate() {
             let y = bottom as f32 + 0.6 * font + k as f32 * line;
-            draw_text_linear(rgb, width, pad as f32, y, font, style.ink, text);
+            draw_text_linear(&mut cover, width, pad as f32, y, font, [1.0; 3], text);
+        }
+    }
+    // Text blends into its ground by coverage in sRGB-encoded values, as the sheets' labels
+    // do ([`crate::text::draw_text`]): blended in linear light, dark text on white thins out.
+    let encode = |c: [f32; 3]| c.map(|x| palette::linear_to_srgb(f64::from(x)));
+    let ink = encode(style.ink);
+    for (px, a) in rgb.iter_mut().zip(&cover) {
+        let a = f64::from(a[0]);
+        if a > 0.0 {
+            let g = encode(*px);
+            let mix = |k: usize| g[k] * (1.0 - a) + ink[k] * a;
+            let linear = palette::srgb_to_linear(DVec3::new(mix(0), mix(1), mix(2)));
+            *px = linear.as_vec3().to_array();
         }
     }
     legend
