@@ -513,7 +513,8 @@ mod tests {
             rgb: vec![[1.0, 0.0, 0.0], [0.0; 3], [0.0; 3], [0.0, 0.0, 1.0]],
         });
         assert_eq!(frame.png_width(), 5);
-        let px: Vec<&[u8]> = srgb8(&frame).chunks(3).collect::<Vec<_>>();
+        let bytes = srgb8(&frame);
+        let px: Vec<&[u8]> = bytes.chunks(3).collect();
         let (black, white) = ([0u8; 3], [255u8; 3]);
         let (red, blue) = ([255, 0, 0], [0, 0, 255]);
         let want: [&[u8]; 10] = [

@@ -1,7 +1,7 @@
 //! Colour helpers: sRGB transfer, the curvature colour maps (from `colorous`) and per-face
 //! colours.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 /// sRGB-encoded value (0..1) to linear light [IEC 61966-2-1].
 pub fn srgb_to_linear(c: DVec3) -> DVec3 {
@@ -70,29 +70,21 @@ pub fn cool_warm(t: f64) -> DVec3 {
     linear_of_msh(interpolate_msh(cool, warm, t))
 }
 
-/// sRGB primaries and D65 white: linear RGB to CIE XYZ [IEC 61966-2-1].
+/// sRGB primaries and D65 white: linear RGB to CIE XYZ, by rows [IEC 61966-2-1].
 const RGB_TO_XYZ: [[f64; 3]; 3] = [
     [0.412_456_4, 0.357_576_1, 0.180_437_5],
     [0.212_672_9, 0.715_152_2, 0.072_175_0],
     [0.019_333_9, 0.119_192_0, 0.950_304_1],
 ];
 
-/// The inverse of [`RGB_TO_XYZ`].
-const XYZ_TO_RGB: [[f64; 3]; 3] = [
-    [3.240_454_2, -1.537_138_5, -0.498_531_4],
-    [-0.969_266_0, 1.876_010_8, 0.041_556_0],
-    [0.055_643_4, -0.204_025_9, 1.057_225_2],
-];
+/// [`RGB_TO_XYZ`] as a matrix.
+fn rgb_to_xyz() -> DMat3 {
+    DMat3::from_cols_array_2d(&RGB_TO_XYZ).transpose()
+}
 
 /// The white point of CIELAB: XYZ of linear RGB (1, 1, 1), so that greys have a = b = 0.
 fn white() -> DVec3 {
-    let row = |r: [f64; 3]| r[0] + r[1] + r[2];
-    DVec3::new(row(RGB_TO_XYZ[0]), row(RGB_TO_XYZ[1]), row(RGB_TO_XYZ[2]))
-}
-
-fn times(m: &[[f64; 3]; 3], v: DVec3) -> DVec3 {
-    let row = |r: [f64; 3]| r[0] * v.x + r[1] * v.y + r[2] * v.z;
-    DVec3::new(row(m[0]), row(m[1]), row(m[2]))
+    rgb_to_xyz() * DVec3::ONE
 }
 
 /// CIELAB's `f` and its inverse.
@@ -116,12 +108,12 @@ fn lab_f_inverse(y: f64) -> f64 {
 
 /// CIELAB lightness `L*` of a linear RGB colour.
 pub fn lightness(c: DVec3) -> f64 {
-    116.0 * lab_f(times(&RGB_TO_XYZ, c).y / white().y) - 16.0
+    116.0 * lab_f((rgb_to_xyz() * c).y / white().y) - 16.0
 }
 
 /// Msh (magnitude, saturation angle, hue angle) of a linear RGB colour [Moreland09].
 fn msh_of(c: DVec3) -> DVec3 {
-    let xyz = times(&RGB_TO_XYZ, c) / white();
+    let xyz = rgb_to_xyz() * c / white();
     let (fx, fy, fz) = (lab_f(xyz.x), lab_f(xyz.y), lab_f(xyz.z));
     let (l, a, b) = (116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz));
     let m = (l * l + a * a + b * b).sqrt();
@@ -138,7 +130,7 @@ fn linear_of_msh(msh: DVec3) -> DVec3 {
         lab_f_inverse(fy),
         lab_f_inverse(fy - b / 200.0),
     ) * white();
-    times(&XYZ_TO_RGB, xyz)
+    rgb_to_xyz().inverse() * xyz
 }
 
 /// Moreland's interpolation from `a` to `b` at `t` [Moreland09]: through an unsaturated
@@ -257,7 +249,7 @@ mod tests {
         for (t, want) in [(0.0, [59.0, 76.0, 192.0]), (1.0, [180.0, 4.0, 38.0])] {
             let got = srgb8(cool_warm(t));
             for (g, w) in got.iter().zip(want) {
-                assert!((g - w).abs() < 1e-6, "t = {t}: {got:?}");
+                assert!((g - w).abs() < 1e-9, "t = {t}: {got:?}");
             }
         }
         let middle = cool_warm(0.5);
