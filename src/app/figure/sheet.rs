@@ -405,6 +405,71 @@ mod tests {
         Frame::blank(w, h, [value; 3])
     }
 
+    /// A cell image 20 × 10 of grey `value`, with a 6-pixel strip of red `strip` right of it
+    /// (0: no strip).
+    fn cell_image(value: u8, strip: u8) -> RgbImage {
+        let width = if strip > 0 { 26 } else { 20 };
+        RgbImage::from_fn(width, 10, |x, _| {
+            if x < 20 {
+                Rgb([value; 3])
+            } else {
+                Rgb([strip, 0, 0])
+            }
+        })
+    }
+
+    /// A column whose cells carry the same strip shows it once, beside its first cell; a
+    /// column whose strips differ shows each beside its cell; every cell stays whole.
+    #[test]
+    fn legends_go_beside_the_cells_once_per_column_when_shared() {
+        let cell = [20, 10];
+        let images = [
+            cell_image(10, 200),
+            cell_image(20, 100),
+            cell_image(30, 0),
+            cell_image(40, 200),
+            cell_image(50, 150),
+            cell_image(60, 0),
+        ];
+        let refs: Vec<&RgbImage> = images.iter().collect();
+        let legends = SheetLegends::of(&refs, 3, 20);
+        assert_eq!(legends.widths, [6, 6, 0]);
+        assert_eq!(legends.drawn, [0, 1, 4]);
+        let labels = SheetLabels {
+            columns: vec!["a".into(), "b".into(), "c".into()],
+            ..SheetLabels::default()
+        };
+        let sheet = compose_images(&refs, &labels, cell, Theme::Paper);
+        let placed = layout(6, &labels, cell, &legends);
+        assert_eq!(
+            (sheet.width(), sheet.height()),
+            (placed.width, placed.height)
+        );
+        for (img, [x0, y0]) in images.iter().zip(&placed.cells) {
+            for (x, y, p) in cell_part(img, cell).enumerate_pixels() {
+                assert_eq!(sheet.get_pixel(x0 + x, y0 + y), p);
+            }
+        }
+        let drawn: Vec<usize> = placed.legends.iter().map(|(k, _)| *k).collect();
+        assert_eq!(drawn, [0, 1, 4]);
+        for &(k, [x0, y0]) in &placed.legends {
+            assert_eq!([x0, y0], [placed.cells[k][0] + 20, placed.cells[k][1]]);
+            for (x, y, p) in legend_strip(&images[k], 20).enumerate_pixels() {
+                assert_eq!(sheet.get_pixel(x0 + x, y0 + y), p);
+            }
+        }
+        // The shared strip is not drawn again beside cell 3: the ground is.
+        let [x3, y3] = placed.cells[3];
+        assert_eq!(
+            sheet.get_pixel(x3 + 20, y3).0,
+            Theme::Paper.sheet_background()
+        );
+        // The SVG places the same cells and strips.
+        let text = svg_images(&refs, &labels, cell, Theme::Paper).expect("svg");
+        assert_eq!(text.matches("<image ").count(), 6 + 3);
+        assert!(text.contains("fill=\"#ffffff\""));
+    }
+
     #[test]
     fn sheet_holds_every_cell_and_its_labels() {
         let frames: Vec<Frame> = (0..6).map(|k| flat_frame(40, 30, k as f32 / 5.0)).collect();
