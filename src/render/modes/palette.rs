@@ -54,11 +54,12 @@ pub fn rdbu(t: f64) -> DVec3 {
     gradient(colorous::RED_BLUE, 1.0 - t)
 }
 
-/// Moreland's cool–warm diverging map [Moreland09]: `t = 0` blue (sRGB 59, 76, 192), `0.5`
-/// a neutral grey of CIELAB lightness 88 (sRGB 221), `1` red (180, 4, 38), interpolated in
-/// his polar CIELAB coordinates Msh (magnitude, saturation, hue) through the unsaturated
-/// middle, with the hue of the unsaturated end spun as his `AdjustHue` prescribes. Its middle
-/// is grey, not white, so that zero stays visible on a white page; as linear RGB.
+/// Moreland's cool–warm diverging map [Moreland09 cool–warm]: `t = 0` blue (sRGB 59, 76,
+/// 192), `0.5` a neutral grey of CIELAB lightness 88 (sRGB 221), `1` red (180, 4, 38),
+/// interpolated in his polar CIELAB coordinates Msh (magnitude, saturation, hue) through the
+/// unsaturated middle, with the hue of the unsaturated end spun as his `AdjustHue`
+/// prescribes. Its middle is grey, not white, so that zero stays visible on a white page; as
+/// linear RGB.
 pub fn cool_warm(t: f64) -> DVec3 {
     let t = if t.is_finite() {
         t.clamp(0.0, 1.0)
@@ -111,7 +112,7 @@ pub fn lightness(c: DVec3) -> f64 {
     116.0 * lab_f((rgb_to_xyz() * c).y / white().y) - 16.0
 }
 
-/// Msh (magnitude, saturation angle, hue angle) of a linear RGB colour [Moreland09].
+/// Msh (magnitude, saturation angle, hue angle) of a linear RGB colour [Moreland09 Msh].
 fn msh_of(c: DVec3) -> DVec3 {
     let xyz = rgb_to_xyz() * c / white();
     let (fx, fy, fz) = (lab_f(xyz.x), lab_f(xyz.y), lab_f(xyz.z));
@@ -133,7 +134,7 @@ fn linear_of_msh(msh: DVec3) -> DVec3 {
     rgb_to_xyz().inverse() * xyz
 }
 
-/// Moreland's interpolation from `a` to `b` at `t` [Moreland09]: through an unsaturated
+/// Moreland's interpolation from `a` to `b` at `t` [Moreland09 Msh]: through an unsaturated
 /// middle of magnitude at least 88 when both ends are saturated and their hues differ by more
 /// than 60°, the unsaturated end's hue spun towards the saturated one.
 fn interpolate_msh(mut a: DVec3, mut b: DVec3, mut t: f64) -> DVec3 {
