@@ -1,10 +1,10 @@
 //! Themes and legends: the colours around a rendered image — the background of rays that miss,
 //! the legend strip the PNG carries beside the image, the ground and labels of figure sheets.
 //!
-//! A legend never covers the image: a mode that has one ([`crate::render::modes::ModeKind::legend`])
-//! draws it into its own [`Legend`] strip as tall as the image, on the image's background, and
-//! the PNG places it right of the image ([`crate::render::output::srgb8`]); the EXR holds the
-//! image alone.
+//! A legend never covers the image: a mode that has one
+//! ([`crate::render::modes::ModeKind::legend`]) draws it into its own [`Legend`] strip as tall
+//! as the image, on the image's background, and the PNG places it right of the image
+//! ([`crate::render::output::srgb8`]); the EXR holds the image alone.
 
 use glam::DVec3;
 
