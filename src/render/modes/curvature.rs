@@ -357,8 +357,9 @@ pub fn tick_label(x: f64) -> String {
 /// quantity's name and units, the colour bar (top = top of the range) framed in ink with its
 /// round ticks ([`round_ticks`]) labelled right of it, and the sign convention below it, all
 /// wrapped to at most nine font sizes' width; the strip is as wide as its widest line. A
-/// strip under 120 pixels tall gets the bare bar with its tick marks.
-pub fn legend_strip(params: &CurvatureParams, height: u32, style: &LegendStyle) -> Legend {
+/// strip under 120 pixels tall gets the bare bar with its tick marks; None when not even the
+/// bar fits (under about 12 pixels).
+pub fn legend_strip(params: &CurvatureParams, height: u32, style: &LegendStyle) -> Option<Legend> {
     let h = height as usize;
     let font = style.font;
     let pad = (0.6 * font).round().max(2.0) as usize;
@@ -403,11 +404,11 @@ pub fn legend_strip(params: &CurvatureParams, height: u32, style: &LegendStyle) 
     } else {
         bar_w as f32
     };
+    if bottom <= top + 8 {
+        return None;
+    }
     let width = (text_w.ceil() as usize + 2 * pad) as u32;
     let mut legend = Legend::blank(width, height, style.background);
-    if bottom <= top + 8 {
-        return legend;
-    }
     let (w, rgb) = (width as usize, &mut legend.rgb);
     // Glyph coverage of the text, blended in at the end.
     let mut cover = vec![[0.0f32; 3]; rgb.len()];
@@ -465,7 +466,7 @@ pub fn legend_strip(params: &CurvatureParams, height: u32, style: &LegendStyle) 
             *px = linear.as_vec3().to_array();
         }
     }
-    legend
+    Some(legend)
 }
 
 impl ModeKind for CurvatureParams {
@@ -620,7 +621,9 @@ impl ModeKind for CurvatureParams {
 
     /// The legend strip of [`legend_strip`], unless `legend = false`.
     fn legend(&self, height: u32, style: &LegendStyle) -> Option<Legend> {
-        self.legend.then(|| legend_strip(self, height, style))
+        self.legend
+            .then(|| legend_strip(self, height, style))
+            .flatten()
     }
 
     /// In the paper theme, the default map of the signed quantities is cool–warm (its grey
@@ -825,7 +828,7 @@ mod tests {
             font: 12.0,
         };
         let params = CurvatureParams::default();
-        let legend = legend_strip(&params, 300, &style);
+        let legend = legend_strip(&params, 300, &style).expect("a legend");
         let (w, h) = (legend.width as usize, legend.height as usize);
         assert_eq!(h, 300);
         assert_eq!(legend.rgb.len(), w * h);
@@ -850,14 +853,19 @@ mod tests {
         // The title "mean curvature H" and the note wrap at 9 font sizes.
         assert!(w as f32 <= 9.0 * 12.0 + 2.0 * 7.0 + 1.0, "{w}");
         assert!(w as f32 >= text_width(12.0, "convex > 0"), "{w}");
-        // Without a legend, none; a strip of 100 pixels is the bar and its pads.
+        // Without a legend, none; a strip of 100 pixels is the bar and its pads; at 10
+        // pixels the bar has no room.
         let off = CurvatureParams {
             legend: false,
             ..params
         };
         assert!(ModeKind::legend(&off, 300, &style).is_none());
-        let bare = legend_strip(&params, 100, &style);
+        let bare = legend_strip(&params, 100, &style).expect("the bar");
         assert_eq!(bare.width, 13 + 2 * 7);
+        assert!(
+            legend_strip(&params, 10, &style).is_none(),
+            "no room for a bar"
+        );
     }
 
     /// The paper theme turns only the default diverging map into cool–warm.
