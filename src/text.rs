@@ -1,7 +1,7 @@
 //! Text in images: one TrueType font (DejaVu Sans, embedded in the binary; licence in
 //! `assets/fonts/LICENSE`) rasterised with anti-aliasing by `ab_glyph`. Two calls:
 //! [`draw_text`] paints a line into an 8-bit RGB image, [`text_width`] measures it, so labels
-//! can be centred or wrapped before they are drawn. [`ascent`] and [`line_height`] place lines;
+//! can be centred or wrapped ([`wrap`]) before they are drawn. [`ascent`] and [`line_height`] place lines;
 //! [`FONT_FAMILY`] names the font for vector output (SVG) that must match the raster.
 //!
 //! Sizes are em sizes in pixels, as CSS and SVG `font-size` mean them (the full height of a
@@ -63,6 +63,22 @@ pub fn text_width(px_size: f32, text: &str) -> f32 {
         previous = Some(id);
     }
     width
+}
+
+/// `text` broken at spaces into lines no wider than `max_width` pixels at `size` (a longer
+/// word gets a line of its own).
+pub fn wrap(text: &str, size: f32, max_width: f32) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split_whitespace() {
+        match lines.last_mut() {
+            Some(line) if text_width(size, &format!("{line} {word}")) <= max_width => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
 }
 
 /// Paints `text` at em size `px_size` in colour `rgb` into `img`, the line's top-left corner at
@@ -139,6 +155,20 @@ fn rasterise(x: f32, y: f32, px_size: f32, text: &str, mut put: impl FnMut(i64, 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn words_wrap_at_spaces() {
+        let wide = text_width(12.0, "hb g0=-3.7");
+        assert_eq!(
+            wrap("hb g0=-3.7 g1=4.6", 12.0, wide),
+            vec!["hb g0=-3.7", "g1=4.6"]
+        );
+        assert_eq!(
+            wrap("averyveryverylongword x", 12.0, 10.0),
+            vec!["averyveryverylongword", "x"]
+        );
+        assert!(wrap("   ", 12.0, 50.0).is_empty());
+    }
     use image::Rgb;
 
     /// The linear-buffer variant paints the same pixels with the same coverage as the 8-bit

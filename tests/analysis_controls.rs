@@ -98,8 +98,10 @@ fn help_lists_values_and_defaults() {
         "--highlight-lines",
         "--isophote-step",
         "gaussian, mean, maxabs, k1, k2",
-        "diverging, sequential",
+        "diverging, coolwarm, sequential",
         "convex, normal",
+        "--theme",
+        "dark, paper",
         "--curvature-range",
         "--no-legend",
     ] {

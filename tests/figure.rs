@@ -209,7 +209,12 @@ label = "mean curvature"
     let png = image::open(dir.join("labels.png")).expect("png").to_rgb8();
     let (texts, cells, size) = read_svg(&svg);
     assert_eq!(size, [png.width(), png.height()]);
-    assert_eq!(cells.len(), 6);
+    // Six cells and one legend strip: the curvature column's cells share the figure's range,
+    // so their legend is drawn once, right of the column's first cell, beside it, not over it.
+    assert_eq!(cells.len(), 7);
+    let legend = cells[6];
+    assert_eq!([legend[0], legend[1]], [cells[1][0] + 160, cells[1][1]]);
+    assert_eq!(legend[3], 60);
     let strings: Vec<&str> = texts.iter().map(|t| t.text.as_str()).collect();
     for label in ["isophote", "piper", "fang-mann", "gk"] {
         assert!(strings.contains(&label), "{label} missing from {strings:?}");
@@ -293,6 +298,10 @@ fn bad_specs_fail_naming_the_fault() {
             "edge 999",
         ),
         (SPEC.replace("beta = 0.1", "betta = 0.1"), "betta"),
+        (
+            SPEC.replace("spp = 1", "spp = 1\ntheme = \"sepia\""),
+            "theme: unknown theme 'sepia'",
+        ),
     ] {
         let out = figure(&dir, &spec);
         let stderr = String::from_utf8_lossy(&out.stderr);

@@ -85,7 +85,9 @@ fn render_command_writes_png_exr_and_stats() {
     let (stats, _) = render_command(&args).expect("render");
     assert!(stats.hits > 0 && stats.misses > 0, "{stats:?}");
     let png = image::open(stem.with_extension("png")).expect("PNG readable");
-    assert_eq!((png.width(), png.height()), (40, 30));
+    // The image and, right of it, the curvature legend: at 30 pixels tall the bare bar, 10
+    // pixels wide with 5 on either side (the EXR below is the 40 × 30 image alone).
+    assert_eq!((png.width(), png.height()), (40 + 20, 30));
 
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&stats_path).expect("stats file"))

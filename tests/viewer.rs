@@ -609,7 +609,7 @@ fn decode_rgb(bytes: &[u8]) -> (u32, u32, Vec<u8>) {
 /// count and the mode change the image; the probe on a sphere of radius r reads the exact
 /// hit — the patch's own point and curvatures at the reported (u, v), and κ1 ≈ κ2 ≈ 1/r to
 /// the scheme's approximation of the sphere; save writes a scene whose `smoothlab render`
-/// has the converged canvas's pixels.
+/// has the converged canvas's pixels (beside them, the PNG's legend strip).
 #[test]
 fn the_page_orbits_probes_and_saves_in_a_browser() {
     let Some(binary) = chromium() else { return };
@@ -778,15 +778,25 @@ fn the_page_orbits_probes_and_saves_in_a_browser() {
         common::path_str(&again),
     ]);
     assert!(run.status.success(), "{}", common::stderr(&run));
-    let rendered = decode_rgb(&std::fs::read(again.with_extension("png")).expect("render PNG"));
-    let written =
-        decode_rgb(&std::fs::read(saved["png"].as_str().expect("png")).expect("saved PNG"));
-    assert_eq!(rendered.2.len(), canvas.len(), "same size");
+    // The page shows the image; the PNGs carry the curvature legend right of it, so their
+    // first canvas-width columns are compared.
+    let (cw, ch, _) = browser.canvas_rgb();
+    let image_part = |png: &str| {
+        let img = image::open(png).expect("PNG").to_rgb8();
+        assert_eq!(img.height(), ch);
+        assert!(img.width() > cw, "the legend strip beside the image");
+        image::imageops::crop_imm(&img, 0, 0, cw, ch)
+            .to_image()
+            .into_raw()
+    };
+    let rendered = image_part(common::path_str(&again.with_extension("png")));
+    let written = image_part(saved["png"].as_str().expect("png"));
+    assert_eq!(rendered.len(), canvas.len(), "same size");
     assert!(
-        rendered.2 == canvas,
+        rendered == canvas,
         "render of the saved scene = the converged canvas"
     );
-    assert!(written.2 == canvas, "the saved PNG = the converged canvas");
+    assert!(written == canvas, "the saved PNG = the converged canvas");
     assert!(PathBuf::from(saved["exr"].as_str().expect("exr")).is_file());
     eprintln!("browser test took {:.1} s", start.elapsed().as_secs_f64());
 }

@@ -278,10 +278,12 @@ impl Render {
         convert::array(py, values, &[h, w, 3])
     }
 
-    /// The PNG's pixels: 8-bit sRGB, (height, width, 3) uint8.
+    /// The PNG's pixels: 8-bit sRGB, (height, width + legend width, 3) uint8 — the image
+    /// with the mode's legend strip right of it (curvature mode), as the PNG holds them.
     #[getter]
     fn srgb8<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let [h, w] = self.shape();
+        let h = self.frame.height as usize;
+        let w = self.frame.png_width() as usize;
         convert::array(py, output::srgb8(&self.frame), &[h, w, 3])
     }
 

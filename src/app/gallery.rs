@@ -123,6 +123,7 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
         curvature: CurvatureChoice::Common,
         transpose: false,
         geometry: Geometry::default(),
+        theme: crate::render::theme::Theme::Dark,
     };
     let figure = render_figure(&job)?;
     let mut images = Vec::with_capacity(figure.cells.len());

@@ -233,6 +233,25 @@ impl ExrCompressionArg {
     }
 }
 
+/// `--theme` values.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ThemeArg {
+    /// Dark background, light legend text.
+    Dark,
+    /// White background, dark legend text; the curvature map's zero is grey (cool–warm).
+    Paper,
+}
+
+impl ThemeArg {
+    /// The theme's name in scenes.
+    pub fn name(self) -> &'static str {
+        match self {
+            ThemeArg::Dark => "dark",
+            ThemeArg::Paper => "paper",
+        }
+    }
+}
+
 /// `smoothlab render SCENE.toml | MESH.obj [options]` — every option overrides the scene.
 #[derive(clap::Args, Clone, Debug, Default)]
 pub struct RenderArgs {
@@ -322,6 +341,9 @@ pub struct RenderArgs {
     /// EXR compression [default: rle] (scene: `render.exr_compression`).
     #[arg(long, value_enum)]
     pub exr_compression: Option<ExrCompressionArg>,
+    /// Colours around the image [default: dark] (scene: `render.theme`).
+    #[arg(long, value_enum)]
+    pub theme: Option<ThemeArg>,
     /// The modes' own flags (`--zebra-stripes`, `--curvature-range`, …; see each mode's
     /// [`crate::render::modes::ModeKind::FLAGS`]).
     #[command(flatten)]
@@ -450,6 +472,9 @@ pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     }
     if let Some(c) = args.exr_compression {
         r.exr_compression = Some(c.name().to_string());
+    }
+    if let Some(t) = args.theme {
+        r.theme = Some(t.name().to_string());
     }
     if args.seed.is_some() {
         r.seed = args.seed;

@@ -19,6 +19,7 @@
 //! mode = "zebra"              # zebra highlight isophote curvature normals patches diffuse shaded
 //! size = [640, 480]
 //! spp = 4
+//! theme = "dark"              # or "paper": white background, dark legend text
 //! output = "out/ico-zebra"    # writes .png and .exr beside the scene file in out/
 //! overlay = "faces"           # none, faces, patches, both
 //! curves = true               # boundary curves as blue tubes
@@ -48,7 +49,7 @@
 //! range = "auto"              # or a number: fixed half-range
 //! percentile = 95
 //! legend = true
-//! map = "diverging"           # diverging (RdBu) or sequential (viridis)
+//! map = "diverging"           # diverging (RdBu), coolwarm (zero grey) or sequential (viridis)
 //! sign = "convex"             # convex: > 0 where convex (outward normal); normal: II/I
 //! ```
 
@@ -72,6 +73,7 @@ use crate::render::job::{
 use crate::render::modes::keys::direction;
 use crate::render::modes::{DEFAULT_MODE, Key, MODE_KEYS, MODE_NAMES, Mode, Overlay};
 use crate::render::output::ExrCompression;
+use crate::render::theme::Theme;
 
 pub use crate::render::job::{DEFAULT_SIZE, DEFAULT_SPP, MAX_SPP};
 
@@ -172,9 +174,12 @@ pub struct RenderSection {
     pub line_width: Option<f64>,
     /// Sample seed.
     pub seed: Option<u64>,
-    /// Background colour (linear RGB).
+    /// Background colour (linear RGB; default: the theme's).
     #[serde(default, deserialize_with = "exact")]
     pub background: Option<[f64; 3]>,
+    /// Colours around the image: "dark" (default) or "paper" (white background, dark legend
+    /// text, the curvature mode's grey-zero map; see [`crate::render::theme::Theme`]).
+    pub theme: Option<String>,
     /// Render a tessellation with this many segments per patch edge instead of the patches.
     pub tessellate: Option<u32>,
     /// Draw the boundary curves (images of the mesh edges) as tubes.
@@ -441,6 +446,10 @@ impl SceneFile {
         check_size("render.size", width, height, MAX_SIDE)?;
         let spp = r.spp.unwrap_or(DEFAULT_SPP);
         check_spp("render.spp", spp, MAX_SPP)?;
+        let theme = match &r.theme {
+            Some(name) => Theme::by_name("render.theme", name)?,
+            None => Theme::default(),
+        };
         let mut settings = RenderSettings {
             width,
             height,
@@ -449,6 +458,8 @@ impl SceneFile {
             overlay: self.overlay()?,
             seed: r.seed.unwrap_or(0),
             surface: r.surface.unwrap_or(true),
+            background: theme.background(),
+            theme,
             ..RenderSettings::default()
         };
         if let Some(bg) = r.background {

@@ -447,15 +447,15 @@ fn render_animation_frames(
     render_frames(&tracer, job, animation, &camera, settings, &frames)
 }
 
-/// The frame as an RGBA image (opaque).
+/// The frame as an RGBA image (opaque), its legend beside it as in the PNG.
 fn rgba(frame: &Frame) -> RgbaImage {
     let rgb = srgb8(frame);
     let bytes = rgb
         .chunks_exact(3)
         .flat_map(|p| [p[0], p[1], p[2], 255])
         .collect();
-    RgbaImage::from_raw(frame.width, frame.height, bytes)
-        .unwrap_or_else(|| RgbaImage::new(frame.width, frame.height))
+    RgbaImage::from_raw(frame.png_width(), frame.height, bytes)
+        .unwrap_or_else(|| RgbaImage::new(frame.png_width(), frame.height))
 }
 
 /// Where the frames go: every frame's file, the GIF (if written) and which frames to render.

@@ -18,6 +18,7 @@ use crate::render::intersect::{Hit, IntersectCounters};
 use crate::render::modes::{Footprint, Mode, Overlay, Sample, Setup};
 use crate::render::sampler::pixel_offset;
 use crate::render::stats::RenderStats;
+use crate::render::theme::{Legend, LegendStyle, Theme};
 use crate::render::trace::SurfaceTracer;
 use crate::render::tubes::Tubes;
 
@@ -37,8 +38,10 @@ pub struct RenderSettings {
     pub mode: Mode,
     /// Boundary lines.
     pub overlay: Overlay,
-    /// Linear RGB of rays that miss.
+    /// Linear RGB of rays that miss (and the ground of the legend strip).
     pub background: DVec3,
+    /// Colours around the image: the legend's ink, the curvature mode's default map.
+    pub theme: Theme,
     /// Seed of all sample positions.
     pub seed: u64,
     /// Show a progress bar on stderr (only ever when stderr is a terminal).
@@ -57,7 +60,8 @@ impl Default for RenderSettings {
             spp: 4,
             mode: Mode::default(),
             overlay: Overlay::default(),
-            background: DVec3::splat(0.045),
+            background: Theme::Dark.background(),
+            theme: Theme::Dark,
             seed: 0,
             progress: true,
             surface: true,
@@ -106,7 +110,8 @@ impl PixelGeometry {
     }
 }
 
-/// A rendered image: linear RGB plus the per-pixel geometry, rows top to bottom.
+/// A rendered image: linear RGB plus the per-pixel geometry, rows top to bottom, and the
+/// mode's legend, which the PNG places right of the image (the EXR holds the image alone).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Frame {
     /// Width in pixels.
@@ -117,9 +122,28 @@ pub struct Frame {
     pub rgb: Vec<[f32; 3]>,
     /// Geometry through each pixel centre (None: the ray missed).
     pub geometry: Vec<Option<PixelGeometry>>,
+    /// The mode's legend strip, as tall as the image ([`crate::render::modes::ModeKind::legend`]).
+    pub legend: Option<Legend>,
 }
 
 impl Frame {
+    /// A `width` × `height` frame of colour `rgb` where every ray missed, without legend.
+    pub fn blank(width: u32, height: u32, rgb: [f32; 3]) -> Frame {
+        let n = width as usize * height as usize;
+        Frame {
+            width,
+            height,
+            rgb: vec![rgb; n],
+            geometry: vec![None; n],
+            legend: None,
+        }
+    }
+
+    /// Width of the PNG: the image and its legend strip.
+    pub fn png_width(&self) -> u32 {
+        self.width + self.legend.as_ref().map_or(0, |l| l.width)
+    }
+
     /// The bytes of the buffers of a `width` × `height` frame: linear RGB and the geometry
     /// record of every pixel.
     pub fn bytes(width: u32, height: u32) -> f64 {
@@ -224,7 +248,7 @@ pub fn render_cancellable<T: SurfaceTracer>(
     check_frame_memory(w, h, 0.0)?;
     let start = Instant::now();
     let mut stats = RenderStats::default();
-    let mode = settings.mode.set_up(
+    let mode = settings.mode.themed(settings.theme).set_up(
         &Setup {
             tracer,
             camera,
@@ -233,12 +257,7 @@ pub fn render_cancellable<T: SurfaceTracer>(
         },
         &mut stats,
     );
-    let mut frame = Frame {
-        width: w,
-        height: h,
-        rgb: vec![[0.0; 3]; (w * h) as usize],
-        geometry: vec![None; (w * h) as usize],
-    };
+    let mut frame = Frame::blank(w, h, [0.0; 3]);
     let tiles = tiles(w, &mut frame.rgb, &mut frame.geometry);
     let bar = progress_bar(settings, tiles.len() as u64);
     let skipped = std::sync::atomic::AtomicBool::new(false);
@@ -268,7 +287,8 @@ pub fn render_cancellable<T: SurfaceTracer>(
         stats.rays += tile.rays;
         stats.hits += tile.hits;
     }
-    mode.finish(&mut frame.rgb, w, h);
+    let style = LegendStyle::new(settings.theme, settings.background, h);
+    frame.legend = mode.legend(h, &style);
     stats.misses = stats.rays - stats.hits;
     stats.set_newton(&counters);
     stats.render_ms = start.elapsed().as_secs_f64() * 1e3;

@@ -23,6 +23,7 @@ pub mod sampler;
 pub mod shaded;
 pub mod stats;
 pub mod tessellate;
+pub mod theme;
 pub mod trace;
 pub(crate) mod tubes;
 
@@ -32,4 +33,5 @@ pub use intersect::{Hit, NewtonSettings, Ray64, Tracer};
 pub use job::{CameraSpec, Geometry, RenderJob};
 pub use modes::Mode;
 pub use stats::RenderStats;
+pub use theme::{Legend, LegendStyle, Theme};
 pub use trace::SurfaceTracer;

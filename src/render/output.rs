@@ -139,16 +139,37 @@ pub fn output_bytes_per_pixel(exr: bool) -> f64 {
     if exr { PNG + EXR } else { PNG }
 }
 
-/// 8-bit sRGB-encoded RGB bytes of the frame, rows top to bottom.
+/// 8-bit sRGB-encoded RGB bytes of the PNG of the frame, [`Frame::png_width`] ×
+/// `frame.height`, rows top to bottom: each row of the image followed by that row of the
+/// legend strip, if any (the legend lies beside the image, never over it).
 ///
 /// Runs of equal values (the background, the inside of a stripe) are encoded once: the last
 /// value and its byte are remembered, so the transfer function (a `powf`) runs only where the
 /// value changes. The bytes are those of encoding every value.
 pub fn srgb8(frame: &Frame) -> Vec<u8> {
+    let w = frame.width.max(1) as usize;
+    match &frame.legend {
+        Some(legend) => {
+            let strip = legend.rgb.chunks(legend.width.max(1) as usize);
+            let rows = frame.rgb.chunks(w).zip(strip);
+            encode_srgb8(rows.flat_map(|(a, b)| a.iter().chain(b)), frame.rgb.len())
+        }
+        None => image_srgb8(frame),
+    }
+}
+
+/// 8-bit sRGB-encoded RGB bytes of the image alone, `frame.width` × `frame.height` (what the
+/// interactive viewer shows), encoded as [`srgb8`] encodes them.
+pub fn image_srgb8(frame: &Frame) -> Vec<u8> {
+    encode_srgb8(frame.rgb.iter(), frame.rgb.len())
+}
+
+/// The sRGB bytes of `pixels` (about `count` of them), each run of equal values encoded once.
+fn encode_srgb8<'a>(pixels: impl Iterator<Item = &'a [f32; 3]>, count: usize) -> Vec<u8> {
     let encode = |x: f32| (linear_to_srgb(f64::from(x)) * 255.0 + 0.5) as u8;
     let mut last: Option<(u32, u8)> = None;
-    let mut bytes = Vec::with_capacity(3 * frame.rgb.len());
-    for &x in frame.rgb.iter().flatten() {
+    let mut bytes = Vec::with_capacity(3 * count);
+    for &x in pixels.flatten() {
         let byte = match last {
             Some((bits, byte)) if bits == x.to_bits() => byte,
             _ => {
@@ -169,7 +190,7 @@ pub fn write_png(frame: &Frame, path: &Path) -> Result<()> {
 
 /// Writes the frame as an 8-bit sRGB PNG with `meta` in `tEXt` chunks.
 pub fn write_png_with(frame: &Frame, path: &Path, meta: &OutputMeta) -> Result<()> {
-    let img = image::RgbImage::from_raw(frame.width, frame.height, srgb8(frame))
+    let img = image::RgbImage::from_raw(frame.png_width(), frame.height, srgb8(frame))
         .ok_or_else(|| Error::Invalid("frame buffer does not match its size".into()))?;
     let mut text = Vec::new();
     if let Some(command) = &meta.command {
@@ -469,10 +490,8 @@ mod tests {
             .chain([[0.2; 3], [0.2; 3], [0.7, 0.2, 0.2]])
             .collect();
         let frame = Frame {
-            width: rgb.len() as u32,
-            height: 1,
-            geometry: vec![None; rgb.len()],
-            rgb,
+            rgb: rgb.clone(),
+            ..Frame::blank(rgb.len() as u32, 1, [0.0; 3])
         };
         let expected: Vec<u8> = frame
             .rgb
@@ -481,6 +500,27 @@ mod tests {
             .map(|&x| (linear_to_srgb(f64::from(x)) * 255.0 + 0.5) as u8)
             .collect();
         assert_eq!(srgb8(&frame), expected);
+    }
+
+    /// The PNG's rows are the image's rows, each followed by the legend's row.
+    #[test]
+    fn the_legend_strip_lies_right_of_the_image() {
+        let mut frame = Frame::blank(3, 2, [0.0; 3]);
+        frame.rgb[3] = [1.0; 3];
+        frame.legend = Some(crate::render::theme::Legend {
+            width: 2,
+            height: 2,
+            rgb: vec![[1.0, 0.0, 0.0], [0.0; 3], [0.0; 3], [0.0, 0.0, 1.0]],
+        });
+        assert_eq!(frame.png_width(), 5);
+        let bytes = srgb8(&frame);
+        let px: Vec<&[u8]> = bytes.chunks(3).collect();
+        let (black, white) = ([0u8; 3], [255u8; 3]);
+        let (red, blue) = ([255, 0, 0], [0, 0, 255]);
+        let want: [&[u8]; 10] = [
+            &black, &black, &black, &red, &black, &white, &black, &black, &black, &blue,
+        ];
+        assert_eq!(px, want);
     }
 
     #[test]

@@ -186,6 +186,7 @@ pub fn render_thumbnails(
                 })
                 .collect(),
             geometry: Vec::new(),
+            legend: None,
         };
         write_png(
             &frame,

@@ -21,6 +21,7 @@ use crate::render::film::{Frame, RenderSettings};
 use crate::render::job::{Geometry, JobTracer, mode_for_mesh};
 use crate::render::modes::{Mode, Overlay};
 use crate::render::stats::RenderStats;
+use crate::render::theme::Theme;
 use crate::surface::Surface;
 
 pub use sheet::{SheetLabels, compose, compose_images, svg, svg_images};
@@ -96,6 +97,8 @@ pub struct FigureJob {
     pub transpose: bool,
     /// The tracer of every surface: exact (BVH settings and leaf budget) or tessellated.
     pub geometry: Geometry,
+    /// Colours of the cells' backgrounds and legends and of the sheet.
+    pub theme: Theme,
 }
 
 /// One rendered cell.
@@ -245,8 +248,8 @@ pub fn render_figure(job: &FigureJob) -> Result<Figure> {
     let (cells, half_range) = render_cells(job, &all)?;
     let labels = job.labels(half_range);
     let frames: Vec<&Frame> = cells.iter().map(|c| &c.frame).collect();
-    let sheet = compose(&frames, &labels, job.size);
-    let svg = svg(&frames, &labels, job.size)?;
+    let sheet = compose(&frames, &labels, job.size, job.theme);
+    let svg = svg(&frames, &labels, job.size, job.theme)?;
     Ok(Figure {
         cells,
         sheet,
@@ -299,6 +302,8 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
         spp: job.spp,
         overlay: Overlay::default(),
         progress: false,
+        background: job.theme.background(),
+        theme: job.theme,
         ..RenderSettings::default()
     };
     let half_range = match (first_curvature, job.curvature) {

@@ -27,6 +27,7 @@ use crate::files::{check_writable, create_folder, write_atomic};
 use crate::render::output::{
     check_output_name, output_stem, with_suffix, write_exr, write_png, write_rgb_png,
 };
+use crate::render::theme::Theme;
 use crate::report::shard::{Manifest, Shard, items_of, read_complete_parts};
 
 /// The kind of work of partial figures, in their [`Manifest`].
@@ -104,6 +105,8 @@ pub struct FigurePart {
     pub modes: Vec<(String, bool)>,
     /// Surfaces as columns, modes as rows.
     pub transpose: bool,
+    /// The theme of the sheet (its name).
+    pub theme: String,
     /// The curvature half-range, when this shard knows it (a fixed range, or a curvature
     /// cell rendered).
     pub curvature_half_range: Option<f64>,
@@ -206,6 +209,7 @@ pub fn run_figure_spec_shard(path: &Path, shard: Shard) -> Result<FigureShardFil
             .map(|m| (m.label.clone(), m.mode.has_scale()))
             .collect(),
         transpose: job.transpose,
+        theme: job.theme.name().to_string(),
         curvature_half_range: half_range,
         rays: cells.iter().map(|c| c.stats.rays).sum(),
         render_ms: cells.iter().map(|c| c.stats.render_ms).sum(),
@@ -313,9 +317,10 @@ pub fn merge_figure(parts: &[PathBuf], out: &Path) -> Result<String> {
         let image = image::load_from_memory_with_format(&data, image::ImageFormat::Png)
             .map_err(|e| Error::Invalid(format!("{}: {e}", file.display())))?
             .to_rgb8();
-        if image.dimensions() != (first.size[0], first.size[1]) {
+        // A cell's PNG is the cell, and its legend strip right of it if the mode has one.
+        if image.width() < first.size[0] || image.height() != first.size[1] {
             return Err(Error::Invalid(format!(
-                "{}: cell {k} is {}x{}, not the figure's {}x{}",
+                "{}: cell {k} is {}x{}, not the figure's {}x{} (and a legend strip)",
                 file.display(),
                 image.width(),
                 image.height(),
@@ -350,8 +355,9 @@ pub fn merge_figure(parts: &[PathBuf], out: &Path) -> Result<String> {
         half_range.map(|(r, _)| r),
     );
     let refs: Vec<&image::RgbImage> = images.iter().collect();
-    let sheet = super::compose_images(&refs, &labels, first.size);
-    let text = svg_images(&refs, &labels, first.size)?;
+    let theme = Theme::by_name("theme", &first.theme)?;
+    let sheet = super::compose_images(&refs, &labels, first.size, theme);
+    let text = svg_images(&refs, &labels, first.size, theme)?;
     write_rgb_png(&sheet, &png)?;
     write_atomic(&svg, text.as_bytes())?;
     for (data, exr) in exr_data.iter().zip(&exrs) {

@@ -14,6 +14,7 @@
 //! exr = true                            # one EXR per cell
 //! transpose = false                     # true: schemes as columns, modes as rows
 //! curvature_range = "auto"              # or a number: fixed half-range of every curvature cell
+//! theme = "dark"                        # or "paper": white ground, dark text, grey-zero curvature map
 //! [camera]                              # as in scene files; omitted: frames all surfaces
 //! fov = 30
 //! [bvh]                                 # as in scene files: every cell's BVH and leaf budget
@@ -57,6 +58,7 @@ use crate::render::modes::{Mode, keys_of};
 use crate::render::output::{
     check_output_name, output_stem, with_suffix, write_exr, write_rgb_png,
 };
+use crate::render::theme::Theme;
 use crate::schemes;
 
 /// A figure spec as written.
@@ -87,6 +89,9 @@ pub struct FigureSpec {
     pub transpose: Option<bool>,
     /// "auto" (common automatic range) or a fixed half-range.
     pub curvature_range: Option<toml::Value>,
+    /// Colours of the cells and the sheet: "dark" (default) or "paper" (see
+    /// [`crate::render::theme::Theme`]).
+    pub theme: Option<String>,
     /// The common camera.
     #[serde(default)]
     pub camera: CameraSection,
@@ -357,6 +362,10 @@ impl FigureSpec {
                 )));
             }
         };
+        let theme = match &self.theme {
+            Some(name) => Theme::by_name("figure spec: theme", name)?,
+            None => Theme::default(),
+        };
         let aspect = f64::from(size[0]) / f64::from(size[1]);
         let camera = self.camera(&surfaces, aspect)?;
         Ok(FigureJob {
@@ -370,6 +379,7 @@ impl FigureSpec {
             curvature,
             transpose: self.transpose.unwrap_or(false),
             geometry,
+            theme,
         })
     }
 

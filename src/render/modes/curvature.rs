@@ -14,8 +14,9 @@ use crate::render::intersect::IntersectCounters;
 use crate::render::modes::keys::{self, Flag, Key, Keys};
 use crate::render::modes::{Footprint, ModeKind, Setup, palette};
 use crate::render::stats::RenderStats;
+use crate::render::theme::{Legend, LegendStyle, Theme};
 use crate::render::trace::SurfaceTracer;
-use crate::text::{draw_text_linear, text_width};
+use crate::text::{draw_text_linear, line_height, text_width, wrap};
 
 /// Which curvature to show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -151,6 +152,10 @@ impl CurvatureSign {
 pub enum CurvatureMap {
     /// ColorBrewer RdBu: blue through white to red over `[−r, r]` (zero is white).
     Diverging,
+    /// Moreland's cool–warm: blue through grey to red over `[−r, r]` (zero is a grey of
+    /// lightness 88; see [`palette::cool_warm`]). The paper theme's default for the signed
+    /// quantities.
+    CoolWarm,
     /// viridis (perceptually uniform): dark blue to yellow over `[−r, r]`, or `[0, r]` for
     /// max |κ|.
     Sequential,
@@ -158,12 +163,13 @@ pub enum CurvatureMap {
 
 impl CurvatureMap {
     /// Names accepted in scenes and on the command line.
-    pub const NAMES: &'static [&'static str] = &["diverging", "sequential"];
+    pub const NAMES: &'static [&'static str] = &["diverging", "coolwarm", "sequential"];
 
     /// The map called `name`.
     pub fn by_name(name: &str) -> crate::Result<CurvatureMap> {
         match name {
             "diverging" => Ok(CurvatureMap::Diverging),
+            "coolwarm" => Ok(CurvatureMap::CoolWarm),
             "sequential" => Ok(CurvatureMap::Sequential),
             _ => Err(crate::Error::Invalid(format!(
                 "unknown curvature colour map '{name}' (known: {})",
@@ -194,11 +200,12 @@ pub struct CurvatureParams {
     /// How the range is chosen.
     pub range: CurvatureRange,
     /// Draw a colour bar with the quantity's name, units, sign convention and numeric ticks
-    /// at the right edge of the image.
+    /// in a strip right of the image (the PNG's; never over the image).
     pub legend: bool,
     /// The half-range in use (set before rendering from `range`).
     pub half_range: f64,
-    /// Colour map; None: diverging for signed quantities, sequential for max |κ|.
+    /// Colour map; None: diverging for signed quantities (cool–warm in the paper theme, see
+    /// [`ModeKind::themed`]), sequential for max |κ|.
     pub map: Option<CurvatureMap>,
     /// Sign convention of the signed quantities.
     pub sign: CurvatureSign,
@@ -252,6 +259,7 @@ impl CurvatureParams {
         };
         match self.colour_map() {
             CurvatureMap::Diverging => palette::rdbu(t),
+            CurvatureMap::CoolWarm => palette::cool_warm(t),
             CurvatureMap::Sequential => palette::viridis(t),
         }
     }
@@ -345,29 +353,18 @@ pub fn tick_label(x: f64) -> String {
     }
 }
 
-/// Paints the legend of `params` into the right edge of a linear RGB image of `width` ×
-/// `height`: on a dark panel, the quantity's name and units, the colour bar (top = top of the
-/// range) framed in black with five numeric ticks, and the sign convention. Images too small
-/// for text get the bare bar.
-pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &CurvatureParams) {
-    let (w, h) = (width as usize, height as usize);
-    let font = (h as f32 / 28.0).clamp(9.0, 22.0);
-    let bar_w = (w / 40).max(4);
-    let margin = (w / 60).max(2);
-    let with_text = w >= 120 && h >= 120;
-    let top = if with_text {
-        (2.0 * margin as f32 + 3.2 * font) as usize
-    } else {
-        h / 10
-    };
-    let bottom = if with_text {
-        h.saturating_sub((2.0 * margin as f32 + 2.2 * font) as usize)
-    } else {
-        h - h / 10
-    };
-    if bar_w + 2 * margin >= w || bottom <= top + 8 {
-        return;
-    }
+/// The legend of `params`: a strip `height` pixels tall in `style`, on its ground the
+/// quantity's name and units, the colour bar (top = top of the range) framed in ink with its
+/// round ticks ([`round_ticks`]) labelled right of it, and the sign convention below it, all
+/// wrapped to at most nine font sizes' width; the strip is as wide as its widest line. A
+/// strip under 120 pixels tall gets the bare bar with its tick marks; None when not even the
+/// bar fits (under about 12 pixels).
+pub fn legend_strip(params: &CurvatureParams, height: u32, style: &LegendStyle) -> Option<Legend> {
+    let h = height as usize;
+    let font = style.font;
+    let pad = (0.6 * font).round().max(2.0) as usize;
+    let bar_w = (1.1 * font).round().max(4.0) as usize;
+    let with_text = h >= 120;
     let (lo, hi) = params.value_range();
     let values = round_ticks(lo, hi);
     let step = match values.as_slice() {
@@ -378,52 +375,57 @@ pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &Curva
         .iter()
         .map(|&v| (v, round_tick_label(v, step)))
         .collect();
-    let x0 = w - margin - bar_w;
-    let title = params.quantity.label();
-    let units = params.quantity.units();
+    let max_line = 9.0 * font;
+    let mut head = wrap(params.quantity.label(), font, max_line);
+    head.push(params.quantity.units().to_string());
     let note = if params.quantity.depends_on_sign() {
-        params.sign.legend_note()
+        wrap(params.sign.legend_note(), font, max_line)
     } else {
-        ""
+        Vec::new()
     };
-    // Dark boxes behind the text, so that it reads over any colour.
-    let darken = |rgb: &mut [[f32; 3]], x0: f32, y0: f32, x1: f32, y1: f32| {
-        let (x0, x1) = (x0.max(0.0) as usize, (x1.max(0.0) as usize).min(w));
-        let (y0, y1) = (y0.max(0.0) as usize, (y1.max(0.0) as usize).min(h));
-        for y in y0..y1 {
-            for px in &mut rgb[y * w + x0..y * w + x1.max(x0)] {
-                for c in px.iter_mut() {
-                    *c = 0.25 * *c + 0.75 * 0.02;
-                }
-            }
-        }
+    let line = line_height(font);
+    let (top, bottom) = if with_text {
+        let top = pad as f32 + head.len() as f32 * line + 0.6 * font;
+        let below = pad as f32 + note.len() as f32 * line + 0.6 * font;
+        (top.ceil() as usize, h.saturating_sub(below.ceil() as usize))
+    } else {
+        (h / 10, h - h / 10)
     };
-    if with_text {
+    let tick_gap = 0.4 * font + 3.0;
+    let text_w = if with_text {
         let tick_w = ticks
             .iter()
             .map(|(_, t)| text_width(font, t))
             .fold(0.0, f32::max);
-        darken(
-            rgb,
-            x0 as f32 - 8.0 - tick_w,
-            top as f32 - 0.8 * font,
-            w as f32,
-            bottom as f32 + 0.8 * font,
-        );
+        head.iter()
+            .chain(&note)
+            .map(|l| text_width(font, l))
+            .fold(bar_w as f32 + tick_gap + tick_w, f32::max)
+    } else {
+        bar_w as f32
+    };
+    if bottom <= top + 8 {
+        return None;
     }
+    let width = (text_w.ceil() as usize + 2 * pad) as u32;
+    let mut legend = Legend::blank(width, height, style.background);
+    let (w, rgb) = (width as usize, &mut legend.rgb);
+    // Glyph coverage of the text, blended in at the end.
+    let mut cover = vec![[0.0f32; 3]; rgb.len()];
+    let x0 = pad;
     for y in top..bottom {
         let t = 1.0 - (y - top) as f64 / (bottom - 1 - top) as f64;
         let c = params.colour_of(lo + (hi - lo) * t);
         for x in x0..x0 + bar_w {
             let frame = y == top || y == bottom - 1 || x == x0 || x == x0 + bar_w - 1;
             rgb[y * w + x] = if frame {
-                [0.0; 3]
+                style.ink
             } else {
                 [c.x as f32, c.y as f32, c.z as f32]
             };
         }
     }
-    let white = [0.9f32; 3];
+    let right = x0 + bar_w;
     for (value, label) in &ticks {
         // The tick at its value's height on the bar (top = hi).
         let t = if hi > lo {
@@ -432,37 +434,39 @@ pub fn draw_legend(rgb: &mut [[f32; 3]], width: u32, height: u32, params: &Curva
             0.0
         };
         let y = top + ((bottom - 1 - top) as f64 * t.clamp(0.0, 1.0)).round() as usize;
-        // A tick mark across the bar's left edge.
-        for x in x0.saturating_sub(3)..x0 + 2 {
-            rgb[y * w + x] = white;
+        // A tick mark across the bar's right edge.
+        for x in right - 2..(right + 3).min(w) {
+            rgb[y * w + x] = style.ink;
         }
         if with_text {
-            let tw = text_width(font, label);
-            draw_text_linear(
-                rgb,
-                width,
-                x0 as f32 - 5.0 - tw,
-                y as f32 - 0.55 * font,
-                font,
-                white,
-                label,
-            );
+            let (x, y) = (right as f32 + tick_gap, y as f32 - 0.55 * font);
+            draw_text_linear(&mut cover, width, x, y, font, [1.0; 3], label);
         }
     }
     if with_text {
-        let right = (w - margin) as f32;
-        let line = |rgb: &mut [[f32; 3]], y: f32, text: &str| {
-            if text.is_empty() {
-                return;
-            }
-            let left = right - text_width(font, text);
-            darken(rgb, left - 3.0, y - 1.0, w as f32, y + 1.2 * font);
-            draw_text_linear(rgb, width, left, y, font, white, text);
-        };
-        line(rgb, margin as f32, title);
-        line(rgb, margin as f32 + 1.15 * font, units);
-        line(rgb, bottom as f32 + 0.8 * font, note);
+        for (k, text) in head.iter().enumerate() {
+            let y = pad as f32 + k as f32 * line;
+            draw_text_linear(&mut cover, width, pad as f32, y, font, [1.0; 3], text);
+        }
+        for (k, text) in note.iter().enumerate() {
+            let y = bottom as f32 + 0.6 * font + k as f32 * line;
+            draw_text_linear(&mut cover, width, pad as f32, y, font, [1.0; 3], text);
+        }
     }
+    // Text blends into its ground by coverage in sRGB-encoded values, as the sheets' labels
+    // do ([`crate::text::draw_text`]): blended in linear light, dark text on white thins out.
+    let encode = |c: [f32; 3]| c.map(|x| palette::linear_to_srgb(f64::from(x)));
+    let ink = encode(style.ink);
+    for (px, a) in rgb.iter_mut().zip(&cover) {
+        let a = f64::from(a[0]);
+        if a > 0.0 {
+            let g = encode(*px);
+            let mix = |k: usize| g[k] * (1.0 - a) + ink[k] * a;
+            let linear = palette::srgb_to_linear(DVec3::new(mix(0), mix(1), mix(2)));
+            *px = linear.as_vec3().to_array();
+        }
+    }
+    Some(legend)
 }
 
 impl ModeKind for CurvatureParams {
@@ -481,10 +485,13 @@ impl ModeKind for CurvatureParams {
             "percentile",
             "percentile of |value| in view for the automatic range, in [0, 100] (default 95)",
         ),
-        Key::new("legend", "draw the colour bar (default true)"),
+        Key::new(
+            "legend",
+            "draw the colour bar in a strip right of the image (default true)",
+        ),
         Key::new(
             "map",
-            "diverging or sequential (default diverging; sequential for maxabs)",
+            "diverging, coolwarm or sequential (default diverging, coolwarm in the paper theme; sequential for maxabs)",
         ),
         Key::new("sign", "convex or normal (default convex)"),
     ];
@@ -509,9 +516,13 @@ impl ModeKind for CurvatureParams {
             ..Flag::choice(
                 "curvature-map",
                 "map",
-                "Curvature colour map [default: diverging; sequential for maxabs].",
+                "Curvature colour map [default: diverging, coolwarm with --theme paper; sequential for maxabs].",
                 &[
                     ("diverging", "ColorBrewer RdBu over [−r, r], zero white"),
+                    (
+                        "coolwarm",
+                        "Moreland's cool–warm over [−r, r], zero grey (the paper theme's default)",
+                    ),
                     ("sequential", "viridis over [−r, r] ([0, r] for maxabs)"),
                 ],
             )
@@ -608,10 +619,26 @@ impl ModeKind for CurvatureParams {
         p
     }
 
-    /// The legend.
-    fn finish(&self, rgb: &mut [[f32; 3]], width: u32, height: u32) {
-        if self.legend {
-            draw_legend(rgb, width, height, self);
+    /// The legend strip of [`legend_strip`], unless `legend = false`.
+    fn legend(&self, height: u32, style: &LegendStyle) -> Option<Legend> {
+        self.legend
+            .then(|| legend_strip(self, height, style))
+            .flatten()
+    }
+
+    /// In the paper theme, the default map of the signed quantities is cool–warm (its grey
+    /// zero stays visible on white; RdBu's zero is near white).
+    fn themed(&self, theme: Theme) -> Self {
+        let paper_default = theme == Theme::Paper
+            && self.map.is_none()
+            && self.colour_map() == CurvatureMap::Diverging;
+        CurvatureParams {
+            map: if paper_default {
+                Some(CurvatureMap::CoolWarm)
+            } else {
+                self.map
+            },
+            ..*self
         }
     }
 
@@ -790,30 +817,82 @@ mod tests {
         assert_eq!(tick_label(2.0e-5), "2.00e-5");
     }
 
+    /// The strip is as tall as asked, on its ground, with the bar (red at the top, blue at
+    /// the bottom), ink text beside it, and as wide as its text; a short strip is the bare bar.
     #[test]
-    fn legend_draws_text_and_bar() {
-        let (w, h) = (200u32, 200u32);
-        let grey = [0.5f32; 3];
-        let mut img = vec![grey; (w * h) as usize];
+    fn the_legend_strip_holds_bar_and_text_on_its_ground() {
+        let ground = [0.5f32; 3];
+        let style = LegendStyle {
+            background: ground,
+            ink: [0.01; 3],
+            font: 12.0,
+        };
         let params = CurvatureParams::default();
-        draw_legend(&mut img, w, h, &params);
-        // The bar's top is red-ish (positive = red in RdBu), its bottom blue-ish: the bar is
-        // w/40 = 5 pixels wide, 3 pixels from the edge.
-        let column: Vec<[f32; 3]> = (0..h).map(|y| img[(y * w + w - 6) as usize]).collect();
+        let legend = legend_strip(&params, 300, &style).expect("a legend");
+        let (w, h) = (legend.width as usize, legend.height as usize);
+        assert_eq!(h, 300);
+        assert_eq!(legend.rgb.len(), w * h);
+        // The bar's inside: pad 7, width 13.
+        let column: Vec<[f32; 3]> = (0..h).map(|y| legend.rgb[y * w + 10]).collect();
+        let red = column.iter().position(|p| p[0] > 2.0 * p[2] + 0.05);
+        let blue = column.iter().rposition(|p| p[2] > 2.0 * p[0] + 0.05);
         assert!(
-            column.iter().any(|p| p[0] > 2.0 * p[2] + 0.05),
-            "no red in the bar"
+            red.is_some() && blue.is_some() && red < blue,
+            "{red:?} {blue:?}"
         );
+        // Dark text right of the bar and above it, the rest is the ground.
+        let ink = |x0: usize, x1: usize, y0: usize, y1: usize| {
+            (y0..y1)
+                .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+                .filter(|&(x, y)| legend.rgb[y * w + x][0] < 0.25)
+                .count()
+        };
+        assert!(ink(25, w, 60, 240) > 30, "tick labels");
+        assert!(ink(0, w, 0, 30) > 30, "title");
+        assert_eq!(legend.rgb[h / 2 * w + w - 1], ground);
+        // The title "mean curvature H" and the note wrap at 9 font sizes.
+        assert!(w as f32 <= 9.0 * 12.0 + 2.0 * 7.0 + 1.0, "{w}");
+        assert!(w as f32 >= text_width(12.0, "convex > 0"), "{w}");
+        // Without a legend, none; a strip of 100 pixels is the bar and its pads; at 10
+        // pixels the bar has no room.
+        let off = CurvatureParams {
+            legend: false,
+            ..params
+        };
+        assert!(ModeKind::legend(&off, 300, &style).is_none());
+        let bare = legend_strip(&params, 100, &style).expect("the bar");
+        assert_eq!(bare.width, 13 + 2 * 7);
         assert!(
-            column.iter().any(|p| p[2] > 2.0 * p[0] + 0.05),
-            "no blue in the bar"
+            legend_strip(&params, 10, &style).is_none(),
+            "no room for a bar"
         );
-        // Text (bright pixels) appears left of the bar, the panel darkens the image there.
-        let bright = img.iter().filter(|p| p[0] > 0.8 && p[2] > 0.8).count();
-        assert!(bright > 50, "{bright} text pixels");
-        assert!(img[(w / 2 * w + w - 20) as usize][0] < 0.5);
-        // The left half of the image is untouched.
-        assert_eq!(img[(h / 2 * w + 10) as usize], grey);
+    }
+
+    /// The paper theme turns only the default diverging map into cool–warm.
+    #[test]
+    fn the_paper_theme_greys_the_zero_of_the_default_map() {
+        let p = CurvatureParams::default();
+        assert_eq!(p.themed(Theme::Dark), p);
+        let paper = p.themed(Theme::Paper);
+        assert_eq!(paper.colour_map(), CurvatureMap::CoolWarm);
+        assert!(palette::lightness(paper.colour_of(0.0)) < 90.0);
+        assert!(
+            palette::lightness(p.colour_of(0.0)) > 94.0,
+            "RdBu's zero is near white"
+        );
+        let chosen = CurvatureParams {
+            map: Some(CurvatureMap::Diverging),
+            ..p
+        };
+        assert_eq!(chosen.themed(Theme::Paper), chosen);
+        let maxabs = CurvatureParams {
+            quantity: CurvatureQuantity::MaxAbs,
+            ..p
+        };
+        assert_eq!(
+            maxabs.themed(Theme::Paper).colour_map(),
+            CurvatureMap::Sequential
+        );
     }
 
     #[test]

@@ -21,6 +21,7 @@ use crate::render::camera::Camera;
 use crate::render::interaction::ShadingPoint;
 use crate::render::intersect::IntersectCounters;
 use crate::render::stats::RenderStats;
+use crate::render::theme::{Legend, LegendStyle, Theme};
 use crate::render::trace::SurfaceTracer;
 
 pub use curvature::{
@@ -68,7 +69,7 @@ pub struct Sample<'a> {
 
 /// A render mode: one type holding its parameters, and everything about the mode — its name,
 /// help, scene keys and command-line flags with their checks, its set-up from the scene, its
-/// colour of a hit, its pass over the finished image, its cost. One file per mode implements
+/// colour of a hit, its legend beside the image, its cost. One file per mode implements
 /// it; one line of `modes!` registers it. Nothing outside `render/modes/` names a mode.
 ///
 /// Every method has the plain answer as default; a mode overrides what it has.
@@ -120,9 +121,18 @@ pub trait ModeKind: Clone + std::fmt::Debug + PartialEq + Default + Send + Sync 
         self.clone()
     }
 
-    /// Its pass over the finished linear RGB image (a legend).
-    fn finish(&self, rgb: &mut [[f32; 3]], width: u32, height: u32) {
-        let _ = (rgb, width, height);
+    /// Its legend, a strip `height` pixels tall drawn in `style`, that the PNG places right
+    /// of the image (None: no legend).
+    fn legend(&self, height: u32, style: &LegendStyle) -> Option<Legend> {
+        let _ = (height, style);
+        None
+    }
+
+    /// The mode as `theme` shows it (the paper theme's default colour map of the curvature
+    /// mode).
+    fn themed(&self, theme: Theme) -> Self {
+        let _ = theme;
+        self.clone()
     }
 
     /// The mode with back-face hits tinted where it shows surface quality (what an open
@@ -255,10 +265,17 @@ macro_rules! modes {
                 }
             }
 
-            /// See [`ModeKind::finish`].
-            pub fn finish(&self, rgb: &mut [[f32; 3]], width: u32, height: u32) {
+            /// See [`ModeKind::legend`].
+            pub fn legend(&self, height: u32, style: &LegendStyle) -> Option<Legend> {
                 match self {
-                    $(Mode::$variant(p) => <$ty as ModeKind>::finish(p, rgb, width, height),)*
+                    $(Mode::$variant(p) => <$ty as ModeKind>::legend(p, height, style),)*
+                }
+            }
+
+            /// See [`ModeKind::themed`].
+            pub fn themed(&self, theme: Theme) -> Mode {
+                match self {
+                    $(Mode::$variant(p) => Mode::$variant(<$ty as ModeKind>::themed(p, theme)),)*
                 }
             }
 
