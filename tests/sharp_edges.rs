@@ -141,7 +141,11 @@ fn cad_parts_keep_their_creases_sharp_and_their_faces_flat() {
             );
             built.push(scheme);
         }
-        assert_eq!(built, ["flat", "pn", "nielson", "fang-mann"], "{name}");
+        assert_eq!(
+            built,
+            ["flat", "pn", "hb", "nielson", "fang-mann"],
+            "{name}"
+        );
     }
 }
 
@@ -394,7 +398,7 @@ fn the_command_line_takes_crease_angles_and_reports_sharp_joints() {
     let value: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let rows = value.as_array().unwrap();
-    assert_eq!(rows.len(), 4);
+    assert_eq!(rows.len(), 5);
     for row in rows {
         assert_eq!(row["sharp_joints"], 44, "{row}");
         assert!(
@@ -423,11 +427,11 @@ fn the_command_line_takes_crease_angles_and_reports_sharp_joints() {
         "metrics",
         common::path_str(&scene("l-block")),
         "--scheme",
-        "hb",
+        "loop94",
         "--crease-angle",
         "40",
     ]);
-    common::assert_fails_naming(&out, &["scheme 'hb' cannot build sharp edges", "44"]);
+    common::assert_fails_naming(&out, &["scheme 'loop94' cannot build sharp edges", "44"]);
 }
 
 #[test]

@@ -354,7 +354,7 @@ fn cross_boundary_function_is_c1_at_every_edge_midpoint() {
         let beta = format!("{}", 0.05 + 0.6 * rng.next_f64());
         for p in [params(&SPEC, &[]), params(&SPEC, &[("beta", &beta)])] {
             let (shape, _) = shape_params(&p).expect("valid parameters");
-            let table = half_edge_table(&mesh, &shape);
+            let table = half_edge_table(&mesh, &shape).expect("pass 1");
             let scale = mesh.bounds().diagonal();
             for (f, face) in mesh.faces().iter().enumerate() {
                 for [xy, yx, ..] in table.corner_edges(*face, f) {
