@@ -358,8 +358,9 @@ fn cross_boundary_function_is_c1_at_every_edge_midpoint() {
             let scale = mesh.bounds().diagonal();
             for (f, face) in mesh.faces().iter().enumerate() {
                 for [xy, yx, ..] in table.corner_edges(*face, f) {
-                    let here = curve(table.get(xy), table.get(yx)).v;
-                    let there = curve(table.get(yx), table.get(xy)).v;
+                    // The face lies on the "+" side of X → Y, the "−" side of Y → X.
+                    let here = curve(table.get(xy), table.get(yx), false).v;
+                    let there = curve(table.get(yx), table.get(xy), true).v;
                     let c0 = (here[2] + there[2]).length() / scale;
                     let c1 = ((here[2] - here[1]) - (there[2] - there[1])).length() / scale;
                     assert!(
