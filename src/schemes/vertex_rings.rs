@@ -661,6 +661,23 @@ pub fn fan_sectors(
         }
         ends[j] = Some((tangent / length, length));
     }
+    // A crease through an interior vertex (two sharp edges, one crease direction for both)
+    // passes through it: its two tangents are opposite, pointing from the second neighbour
+    // to the first along the crease (else both could point to one side, a cusp that leaves
+    // one sector no angle at all).
+    let through = closed && end_edges.len() == 2;
+    if through {
+        let (a, b) = (end_edges[0], end_edges[1]);
+        if let (Some((da, la)), Some((_, lb))) = (ends[a], ends[b]) {
+            let through = if da.dot(chord(a) - chord(b)) < 0.0 {
+                -da
+            } else {
+                da
+            };
+            ends[a] = Some((through, la));
+            ends[b] = Some((-through, lb));
+        }
+    }
     let mean = end_edges
         .iter()
         .filter_map(|&j| ends[j])
@@ -685,7 +702,15 @@ pub fn fan_sectors(
                 } else {
                     turn_from(d, last, normal) / faces as f64
                 };
-                let side = normal.cross(d);
+                // Through a crease (both end tangents on one line, ω = π) the sine part is
+                // free: fitted to the inner chords as on a half ring; elsewhere the end
+                // tangents fix it.
+                let side = if through {
+                    let inner: Vec<DVec3> = (0..=faces).map(|j| at + chord(first + j)).collect();
+                    sine_part(at, &inner, step, mean * d) / mean
+                } else {
+                    normal.cross(d)
+                };
                 let mut tangents: Vec<DVec3> = (0..=faces)
                     .map(|j| {
                         let (sj, cj) = (step * j as f64).sin_cos();
@@ -787,13 +812,20 @@ pub fn half_ring_tangent_basis(v: DVec3, ring: &[DVec3], theta: f64) -> (DVec3, 
         return (a, (ring[1] - v - c * a) / s);
     }
     let a = 0.5 * (ring[0] - ring[n - 1]);
+    (a, sine_part(v, ring, theta, a))
+}
+
+/// The least-squares `B` of [`half_ring_tangent_basis`] for a given `A`: the fit of the inner
+/// chords `p_j − v` (`0 < j < n − 1`) by `A cos(jθ) + B sin(jθ)`; zero without inner chords.
+fn sine_part(v: DVec3, ring: &[DVec3], theta: f64, a: DVec3) -> DVec3 {
+    let n = ring.len();
     let (mut num, mut den) = (DVec3::ZERO, 0.0);
     for (j, p) in ring.iter().enumerate().take(n - 1).skip(1) {
         let (sj, cj) = (theta * j as f64).sin_cos();
         num += sj * (*p - v - cj * a);
         den += sj * sj;
     }
-    (a, num / den)
+    if den > 0.0 { num / den } else { DVec3::ZERO }
 }
 
 /// Loop's point of edge `v → p_j` at a boundary vertex with half-ring `ring` [HB00 eqs. 2, 15]:
