@@ -942,6 +942,53 @@ mod tests {
         }
     }
 
+    /// On the L-block with its 90° edges sharp (corners, a reflex sector at the inner corner
+    /// of the L, creases through vertices): every sector's tangents solve the vertex system
+    /// `r_{j+1} + r_{j−1} = 2 cos θ r_j` on its inner edges and reach its last end tangent,
+    /// all in the plane of its faces; the sectors' steps add up to their faces' angles.
+    #[test]
+    fn sector_tangents_solve_the_vertex_system_and_meet_both_ends() {
+        let (positions, faces) = generate::l_block();
+        let options = crate::mesh::LoadOptions {
+            crease_angle: Some(40.0),
+            ..Default::default()
+        };
+        let (mesh, _) = Mesh::from_triangles_with(positions, faces, &options).expect("L-block");
+        let sectors = MeshSectors::new(&mesh).expect("sectors");
+        let (mut reflex, mut count) = (0, 0);
+        for (v, fan) in sectors.by_vertex.iter().enumerate() {
+            let ring = mesh.one_ring(v as u32);
+            let at = mesh.positions()[v];
+            for sector in fan.iter().flatten() {
+                count += 1;
+                let r = &sector.tangents;
+                let m = sector.faces;
+                let scale = r[0].length();
+                let c = sector.step.cos();
+                let (s, c_m) = (sector.step * m as f64).sin_cos();
+                let recurrence = r[0] * c_m + (r[1] - c * r[0]) / sector.step.sin() * s;
+                assert!((recurrence - r[m]).length() <= 1e-14 * scale, "vertex {v}");
+                for j in 1..m {
+                    let residual = r[j + 1] + r[j - 1] - 2.0 * c * r[j];
+                    assert!(residual.length() <= 1e-14 * scale, "vertex {v}, edge {j}");
+                }
+                let chord = |j: usize| {
+                    mesh.positions()[ring[(sector.first + j) % ring.len()] as usize] - at
+                };
+                let angles: f64 = (0..m).map(|j| chord(j).angle_between(chord(j + 1))).sum();
+                assert!(
+                    (sector.step * m as f64 - angles).abs() <= 1e-14,
+                    "vertex {v}"
+                );
+                for t in r {
+                    assert!(t.dot(sector.normal).abs() <= 1e-15 * scale, "vertex {v}");
+                }
+                reflex += usize::from(angles > PI + 0.1);
+            }
+        }
+        assert!(count > 0 && reflex > 0, "{count} sectors, {reflex} reflex");
+    }
+
     /// A regular ring of `n` points on the unit circle in the plane z = `height`.
     fn regular_ring(n: usize, height: f64) -> Vec<DVec3> {
         (0..n)
