@@ -656,7 +656,8 @@ pub fn fan_sectors(
             crate::mesh::crease_tangent(chord(j), face_normal(j + nf - 1), face_normal(j))
         };
         let length = tangent.length();
-        if !(length > MIN_CREASE_TANGENT * chord(j).length()) {
+        // NaN lengths fail too.
+        if length.is_nan() || length <= MIN_CREASE_TANGENT * chord(j).length() {
             return Err((v, ring[j]));
         }
         ends[j] = Some((tangent / length, length));
