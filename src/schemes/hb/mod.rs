@@ -9,6 +9,11 @@
 //!    at the midpoint (HB00 §7, the choice of §9);
 //! 3. per face ([`mod@macro_patch`]): the four quintic nets (eqs. 24–33 and the fill of Fig. 13).
 //!
+//! Open meshes follow [`boundary`]; sharp edges (`--crease-angle`) [`crease`]: each sector of
+//! a vertex is built as an open fan, the curve of a sharp edge is shared by its two faces and
+//! each of them has its own `V` ([`vertex::HalfEdgeData::minus`]), so the surface is G⁰ across
+//! sharp edges and G¹ elsewhere.
+//!
 //! `V` changes sign with the edge direction: seen from the other end `w` of an edge `v → w`,
 //! `Ψ̃(1−u) = Ψ(u)` and `Φ̃(1−u) = 1 − Φ(u)`, so (eq. 18) `Ṽ(1−u) = −V(u)`. Hence, with `v¹` and
 //! `ṽ¹` computed at either end, C¹ continuity of `V` at `u = ½` gives `v² = (v¹ − ṽ¹)/2 = −ṽ²`.
