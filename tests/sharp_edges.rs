@@ -85,6 +85,19 @@ fn flatness(
     worst
 }
 
+/// Joints between faces per interior mesh edge: 1, or 2 for a scheme that splits faces at
+/// their edges' midpoints (hb's 4-split).
+fn joints_per_edge(m: &Metrics, mesh: &Mesh) -> usize {
+    let interior = mesh.edges().iter().filter(|e| e.faces.1.is_some()).count();
+    let per_edge = m.joints_between_faces / interior;
+    assert!(
+        per_edge * interior == m.joints_between_faces && (1..=2).contains(&per_edge),
+        "{} joints between faces over {interior} edges",
+        m.joints_between_faces
+    );
+    per_edge
+}
+
 /// A face of the capped cylinder lies on a cap when all its corners do (z = ±1).
 fn on_a_cap(mesh: &Mesh) -> impl Fn(u32) -> bool + '_ {
     |f| {
@@ -115,7 +128,11 @@ fn cad_parts_keep_their_creases_sharp_and_their_faces_flat() {
                  offset {offset:.1e}, normal {tilt:.1e} rad, bend {bend:.1e}, folds {}",
                 m.sharp_joints, m.sharp_g0_max_rel, m.g1_max_rad, m.folds
             );
-            assert_eq!(m.sharp_joints, expected_sharp, "{name}/{scheme}");
+            assert_eq!(
+                m.sharp_joints,
+                expected_sharp * joints_per_edge(&m, &mesh),
+                "{name}/{scheme}"
+            );
             assert!(
                 m.sharp_g0_max_rel.expect("sharp joints") <= LENGTH_REL,
                 "{name}/{scheme}: G0 across creases {:?}",
@@ -141,7 +158,11 @@ fn cad_parts_keep_their_creases_sharp_and_their_faces_flat() {
             );
             built.push(scheme);
         }
-        assert_eq!(built, ["flat", "pn", "nielson", "fang-mann"], "{name}");
+        assert_eq!(
+            built,
+            ["flat", "pn", "hb", "nielson", "fang-mann"],
+            "{name}"
+        );
     }
 }
 
@@ -260,7 +281,7 @@ fn per_corner_normals_mark_sharp_edges_and_darts_build() {
             "dart grid/{scheme}: sharp joints {}, G0 sharp {:?}, G1 smooth {:?}",
             m.sharp_joints, m.sharp_g0_max_rel, m.g1_max_rad
         );
-        assert_eq!(m.sharp_joints, 2, "{scheme}");
+        assert_eq!(m.sharp_joints, 2 * joints_per_edge(&m, &mesh), "{scheme}");
         assert!(m.sharp_g0_max_rel.unwrap() <= LENGTH_REL, "{scheme}");
         if claims_g1(scheme) {
             assert!(
@@ -394,9 +415,11 @@ fn the_command_line_takes_crease_angles_and_reports_sharp_joints() {
     let value: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let rows = value.as_array().unwrap();
-    assert_eq!(rows.len(), 4);
+    assert_eq!(rows.len(), 5);
     for row in rows {
-        assert_eq!(row["sharp_joints"], 44, "{row}");
+        // hb splits every face into four: two joints along each edge.
+        let per_edge = if row["scheme"] == "hb" { 2 } else { 1 };
+        assert_eq!(row["sharp_joints"], 44 * per_edge, "{row}");
         assert!(
             row["sharp_g0_max_rel"].as_f64().unwrap() <= LENGTH_REL,
             "{row}"
@@ -423,11 +446,11 @@ fn the_command_line_takes_crease_angles_and_reports_sharp_joints() {
         "metrics",
         common::path_str(&scene("l-block")),
         "--scheme",
-        "hb",
+        "loop94",
         "--crease-angle",
         "40",
     ]);
-    common::assert_fails_naming(&out, &["scheme 'hb' cannot build sharp edges", "44"]);
+    common::assert_fails_naming(&out, &["scheme 'loop94' cannot build sharp edges", "44"]);
 }
 
 #[test]

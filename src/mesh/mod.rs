@@ -449,8 +449,8 @@ impl Mesh {
         self.sharp_cuts(v).count()
     }
     /// The fan positions `j` at which a sharp edge `(v, one_ring(v)[j])` separates
-    /// `ring_faces(v)[j − 1]` from `ring_faces(v)[j]`.
-    fn sharp_cuts(&self, v: u32) -> impl Iterator<Item = usize> + '_ {
+    /// `ring_faces(v)[j − 1]` from `ring_faces(v)[j]`, in fan order.
+    pub fn sharp_cuts(&self, v: u32) -> impl Iterator<Item = usize> + '_ {
         let ring_faces = self.ring_faces(v);
         let closed = !self.is_boundary_vertex(v);
         (0..ring_faces.len()).filter(move |&j| {

@@ -282,7 +282,8 @@ pub fn swerve_cap(
 /// default plane at an interior vertex with one-ring `ring` is that of `plane(v, ring)`: one
 /// line counting the tilted planes (first vertex, its angle, the largest, how many took the
 /// rotation-and-scale fit), one counting the vertices whose faces fold over themselves.
-/// Boundary vertices keep their half-ring planes and are not counted.
+/// Boundary vertices keep their half-ring planes and vertices cut into sectors by sharp edges
+/// their sectors' planes ([`Sector`]); neither is counted.
 pub fn plane_warnings(
     mesh: &Mesh,
     scheme: &str,
@@ -291,7 +292,9 @@ pub fn plane_warnings(
     let positions = mesh.positions();
     let moves: Vec<(u32, PlaneMove)> = (0..mesh.vertex_count() as u32)
         .into_par_iter()
-        .filter(|&v| !mesh.is_boundary_vertex(v) && mesh.valence(v) >= 3)
+        .filter(|&v| {
+            !mesh.is_boundary_vertex(v) && mesh.valence(v) >= 3 && mesh.sharp_valence(v) < 2
+        })
         .filter_map(|v| {
             let at = positions[v as usize];
             let ring: Vec<DVec3> = mesh
@@ -372,10 +375,16 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
         )
     }
 
-    /// As [`HalfEdgeTable::build`] for a mesh that may have boundaries: `per_vertex` gets each
-    /// vertex's [`Fan`] (boundary flag, angle steps of the vertex and its neighbours).
-    pub fn build_open(mesh: &Mesh, per_vertex: impl Fn(&Fan, &mut [T]) + Sync) -> HalfEdgeTable<T> {
+    /// As [`HalfEdgeTable::build`] for a mesh that may have boundaries and sharp edges
+    /// (`sectors`, [`MeshSectors::new`]): `per_vertex` gets each vertex's [`Fan`] (boundary
+    /// flag, angle steps of the vertex and its neighbours, sectors).
+    pub fn build_open(
+        mesh: &Mesh,
+        sectors: &MeshSectors,
+        per_vertex: impl Fn(&Fan, &mut [T]) + Sync,
+    ) -> HalfEdgeTable<T> {
         let positions = mesh.positions();
+        let faces = mesh.faces();
         let steps: Vec<f64> = (0..mesh.vertex_count() as u32)
             .map(|v| fan_angle_step(mesh, v))
             .collect();
@@ -384,16 +393,32 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
             .collect();
         Self::build_indexed(mesh, |_: &mut (), v, out| {
             let ring = mesh.one_ring(v as u32);
+            let ring_faces = mesh.ring_faces(v as u32);
+            let (n, nf) = (ring.len(), ring_faces.len());
+            let boundary = mesh.is_boundary_vertex(v as u32);
+            // The step at ring[j] in fan face `face` (modulo the faces).
+            let far_step = |j: usize, face: usize| {
+                let f = ring_faces[face % nf] as usize;
+                let k = faces[f].iter().position(|&x| x == ring[j]).unwrap_or(0);
+                sectors.corner_step[3 * f + k]
+            };
             let ring_points: Vec<DVec3> = ring.iter().map(|&p| positions[p as usize]).collect();
             let ring_order: Vec<usize> = ring.iter().map(|&p| orders[p as usize]).collect();
-            let ring_step: Vec<f64> = ring.iter().map(|&p| steps[p as usize]).collect();
+            let ring_step: Vec<f64> = (0..n)
+                .map(|j| far_step(j, if j < nf { j } else { j - 1 }))
+                .collect();
+            let ring_step_minus: Vec<f64> = (0..n)
+                .map(|j| far_step(j, if boundary && j == 0 { 0 } else { j + nf - 1 }))
+                .collect();
             let fan = Fan {
                 position: positions[v],
-                boundary: mesh.is_boundary_vertex(v as u32),
+                boundary,
                 step: steps[v],
                 ring: &ring_points,
                 ring_order: &ring_order,
                 ring_step: &ring_step,
+                ring_step_minus: &ring_step_minus,
+                sectors: sectors.by_vertex[v].as_deref(),
             };
             per_vertex(&fan, out);
         })
@@ -522,8 +547,253 @@ pub struct Fan<'a> {
     pub ring: &'a [DVec3],
     /// [`fan_order`] of every neighbour (what the closed-mesh rules call its valence).
     pub ring_order: &'a [usize],
-    /// [`fan_angle_step`] of every neighbour.
+    /// The angle step at neighbour `ring[j]` of the face on the "+" side of edge `v → ring[j]`
+    /// (`(v, ring[j], ring[j+1])`; on a boundary edge, of its one face): [`fan_angle_step`] of
+    /// the neighbour, or the step of its [`Sector`] holding that face.
     pub ring_step: &'a [f64],
+    /// The same for the face on the "−" side (`(v, ring[j−1], ring[j])`); it differs from
+    /// `ring_step` only across a sharp edge whose far end is cut into sectors.
+    pub ring_step_minus: &'a [f64],
+    /// The vertex's sectors when sharp edges cut its fan into two or more ([`fan_sectors`]).
+    pub sectors: Option<&'a [Sector]>,
+}
+
+/// Sectors are told apart from a crease tangent of zero length by this fraction of the
+/// edge: below it the edge runs (nearly) along the normal of a sector it bounds.
+pub const MIN_CREASE_TANGENT: f64 = 1e-9;
+
+/// One sector of a vertex's fan (the faces between two consecutive sharp or boundary edges,
+/// see [`crate::mesh::SharpEdges`]) read as a fan of its own, with the tangents of its edges.
+///
+/// Its edges are the fan edges `first..=first + faces` (indices modulo the ring length) and
+/// its faces the fan faces `first..first + faces`. Both end edges are sharp or boundary
+/// edges; their tangents (the derivatives at `v` of the edges' boundary curves) are fixed
+/// before any sector is looked at, so the two sectors of a sharp edge share it bit for bit:
+/// along the crease direction ([`crate::mesh::crease_tangent`] of the normals of the two
+/// sectors; on a boundary edge the edge projected into its sector's plane), all of one
+/// length `L`, the mean of the projected edges at the vertex. The edges inside the sector
+/// get the tangents `r¹_j = L (cos jθ d + sin jθ N × d)` (`d` the unit tangent of the first
+/// edge, `N` the sector's normal made orthogonal to `d`) with the step `θ = ω / faces`, `ω`
+/// the angle from the first end tangent to the last one turning round `N` in (0, 2π]: they
+/// solve the vertex system `r¹_{j+1} + r¹_{j−1} = 2 cos θ r¹_j` [HB00 eq. 5] on the sector's
+/// inner edges and meet the last end tangent, which lies in the plane orthogonal to the
+/// sector's normal too, up to rounding. A sector of one face has no inner edge; its step
+/// is the face's angle at `v` (as at a corner of an open mesh, [`fan_angle_step`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sector {
+    /// Fan position of the first edge.
+    pub first: usize,
+    /// Number of faces (at least 1).
+    pub faces: usize,
+    /// Unit normal of the sector's tangent plane (orthogonal to the first end tangent).
+    pub normal: DVec3,
+    /// The angle step `θ`: `Φ(0) = cos θ`, `Ψ(0) = sin θ` on every edge of the sector.
+    pub step: f64,
+    /// `r¹_j` of the edges `j = 0..=faces`; the first and last are the end tangents.
+    pub tangents: Vec<DVec3>,
+}
+
+/// The angle from unit `a` to unit `b` turning round the unit `normal`, in (0, 2π].
+fn turn_from(a: DVec3, b: DVec3, normal: DVec3) -> f64 {
+    let angle = a.cross(b).dot(normal).atan2(a.dot(b));
+    if angle > 0.0 { angle } else { angle + 2.0 * PI }
+}
+
+/// The sectors of vertex `v` when sharp edges cut its fan into two or more (an interior
+/// vertex with two or more sharp edges, a boundary vertex with one or more), with
+/// `corner_normals` the normal of every face corner ([`Mesh::corner_normals`]); `None` when
+/// the fan is one sector (no sharp edge, or a dart: one sharp edge at an interior vertex),
+/// which the closed and half-ring rules build. Fails, naming the edge, when an end edge runs
+/// along the normal of a sector it bounds (its tangent would vanish) or a sector's faces
+/// cancel in its normal.
+pub fn fan_sectors(
+    mesh: &Mesh,
+    v: u32,
+    corner_normals: &[[DVec3; 3]],
+) -> std::result::Result<Option<Vec<Sector>>, (u32, u32)> {
+    let closed = !mesh.is_boundary_vertex(v);
+    let mut starts: Vec<usize> = mesh.sharp_cuts(v).collect();
+    if starts.is_empty() || (closed && starts.len() == 1) {
+        return Ok(None);
+    }
+    let ring = mesh.one_ring(v);
+    let ring_faces = mesh.ring_faces(v);
+    let (n, nf) = (ring.len(), ring_faces.len());
+    let positions = mesh.positions();
+    let at = positions[v as usize];
+    let chord = |j: usize| positions[ring[j % n] as usize] - at;
+    let face_normal = |j: usize| {
+        let f = ring_faces[j % nf] as usize;
+        let c = mesh.faces()[f].iter().position(|&x| x == v).unwrap_or(0);
+        corner_normals[f][c]
+    };
+    if !closed {
+        starts.insert(0, 0);
+    }
+    // (first edge, faces) of every sector, in fan order.
+    let bounds: Vec<(usize, usize)> = (0..starts.len())
+        .map(|s| {
+            let end = match starts.get(s + 1) {
+                Some(&next) => next,
+                None if closed => starts[0] + n,
+                None => n - 1,
+            };
+            (starts[s], end - starts[s])
+        })
+        .collect();
+    // The end tangents' directions and projected lengths, by fan position.
+    let mut ends: Vec<Option<(DVec3, f64)>> = vec![None; n];
+    let mut end_edges: Vec<usize> = starts.clone();
+    if !closed {
+        end_edges.push(n - 1);
+    }
+    for &j in &end_edges {
+        let boundary = !closed && (j == 0 || j == n - 1);
+        let tangent = if boundary {
+            let normal = face_normal(if j == 0 { 0 } else { nf - 1 });
+            crate::mesh::crease_tangent(chord(j), normal, normal)
+        } else {
+            crate::mesh::crease_tangent(chord(j), face_normal(j + nf - 1), face_normal(j))
+        };
+        let length = tangent.length();
+        // NaN lengths fail too.
+        if length.is_nan() || length <= MIN_CREASE_TANGENT * chord(j).length() {
+            return Err((v, ring[j]));
+        }
+        ends[j] = Some((tangent / length, length));
+    }
+    // A crease through an interior vertex (two sharp edges, one crease direction for both)
+    // passes through it: its two tangents are opposite, pointing from the second neighbour
+    // to the first along the crease (else both could point to one side, a cusp that leaves
+    // one sector no angle at all).
+    let through = closed && end_edges.len() == 2;
+    if through {
+        let (a, b) = (end_edges[0], end_edges[1]);
+        if let (Some((da, la)), Some((_, lb))) = (ends[a], ends[b]) {
+            let through = if da.dot(chord(a) - chord(b)) < 0.0 {
+                -da
+            } else {
+                da
+            };
+            ends[a] = Some((through, la));
+            ends[b] = Some((-through, lb));
+        }
+    }
+    let mean = end_edges
+        .iter()
+        .filter_map(|&j| ends[j])
+        .map(|e| e.1)
+        .sum::<f64>()
+        / end_edges.len() as f64;
+    let end_tangent = |j: usize| ends[j % n].map_or(DVec3::ZERO, |(d, _)| mean * d);
+    let sectors = bounds
+        .into_iter()
+        .map(
+            |(first, faces)| -> std::result::Result<Sector, (u32, u32)> {
+                let d = ends[first].map_or(DVec3::ZERO, |e| e.0);
+                let normal = face_normal(first)
+                    .reject_from_normalized(d)
+                    .normalize_or_zero();
+                if normal == DVec3::ZERO {
+                    return Err((v, ring[first % n]));
+                }
+                let last = ends[(first + faces) % n].map_or(DVec3::ZERO, |e| e.0);
+                let step = if faces == 1 {
+                    chord(first).angle_between(chord(first + 1))
+                } else {
+                    turn_from(d, last, normal) / faces as f64
+                };
+                // Through a crease (both end tangents on one line, ω = π) the sine part is
+                // free: fitted to the inner chords as on a half ring; elsewhere the end
+                // tangents fix it.
+                let side = if through {
+                    let inner: Vec<DVec3> = (0..=faces).map(|j| at + chord(first + j)).collect();
+                    sine_part(at, &inner, step, mean * d) / mean
+                } else {
+                    normal.cross(d)
+                };
+                let mut tangents: Vec<DVec3> = (0..=faces)
+                    .map(|j| {
+                        let (sj, cj) = (step * j as f64).sin_cos();
+                        mean * (cj * d + sj * side)
+                    })
+                    .collect();
+                tangents[0] = end_tangent(first);
+                tangents[faces] = end_tangent(first + faces);
+                Ok(Sector {
+                    first,
+                    faces,
+                    normal,
+                    step,
+                    tangents,
+                })
+            },
+        )
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    Ok(Some(sectors))
+}
+
+/// The sectors of every vertex of a mesh ([`fan_sectors`]) and the angle step at every face
+/// corner: the step of the corner's sector, or [`fan_angle_step`] of a vertex whose fan is
+/// one sector.
+pub struct MeshSectors {
+    /// Per vertex, its sectors (`None`: one sector).
+    pub by_vertex: Vec<Option<Vec<Sector>>>,
+    /// `corner_step[3f + k]`: the angle step of vertex `faces[f][k]` in face `f`.
+    pub corner_step: Vec<f64>,
+}
+
+impl MeshSectors {
+    /// The sectors of `mesh` ([`fan_sectors`]): none without sharp edges. Fails as
+    /// [`fan_sectors`] does, with the edge at fault.
+    pub fn new(mesh: &Mesh) -> std::result::Result<MeshSectors, (u32, u32)> {
+        if mesh.sharp_edges().is_empty() {
+            return Ok(MeshSectors::plain(mesh));
+        }
+        let nv = mesh.vertex_count();
+        // Only the corners of vertices cut into several sectors are read, and their normals
+        // come from their faces, not from these vertex normals.
+        let corner_normals = mesh.corner_normals(&vec![DVec3::ZERO; nv]);
+        let by_vertex = (0..nv as u32)
+            .into_par_iter()
+            .map(|v| fan_sectors(mesh, v, &corner_normals))
+            .collect::<std::result::Result<Vec<_>, _>>()?;
+        Ok(MeshSectors::from_sectors(mesh, by_vertex))
+    }
+
+    /// One sector per vertex (sharp edges ignored), for the schemes that refuse them.
+    pub fn plain(mesh: &Mesh) -> MeshSectors {
+        MeshSectors::from_sectors(mesh, vec![None; mesh.vertex_count()])
+    }
+
+    /// The corner steps of the sectors `by_vertex`.
+    fn from_sectors(mesh: &Mesh, by_vertex: Vec<Option<Vec<Sector>>>) -> MeshSectors {
+        let faces = mesh.faces();
+        let mut corner_step = vec![0.0; 3 * faces.len()];
+        for v in 0..mesh.vertex_count() as u32 {
+            let ring_faces = mesh.ring_faces(v);
+            let mut set = |j: usize, step: f64| {
+                let f = ring_faces[j % ring_faces.len()] as usize;
+                let k = faces[f].iter().position(|&x| x == v).unwrap_or(0);
+                corner_step[3 * f + k] = step;
+            };
+            match &by_vertex[v as usize] {
+                None => {
+                    let step = fan_angle_step(mesh, v);
+                    (0..ring_faces.len()).for_each(|j| set(j, step));
+                }
+                Some(sectors) => {
+                    for s in sectors {
+                        (s.first..s.first + s.faces).for_each(|j| set(j, s.step));
+                    }
+                }
+            }
+        }
+        MeshSectors {
+            by_vertex,
+            corner_step,
+        }
+    }
 }
 
 /// Tangent basis `(A, B)` of a boundary vertex from its half-ring [HB00 eq. 12, half-ring
@@ -543,13 +813,20 @@ pub fn half_ring_tangent_basis(v: DVec3, ring: &[DVec3], theta: f64) -> (DVec3, 
         return (a, (ring[1] - v - c * a) / s);
     }
     let a = 0.5 * (ring[0] - ring[n - 1]);
+    (a, sine_part(v, ring, theta, a))
+}
+
+/// The least-squares `B` of [`half_ring_tangent_basis`] for a given `A`: the fit of the inner
+/// chords `p_j − v` (`0 < j < n − 1`) by `A cos(jθ) + B sin(jθ)`; zero without inner chords.
+fn sine_part(v: DVec3, ring: &[DVec3], theta: f64, a: DVec3) -> DVec3 {
+    let n = ring.len();
     let (mut num, mut den) = (DVec3::ZERO, 0.0);
     for (j, p) in ring.iter().enumerate().take(n - 1).skip(1) {
         let (sj, cj) = (theta * j as f64).sin_cos();
         num += sj * (*p - v - cj * a);
         den += sj * sj;
     }
-    (a, num / den)
+    if den > 0.0 { num / den } else { DVec3::ZERO }
 }
 
 /// Loop's point of edge `v → p_j` at a boundary vertex with half-ring `ring` [HB00 eqs. 2, 15]:
@@ -664,6 +941,53 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// On the L-block with its 90° edges sharp (corners, a reflex sector at the inner corner
+    /// of the L, creases through vertices): every sector's tangents solve the vertex system
+    /// `r_{j+1} + r_{j−1} = 2 cos θ r_j` on its inner edges and reach its last end tangent,
+    /// all in the plane of its faces; the sectors' steps add up to their faces' angles.
+    #[test]
+    fn sector_tangents_solve_the_vertex_system_and_meet_both_ends() {
+        let (positions, faces) = generate::l_block();
+        let options = crate::mesh::LoadOptions {
+            crease_angle: Some(40.0),
+            ..Default::default()
+        };
+        let (mesh, _) = Mesh::from_triangles_with(positions, faces, &options).expect("L-block");
+        let sectors = MeshSectors::new(&mesh).expect("sectors");
+        let (mut reflex, mut count) = (0, 0);
+        for (v, fan) in sectors.by_vertex.iter().enumerate() {
+            let ring = mesh.one_ring(v as u32);
+            let at = mesh.positions()[v];
+            for sector in fan.iter().flatten() {
+                count += 1;
+                let r = &sector.tangents;
+                let m = sector.faces;
+                let scale = r[0].length();
+                let c = sector.step.cos();
+                let (s, c_m) = (sector.step * m as f64).sin_cos();
+                let recurrence = r[0] * c_m + (r[1] - c * r[0]) / sector.step.sin() * s;
+                assert!((recurrence - r[m]).length() <= 1e-14 * scale, "vertex {v}");
+                for j in 1..m {
+                    let residual = r[j + 1] + r[j - 1] - 2.0 * c * r[j];
+                    assert!(residual.length() <= 1e-14 * scale, "vertex {v}, edge {j}");
+                }
+                let chord = |j: usize| {
+                    mesh.positions()[ring[(sector.first + j) % ring.len()] as usize] - at
+                };
+                let angles: f64 = (0..m).map(|j| chord(j).angle_between(chord(j + 1))).sum();
+                assert!(
+                    (sector.step * m as f64 - angles).abs() <= 1e-14,
+                    "vertex {v}"
+                );
+                for t in r {
+                    assert!(t.dot(sector.normal).abs() <= 1e-15 * scale, "vertex {v}");
+                }
+                reflex += usize::from(angles > PI + 0.1);
+            }
+        }
+        assert!(count > 0 && reflex > 0, "{count} sectors, {reflex} reflex");
     }
 
     /// A regular ring of `n` points on the unit circle in the plane z = `height`.

@@ -29,18 +29,32 @@ use glam::DVec3;
 use super::vertex::{HalfEdgeData, ShapeParams, ShapeRule, fit_shape};
 use crate::mesh::Mesh;
 use crate::schemes::vertex_rings::{
-    Fan, HalfEdgeTable, half_ring_tangent_basis, open_fan_cross_data, open_loop_point,
+    Fan, HalfEdgeTable, MeshSectors, half_ring_tangent_basis, open_fan_cross_data, open_loop_point,
 };
 
-/// Pass 1 of HB00 on a mesh that may be open: interior vertices by the closed rule of
-/// [`super::vertex::half_edges`] (their neighbours' orders read from [`Fan::ring_order`], so that `Ψ` is
-/// linear to the neighbour's `Ψ(0)`), boundary vertices by [`boundary_half_edges`].
-pub fn open_half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> HalfEdgeTable<HalfEdgeData> {
-    HalfEdgeTable::build_open(mesh, |fan, out| {
-        if fan.boundary {
+/// Pass 1 of HB00 on a mesh that may be open and have sharp edges (`sectors`): interior
+/// vertices by the closed rule of [`super::vertex::half_edges`] (their neighbours' steps read
+/// from [`Fan::ring_step`], so that `Ψ` is linear to the neighbour's `Ψ(0)`), boundary
+/// vertices by [`boundary_half_edges`], vertices cut into sectors by
+/// [`super::crease::sector_half_edges`].
+pub fn open_half_edge_table(
+    mesh: &Mesh,
+    sectors: &MeshSectors,
+    rule: &ShapeRule,
+) -> HalfEdgeTable<HalfEdgeData> {
+    HalfEdgeTable::build_open(mesh, sectors, |fan, out| {
+        if let Some(sectors) = fan.sectors {
+            super::crease::sector_half_edges(fan, sectors, rule, out);
+        } else if fan.boundary {
             boundary_half_edges(fan, rule, out);
         } else {
-            rule.half_edges(fan.position, fan.ring, fan.ring_order, out);
+            rule.half_edges(
+                fan.position,
+                fan.ring,
+                fan.ring_step,
+                fan.ring_step_minus,
+                out,
+            );
         }
     })
 }

@@ -339,7 +339,7 @@ mod tests {
         for (name, mesh) in closed_test_meshes() {
             let (shape, _) = super::super::shape_params(&params(&super::super::SPEC, &[]))
                 .expect("default parameters");
-            let table = super::super::half_edge_table(&mesh, &shape);
+            let table = super::super::half_edge_table(&mesh, &shape).expect("pass 1");
             for (f, face) in mesh.faces().iter().enumerate().step_by(7) {
                 let corners = super::super::face_corner_curves(&table, *face, f);
                 let nets = macro_patch(&corners, FreeRule::Energy);

@@ -9,6 +9,11 @@
 //!    at the midpoint (HB00 §7, the choice of §9);
 //! 3. per face ([`mod@macro_patch`]): the four quintic nets (eqs. 24–33 and the fill of Fig. 13).
 //!
+//! Open meshes follow [`boundary`]; sharp edges (`--crease-angle`) [`crease`]: each sector of
+//! a vertex is built as an open fan, the curve of a sharp edge is shared by its two faces and
+//! each of them has its own `V` ([`vertex::HalfEdgeData::minus`]), so the surface is G⁰ across
+//! sharp edges and G¹ elsewhere.
+//!
 //! `V` changes sign with the edge direction: seen from the other end `w` of an edge `v → w`,
 //! `Ψ̃(1−u) = Ψ(u)` and `Φ̃(1−u) = 1 − Φ(u)`, so (eq. 18) `Ṽ(1−u) = −V(u)`. Hence, with `v¹` and
 //! `ṽ¹` computed at either end, C¹ continuity of `V` at `u = ½` gives `v² = (v¹ − ṽ¹)/2 = −ṽ²`.
@@ -35,13 +40,14 @@
 //! alternative.
 
 pub(crate) mod boundary;
+pub(crate) mod crease;
 pub(crate) mod energy;
 pub(crate) mod macro_patch;
 pub(crate) mod vertex;
 
 use rayon::prelude::*;
 
-use crate::schemes::vertex_rings::HalfEdgeTable;
+use crate::schemes::vertex_rings::{HalfEdgeTable, MeshSectors};
 
 use glam::DVec3;
 
@@ -96,7 +102,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
     ],
     needs_closed_mesh: false,
     bytes_per_face: 3800.0,
-    sharp_edges: crate::schemes::SharpEdgeSupport::Refuses("its crease rules are not implemented"),
+    sharp_edges: crate::schemes::SharpEdgeSupport::Builds,
     build,
 };
 
@@ -162,19 +168,34 @@ fn shape_params(params: &Params) -> Result<(ShapeRule, FreeRule)> {
 }
 
 /// Pass 1 for the whole mesh, parallel over vertices; on an open mesh the boundary vertices
-/// follow [`boundary`].
-fn half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> HalfEdgeTable<HalfEdgeData> {
-    if !mesh.is_closed() {
-        return boundary::open_half_edge_table(mesh, rule);
+/// follow [`boundary`], and the vertices that sharp edges cut into sectors [`crease`].
+fn half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> Result<HalfEdgeTable<HalfEdgeData>> {
+    if mesh.is_closed() && mesh.sharp_edges().is_empty() {
+        return Ok(HalfEdgeTable::build(mesh, |v, ring, valences, out| {
+            let steps: Vec<f64> = valences
+                .iter()
+                .map(|&n| 2.0 * std::f64::consts::PI / n as f64)
+                .collect();
+            rule.half_edges(v, ring, &steps, &steps, out)
+        }));
     }
-    HalfEdgeTable::build(mesh, |v, ring, valences, out| {
-        rule.half_edges(v, ring, valences, out)
-    })
+    let sectors = MeshSectors::new(mesh).map_err(|(a, b)| Error::DegenerateEdge {
+        scheme: SPEC.name.into(),
+        a: a as usize,
+        b: b as usize,
+        reason: "the sharp edge runs along the normal of a sector it bounds, or the faces of \
+                 that sector cancel in its normal"
+            .into(),
+    })?;
+    Ok(boundary::open_half_edge_table(mesh, &sectors, rule))
 }
 
-/// Pass 2 for the edge `X → Y` with its reverse `Y → X`: the midpoint (eq. 16), `v²` (C¹ `V`,
-/// see the module doc) and `Ψ(½)` (eq. 29) complete the pass-1 data of `X`.
-fn curve(here: &HalfEdgeData, there: &HalfEdgeData) -> HalfEdgeCurve {
+/// Pass 2 for the edge `X → Y` with its reverse `Y → X`, for the face on the "+" side of
+/// `X → Y` (`minus = false`, the "−" side of `Y → X`) or on its "−" side: the midpoint
+/// (eq. 16), `v²` (C¹ `V`, see the module doc) and `Ψ(½)` (eq. 29) complete the pass-1 data
+/// of `X`.
+fn curve(here: &HalfEdgeData, there: &HalfEdgeData, minus: bool) -> HalfEdgeCurve {
+    let (near, far) = (here.side(minus), there.side(!minus));
     HalfEdgeCurve {
         b: [
             here.b[0],
@@ -182,13 +203,14 @@ fn curve(here: &HalfEdgeData, there: &HalfEdgeData) -> HalfEdgeCurve {
             here.b[2],
             0.5 * (here.b[2] + there.b[2]),
         ],
-        v: [here.v0, here.v1, 0.5 * (here.v1 - there.v1)],
-        phi0: here.phi0,
-        psi: [here.psi0, 0.5 * (here.psi0 + there.psi0)],
+        v: [near.v0, near.v1, 0.5 * (near.v1 - far.v1)],
+        phi0: near.phi0,
+        psi: [near.psi0, 0.5 * (near.psi0 + far.psi0)],
     }
 }
 
-/// The two half-edge curves leaving each corner of face `f`: `(X→Y, X→Z)` for `X = a_k`.
+/// The two half-edge curves leaving each corner of face `f`: `(X→Y, X→Z)` for `X = a_k`
+/// (the face lies on the "+" side of `X → Y` and on the "−" side of `X → Z`).
 fn face_corner_curves(
     table: &HalfEdgeTable<HalfEdgeData>,
     face: [u32; 3],
@@ -196,8 +218,8 @@ fn face_corner_curves(
 ) -> [(HalfEdgeCurve, HalfEdgeCurve); 3] {
     table.corner_edges(face, f).map(|[xy, yx, xz, zx]| {
         (
-            curve(table.get(xy), table.get(yx)),
-            curve(table.get(xz), table.get(zx)),
+            curve(table.get(xy), table.get(yx), false),
+            curve(table.get(xz), table.get(zx), true),
         )
     })
 }
@@ -206,7 +228,7 @@ fn face_corner_curves(
 /// middle.
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let (shape, free) = shape_params(params)?;
-    let table = half_edge_table(mesh, &shape);
+    let table = half_edge_table(mesh, &shape)?;
     let domains = piece_domains();
     // Filled in place, four patches per face, so that the construction's peak memory is the
     // surface itself (collecting per-face arrays first and flattening them doubled it).
@@ -243,7 +265,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
 /// corner piece (twist compatibility, eq. 19), over all face corners; for tests and diagnostics.
 pub fn max_corner_mismatch(mesh: &Mesh, params: &Params) -> Result<f64> {
     let (shape, _) = shape_params(params)?;
-    let table = half_edge_table(mesh, &shape);
+    let table = half_edge_table(mesh, &shape)?;
     Ok(mesh
         .faces()
         .iter()

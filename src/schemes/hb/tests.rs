@@ -354,12 +354,13 @@ fn cross_boundary_function_is_c1_at_every_edge_midpoint() {
         let beta = format!("{}", 0.05 + 0.6 * rng.next_f64());
         for p in [params(&SPEC, &[]), params(&SPEC, &[("beta", &beta)])] {
             let (shape, _) = shape_params(&p).expect("valid parameters");
-            let table = half_edge_table(&mesh, &shape);
+            let table = half_edge_table(&mesh, &shape).expect("pass 1");
             let scale = mesh.bounds().diagonal();
             for (f, face) in mesh.faces().iter().enumerate() {
                 for [xy, yx, ..] in table.corner_edges(*face, f) {
-                    let here = curve(table.get(xy), table.get(yx)).v;
-                    let there = curve(table.get(yx), table.get(xy)).v;
+                    // The face lies on the "+" side of X → Y, the "−" side of Y → X.
+                    let here = curve(table.get(xy), table.get(yx), false).v;
+                    let there = curve(table.get(yx), table.get(xy), true).v;
                     let c0 = (here[2] + there[2]).length() / scale;
                     let c1 = ((here[2] - here[1]) - (there[2] - there[1])).length() / scale;
                     assert!(

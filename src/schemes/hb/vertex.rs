@@ -20,7 +20,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use crate::schemes::vertex_rings::{HB_SWERVE, RingFourier, front_facing_plane, psi0, swerve_cap};
+use crate::schemes::vertex_rings::{HB_SWERVE, RingFourier, front_facing_plane, swerve_cap};
 
 /// The shape parameters of HB00: α (eq. 9), β (eq. 12), γ0, γ1, γ2 (eq. 15, γ0+γ1+γ2 = 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,18 +94,33 @@ pub fn max_normal(v: DVec3, ring: &[DVec3]) -> Option<DVec3> {
 
 impl ShapeRule {
     /// Fills `out[i]` with the data of edge `v → ring[i]` at an interior vertex by this rule
-    /// (eqs. 9–23); `ring_valence[i]` is the order of `ring[i]`.
+    /// (eqs. 9–23); `ring_step[i]` is the angle step at `ring[i]` (`2π` over its order) of the
+    /// face on the "+" side of the edge, `ring_step_minus[i]` of the face on the "−" side.
+    /// The two differ only on the sharp edge of a dart whose far end is cut into sectors;
+    /// there the "−" side gets its own `V'(0)` ([`HalfEdgeData::minus`]).
     pub fn half_edges(
         &self,
         v: DVec3,
         ring: &[DVec3],
-        ring_valence: &[usize],
+        ring_step: &[f64],
+        ring_step_minus: &[f64],
         out: &mut [HalfEdgeData],
     ) {
         let (fourier, _) = front_facing_plane(v, ring, self.plane.ring_fourier(v, ring));
         let shape = self.at_vertex(v, ring, &fourier);
         let edge_curvature = self.gamma.is_none();
-        half_edges(v, ring, ring_valence, &fourier, &shape, edge_curvature, out);
+        half_edges(v, ring, ring_step, &fourier, &shape, edge_curvature, out);
+        for ((slot, plus), minus) in out.iter_mut().zip(ring_step).zip(ring_step_minus) {
+            if plus != minus {
+                // (21) on the "−" side, t_{i−1} = R_i − Ψ'_− V(0) − Ψ V'_−(0), with (II_T)
+                // t_i + t_{i−1} = 2 R_i and (21) on the "+" side: V'_− = V'_+ + (Ψ'_+ − Ψ'_−) V(0) / Ψ.
+                let shift = (plus.sin() - minus.sin()) * slot.v0 / slot.psi0;
+                slot.minus = Some(CrossSide {
+                    v1: slot.v1 + shift / 4.0,
+                    ..slot.side(false)
+                });
+            }
+        }
     }
 
     /// The parameters of the vertex `v` with one-ring `ring` and its first Fourier sums
@@ -280,14 +295,48 @@ pub struct HalfEdgeData {
     pub phi0: f64,
     /// `Ψ_i(0) = sin(2π/n)` (eq. 20).
     pub psi0: f64,
+    /// On a sharp edge, the cross-boundary data of the face on the "−" side
+    /// (`(v, p_{i−1}, p_i)`); the fields above are then those of the "+" side
+    /// (`(v, p_i, p_{i+1})`). `None` elsewhere: both sides (or the one face of a boundary edge)
+    /// share the fields above.
+    pub minus: Option<CrossSide>,
+}
+
+/// The cross-boundary data of one side of a directed edge ([`HalfEdgeData`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CrossSide {
+    /// `V(0)`.
+    pub v0: DVec3,
+    /// `v¹`.
+    pub v1: DVec3,
+    /// `Φ(0)`.
+    pub phi0: f64,
+    /// `Ψ(0)`.
+    pub psi0: f64,
+}
+
+impl HalfEdgeData {
+    /// The cross-boundary data of the face on the "−" side (`minus`) or the "+" side.
+    pub fn side(&self, minus: bool) -> CrossSide {
+        match (minus, self.minus) {
+            (true, Some(side)) => side,
+            _ => CrossSide {
+                v0: self.v0,
+                v1: self.v1,
+                phi0: self.phi0,
+                psi0: self.psi0,
+            },
+        }
+    }
 }
 
 /// Fills `out[i]` with the data of edge `v → ring[i]` for every neighbour (eqs. 9–23).
-/// `ring_valence[i]` is the order of `ring[i]` (it enters `Ψ'_i(0)`, eq. 22).
+/// `ring_step[i]` is the angle step at `ring[i]`, `2π` over its order (it enters `Ψ'_i(0)`,
+/// eq. 22).
 pub fn half_edges(
     v: DVec3,
     ring: &[DVec3],
-    ring_valence: &[usize],
+    ring_step: &[f64],
     fourier: &RingFourier,
     shape: &ShapeParams,
     edge_curvature: bool,
@@ -343,7 +392,7 @@ pub fn half_edges(
         // eq. 19: r¹_{i+1} = Φ⁰ r¹_i + Ψ⁰ V_i(0).
         let v0 = (r1(i + 1) - c * r1_i) / s;
         // eq. 22 with Ψ'_i(0) = sin(2π/n_i) − sin(2π/n) (Ψ linear over [0,1], eq. 20).
-        let psi_1 = psi0(ring_valence[i]) - s;
+        let psi_1 = ring_step[i].sin() - s;
         let v_prime = (twist - phi_1 * r1_i - phi_0 * r2_i - psi_1 * v0) / s;
         out[i] = HalfEdgeData {
             b: [b0, b1, b2],
@@ -351,6 +400,7 @@ pub fn half_edges(
             v1: v0 + v_prime / 4.0,
             phi0: c,
             psi0: s,
+            minus: None,
         };
     }
 }
@@ -472,7 +522,7 @@ fn solve_twists(w: &[DVec3]) -> Vec<DVec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::schemes::vertex_rings::phi0;
+    use crate::schemes::vertex_rings::{phi0, psi0};
 
     /// A deterministic, irregular one-ring: neighbours roughly around v, with noise.
     fn ring(n: usize, seed: u64) -> Vec<DVec3> {
@@ -523,9 +573,10 @@ mod tests {
                 let v = DVec3::new(0.1, -0.05, 0.3);
                 let p = ring(n, (n * 7 + k) as u64);
                 let valences: Vec<usize> = (0..n).map(|i| 3 + (i * 5 + n) % 10).collect();
+                let steps: Vec<f64> = valences.iter().map(|&m| 2.0 * PI / m as f64).collect();
                 let mut he = vec![HalfEdgeData::default(); n];
                 let fourier = plane.ring_fourier(v, &p);
-                half_edges(v, &p, &valences, &fourier, &shape, edge_curvature, &mut he);
+                half_edges(v, &p, &steps, &fourier, &shape, edge_curvature, &mut he);
                 let (phi_0, phi_1) = (phi0(n), 1.0 - 2.0 * phi0(n));
                 let r1 = |i: usize| 6.0 * (he[i % n].b[1] - he[i % n].b[0]);
                 let r2 = |i: usize| 24.0 * (he[i].b[2] - 2.0 * he[i].b[1] + he[i].b[0]);
@@ -614,7 +665,7 @@ mod tests {
                 let fourier = PlaneRule::Max.ring_fourier(v, &p);
                 let shape = adaptive_shape(v, &p, &fourier, 1.0, None);
                 let mut he = vec![HalfEdgeData::default(); n];
-                half_edges(v, &p, &vec![6; n], &fourier, &shape, true, &mut he);
+                half_edges(v, &p, &vec![PI / 3.0; n], &fourier, &shape, true, &mut he);
                 let normal = fourier.normal();
                 let samples: Vec<(DVec3, f64)> = he
                     .iter()
@@ -689,7 +740,7 @@ mod tests {
             half_edges(
                 DVec3::ZERO,
                 &p,
-                &vec![6; n],
+                &vec![PI / 3.0; n],
                 &RingFourier::new(&p),
                 &SHAPES[0],
                 false,
@@ -718,7 +769,7 @@ mod tests {
             half_edges(
                 DVec3::ZERO,
                 &p,
-                &[6; 6],
+                &[PI / 3.0; 6],
                 &RingFourier::new(&p),
                 shape,
                 false,

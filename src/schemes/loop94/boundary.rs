@@ -17,13 +17,13 @@ use glam::DVec3;
 use super::vertex::{LoopHalfEdge, LoopShape, half_edges};
 use crate::mesh::Mesh;
 use crate::schemes::vertex_rings::{
-    Fan, HalfEdgeTable, LOOP_SWERVE, half_ring_tangent_basis, open_fan_cross_data, open_loop_point,
-    swerve_cap,
+    Fan, HalfEdgeTable, LOOP_SWERVE, MeshSectors, half_ring_tangent_basis, open_fan_cross_data,
+    open_loop_point, swerve_cap,
 };
 
 /// The per-vertex pass of Loop's scheme on a mesh that may be open.
 pub fn open_table(mesh: &Mesh, shape: &LoopShape) -> HalfEdgeTable<LoopHalfEdge> {
-    HalfEdgeTable::build_open(mesh, |fan, out| {
+    HalfEdgeTable::build_open(mesh, &MeshSectors::plain(mesh), |fan, out| {
         if fan.boundary {
             boundary_half_edges(fan, shape, out);
         } else {
