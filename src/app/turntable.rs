@@ -174,14 +174,22 @@ pub fn first_camera(
     if job.camera.eye.is_some() || job.camera.target.is_some() {
         return Ok(camera);
     }
-    let axis = turntable_axis(animation, job, &camera);
+    // Every view of the turn looks at the centre of the surface's box, so the turn orbits it.
     let samples = SurfaceSamples::of(surface);
     let fov = job.camera.fov_deg;
+    let camera = Camera::frame_points_at_centre(
+        &samples,
+        camera.eye - camera.target,
+        camera.up(),
+        fov,
+        aspect,
+    )?;
+    let axis = turntable_axis(animation, job, &camera);
     let back = camera.eye - camera.target;
     let mut distance = back.length();
     for k in 1..frames {
         let turned = camera.orbit(axis, TAU * f64::from(k) / f64::from(frames))?;
-        let fitted = Camera::frame_points_with_up(
+        let fitted = Camera::frame_points_at_centre(
             &samples,
             turned.eye - turned.target,
             turned.up(),

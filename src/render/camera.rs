@@ -219,6 +219,31 @@ impl Camera {
         fov_deg: f64,
         aspect: f64,
     ) -> Result<Camera> {
+        Camera::frame_points_looking(points, from, up, fov_deg, aspect, true)
+    }
+
+    /// [`Camera::frame_points_with_up`] looking at the centre of the points' box, not
+    /// shifted to centre them in the image: the camera that turntables orbit, as every view
+    /// of the turn then shares its target.
+    pub fn frame_points_at_centre<P: FramedPoints + ?Sized>(
+        points: &P,
+        from: DVec3,
+        up: DVec3,
+        fov_deg: f64,
+        aspect: f64,
+    ) -> Result<Camera> {
+        Camera::frame_points_looking(points, from, up, fov_deg, aspect, false)
+    }
+
+    /// Automatic framing, centred in the image (`centred`) or looking at the box centre.
+    fn frame_points_looking<P: FramedPoints + ?Sized>(
+        points: &P,
+        from: DVec3,
+        up: DVec3,
+        fov_deg: f64,
+        aspect: f64,
+        centred: bool,
+    ) -> Result<Camera> {
         let bounds = points.bounds();
         if bounds.is_empty() || !bounds.min.is_finite() || !bounds.max.is_finite() {
             return Err(Error::Invalid(
@@ -265,6 +290,15 @@ impl Camera {
         };
         let (a_right, a_left) = (side(right, tan_h), side(-right, tan_h));
         let (a_up, a_down) = (side(true_up, tan_v), side(-true_up, tan_v));
+        if !centred {
+            let distance = a_right.max(a_left).max(a_up).max(a_down).max(floor);
+            return Camera::look_at(
+                center + back * distance,
+                center,
+                up,
+                Projection::Perspective { fov_deg },
+            );
+        }
         let distance = (0.5 * (a_right + a_left))
             .max(0.5 * (a_up + a_down))
             .max(floor);
