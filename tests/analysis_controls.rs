@@ -17,10 +17,7 @@ fn ico() -> String {
 }
 
 fn deformed() -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/deformed-icosahedron.obj")
-        .display()
-        .to_string()
+    common::scene("deformed-icosahedron.obj")
 }
 
 /// Renders `input` with a small image and `extra` options to `dir/name`; returns the stem.

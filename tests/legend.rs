@@ -13,10 +13,7 @@ use common::{assert_fails_naming, path_str, scratch, smoothlab, stderr};
 const SIZE: (u32, u32) = (160, 120);
 
 fn deformed() -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/deformed-icosahedron.obj")
-        .display()
-        .to_string()
+    common::scene("deformed-icosahedron.obj")
 }
 
 /// Renders the deformed icosahedron with hb at [`SIZE`] in curvature mode with `extra`

@@ -177,25 +177,15 @@ pub fn first_camera(
     // Every view of the turn looks at the centre of the surface's box, so the turn orbits it.
     let samples = SurfaceSamples::of(surface);
     let fov = job.camera.fov_deg;
-    let camera = Camera::frame_points_at_centre(
-        &samples,
-        camera.eye - camera.target,
-        camera.up(),
-        fov,
-        aspect,
-    )?;
+    let fit = |view: &Camera| {
+        Camera::frame_points_at_centre(&samples, view.eye - view.target, view.up(), fov, aspect)
+    };
+    let camera = fit(&camera)?;
     let axis = turntable_axis(animation, job, &camera);
     let back = camera.eye - camera.target;
     let mut distance = back.length();
     for k in 1..frames {
-        let turned = camera.orbit(axis, TAU * f64::from(k) / f64::from(frames))?;
-        let fitted = Camera::frame_points_at_centre(
-            &samples,
-            turned.eye - turned.target,
-            turned.up(),
-            fov,
-            aspect,
-        )?;
+        let fitted = fit(&camera.orbit(axis, TAU * f64::from(k) / f64::from(frames))?)?;
         distance = distance.max(fitted.eye.distance(fitted.target));
     }
     let perspective = Camera::look_at(

@@ -47,6 +47,15 @@ pub fn smoothlab_with_stdout(args: &[&str], stdout: std::process::Stdio) -> Outp
 pub mod mesh_files;
 
 /// The standard error of a finished run, as text.
+/// The path of a shipped scene file (`scenes/NAME`) as a string, for command lines.
+pub fn scene(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+        .display()
+        .to_string()
+}
+
 pub fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
