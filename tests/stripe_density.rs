@@ -11,6 +11,7 @@ use common::{path_str, scene, scratch, smoothlab, stderr};
 fn zebra(dir: &std::path::Path, size: &str, extra: &[&str]) -> (String, serde_json::Value) {
     let stats = dir.join(format!("stats-{size}-{}.json", extra.len()));
     let mesh = scene("bunny.obj");
+    let png = dir.join("z.png");
     let args = [
         &[
             "render",
@@ -23,7 +24,7 @@ fn zebra(dir: &std::path::Path, size: &str, extra: &[&str]) -> (String, serde_js
             size,
             "--no-exr",
             "-o",
-            path_str(&dir.join("z.png")),
+            path_str(&png),
             "--stats",
             path_str(&stats),
         ][..],
