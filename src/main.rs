@@ -177,6 +177,10 @@ enum Command {
         /// STEM.shard-I-of-N.json; `smoothlab merge` composes the sheet.
         #[arg(long, value_name = "I/N", allow_hyphen_values = true)]
         shard: Option<smoothlab::report::shard::Shard>,
+        /// Colours of the sheet, its legends and the cells' background, instead of the spec's
+        /// `theme` [default: the spec's, else dark].
+        #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(smoothlab::render::theme::Theme::NAMES))]
+        theme: Option<String>,
     },
 }
 
@@ -265,15 +269,23 @@ fn run(cli: Cli) -> smoothlab::Result<Output> {
             smoothlab::app::view::view_command(&args, &mut Printer)?;
             Ok(Output::default())
         }
-        Some(Command::Figure { specs, shard }) => {
+        Some(Command::Figure {
+            specs,
+            shard,
+            theme,
+        }) => {
+            let theme = theme
+                .map(|name| smoothlab::render::theme::Theme::by_name("--theme", &name))
+                .transpose()?;
             let mut stdout = String::new();
             for spec in &specs {
                 if let Some(shard) = shard {
-                    let files = smoothlab::app::figure::shard::run_figure_spec_shard(spec, shard)?;
+                    let files =
+                        smoothlab::app::figure::shard::run_figure_spec_shard(spec, shard, theme)?;
                     stdout += &smoothlab::app::figure::shard::shard_summary(&files);
                     continue;
                 }
-                let files = smoothlab::app::figure::spec::run_figure_spec(spec)?;
+                let files = smoothlab::app::figure::spec::run_figure_spec(spec, theme)?;
                 stdout += &smoothlab::app::figure::spec::figure_summary(&files);
             }
             Ok(Output {

@@ -284,3 +284,37 @@ fn a_paper_figure_has_a_white_sheet_and_one_legend_per_column() {
     assert!(cells.iter().all(|c| !overlaps(*c, legend)));
     assert!(legend[0] + legend[2] <= sheet.width());
 }
+
+/// `figure --theme paper` renders a spec without a `theme` key as the key would: the same
+/// sheet, byte for byte; an unknown theme is refused naming the flag and the known names.
+#[test]
+fn figure_theme_flag_replaces_the_spec_key() {
+    let dir = scratch("legend", "figure-flag");
+    let body = "mesh = \"tetrahedron\"\nsize = [64, 64]\nspp = 1\nexr = false\n\
+                [[schemes]]\nname = \"hb\"\n[[modes]]\nname = \"curvature\"\n";
+    let keyed = dir.join("keyed.toml");
+    let plain = dir.join("plain.toml");
+    std::fs::write(
+        &keyed,
+        format!("output = \"keyed\"\ntheme = \"paper\"\n{body}"),
+    )
+    .expect("spec");
+    std::fs::write(&plain, format!("output = \"plain\"\n{body}")).expect("spec");
+    let out = smoothlab(&["figure", path_str(&keyed)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let out = smoothlab(&["figure", "--theme", "paper", path_str(&plain)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let sheet = |name: &str| image::open(dir.join(name)).expect(name).to_rgb8();
+    let flagged = sheet("plain.png");
+    assert_eq!(*flagged.get_pixel(0, 0), image::Rgb([255; 3]));
+    assert!(
+        flagged == sheet("keyed.png"),
+        "--theme paper and theme = \"paper\" differ"
+    );
+    // The flag also wins over the key.
+    let out = smoothlab(&["figure", "--theme", "dark", path_str(&keyed)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_ne!(*sheet("keyed.png").get_pixel(0, 0), image::Rgb([255; 3]));
+    let out = smoothlab(&["figure", "--theme", "sepia", path_str(&plain)]);
+    assert_fails_naming(&out, &["--theme", "sepia", "paper"]);
+}

@@ -577,7 +577,14 @@ impl Browser {
 
     /// The canvas's pixels, as 8-bit RGB (read back through a PNG data URL).
     fn canvas_rgb(&mut self) -> (u32, u32, Vec<u8>) {
-        let url = self.eval("document.getElementById('view').toDataURL('image/png')");
+        self.canvas_rgb_of("view")
+    }
+
+    /// Width, height and RGB pixels of the page's canvas `id`.
+    fn canvas_rgb_of(&mut self, id: &str) -> (u32, u32, Vec<u8>) {
+        let url = self.eval(&format!(
+            "document.getElementById({id:?}).toDataURL('image/png')"
+        ));
         let data = url
             .as_str()
             .and_then(|u| u.strip_prefix("data:image/png;base64,"))
@@ -797,6 +804,33 @@ fn the_page_orbits_probes_and_saves_in_a_browser() {
         "render of the saved scene = the converged canvas"
     );
     assert!(written == canvas, "the saved PNG = the converged canvas");
+    // Beside the canvas, never over it, the page shows the legend strip of the PNG.
+    let beside = browser.eval(
+        "(() => { const v = document.getElementById('view').getBoundingClientRect(), \
+         l = document.getElementById('legend'); const r = l.getBoundingClientRect(); \
+         return !l.classList.contains('hidden') && r.width > 0 && r.left >= v.right; })()",
+    );
+    assert_eq!(
+        beside,
+        json!(true),
+        "the legend canvas lies right of the image"
+    );
+    let (lw, lh, strip) = browser.canvas_rgb_of("legend");
+    let png = image::open(again.with_extension("png"))
+        .expect("PNG")
+        .to_rgb8();
+    assert_eq!(
+        (lw + cw, lh),
+        png.dimensions(),
+        "the legend canvas is the PNG's strip"
+    );
+    let png_strip = image::imageops::crop_imm(&png, cw, 0, lw, lh)
+        .to_image()
+        .into_raw();
+    assert!(
+        strip == png_strip,
+        "the legend canvas = the PNG's legend strip"
+    );
     assert!(PathBuf::from(saved["exr"].as_str().expect("exr")).is_file());
     eprintln!("browser test took {:.1} s", start.elapsed().as_secs_f64());
 }

@@ -625,7 +625,13 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
 /// subdivision found after Newton did not settle (`newton_failures` in the stats JSON) are
 /// said as such: they are hits, not missed rays (docs/metrics.md, "Words the renderer prints").
 pub fn render_summary(stats: &RenderStats) -> String {
-    format!(
+    let stripes = match stats.zebra_stripes {
+        Some(n) => format!(
+            "zebra: {n} stripes per turn, chosen from the view (`--zebra-stripes N` fixes the count)\n"
+        ),
+        None => String::new(),
+    };
+    let work = format!(
         "{} rays: {} hit the surface, {} missed it; render {:.1} ms, BVH {:.1} ms ({} leaves); \
          Newton {:.2} iterations mean, {} max, {} roots found by the fallback subdivision\n",
         stats.rays,
@@ -637,7 +643,8 @@ pub fn render_summary(stats: &RenderStats) -> String {
         stats.newton_iter_mean,
         stats.newton_iter_max,
         stats.newton_failures,
-    )
+    );
+    work + &stripes
 }
 
 /// Renders the gallery into `out_dir` and returns its table and where the sheet went.

@@ -226,6 +226,7 @@ fn accumulate(total: &mut RenderStats, frame: &RenderStats) {
     total.memory_bytes = frame.memory_bytes;
     total.patches = frame.patches;
     total.curvature_half_range = frame.curvature_half_range;
+    total.zebra_stripes = total.zebra_stripes.or(frame.zebra_stripes);
     total.set_rates();
 }
 
@@ -487,12 +488,13 @@ fn render_frames(
             .gif
             .map(|gif| gif_encoder(&mut bytes, gif))
             .transpose()?;
-        let auto_range = settings.mode.scale_is_automatic();
+        let from_view = settings.mode.chosen_from_view();
         for (k, png) in (0..animation.frames()).zip(out.pngs) {
             let wanted = (out.wanted)(k);
-            // Frame 0 fixes an automatic curvature range for every frame: rendered even when
-            // another shard writes it.
-            if !(wanted || k == 0 && auto_range) {
+            // Frame 0 fixes what the mode chooses from the view (an automatic curvature
+            // range, a zebra stripe count) for every frame: rendered even when another shard
+            // writes it.
+            if !(wanted || k == 0 && from_view) {
                 continue;
             }
             let (view, frame_settings) = frame_view(animation, k, camera, axis, &settings)?;

@@ -441,6 +441,36 @@ impl<'s> JobTracer<'s> {
         }
     }
 
+    /// `mode` with what its set-up chooses from the view of `camera` at `width` × `height`
+    /// (an automatic curvature range, a zebra stripe count) fixed
+    /// ([`crate::render::modes::ModeKind::pinned`]): what a preview pass at another size or
+    /// the other cells of a figure are rendered with, so that they show the stripes and
+    /// colours of this view.
+    pub fn pin_view(&self, mode: &Mode, camera: &Camera, width: u32, height: u32) -> Mode {
+        let mut stats = RenderStats::default();
+        match self {
+            JobTracer::Exact(tracer) => mode.set_up(
+                &Setup {
+                    tracer,
+                    camera,
+                    width,
+                    height,
+                },
+                &mut stats,
+            ),
+            JobTracer::Tessellated(tracer) => mode.set_up(
+                &Setup {
+                    tracer,
+                    camera,
+                    width,
+                    height,
+                },
+                &mut stats,
+            ),
+        };
+        mode.pinned(&stats)
+    }
+
     /// Leaves of the BVH (0 for a tessellation's).
     pub fn leaf_count(&self) -> usize {
         match self {

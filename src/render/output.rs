@@ -158,9 +158,9 @@ pub fn srgb8(frame: &Frame) -> Vec<u8> {
     }
 }
 
-/// 8-bit sRGB-encoded RGB bytes of the image alone, `frame.width` × `frame.height` (what the
-/// interactive viewer shows), encoded as [`srgb8`] encodes them.
-pub fn image_srgb8(frame: &Frame) -> Vec<u8> {
+/// 8-bit sRGB-encoded RGB bytes of the image alone, `frame.width` × `frame.height`, encoded
+/// as [`srgb8`] encodes them.
+fn image_srgb8(frame: &Frame) -> Vec<u8> {
     encode_srgb8(frame.rgb.iter(), frame.rgb.len())
 }
 

@@ -54,6 +54,10 @@ pub struct RenderStats {
     /// Half-range of the curvature colour map, when in curvature mode.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub curvature_half_range: Option<f64>,
+    /// Bright stripes per turn the zebra mode chose from the view (its automatic stripe
+    /// count), when in zebra mode without a given count.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub zebra_stripes: Option<f64>,
 }
 
 impl RenderStats {

@@ -287,6 +287,18 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
             *n |= is_curved(&s.surface);
         }
     }
+    // What a mode other than curvature chooses from the view (the zebra stripe count) is
+    // chosen once, for the first curved surface, so that every cell of the mode shows the
+    // same stripes.
+    let reference = job.surfaces.iter().position(|s| is_curved(&s.surface));
+    let chooses = |m: &Mode| m.chosen_from_view() && !m.has_scale();
+    if let Some(r) = reference
+        && wanted
+            .iter()
+            .any(|&k| chooses(&job.modes[job.cell(k).1].mode))
+    {
+        needed[r] = true;
+    }
     let tracers = job
         .surfaces
         .iter()
@@ -327,6 +339,13 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
             View::EdgeSide { edge } => edge_side_camera(&job.mesh, edge, aspect)?,
         });
     }
+    let mut modes = Vec::with_capacity(job.modes.len());
+    for (m, camera) in job.modes.iter().zip(&cameras) {
+        modes.push(match reference.and_then(|r| tracers[r].as_ref()) {
+            Some(tracer) if chooses(&m.mode) => tracer.pin_view(&m.mode, camera, w, h),
+            _ => m.mode.clone(),
+        });
+    }
     let mut cells = Vec::with_capacity(wanted.len());
     let bar = crate::progress::bar(
         wanted.len() as u64,
@@ -338,7 +357,7 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
         bar.set_message(format!("{} / {}", job.surfaces[s].label, spec.label));
         let mode = match half_range {
             Some(r) if spec.mode.has_scale() => spec.mode.with_scale(r),
-            _ => spec.mode.clone(),
+            _ => modes[m].clone(),
         };
         let mode = mode_for_mesh(&mode, &job.mesh);
         let surface = &job.surfaces[s].surface;

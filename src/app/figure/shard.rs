@@ -133,9 +133,13 @@ pub struct FigureShardFiles {
 /// Renders `shard`'s share of the cells of the spec at `path` and writes them (PNG, and EXR
 /// unless `exr = false`) with the part file, last; every output path is checked (its folder
 /// created if missing) before rendering, and an earlier part of this shard is removed. The
-/// sheet is left to `smoothlab merge`.
-pub fn run_figure_spec_shard(path: &Path, shard: Shard) -> Result<FigureShardFiles> {
-    let spec = FigureSpec::load(path)?;
+/// sheet is left to `smoothlab merge`. `theme`, when given, replaces the spec's.
+pub fn run_figure_spec_shard(
+    path: &Path,
+    shard: Shard,
+    theme: Option<Theme>,
+) -> Result<FigureShardFiles> {
+    let spec = FigureSpec::load_themed(path, theme)?;
     let stem = output_stem(&spec.output);
     let base = spec.stem_name();
     let suffixes = spec.cell_suffixes();

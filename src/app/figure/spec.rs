@@ -191,6 +191,16 @@ impl FigureSpec {
         Ok(spec)
     }
 
+    /// The spec at `path` ([`FigureSpec::load`]) in `theme` instead of its own `theme` key
+    /// when given (`figure --theme`).
+    pub fn load_themed(path: &Path, theme: Option<Theme>) -> Result<FigureSpec> {
+        let mut spec = FigureSpec::load(path)?;
+        if let Some(theme) = theme {
+            spec.theme = Some(theme.name().to_string());
+        }
+        Ok(spec)
+    }
+
     /// The mesh: a scenes/ name, else a mesh file (OBJ, PLY, OFF, STL) relative to `dir`.
     pub fn load_mesh(&self, dir: &Path) -> Result<Mesh> {
         let mut options = LoadOptions {
@@ -488,10 +498,10 @@ impl FigureSpec {
     }
 }
 
-/// Renders the spec at `path` and writes its files; every output path is checked (its folder
-/// created if missing) before rendering.
-pub fn run_figure_spec(path: &Path) -> Result<FigureFiles> {
-    let spec = FigureSpec::load(path)?;
+/// Renders the spec at `path` (in `theme` instead of the spec's when given) and writes its
+/// files; every output path is checked (its folder created if missing) before rendering.
+pub fn run_figure_spec(path: &Path, theme: Option<Theme>) -> Result<FigureFiles> {
+    let spec = FigureSpec::load_themed(path, theme)?;
     let (png, exrs) = spec.output_files();
     let svg = spec.svg_file();
     if let Some(folder) = png.parent() {

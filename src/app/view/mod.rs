@@ -88,14 +88,13 @@ pub struct ViewArgs {
     pub weld_tolerance: Option<f64>,
 }
 
-/// The PNG bytes of a frame as the page shows it: the 8-bit sRGB pixels of the image
-/// ([`crate::render::output::image_srgb8`], those of the image part of the PNG `render`
-/// writes; the page fits the image to its canvas, so the legend strip is left out), fast
-/// compression.
+/// The PNG bytes of a frame as the page gets it: the 8-bit sRGB pixels of the PNG `render`
+/// writes ([`crate::render::output::srgb8`]: the image and, right of it, the mode's legend
+/// strip, which the page draws beside its canvas), fast compression.
 pub fn png_bytes(frame: &Frame) -> Result<Vec<u8>> {
-    let pixels = crate::render::output::image_srgb8(frame);
+    let pixels = crate::render::output::srgb8(frame);
     let mut bytes = Vec::new();
-    let mut encoder = png::Encoder::new(&mut bytes, frame.width, frame.height);
+    let mut encoder = png::Encoder::new(&mut bytes, frame.png_width(), frame.height);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
     encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);

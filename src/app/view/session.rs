@@ -313,8 +313,14 @@ impl Session {
         let built = self.built(&wanted.scheme, &wanted.job)?;
         let generation = wanted.generation;
         let cancelled = || self.generation.load(Ordering::SeqCst) != generation;
-        let job = &wanted.job;
+        // Every pass in the stripes and colours of the full-size view: what the mode chooses
+        // from the view (a zebra stripe count, an automatic curvature range) is chosen once,
+        // at full size, and the coarse pass takes it.
+        let mut job = wanted.job.clone();
         let (w, h, spp) = (job.settings.width, job.settings.height, job.settings.spp);
+        let camera = job.camera_of(built.tracer.surface())?;
+        job.settings.mode = built.tracer.pin_view(&job.settings.mode, &camera, w, h);
+        let job = &job;
         let mut passes: Vec<(u8, u32, u32, u32)> = Vec::new();
         if w >= 2 * COARSE && h >= 2 * COARSE {
             passes.push((0, w / COARSE, h / COARSE, 1));

@@ -664,6 +664,17 @@ impl ModeKind for CurvatureParams {
         }
     }
 
+    fn chosen_from_view(&self) -> bool {
+        self.scale_is_automatic()
+    }
+
+    fn pinned(&self, stats: &RenderStats) -> Self {
+        match stats.curvature_half_range {
+            Some(r) if self.scale_is_automatic() => self.with_scale(r),
+            _ => *self,
+        }
+    }
+
     /// The automatic range at the mode's percentile (95 when its range is fixed).
     fn measure_scale<T: SurfaceTracer>(&self, setup: &Setup<'_, T>) -> Option<f64> {
         let percentile = match self.range {

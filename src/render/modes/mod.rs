@@ -170,6 +170,20 @@ pub trait ModeKind: Clone + std::fmt::Debug + PartialEq + Default + Send + Sync 
         let _ = setup;
         None
     }
+
+    /// Whether [`ModeKind::set_up`] chooses parameters from the view (an automatic scale,
+    /// an automatic stripe count), which every later frame of an animation takes from the
+    /// first ([`ModeKind::pinned`]).
+    fn chosen_from_view(&self) -> bool {
+        false
+    }
+
+    /// The mode with the parameters its set-up chose for a frame (recorded in `stats`)
+    /// fixed: what every later frame of an animation is rendered with.
+    fn pinned(&self, stats: &RenderStats) -> Self {
+        let _ = stats;
+        self.clone()
+    }
 }
 
 /// The registry: one line per mode (`Variant(Type)`, `Type` implementing [`ModeKind`]). It
@@ -314,6 +328,22 @@ macro_rules! modes {
                 }
             }
 
+            /// See [`ModeKind::chosen_from_view`].
+            pub fn chosen_from_view(&self) -> bool {
+                match self {
+                    $(Mode::$variant(p) => <$ty as ModeKind>::chosen_from_view(p),)*
+                }
+            }
+
+            /// The mode with the parameters a render chose from its view (`stats`) fixed:
+            /// what every later frame of an animation is rendered with, in the colours and
+            /// stripes of the first ([`ModeKind::pinned`]).
+            pub fn pinned(&self, stats: &RenderStats) -> Mode {
+                match self {
+                    $(Mode::$variant(p) => Mode::$variant(<$ty as ModeKind>::pinned(p, stats)),)*
+                }
+            }
+
             /// See [`ModeKind::measure_scale`].
             pub fn measure_scale<T: SurfaceTracer>(&self, setup: &Setup<'_, T>) -> Option<f64> {
                 match self {
@@ -374,15 +404,6 @@ impl Mode {
     /// preview here).
     pub fn shade(&self, sp: &ShadingPoint) -> DVec3 {
         self.shade_filtered(sp, None)
-    }
-
-    /// The mode with the scale a render chose (`stats`) fixed, when the scale is automatic:
-    /// what every later frame of an animation is rendered with, in the colours of the first.
-    pub fn pinned(&self, stats: &RenderStats) -> Mode {
-        match stats.curvature_half_range {
-            Some(r) if self.scale_is_automatic() => self.with_scale(r),
-            _ => self.clone(),
-        }
     }
 
     /// Whether a stripe sweep can move this mode's stripes.

@@ -10,9 +10,12 @@
 //! stay crisp where they are wide on screen and fade to their mean where they are not.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use crate::render::interaction::ShadingPoint;
-use crate::render::intersect::Ray64;
+use crate::render::intersect::{IntersectCounters, Ray64};
+use crate::render::modes::Setup;
+use crate::render::trace::SurfaceTracer;
 
 /// The first-order change of the shading inputs across one sample cell on screen, along the
 /// image's x and y directions.
@@ -132,6 +135,89 @@ pub fn filtered_square_wave(phase: f64, width: f64, duty: f64) -> f64 {
     ((integral(phase + half) - integral(phase - half)) / width).clamp(0.0, 1.0)
 }
 
+/// The narrowest stripe period, in pixels, that an automatic stripe count allows on the
+/// median pixel of the surface: a bright and a dark stripe of 6 pixels each. Narrower
+/// stripes are filtered to their mean grey (see [`filtered_square_wave`]), which on a
+/// detailed scan seen small turns the whole surface into noise.
+pub const READABLE_PERIOD_PX: f64 = 12.0;
+
+/// The fewest stripes per turn an automatic stripe count goes down to.
+pub const MIN_AUTO_STRIPES: f64 = 4.0;
+
+/// Side of the grid of pixel centres (at most this many each way) through which
+/// [`readable_stripes`] looks at the surface.
+const PROBE_GRID: u32 = 64;
+
+/// The stripe count of a view: `most` where the stripes at `most` per turn are at least
+/// [`READABLE_PERIOD_PX`] wide on the median surface pixel, otherwise the largest whole count
+/// that makes them so, but never below [`MIN_AUTO_STRIPES`] (nor above `most`).
+///
+/// `turns(n, v)` is the mode's phase at one stripe per turn for the unit normal `n` seen along
+/// the unit view `v`. Its change across one pixel of the `setup.width` × `setup.height` image
+/// is measured as the stripe filter measures it ([`Footprint::phase_width`]), at the centres
+/// of a grid of at most 64 × 64 pixels that hit the surface. Deterministic: the same count for
+/// any thread count.
+pub fn readable_stripes<T: SurfaceTracer>(
+    setup: &Setup<'_, T>,
+    most: f64,
+    turns: impl Fn(DVec3, DVec3) -> f64 + Sync,
+) -> f64 {
+    let mut rates = phase_rates(setup, &turns);
+    if rates.is_empty() {
+        return most;
+    }
+    let mid = rates.len() / 2;
+    let (_, median, _) = rates.select_nth_unstable_by(mid, f64::total_cmp);
+    let median = *median;
+    if !(median > 0.0 && median.is_finite()) || most * median * READABLE_PERIOD_PX <= 1.0 {
+        return most;
+    }
+    (1.0 / (READABLE_PERIOD_PX * median))
+        .floor()
+        .clamp(MIN_AUTO_STRIPES.min(most), most)
+}
+
+/// The phase change per pixel (in turns, at one stripe per turn) at the grid's pixel centres
+/// that hit the surface and have a footprint, row by row.
+fn phase_rates<T: SurfaceTracer>(
+    setup: &Setup<'_, T>,
+    turns: &(impl Fn(DVec3, DVec3) -> f64 + Sync),
+) -> Vec<f64> {
+    let (tracer, camera) = (setup.tracer, setup.camera);
+    let (w, h) = (f64::from(setup.width), f64::from(setup.height));
+    let (gw, gh) = (setup.width.min(PROBE_GRID), setup.height.min(PROBE_GRID));
+    let aspect = w / h;
+    let ndc = |px: f64, py: f64| (2.0 * px / w - 1.0, 1.0 - 2.0 * py / h);
+    let rows: Vec<Vec<f64>> = (0..gh)
+        .into_par_iter()
+        .map(|j| {
+            let mut counters = IntersectCounters::default();
+            let mut row = Vec::new();
+            let py = ((f64::from(j) + 0.5) * h / f64::from(gh)).floor() + 0.5;
+            for i in 0..gw {
+                let px = ((f64::from(i) + 0.5) * w / f64::from(gw)).floor() + 0.5;
+                let (sx, sy) = ndc(px, py);
+                let ray = camera.ray(sx, sy, aspect);
+                let Some(hit) = tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counters) else {
+                    continue;
+                };
+                let sp = tracer.shading_point(&hit, &ray);
+                let (fx, fy) = ndc(px + 1.0, py + 1.0);
+                let right = camera.ray(fx, sy, aspect);
+                let down = camera.ray(sx, fy, aspect);
+                if let Some(f) = Footprint::new(&sp, &ray, [&right, &down]) {
+                    let rate = f.phase_width(&sp, |_, n, v| turns(n, v));
+                    if rate.is_finite() {
+                        row.push(rate);
+                    }
+                }
+            }
+            row
+        })
+        .collect();
+    rows.into_iter().flatten().collect()
+}
+
 /// `--no-stripe-filter`: declared by every stripe mode (zebra, highlight, isophote); one flag
 /// on the command line sets `filter = false` in each of their sections.
 pub const NO_STRIPE_FILTER: crate::render::modes::Flag = crate::render::modes::Flag::off(
@@ -149,6 +235,64 @@ pub const FILTER_KEY: crate::render::modes::Key = crate::render::modes::Key::new
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::camera::Camera;
+    use crate::render::intersect::Tracer;
+    use crate::testing::surfaces::octahedron_sphere;
+
+    /// The phase of one stripe per turn of the normal's polar angle, for the tests.
+    fn polar_turns(n: DVec3, _: DVec3) -> f64 {
+        n.y.clamp(-1.0, 1.0).acos() / std::f64::consts::TAU
+    }
+
+    /// A sphere seen large keeps the most stripes; seen small it gets the largest whole count
+    /// whose median period, measured again at that count, is at least
+    /// [`READABLE_PERIOD_PX`]; seen tiny it stops at [`MIN_AUTO_STRIPES`].
+    #[test]
+    fn automatic_stripe_count_keeps_the_median_period_readable() {
+        let surface = octahedron_sphere(3, 1.0, 0);
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
+        let camera =
+            Camera::frame(&surface.bounds(), Camera::DEFAULT_VIEW, 35.0, 1.0).expect("camera");
+        let at = |side: u32| Setup {
+            tracer: &tracer,
+            camera: &camera,
+            width: side,
+            height: side,
+        };
+        assert_eq!(readable_stripes(&at(2048), 16.0, polar_turns), 16.0);
+        let small = at(48);
+        let count = readable_stripes(&small, 16.0, polar_turns);
+        assert!(count < 16.0 && count > MIN_AUTO_STRIPES, "{count}");
+        assert_eq!(count, count.floor());
+        let mut rates = phase_rates(&small, &polar_turns);
+        rates.sort_by(f64::total_cmp);
+        let median = rates[rates.len() / 2];
+        let period = |n: f64| 1.0 / (n * median);
+        assert!(period(count) >= READABLE_PERIOD_PX, "{}", period(count));
+        assert!(
+            period(count + 1.0) < READABLE_PERIOD_PX,
+            "{}",
+            period(count + 1.0)
+        );
+        assert_eq!(
+            readable_stripes(&at(8), 16.0, polar_turns),
+            MIN_AUTO_STRIPES
+        );
+        // Never more than asked for, and nothing in view keeps the count.
+        assert_eq!(readable_stripes(&small, 3.0, polar_turns), 3.0);
+        let away = Camera::look_at(
+            DVec3::new(0.0, 0.0, 10.0),
+            DVec3::new(0.0, 0.0, 20.0),
+            DVec3::Y,
+            crate::render::camera::Projection::Perspective { fov_deg: 30.0 },
+        )
+        .expect("camera");
+        let empty = Setup {
+            camera: &away,
+            ..at(64)
+        };
+        assert_eq!(readable_stripes(&empty, 16.0, polar_turns), 16.0);
+    }
 
     #[test]
     fn box_filtered_square_wave() {

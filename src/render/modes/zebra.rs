@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::render::interaction::ShadingPoint;
 use crate::render::modes::keys::{self, Flag, Key, Keys};
 use crate::render::modes::stripes::{
-    FILTER_KEY, Footprint, NO_STRIPE_FILTER, filtered_square_wave,
+    FILTER_KEY, Footprint, NO_STRIPE_FILTER, filtered_square_wave, readable_stripes,
 };
 use crate::render::modes::{ModeKind, Setup};
 use crate::render::stats::RenderStats;
@@ -69,8 +69,13 @@ impl ZebraAxis {
 pub struct ZebraParams {
     /// Where the light tubes run.
     pub axis: ZebraAxis,
-    /// Number of bright stripes per full turn (2π) of the reflected direction.
+    /// Number of bright stripes per full turn (2π) of the reflected direction; with
+    /// `auto_stripes`, the most a view is given.
     pub stripes: f64,
+    /// Choose the stripe count from the view before a frame: `stripes`, or fewer where they
+    /// would be narrower than [`READABLE_PERIOD_PX`](super::stripes::READABLE_PERIOD_PX) on screen ([`readable_stripes`]). Set
+    /// by default; off as soon as `stripes` or `width` is given.
+    pub auto_stripes: bool,
     /// Fraction of each period that is bright.
     pub duty: f64,
     /// Linear RGB of the bright stripes.
@@ -96,6 +101,7 @@ impl Default for ZebraParams {
         ZebraParams {
             axis: ZebraAxis::View,
             stripes: 16.0,
+            auto_stripes: true,
             duty: 0.5,
             bright: DVec3::splat(BRIGHT),
             dark: DVec3::splat(DARK),
@@ -188,7 +194,7 @@ impl ModeKind for ZebraParams {
         ),
         Key::new(
             "stripes",
-            "bright stripes per full turn (positive, default 16)",
+            "bright stripes per full turn (positive; default: 16, or fewer where a view would show them narrower than 12 pixels)",
         ),
         Key::new(
             "width",
@@ -223,7 +229,7 @@ impl ModeKind for ZebraParams {
                 "zebra-stripes",
                 "stripes",
                 "N",
-                "Zebra bright stripes per full turn of the reflected direction [default: 16].",
+                "Zebra bright stripes per full turn of the reflected direction [default: 16, or fewer where they would be narrower than 12 pixels on screen].",
                 keys::number,
             )
         },
@@ -288,6 +294,7 @@ impl ModeKind for ZebraParams {
         keys.one_of("stripes", "width")?;
         if let Some(s) = keys.positive("stripes")? {
             self.stripes = s;
+            self.auto_stripes = false;
         }
         if let Some(w) = keys.value("width") {
             let text = match w {
@@ -295,6 +302,7 @@ impl ModeKind for ZebraParams {
                 other => other.to_string(),
             };
             self.stripes = 360.0 / zebra_width_deg(&text)?;
+            self.auto_stripes = false;
         }
         if let Some(d) = keys.fraction("duty")? {
             self.duty = d;
@@ -320,10 +328,33 @@ impl ModeKind for ZebraParams {
     }
 
     /// The view-attached axes follow the camera's up.
-    fn set_up<T: SurfaceTracer>(&self, setup: &Setup<'_, T>, _stats: &mut RenderStats) -> Self {
-        ZebraParams {
+    /// Takes the camera's up and, with `auto_stripes`, the view's stripe count (recorded in
+    /// `stats.zebra_stripes`).
+    fn set_up<T: SurfaceTracer>(&self, setup: &Setup<'_, T>, stats: &mut RenderStats) -> Self {
+        let mut set = ZebraParams {
             view_up: setup.camera.up(),
             ..*self
+        };
+        if self.auto_stripes {
+            set.stripes = readable_stripes(setup, self.stripes, |n, v| set.turns(n, v));
+            set.auto_stripes = false;
+            stats.zebra_stripes = Some(set.stripes);
+        }
+        set
+    }
+
+    fn chosen_from_view(&self) -> bool {
+        self.auto_stripes
+    }
+
+    fn pinned(&self, stats: &RenderStats) -> Self {
+        match stats.zebra_stripes {
+            Some(stripes) if self.auto_stripes => ZebraParams {
+                stripes,
+                auto_stripes: false,
+                ..*self
+            },
+            _ => *self,
         }
     }
 
@@ -342,6 +373,55 @@ impl ModeKind for ZebraParams {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The stripe count is chosen from the view unless `stripes` or `width` is given; the
+    /// set-up records the count it chose, and a pinned mode keeps it for later frames.
+    #[test]
+    fn stripe_count_is_chosen_from_the_view_unless_given() {
+        use crate::render::camera::Camera;
+        use crate::render::intersect::Tracer;
+        assert!(ZebraParams::default().auto_stripes);
+        for given in ["stripes = 16", "width = \"thin\""] {
+            let table: toml::Table = toml::from_str(given).expect("toml");
+            let mut p = ZebraParams::default();
+            ModeKind::configure(
+                &mut p,
+                &Keys::new("zebra", &table, ZebraParams::KEYS).expect("keys"),
+            )
+            .expect("valid");
+            assert!(!p.auto_stripes && !p.chosen_from_view(), "{given}");
+        }
+        let surface = crate::testing::surfaces::octahedron_sphere(3, 1.0, 0);
+        let tracer = Tracer::with_default_settings(&surface).expect("tracer");
+        let camera =
+            Camera::frame(&surface.bounds(), Camera::DEFAULT_VIEW, 35.0, 1.0).expect("camera");
+        let setup = |side: u32| Setup {
+            tracer: &tracer,
+            camera: &camera,
+            width: side,
+            height: side,
+        };
+        let auto = ZebraParams::default();
+        let mut stats = RenderStats::default();
+        let small = auto.set_up(&setup(24), &mut stats);
+        let chosen = stats.zebra_stripes.expect("a chosen count");
+        assert!(chosen < 16.0, "{chosen}");
+        assert_eq!(small.stripes, chosen);
+        assert!(!small.auto_stripes);
+        // Pinned, the mode keeps that count at any size.
+        let pinned = auto.pinned(&stats);
+        let mut later = RenderStats::default();
+        assert_eq!(pinned.set_up(&setup(1024), &mut later).stripes, chosen);
+        assert_eq!(later.zebra_stripes, None);
+        // A given count is kept and nothing is recorded.
+        let given = ZebraParams {
+            auto_stripes: false,
+            ..auto
+        };
+        let mut none = RenderStats::default();
+        assert_eq!(given.set_up(&setup(24), &mut none).stripes, 16.0);
+        assert_eq!(none.zebra_stripes, None);
+    }
 
     #[test]
     fn axes_parse() {
