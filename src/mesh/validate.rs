@@ -395,11 +395,15 @@ pub(super) fn assemble(
             names.welded(b)
         ));
     }
+    let vertex_origin = (0..positions.len() as u32)
+        .map(|v| names.welded(v) as u32)
+        .collect();
     Ok((
         Mesh {
             positions,
             faces,
             face_origin: list.origin,
+            vertex_origin,
             repairs: report.repairs.clone(),
             obj_normals,
             topology,
