@@ -474,6 +474,10 @@ impl<T> HalfEdgeTable<T> {
     pub fn get(&self, h: usize) -> &T {
         &self.data[h]
     }
+    /// The entries of the directed edges leaving vertex `v`, in the order of its one-ring.
+    pub fn leaving(&self, v: u32) -> &[T] {
+        &self.data[self.offsets[v as usize]..self.offsets[v as usize + 1]]
+    }
 
     /// Index of the directed edge from `faces[f][k]` to the corner `step` (1 or 2) after it.
     pub fn directed(&self, face: [u32; 3], f: usize, k: usize, step: usize) -> usize {
