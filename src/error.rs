@@ -316,6 +316,54 @@ pub enum Error {
     Invalid(String),
 }
 
+impl Error {
+    /// The error with the mesh vertices it names (a scheme's errors, raised on the loaded mesh)
+    /// renamed by `input`, from the loaded mesh's numbering to the file's
+    /// ([`crate::mesh::Mesh::input_vertex`]), so that the message names the element the user
+    /// wrote. Errors naming no mesh vertex are unchanged.
+    pub fn in_input_numbering(self, input: &dyn Fn(usize) -> usize) -> Error {
+        match self {
+            Error::FoldedVertex { scheme, vertex } => Error::FoldedVertex {
+                scheme,
+                vertex: input(vertex),
+            },
+            Error::UndefinedNormal { vertex } => Error::UndefinedNormal {
+                vertex: input(vertex),
+            },
+            Error::OpenMesh { scheme, a, b } => Error::OpenMesh {
+                scheme,
+                a: input(a),
+                b: input(b),
+            },
+            Error::SharpEdgesUnsupported {
+                scheme,
+                reason,
+                count,
+                a,
+                b,
+            } => Error::SharpEdgesUnsupported {
+                scheme,
+                reason,
+                count,
+                a: input(a),
+                b: input(b),
+            },
+            Error::DegenerateEdge {
+                scheme,
+                a,
+                b,
+                reason,
+            } => Error::DegenerateEdge {
+                scheme,
+                a: input(a),
+                b: input(b),
+                reason,
+            },
+            other => other,
+        }
+    }
+}
+
 /// The library's result type.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 

@@ -158,6 +158,10 @@ pub struct Mesh {
     faces: Vec<[u32; 3]>,
     /// The input face (polygon) each triangle was cut from.
     face_origin: Vec<u32>,
+    /// The input vertex each vertex stands for, as the file numbers its vertices (the first
+    /// of those welded into it; a vertex split off by a repair names the one it was split
+    /// from).
+    vertex_origin: Vec<u32>,
     /// The repairs loading made.
     repairs: Vec<Repair>,
     obj_normals: ObjNormals,
@@ -310,6 +314,13 @@ impl Mesh {
     /// a face.
     pub fn input_face(&self, t: u32) -> usize {
         self.face_origin[t as usize] as usize
+    }
+    /// The input vertex that vertex `v` stands for, as the file numbers its vertices (an OBJ
+    /// file's `v` records from 0): the first input vertex welded into it, or for a vertex split
+    /// off by a repair the one it was split from; `v` itself for a mesh loaded without welds or
+    /// repairs. Messages name vertices by this number. Panics if `v` is not a vertex.
+    pub fn input_vertex(&self, v: u32) -> usize {
+        self.vertex_origin[v as usize] as usize
     }
     /// The input face of every triangle (see [`Mesh::input_face`]).
     pub fn face_origins(&self) -> &[u32] {

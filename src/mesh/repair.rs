@@ -113,7 +113,8 @@ impl Repair {
             }
             RepairKind::NonManifoldEdgeSplit => format!(
                 "split {n} non-manifold edges so that each has at most two faces, pairing faces \
-                 that agree in orientation and are closest in dihedral angle"
+                 that agree in orientation, already share a fan at the edge's ends and are \
+                 closest in dihedral angle"
             ),
             RepairKind::NonManifoldVertexSplit => format!(
                 "split {n} non-manifold vertices into one vertex per fan (the surface touches \
@@ -376,33 +377,41 @@ fn collapse_allowed(
 }
 
 /// Pairs the half-edges of an edge shared by more than two faces: repeatedly the two that
-/// run it in opposite directions (agree in orientation) and whose normals are closest
-/// (closest in dihedral angle), then, if some remain, pairs running it the same way (one of
-/// them is flipped later). Each half-edge is `(half-edge, runs from the smaller vertex)`;
-/// `normal` gives a half-edge's face normal. Returns the pairs; unpaired half-edges become
-/// boundary edges.
+/// run it in opposite directions (agree in orientation), then those that already belong to
+/// one fan at more of the edge's ends (so a pair closes a fan instead of joining two, and a
+/// face that is alone in its fan at an end is the one left over), then those whose normals
+/// are closest (closest in dihedral angle); if some remain, pairs running it the same way
+/// (one of them is flipped later). Each half-edge is `(half-edge, runs from the smaller
+/// vertex)`; `normal` gives a half-edge's face normal, `fans` its face's fan at the smaller
+/// and at the larger vertex (corners joined through the mesh's two-face edges). Returns the
+/// pairs; unpaired half-edges become boundary edges, and their ends, when alone in their
+/// fans, are split off later, so that no two edges join the same two vertices.
 pub(super) fn pair_fan(
     half_edges: &[(u32, bool)],
     normal: &dyn Fn(u32) -> DVec3,
+    fans: &dyn Fn(u32) -> (u32, u32),
 ) -> Vec<(u32, u32)> {
-    let mut candidates: Vec<(bool, f64, usize, usize)> = Vec::new();
+    let mut candidates: Vec<(bool, u8, f64, usize, usize)> = Vec::new();
     for i in 0..half_edges.len() {
         for j in i + 1..half_edges.len() {
             let same = half_edges[i].1 == half_edges[j].1;
             let (ni, nj) = (normal(half_edges[i].0), normal(half_edges[j].0));
             let nj = if same { -nj } else { nj };
             let angle = ni.cross(nj).length().atan2(ni.dot(nj));
-            candidates.push((same, angle, i, j));
+            let (fi, fj) = (fans(half_edges[i].0), fans(half_edges[j].0));
+            let apart = u8::from(fi.0 != fj.0) + u8::from(fi.1 != fj.1);
+            candidates.push((same, apart, angle, i, j));
         }
     }
     candidates.sort_by(|x, y| {
         x.0.cmp(&y.0)
-            .then(x.1.total_cmp(&y.1))
-            .then((x.2, x.3).cmp(&(y.2, y.3)))
+            .then(x.1.cmp(&y.1))
+            .then(x.2.total_cmp(&y.2))
+            .then((x.3, x.4).cmp(&(y.3, y.4)))
     });
     let mut taken = vec![false; half_edges.len()];
     let mut pairs = Vec::new();
-    for (_, _, i, j) in candidates {
+    for (_, _, _, i, j) in candidates {
         if !taken[i] && !taken[j] {
             taken[i] = true;
             taken[j] = true;

@@ -395,11 +395,15 @@ pub(super) fn assemble(
             names.welded(b)
         ));
     }
+    let vertex_origin = (0..positions.len() as u32)
+        .map(|v| names.welded(v) as u32)
+        .collect();
     Ok((
         Mesh {
             positions,
             faces,
             face_origin: list.origin,
+            vertex_origin,
             repairs: report.repairs.clone(),
             obj_normals,
             topology,
@@ -590,7 +594,8 @@ type Linked = (Vec<u32>, Vec<bool>, Vec<(u32, u32, usize)>);
 /// Pairs the half-edges (3·face + corner, running from corner to the next) of each undirected
 /// edge. Returns each half-edge's twin (or [`NO_TWIN`]), whether it runs the same way as its
 /// twin (which an oriented mesh never does), and the edges shared by more than two faces as
-/// `(a, b, faces)`: those are split ([`pair_fan`] picks the pairs, the others become boundary
+/// `(a, b, faces)`: those are split ([`pair_fan`] picks the pairs, within the fans the faces'
+/// corners already form through the two-face edges where it can; the others become boundary
 /// edges). O(F log F) by sorting edge keys.
 fn link_half_edges(faces: &[[u32; 3]], positions: &[DVec3]) -> Linked {
     let half_edge_count = 3 * faces.len();
@@ -618,26 +623,70 @@ fn link_half_edges(faces: &[[u32; 3]], positions: &[DVec3]) -> Linked {
         let p = faces[he as usize / 3].map(|v| positions[v as usize]);
         (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero()
     };
+    // The fans of the corners through the two-face edges alone, so that the faces of an edge
+    // shared by more than two are paired within the fans they already belong to.
+    let mut fan: Vec<u32> = (0..half_edge_count as u32).collect();
+    fn root(fan: &mut [u32], mut x: u32) -> u32 {
+        while fan[x as usize] != x {
+            fan[x as usize] = fan[fan[x as usize] as usize];
+            x = fan[x as usize];
+        }
+        x
+    }
+    let corner_of = |he: usize, v: u32| {
+        let face = he / 3;
+        (0..3)
+            .find(|&c| faces[face][c] == v)
+            .map_or(he as u32, |c| (3 * face + c) as u32)
+    };
+    let mut groups: Vec<(usize, usize)> = Vec::new();
     let mut start = 0;
     while start < keyed.len() {
         let key = keyed[start].0;
         let end = start + keyed[start..].iter().take_while(|k| k.0 == key).count();
+        if end - start == 2 {
+            let (h0, h1) = (keyed[start].1 as usize, keyed[start + 1].1 as usize);
+            for v in [from(h0), to(h0)] {
+                let (r0, r1) = (
+                    root(&mut fan, corner_of(h0, v)),
+                    root(&mut fan, corner_of(h1, v)),
+                );
+                fan[r0.max(r1) as usize] = r0.min(r1);
+            }
+        }
+        groups.push((start, end));
+        start = end;
+    }
+    for (start, end) in groups {
         match end - start {
             1 => {}
             2 => link(keyed[start].1, keyed[start + 1].1),
             count => {
+                let key = keyed[start].0;
                 let (a, b) = ((key >> 32) as u32, key as u32);
-                let fan: Vec<(u32, bool)> = keyed[start..end]
+                let half_edges: Vec<(u32, bool)> = keyed[start..end]
                     .iter()
                     .map(|&(_, he)| (he, from(he as usize) == a))
                     .collect();
-                for (h0, h1) in pair_fan(&fan, &normal) {
+                let fans: Vec<(u32, (u32, u32))> = half_edges
+                    .iter()
+                    .map(|&(he, _)| {
+                        let he = he as usize;
+                        let mut at = |v| root(&mut fan, corner_of(he, v));
+                        (he as u32, (at(a), at(b)))
+                    })
+                    .collect();
+                let fans_of = |he: u32| {
+                    fans.iter()
+                        .find(|&&(h, _)| h == he)
+                        .map_or((he, he), |&(_, f)| f)
+                };
+                for (h0, h1) in pair_fan(&half_edges, &normal, &fans_of) {
                     link(h0, h1);
                 }
                 split.push((a, b, count));
             }
         }
-        start = end;
     }
     (twin, same_direction, split)
 }
@@ -1103,6 +1152,35 @@ mod tests {
         };
         assert_eq!((across(0), across(1)), (vec![2], vec![3]));
         assert_eq!(report.reoriented_faces, 0);
+    }
+
+    #[test]
+    fn a_fin_is_split_off_so_that_no_two_edges_join_the_same_vertices() {
+        // The fin on the octahedron's edge (0, 4) is closer in dihedral angle to one of the
+        // octahedron's faces there, but those two faces already share a fan at both ends: they
+        // are paired, and the fin, alone in its fans, is split off with its own two corners.
+        let (positions, faces) = bad::octahedron_with_fin();
+        let (mesh, report) = load((positions.clone(), faces)).unwrap();
+        let listed = repairs(&report);
+        assert_eq!(
+            listed[..2],
+            [
+                (RepairKind::NonManifoldEdgeSplit, 1, Element::Edge(0, 4)),
+                (RepairKind::NonManifoldVertexSplit, 2, Element::Vertex(0)),
+            ]
+        );
+        assert_eq!(
+            (mesh.face_count(), mesh.vertex_count()),
+            (9, positions.len() + 2)
+        );
+        let mut pairs: Vec<(u32, u32)> = mesh.edges().iter().map(|e| (e.a, e.b)).collect();
+        let count = pairs.len();
+        pairs.sort_unstable();
+        pairs.dedup();
+        assert_eq!(pairs.len(), count, "two edges join the same two vertices");
+        // The octahedron is closed again; the fin is the only boundary.
+        let boundary = mesh.edges().iter().filter(|e| e.faces.1.is_none()).count();
+        assert_eq!(boundary, 3);
     }
 
     #[test]

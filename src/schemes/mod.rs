@@ -112,6 +112,16 @@ pub fn build_in_frame(
     mesh: &Mesh,
     user: &[(String, String)],
 ) -> Result<(Surface, LocalFrame)> {
+    build_in_frame_numbered(scheme, mesh, user)
+        .map_err(|error| error.in_input_numbering(&|v| mesh.input_vertex(v as u32)))
+}
+
+/// [`build_in_frame`] with errors naming vertices in the loaded mesh's numbering.
+fn build_in_frame_numbered(
+    scheme: &str,
+    mesh: &Mesh,
+    user: &[(String, String)],
+) -> Result<(Surface, LocalFrame)> {
     let spec = find(scheme)?;
     let params = Params::resolve(spec, user)?;
     if spec.needs_closed_mesh
@@ -381,10 +391,11 @@ pub fn scheme_normals(
         if let Some(&(v, worst)) = behind.first() {
             warnings.push(format!(
                 "{scheme}: the file's normals at {} vertices are seen from behind or edge-on by \
-                 a face around them (first: vertex {v}, cosine {worst:.3}), so the surface folds \
+                 a face around them (first: vertex {}, cosine {worst:.3}), so the surface folds \
                  or is singular there; the file's normals are kept as given — use \
                  normals=estimate to have them made front-facing",
-                behind.len()
+                behind.len(),
+                mesh.input_vertex(v)
             ));
         }
         return Ok((estimate, warnings));
@@ -398,19 +409,21 @@ pub fn scheme_normals(
             });
         }
         warnings.push(format!(
-            "{scheme}: the faces around {} vertices fold over themselves (first: vertex {v}): \
+            "{scheme}: the faces around {} vertices fold over themselves (first: vertex {}): \
              no normal sees them all from the front, so the surface folds there; repair the \
              mesh at that vertex",
-            front.folded.len()
+            front.folded.len(),
+            mesh.input_vertex(v)
         ));
     }
     if let Some(&(v, angle)) = front.moved.first() {
         let largest = front.moved.iter().map(|m| m.1).fold(0.0, f64::max);
         warnings.push(format!(
             "{scheme}: tilted {} vertex normals that a face around them saw from behind or \
-             edge-on (first: vertex {v}, by {:.2}°; largest {:.2}°), so that the surface does \
+             edge-on (first: vertex {}, by {:.2}°; largest {:.2}°), so that the surface does \
              not fold there",
             front.moved.len(),
+            mesh.input_vertex(v),
             angle.to_degrees(),
             largest.to_degrees()
         ));
@@ -426,5 +439,49 @@ pub fn parse_param(text: &str) -> Result<(String, String)> {
             name: text.to_string(),
             reason: "expected name=value".to_string(),
         }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use crate::error::Error;
+    use crate::mesh::{Mesh, generate};
+
+    /// The octahedron flattened to a sheet (its equator vertices' rings fold over themselves),
+    /// after an unused vertex that loading drops: the loaded mesh numbers every vertex one
+    /// lower than the file.
+    fn flat_sheet_after_an_unused_vertex() -> Mesh {
+        let (positions, faces) = generate::octahedron();
+        let positions: Vec<DVec3> = std::iter::once(DVec3::splat(5.0))
+            .chain(positions.iter().map(|p| DVec3::new(p.x, p.y, p.z * 1e-9)))
+            .collect();
+        let faces = faces.iter().map(|f| f.map(|v| v + 1)).collect();
+        let (mesh, _) = Mesh::from_triangles(positions, faces).expect("loads");
+        assert_eq!((mesh.vertex_count(), mesh.input_vertex(0)), (6, 1));
+        mesh
+    }
+
+    #[test]
+    fn a_folded_vertex_is_named_in_the_files_numbering() {
+        let mesh = flat_sheet_after_an_unused_vertex();
+        for scheme in ["piper", "nielson"] {
+            match super::build(scheme, &mesh, &[]) {
+                Err(Error::FoldedVertex { vertex, .. }) => assert_eq!(vertex, 1, "{scheme}"),
+                Err(other) => panic!("{scheme}: expected a folded vertex, got {other}"),
+                Ok(_) => panic!("{scheme}: expected a folded vertex, got a surface"),
+            }
+        }
+        for scheme in ["pn", "hb", "loop94"] {
+            let surface = super::build(scheme, &mesh, &[]).expect(scheme);
+            let folded: Vec<&String> = surface
+                .warnings
+                .iter()
+                .filter(|w| w.contains("fold over themselves"))
+                .collect();
+            assert_eq!(folded.len(), 1, "{scheme}: {:?}", surface.warnings);
+            assert!(folded[0].contains("(first: vertex 1)"), "{}", folded[0]);
+        }
     }
 }

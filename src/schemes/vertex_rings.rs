@@ -321,10 +321,11 @@ pub fn plane_warnings(
         let conformal = tilted.iter().filter(|t| t.2).count();
         warnings.push(format!(
             "{scheme}: tilted {} vertex tangent planes that a face around them saw from behind \
-             or edge-on (first: vertex {v}, by {:.2}°; largest {:.2}°; {conformal} of them with \
+             or edge-on (first: vertex {}, by {:.2}°; largest {:.2}°; {conformal} of them with \
              the ring's tangents refitted in the new plane), so that the surface does not fold \
              there",
             tilted.len(),
+            mesh.input_vertex(v),
             angle.to_degrees(),
             largest.to_degrees()
         ));
@@ -336,10 +337,11 @@ pub fn plane_warnings(
         .collect();
     if let Some(&v) = folded.first() {
         warnings.push(format!(
-            "{scheme}: the faces around {} vertices fold over themselves (first: vertex {v}): no \
+            "{scheme}: the faces around {} vertices fold over themselves (first: vertex {}): no \
              tangent plane sees them all from the front, so the surface folds there; repair the \
              mesh at that vertex",
-            folded.len()
+            folded.len(),
+            mesh.input_vertex(v)
         ));
     }
     warnings
@@ -471,6 +473,10 @@ impl<T> HalfEdgeTable<T> {
     /// The entry of directed edge `h`.
     pub fn get(&self, h: usize) -> &T {
         &self.data[h]
+    }
+    /// The entries of the directed edges leaving vertex `v`, in the order of its one-ring.
+    pub fn leaving(&self, v: u32) -> &[T] {
+        &self.data[self.offsets[v as usize]..self.offsets[v as usize + 1]]
     }
 
     /// Index of the directed edge from `faces[f][k]` to the corner `step` (1 or 2) after it.

@@ -79,12 +79,13 @@ fn edge_frame(
     scheme: &str,
     a: u32,
     b: u32,
-    positions: &[DVec3],
+    mesh: &Mesh,
     [na, nb]: [DVec3; 2],
     crease: Option<[DVec3; 2]>,
     left: Option<u32>,
     right: Option<u32>,
 ) -> Result<EdgeFrame> {
+    let positions = mesh.positions();
     let (pa, pb) = (positions[a as usize], positions[b as usize]);
     let e = pb - pa;
     let ee = e.length_squared();
@@ -115,8 +116,9 @@ fn edge_frame(
                 a: vertex as usize,
                 b: if end == 0 { b } else { a } as usize,
                 reason: format!(
-                    "the normal of vertex {vertex} is (nearly) tangent to the edge or its faces \
+                    "the normal of vertex {} is (nearly) tangent to the edge or its faces \
                      (frame area {:.1e} of |e|²)",
+                    mesh.input_vertex(vertex),
                     area / ee
                 ),
             });
@@ -189,16 +191,7 @@ impl EdgeFrames {
                 }
                 let ends = |f: u32| [corner_normal(f, edge.a), corner_normal(f, edge.b)];
                 let frame = |f: u32, crease, left, right| {
-                    edge_frame(
-                        scheme,
-                        edge.a,
-                        edge.b,
-                        mesh.positions(),
-                        ends(f),
-                        crease,
-                        left,
-                        right,
-                    )
+                    edge_frame(scheme, edge.a, edge.b, mesh, ends(f), crease, left, right)
                 };
                 match (left, right) {
                     (Some((fl, l)), Some((fr, r))) if is_sharp(fl, edge.a, edge.b) => {

@@ -185,9 +185,10 @@ fn check_valences(mesh: &Mesh, k: usize, max: usize) -> Result<()> {
     let (bytes, seconds) = valence_cost(n, k);
     if n > max {
         return Err(Error::Invalid(format!(
-            "scheme 'gk' with k={k}: vertex {v} has valence {n}, above max_valence={max} (its \
+            "scheme 'gk' with k={k}: vertex {} has valence {n}, above max_valence={max} (its \
              hole solve needs about {} and {seconds:.1} s); raise the limit with --param \
              max_valence={n}",
+            mesh.input_vertex(v),
             crate::budget::format_bytes(bytes)
         )));
     }

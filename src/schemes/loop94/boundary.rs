@@ -65,6 +65,7 @@ pub fn boundary_half_edges(fan: &Fan, shape: &LoopShape, out: &mut [LoopHalfEdge
         slot.v = [v0, v0 + v_prime / 3.0];
         slot.phi0 = c;
         slot.psi0 = s;
+        slot.beta = beta;
     }
 }
 

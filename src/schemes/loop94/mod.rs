@@ -104,7 +104,43 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     surface.warnings = crate::schemes::vertex_rings::plane_warnings(mesh, SPEC.name, |_, ring| {
         crate::schemes::vertex_rings::RingFourier::new(ring)
     });
+    surface
+        .warnings
+        .extend(beta_cap_warning(mesh, &table, shape.beta));
     Ok(surface)
+}
+
+/// The warning line for the vertices where β was capped below the parameter `beta` so that no
+/// boundary curve swerves off its edge ([`crate::schemes::vertex_rings::swerve_cap`]): their
+/// count, the first (in the file's numbering) with its β, and the smallest β used. None when
+/// no vertex is capped.
+fn beta_cap_warning(mesh: &Mesh, table: &HalfEdgeTable<LoopHalfEdge>, beta: f64) -> Option<String> {
+    let capped: Vec<(u32, f64)> = (0..mesh.vertex_count() as u32)
+        .filter_map(|v| {
+            let used = table.leaving(v).first()?.beta;
+            (used < beta).then_some((v, used))
+        })
+        .collect();
+    let &(first, first_beta) = capped.first()?;
+    let smallest = capped.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
+    Some(format!(
+        "{}: capped β = {beta} at {} vertices so that no boundary curve swerves off its edge \
+         (first: vertex {}, β {}; smallest β used {})",
+        SPEC.name,
+        capped.len(),
+        mesh.input_vertex(first),
+        short(first_beta),
+        short(smallest)
+    ))
+}
+
+/// A β for a message: three decimals, or three significant digits below 0.01.
+fn short(beta: f64) -> String {
+    if beta >= 0.01 {
+        format!("{beta:.3}")
+    } else {
+        format!("{beta:.2e}")
+    }
 }
 
 /// Largest disagreement of the twist points computed from either edge, and of Loop's middle
@@ -177,6 +213,46 @@ mod tests {
         );
         assert!(normal <= 0.145, "normal error {normal} rad");
         assert!(distance <= 2.9e-2, "radial distance {distance}");
+    }
+
+    /// β above every vertex's swerve cap is capped at each vertex, and one warning says so
+    /// with the count, the first vertex and its β, and the smallest β used; β = 0.5 on the
+    /// same meshes is capped at fewer vertices, or none and then no warning is given.
+    #[test]
+    fn a_capped_beta_is_counted_in_one_warning() {
+        for (name, mesh) in closed_test_meshes() {
+            let large = table(&mesh, &shape(&params(&SPEC, &[("beta", "50")])).unwrap());
+            let used: Vec<f64> = (0..mesh.vertex_count() as u32)
+                .map(|v| large.leaving(v)[0].beta)
+                .collect();
+            assert!(used.iter().all(|&b| b < 50.0), "{name}: {used:?}");
+            let smallest = used.iter().copied().fold(f64::INFINITY, f64::min);
+            let surface = build(&mesh, &params(&SPEC, &[("beta", "50")])).unwrap();
+            let capped: Vec<&String> = surface
+                .warnings
+                .iter()
+                .filter(|w| w.starts_with("loop94: capped β"))
+                .collect();
+            let expected = format!(
+                "loop94: capped β = 50 at {} vertices so that no boundary curve swerves off its \
+                 edge (first: vertex 0, β {}; smallest β used {})",
+                mesh.vertex_count(),
+                short(used[0]),
+                short(smallest)
+            );
+            assert_eq!(capped, [&expected], "{name}");
+            let half = table(&mesh, &shape(&params(&SPEC, &[("beta", "0.5")])).unwrap());
+            let count = (0..mesh.vertex_count() as u32)
+                .filter(|&v| half.leaving(v)[0].beta < 0.5)
+                .count();
+            let surface = build(&mesh, &params(&SPEC, &[("beta", "0.5")])).unwrap();
+            let capped = surface
+                .warnings
+                .iter()
+                .filter(|w| w.starts_with("loop94: capped β"))
+                .count();
+            assert_eq!(capped, usize::from(count > 0), "{name}: {count} capped");
+        }
     }
 
     #[test]

@@ -39,6 +39,9 @@ pub struct LoopHalfEdge {
     pub phi0: f64,
     /// `Ψ_i(0) = sin(2π/n)` (eq. 4).
     pub psi0: f64,
+    /// The β used at the edge's first vertex: the parameter, or the swerve cap where that is
+    /// lower (the same for every edge leaving the vertex).
+    pub beta: f64,
 }
 
 /// Fills `out[i]` with the data of edge `p → ring[i]` (eqs. 1–4).
@@ -87,6 +90,7 @@ pub fn half_edges(
             v: [v0, v0 + v_prime / 3.0],
             phi0: c,
             psi0: s,
+            beta,
         };
     }
 }

@@ -152,8 +152,9 @@ impl Construction<'_> {
             a,
             b,
             reason: format!(
-                "at vertex {a} the control points of both faces are in line with the edge \
-                 (the faces fold onto each other)"
+                "at vertex {} the control points of both faces are in line with the edge \
+                 (the faces fold onto each other)",
+                self.mesh.input_vertex(a as u32)
             ),
         };
         let (w1, w2) = g1_solve::end_weights(&net);
@@ -238,7 +239,7 @@ fn candidates<'a>(mesh: &'a Mesh, params: &Params) -> Result<Construction<'a>> {
                     reason: format!(
                         "the normal of vertex {} lies along the edge, so the edge has no \
                          tangent direction there",
-                        face[from]
+                        mesh.input_vertex(face[from])
                     ),
                 })
         })
