@@ -47,6 +47,18 @@ pub mod tolerance;
 
 pub use error::{Error, Result};
 
+/// The command layer's entry for the `smoothlab` binary (`main.rs` parses a command line into
+/// these arguments, calls one function per command and prints its [`cli::Output`]); not a
+/// library interface.
+#[doc(hidden)]
+pub mod cli {
+    pub use crate::app::commands::*;
+    pub use crate::app::render::RenderArgs;
+    pub use crate::app::view::{ViewArgs, ViewReport};
+    pub use crate::app::{Output, clean_up_on_signals, limit_threads};
+    pub use crate::progress::set_quiet;
+}
+
 /// A render job from scene keys: the scene file of the README's Contracts as a value
 /// ([`SceneFile::parse`] of its TOML text), validated once into a [`render::RenderJob`] by
 /// [`SceneFile::job`] with the errors naming the key at fault. The `render` command and the

@@ -62,7 +62,7 @@ pub fn variants(
 /// variant whose scheme declares the name; a name no variant's scheme declares is an error
 /// naming it and the parameters they have.
 pub fn with_defaults(mut variants: Vec<Variant>, raw: &[String]) -> Result<Vec<Variant>> {
-    let pairs = crate::app::parse_params(raw)?;
+    let pairs = crate::app::selection::parse_params(raw)?;
     for (name, _) in &pairs {
         let declared = |v: &Variant| {
             schemes::find(&v.scheme).is_ok_and(|s| s.params.iter().any(|p| p.name == name))
@@ -100,7 +100,7 @@ pub fn with_defaults(mut variants: Vec<Variant>, raw: &[String]) -> Result<Vec<V
 
 /// The schemes of `--scheme`: `all` (every registered scheme) or names separated by commas.
 fn scheme_list(selection: &str) -> Result<Vec<Variant>> {
-    if selection.trim() == crate::app::ALL_SCHEMES {
+    if selection.trim() == crate::app::selection::ALL_SCHEMES {
         return Ok(SCHEMES
             .iter()
             .map(|s| Variant::default_of(s.name))

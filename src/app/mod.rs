@@ -9,11 +9,13 @@
 //! [`gallery`] and [`figure`].
 
 pub mod batch;
+pub mod commands;
 pub mod figure;
 pub mod gallery;
 pub mod merge;
 pub mod render;
 pub mod scene;
+pub mod selection;
 pub mod toml_input;
 pub mod turntable;
 pub mod view;
@@ -21,6 +23,7 @@ pub mod view;
 use std::path::Path;
 
 pub use crate::files::clean_up_on_signals;
+pub use selection::{ALL_SCHEMES, SchemeRun, parse_params, select_schemes};
 
 use crate::error::{Error, Result};
 use crate::export::{self, Format};
@@ -29,9 +32,6 @@ use crate::mesh::{LoadOptions, Mesh};
 use crate::metrics::Metrics;
 use crate::schemes::{self, SCHEMES, build_timed};
 use crate::surface::Surface;
-
-/// The `--scheme` value that selects every registered scheme.
-pub const ALL_SCHEMES: &str = "all";
 
 /// What a command produced: text for standard output and warnings (one line each, printed
 /// by the binary as `warning: …` on standard error).
@@ -87,65 +87,6 @@ pub fn parse_crease_angle(text: &str) -> std::result::Result<f64, String> {
     crate::mesh::check_crease_angle(value)
 }
 
-/// Parses every `--param name=value`.
-pub fn parse_params(raw: &[String]) -> Result<Vec<(String, String)>> {
-    raw.iter().map(|p| schemes::parse_param(p)).collect()
-}
-
-/// One scheme to run, with the parameters meant for it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SchemeRun {
-    /// Registered scheme name.
-    pub scheme: &'static str,
-    /// `name=value` pairs for it.
-    pub params: Vec<(String, String)>,
-}
-
-/// The schemes a `--scheme` value selects, each with the parameters meant for it.
-///
-/// For one scheme the parameters go to it unchanged (the registry rejects unknown names).
-/// For [`ALL_SCHEMES`] each parameter goes to the schemes that declare it, and a parameter
-/// that no scheme declares is an error.
-pub fn select_schemes(selection: &str, params: &[(String, String)]) -> Result<Vec<SchemeRun>> {
-    if selection != ALL_SCHEMES {
-        let spec = schemes::find(selection)?;
-        return Ok(vec![SchemeRun {
-            scheme: spec.name,
-            params: params.to_vec(),
-        }]);
-    }
-    if let Some((name, _)) = params
-        .iter()
-        .find(|(n, _)| !SCHEMES.iter().any(|s| s.params.iter().any(|p| p.name == n)))
-    {
-        let mut known: Vec<&str> = SCHEMES
-            .iter()
-            .flat_map(|s| s.params.iter().map(|p| p.name))
-            .collect();
-        known.sort_unstable();
-        known.dedup();
-        return Err(Error::UnknownParam {
-            scheme: ALL_SCHEMES.to_string(),
-            name: name.clone(),
-            known: known.join(", "),
-        });
-    }
-    Ok(SCHEMES
-        .iter()
-        .map(|s| {
-            let own = params
-                .iter()
-                .filter(|(n, _)| s.params.iter().any(|p| p.name == n))
-                .cloned()
-                .collect();
-            SchemeRun {
-                scheme: s.name,
-                params: own,
-            }
-        })
-        .collect())
-}
-
 /// Builds and measures every selected scheme on `mesh`. With [`ALL_SCHEMES`], a scheme that
 /// refuses an open mesh or sharp edges is skipped with a warning instead of failing the whole
 /// run.
@@ -154,19 +95,23 @@ pub fn measure_schemes(
     selection: &str,
     params: &[(String, String)],
 ) -> Result<(Vec<Metrics>, Vec<String>)> {
-    measure_schemes_each(mesh, selection, params, &mut |_| {})
+    let runs = select_schemes(selection, params)?;
+    measure_runs(mesh, &runs, selection == ALL_SCHEMES, &mut |_| {})
 }
 
-/// [`measure_schemes`], calling `each` with every scheme's metrics as soon as it is measured.
-pub fn measure_schemes_each(
+/// Builds and measures every run of a selection ([`select_schemes`]) on `mesh`, calling `each`
+/// with every scheme's metrics as soon as it is measured. With `skip_refusals` (the selection
+/// was [`ALL_SCHEMES`]), a scheme that refuses an open mesh or sharp edges is skipped with a
+/// warning instead of failing the whole run.
+pub fn measure_runs(
     mesh: &Mesh,
-    selection: &str,
-    params: &[(String, String)],
+    runs: &[SchemeRun],
+    skip_refusals: bool,
     each: &mut dyn FnMut(&Metrics),
 ) -> Result<(Vec<Metrics>, Vec<String>)> {
     let mut results = Vec::new();
     let mut warnings = Vec::new();
-    for run in select_schemes(selection, params)? {
+    for run in runs {
         match schemes::build_timed_in_frame(run.scheme, mesh, &run.params) {
             Ok((surface, frame, ms)) => {
                 warnings.extend(surface.warnings.iter().cloned());
@@ -178,7 +123,7 @@ pub fn measure_schemes_each(
                 results.push(metrics);
             }
             Err(e @ (Error::OpenMesh { .. } | Error::SharpEdgesUnsupported { .. }))
-                if selection == ALL_SCHEMES =>
+                if skip_refusals =>
             {
                 warnings.push(format!("skipped: {e}"));
             }
@@ -424,14 +369,14 @@ pub fn run_metrics_streaming(
 ) -> Result<Output> {
     let params = parse_params(raw_params)?;
     // Check the scheme, the parameters and the output path before the (possibly slow) work.
-    select_schemes(selection, &params)?;
+    let runs = select_schemes(selection, &params)?;
     if let Some(path) = json {
         check_writable(path)?;
         check_distinct(&[("the mesh", mesh_path)], &[("--json", path)])?;
     }
     let (mesh, mut warnings) = load_mesh(mesh_path, load)?;
     line(&metrics_table_header());
-    let (metrics, skipped) = measure_schemes_each(&mesh, selection, &params, &mut |m| {
+    let (metrics, skipped) = measure_runs(&mesh, &runs, selection == ALL_SCHEMES, &mut |m| {
         line(&metrics_table_row(m))
     })?;
     warnings.extend(skipped);
@@ -760,38 +705,6 @@ mod tests {
     }
 
     use super::*;
-
-    fn pair(n: &str, v: &str) -> (String, String) {
-        (n.to_string(), v.to_string())
-    }
-
-    #[test]
-    fn one_scheme_keeps_its_params() {
-        let sel = select_schemes("pn", &[pair("normals", "obj")]).expect("known");
-        let expected = SchemeRun {
-            scheme: "pn",
-            params: vec![pair("normals", "obj")],
-        };
-        assert_eq!(sel, vec![expected]);
-        let err = select_schemes("nope", &[]).expect_err("unknown scheme");
-        assert!(matches!(err, Error::UnknownScheme { .. }), "{err}");
-    }
-
-    #[test]
-    fn all_routes_params_to_the_schemes_that_declare_them() {
-        let sel = select_schemes(ALL_SCHEMES, &[pair("normals", "obj")]).expect("declared");
-        assert_eq!(sel.len(), SCHEMES.len());
-        for run in &sel {
-            let declares = schemes::find(run.scheme)
-                .expect("registered")
-                .params
-                .iter()
-                .any(|p| p.name == "normals");
-            assert_eq!(run.params.len(), usize::from(declares), "{}", run.scheme);
-        }
-        let err = select_schemes(ALL_SCHEMES, &[pair("bogus", "1")]).expect_err("undeclared");
-        assert!(err.to_string().contains("'bogus'"), "{err}");
-    }
 
     #[test]
     fn registry_order_is_flat_pn_hb() {
