@@ -498,19 +498,6 @@ pub fn run_default() -> Result<Output> {
     })
 }
 
-/// `smoothlab report`: measures every scheme on the benchmark meshes and writes
-/// `metrics.{json,csv,md}`, the plots and the results page (`index.html` with its thumbnails)
-/// into `out_dir`, with a progress bar on a terminal's standard error; standard output gets one
-/// summary line, and with `baseline` (a previous `metrics.json`) a second one counting the
-/// changes and regressions the page lists.
-pub fn run_report(out_dir: &Path, baseline: Option<&Path>) -> Result<Output> {
-    run_report_with(&ReportArgs {
-        out: out_dir.to_path_buf(),
-        baseline: baseline.map(Path::to_path_buf),
-        ..ReportArgs::default()
-    })
-}
-
 /// What `smoothlab report` is asked to do.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReportArgs {

@@ -19,9 +19,6 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::geom::Jet;
 
-/// Highest degree whose evaluation runs on a stack array (no heap allocation).
-pub const MAX_STACK_DEGREE: usize = 8;
-
 /// Number of control points of a triangular patch of degree `d`: (d+1)(d+2)/2.
 pub const fn point_count(degree: usize) -> usize {
     (degree + 1) * (degree + 2) / 2

@@ -19,8 +19,11 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use crate::bezier::TriangleBezier;
+#[cfg(test)]
 use crate::bezier::triangle::point_count;
-use crate::blend::{BlendPatch, WeightFamily};
+#[cfg(test)]
+use crate::blend::BlendPatch;
+use crate::blend::WeightFamily;
 use crate::error::{Error, Result};
 use crate::surface::{PatchGeometry, Surface};
 
@@ -56,11 +59,13 @@ pub struct PatchRecord {
 
 impl PatchRecord {
     /// How many nets the record holds: one, or three for a blend.
+    #[cfg(test)]
     fn nets(&self) -> usize {
         if self.kind.is_some() { 3 } else { 1 }
     }
 
     /// The patch geometry the record describes (checked by [`PatchFile::parse`]).
+    #[cfg(test)]
     pub fn geometry(&self) -> PatchGeometry {
         let n = point_count(self.degree);
         let net = |k: usize| {
@@ -145,6 +150,7 @@ impl PatchFile {
 
     /// Parses and checks a patch file: format name, version, and for every patch the number
     /// of points its degree needs and finite coordinates (errors name the patch).
+    #[cfg(test)]
     pub fn parse(text: &str) -> Result<PatchFile> {
         let file: PatchFile =
             serde_json::from_str(text).map_err(|e| Error::Invalid(format!("patch JSON: {e}")))?;
@@ -183,6 +189,7 @@ impl PatchFile {
     }
 
     /// The geometry of every record (checked by [`PatchFile::parse`]).
+    #[cfg(test)]
     pub fn geometries(&self) -> Vec<PatchGeometry> {
         self.patches.iter().map(PatchRecord::geometry).collect()
     }

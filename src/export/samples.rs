@@ -115,12 +115,6 @@ pub fn edge_samples(surface: &Surface, mesh: &Mesh) -> Result<SampleFile> {
     Ok(SampleFile { edges })
 }
 
-/// The edge-sample JSON text of `surface`.
-pub fn to_json(surface: &Surface, mesh: &Mesh) -> Result<String> {
-    serde_json::to_string(&edge_samples(surface, mesh)?)
-        .map_err(|e| Error::Invalid(format!("edge samples JSON: {e}")))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -58,6 +58,7 @@ pub fn min_cosine(n: DVec3, faces: &[DVec3]) -> f64 {
 
 /// The unit `estimate` made front-facing for the unit normals `faces` of the faces around its
 /// vertex (see the module documentation).
+#[cfg(test)]
 pub fn front_facing(estimate: DVec3, faces: &[DVec3]) -> FrontFacing {
     front_facing_by(estimate, faces, FRONT_MARGIN)
 }

@@ -36,7 +36,7 @@ use crate::render::newton::{
     Newton, PieceBounds, Start, hull_clears_origin, newton_clearing, planar_start, search,
     taylor_excludes,
 };
-pub use crate::render::ray::{Ray64, RayPlanes, ray_enters_box};
+pub use crate::render::ray::{Ray64, RayPlanes};
 use crate::surface::{Patch, Surface};
 
 /// The cheap result of the hit test: which patch, where in its domain, how far.

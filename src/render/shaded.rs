@@ -15,8 +15,8 @@ use std::f64::consts::{PI, TAU};
 
 use glam::DVec3;
 
+pub use crate::render::environment::Environment;
 use crate::render::environment::luminance;
-pub use crate::render::environment::{Environment, LatLongMap};
 use crate::render::interaction::ShadingPoint;
 use crate::render::intersect::{IntersectCounters, Ray64};
 use crate::render::sampler::sobol_4d;

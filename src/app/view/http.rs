@@ -123,6 +123,7 @@ impl HttpServer {
     }
 
     /// Connections open now.
+    #[cfg(test)]
     pub fn open_connections(&self) -> usize {
         self.open.load(Ordering::SeqCst)
     }

@@ -61,8 +61,6 @@ pub const FRAME_WAIT: Duration = Duration::from_secs(10);
 /// A running view server.
 pub struct ViewServer {
     http: HttpServer,
-    /// The address bound (with the port chosen when 0 was asked for).
-    pub addr: SocketAddr,
     /// The token every request must carry.
     pub token: String,
     session: Arc<Session>,
@@ -157,7 +155,6 @@ impl ViewServer {
         let addr = http.local_addr()?;
         Ok(ViewServer {
             http,
-            addr,
             token: random_token()?,
             session,
             allowed_hosts: hosts_of(addr),

@@ -92,11 +92,6 @@ impl<'a> ControlNet<'a> {
         self.positions[v as usize]
     }
 
-    /// The control point at face `f` (odd k).
-    pub fn face(&self, f: u32) -> DVec3 {
-        self.centroids[f as usize]
-    }
-
     /// The multiple vertex of irregular vertex `v`.
     pub fn multiple(&self, v: u32) -> Option<DVec3> {
         self.multiple.get(&v).copied()

@@ -71,6 +71,7 @@ pub fn piece_domains() -> [[DVec3; 3]; 4] {
 /// How far the two computations of the points shared by a corner piece's two inner rows
 /// disagree: the twist b(3,1,1) from either edge, and b(4,0,1), b(4,1,0) from the cross
 /// derivative versus the boundary curve (eq. 19). Zero up to rounding when (II_T) and (19) hold.
+#[cfg(test)]
 pub fn corner_mismatch(to_y: &HalfEdgeCurve, to_z: &HalfEdgeCurve) -> f64 {
     let (edge_y, edge_z) = (
         elevate_cubic_to_quintic(to_y.b),

@@ -263,6 +263,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
 
 /// Largest disagreement between the two ways of computing the points two edges share at a
 /// corner piece (twist compatibility, eq. 19), over all face corners; for tests and diagnostics.
+#[cfg(test)]
 pub fn max_corner_mismatch(mesh: &Mesh, params: &Params) -> Result<f64> {
     let (shape, _) = shape_params(params)?;
     let table = half_edge_table(mesh, &shape)?;

@@ -109,6 +109,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
 
 /// Largest disagreement of the twist points computed from either edge, and of Loop's middle
 /// boundary point `f²` computed from either end, over all faces (for tests and diagnostics).
+#[cfg(test)]
 pub fn max_consistency_defect(mesh: &Mesh, params: &Params) -> Result<f64> {
     let table = table(mesh, &shape(params)?);
     Ok(mesh

@@ -87,6 +87,7 @@ pub fn sextic(edges: &[(CurveBezier, CurveBezier); 3]) -> TriangleBezier {
 }
 
 /// Disagreement of the two values of each twist point, for tests and diagnostics.
+#[cfg(test)]
 pub fn twist_mismatch(edges: &[(CurveBezier, CurveBezier); 3]) -> f64 {
     let first_row = |k: usize, m: usize| {
         let (boundary, cross) = &edges[k];
