@@ -8,22 +8,22 @@
 //! `render` and `figure` commands and the built-in gallery live in [`render`], [`scene`],
 //! [`gallery`] and [`figure`].
 
-pub mod batch;
-pub mod commands;
-pub mod figure;
-pub mod gallery;
-pub mod merge;
-pub mod render;
-pub mod scene;
-pub mod selection;
-pub mod toml_input;
-pub mod turntable;
-pub mod view;
+pub(crate) mod batch;
+pub(crate) mod commands;
+pub(crate) mod figure;
+pub(crate) mod gallery;
+pub(crate) mod merge;
+pub(crate) mod render;
+pub(crate) mod scene;
+pub(crate) mod selection;
+pub(crate) mod toml_input;
+pub(crate) mod turntable;
+pub(crate) mod view;
 
 use std::path::Path;
 
 pub use crate::files::clean_up_on_signals;
-pub use selection::{ALL_SCHEMES, SchemeRun, parse_params, select_schemes};
+pub(crate) use selection::{ALL_SCHEMES, SchemeRun, parse_params, select_schemes};
 
 use crate::error::{Error, Result};
 use crate::export::{self, Format};
@@ -63,13 +63,13 @@ pub fn limit_threads() -> Option<String> {
 
 /// Loads a mesh (OBJ, PLY, OFF or STL by extension) with `options`; the loader's report
 /// (welded vertices, re-oriented faces, …) becomes warnings.
-pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(Mesh, Vec<String>)> {
+pub(crate) fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(Mesh, Vec<String>)> {
     let (mesh, report) = Mesh::load_with(path, options)?;
     Ok((mesh, report.warnings))
 }
 
 /// Parses a relative weld tolerance (`--weld-tolerance REL`), see [`crate::mesh::check_weld_tolerance`].
-pub fn parse_weld_tolerance(text: &str) -> std::result::Result<f64, String> {
+pub(crate) fn parse_weld_tolerance(text: &str) -> std::result::Result<f64, String> {
     let value: f64 = text
         .trim()
         .parse()
@@ -79,7 +79,7 @@ pub fn parse_weld_tolerance(text: &str) -> std::result::Result<f64, String> {
 
 /// Parses a crease angle in degrees (`--crease-angle DEG`), see
 /// [`crate::mesh::check_crease_angle`].
-pub fn parse_crease_angle(text: &str) -> std::result::Result<f64, String> {
+pub(crate) fn parse_crease_angle(text: &str) -> std::result::Result<f64, String> {
     let value: f64 = text
         .trim()
         .parse()
@@ -90,7 +90,7 @@ pub fn parse_crease_angle(text: &str) -> std::result::Result<f64, String> {
 /// Builds and measures every selected scheme on `mesh`. With [`ALL_SCHEMES`], a scheme that
 /// refuses an open mesh or sharp edges is skipped with a warning instead of failing the whole
 /// run.
-pub fn measure_schemes(
+pub(crate) fn measure_schemes(
     mesh: &Mesh,
     selection: &str,
     params: &[(String, String)],
@@ -103,7 +103,7 @@ pub fn measure_schemes(
 /// with every scheme's metrics as soon as it is measured. With `skip_refusals` (the selection
 /// was [`ALL_SCHEMES`]), a scheme that refuses an open mesh or sharp edges is skipped with a
 /// warning instead of failing the whole run.
-pub fn measure_runs(
+pub(crate) fn measure_runs(
     mesh: &Mesh,
     runs: &[SchemeRun],
     skip_refusals: bool,
@@ -178,7 +178,7 @@ const METRICS_GLOSSARY: &str = include_str!("../../docs/metrics.md");
 /// JSON key, definition and good value, then the notes under the guide's table (why
 /// `curv_jump` saturates, how `G^k` is measured), all taken from the "The text table" section
 /// of docs/metrics.md with the Markdown marks removed.
-pub fn metrics_explanation() -> String {
+pub(crate) fn metrics_explanation() -> String {
     let section = glossary_section("## The text table");
     let mut out = String::from("\ncolumns (docs/metrics.md):\n");
     for line in section.lines().filter(|l| l.starts_with("| `")) {
@@ -282,12 +282,12 @@ fn table_line(cells: &[String]) -> String {
 }
 
 /// The header line of the metrics table.
-pub fn metrics_table_header() -> String {
+pub(crate) fn metrics_table_header() -> String {
     table_line(&TABLE_COLUMNS.map(|(header, _)| header.to_string()))
 }
 
 /// The metrics table's line for one scheme.
-pub fn metrics_table_row(m: &Metrics) -> String {
+pub(crate) fn metrics_table_row(m: &Metrics) -> String {
     table_line(&[
         m.scheme.clone(),
         m.faces.to_string(),
@@ -313,18 +313,18 @@ pub fn metrics_table_row(m: &Metrics) -> String {
 
 /// An aligned text table of metrics, one row per scheme. Lengths are relative to the
 /// bounding-box diagonal, angles in radians; `-` marks a figure over an empty set.
-pub fn metrics_table(metrics: &[Metrics]) -> String {
+pub(crate) fn metrics_table(metrics: &[Metrics]) -> String {
     let rows: Vec<String> = metrics.iter().map(metrics_table_row).collect();
     metrics_table_header() + &rows.concat()
 }
 
 /// The metrics JSON of docs/guide/contracts.md: a list with one object per scheme.
-pub fn metrics_json(metrics: &[Metrics]) -> Result<String> {
+pub(crate) fn metrics_json(metrics: &[Metrics]) -> Result<String> {
     serde_json::to_string_pretty(metrics).map_err(|e| Error::Invalid(format!("metrics JSON: {e}")))
 }
 
 /// Every registered scheme with its summary and parameters (default and help).
-pub fn schemes_listing() -> String {
+pub(crate) fn schemes_listing() -> String {
     let mut out = String::new();
     for spec in SCHEMES {
         let closed = if spec.needs_closed_mesh {
@@ -410,7 +410,7 @@ fn build_on_file(
 }
 
 /// `smoothlab export MESH --scheme S --format json|bv|obj -o F [--tess N] [--param k=v]…`.
-pub fn run_export(
+pub(crate) fn run_export(
     mesh_path: &Path,
     load: &LoadOptions,
     scheme: &str,
@@ -441,7 +441,7 @@ pub fn run_export(
 }
 
 /// `smoothlab sample MESH --scheme S [--param k=v]… --json F`.
-pub fn run_sample(
+pub(crate) fn run_sample(
     mesh_path: &Path,
     load: &LoadOptions,
     scheme: &str,
@@ -466,7 +466,7 @@ pub fn run_sample(
 }
 
 /// `smoothlab schemes`.
-pub fn run_schemes() -> Output {
+pub(crate) fn run_schemes() -> Output {
     Output {
         stdout: schemes_listing(),
         warnings: Vec::new(),
@@ -476,14 +476,14 @@ pub fn run_schemes() -> Output {
 }
 
 /// The mesh of the default job: the embedded deformed icosahedron.
-pub fn default_mesh() -> Result<Mesh> {
+pub(crate) fn default_mesh() -> Result<Mesh> {
     let (positions, faces) = crate::mesh::generate::deformed_icosahedron();
     Ok(Mesh::from_triangles(positions, faces)?.0)
 }
 
 /// `smoothlab` without arguments: the metrics table of every scheme on the embedded
 /// deformed icosahedron (the gallery renders are added to this job by the renderer).
-pub fn run_default() -> Result<Output> {
+pub(crate) fn run_default() -> Result<Output> {
     let mesh = default_mesh()?;
     let (metrics, warnings) = measure_schemes(&mesh, ALL_SCHEMES, &[])?;
     Ok(Output {
@@ -500,7 +500,7 @@ pub fn run_default() -> Result<Output> {
 
 /// What `smoothlab report` is asked to do.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ReportArgs {
+pub(crate) struct ReportArgs {
     /// The report folder (with a shard: the shard's folder).
     pub out: std::path::PathBuf,
     /// A previous report to list the changes against.
@@ -543,7 +543,7 @@ impl Default for ReportArgs {
 /// `smoothlab report [--meshes DIR|LIST] [--scheme …] [--sweep …] [--shard I/N]`: the report
 /// over the work list the flags describe ([`batch`]); with a shard, that shard's partial
 /// report (`OUT/partial.json`, see [`crate::report::partial`]).
-pub fn run_report_with(args: &ReportArgs) -> Result<Output> {
+pub(crate) fn run_report_with(args: &ReportArgs) -> Result<Output> {
     let start = std::time::Instant::now();
     let out_dir = args.out.as_path();
     let variants = batch::with_defaults(
@@ -624,7 +624,7 @@ pub fn run_report_with(args: &ReportArgs) -> Result<Output> {
 
 /// The line `report --baseline` and `merge --baseline` print: the counts of the comparison
 /// and where its changes are listed.
-pub fn baseline_line(
+pub(crate) fn baseline_line(
     baseline: &Path,
     comparison: &crate::report::compare::Comparison,
     out_dir: &Path,
@@ -639,7 +639,7 @@ pub fn baseline_line(
 
 /// `smoothlab compare OLD NEW`: the changes between two reports (or two `metrics --json`
 /// outputs); quality always judged, timings as `timings` says; fails on a regression.
-pub fn run_compare(
+pub(crate) fn run_compare(
     old: &Path,
     new: &Path,
     thresholds: crate::report::compare::Thresholds,

@@ -5,16 +5,16 @@ use crate::error::{Error, Result};
 use crate::schemes::{self, SCHEMES};
 
 /// The `--scheme` value that selects every registered scheme.
-pub const ALL_SCHEMES: &str = "all";
+pub(crate) const ALL_SCHEMES: &str = "all";
 
 /// Parses every `--param name=value`.
-pub fn parse_params(raw: &[String]) -> Result<Vec<(String, String)>> {
+pub(crate) fn parse_params(raw: &[String]) -> Result<Vec<(String, String)>> {
     raw.iter().map(|p| schemes::parse_param(p)).collect()
 }
 
 /// One scheme to run, with the parameters meant for it.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SchemeRun {
+pub(crate) struct SchemeRun {
     /// Registered scheme name.
     pub scheme: &'static str,
     /// `name=value` pairs for it.
@@ -26,7 +26,10 @@ pub struct SchemeRun {
 /// For one scheme the parameters go to it unchanged (the registry rejects unknown names).
 /// For [`ALL_SCHEMES`] each parameter goes to the schemes that declare it, and a parameter
 /// that no scheme declares is an error.
-pub fn select_schemes(selection: &str, params: &[(String, String)]) -> Result<Vec<SchemeRun>> {
+pub(crate) fn select_schemes(
+    selection: &str,
+    params: &[(String, String)],
+) -> Result<Vec<SchemeRun>> {
     if selection != ALL_SCHEMES {
         let spec = schemes::find(selection)?;
         return Ok(vec![SchemeRun {

@@ -32,7 +32,7 @@ const COS_SIXTY_DEGREES: f64 = 0.5;
 ///
 /// Dimension free: only the chord length and the angle enter, so the same rule serves the
 /// plane curves of this module and the edge curves of 3-D schemes.
-pub fn tangent_length(chord_length: f64, cos_theta: f64) -> f64 {
+pub(crate) fn tangent_length(chord_length: f64, cos_theta: f64) -> f64 {
     if cos_theta >= COS_SIXTY_DEGREES {
         chord_length / (3.0 * cos_theta)
     } else {

@@ -28,16 +28,16 @@ use crate::error::{Error, Result};
 use crate::surface::{PatchGeometry, Surface};
 
 /// Value of the `kind` field of a blended patch.
-pub const BLEND_KIND: &str = "blend";
+pub(crate) const BLEND_KIND: &str = "blend";
 
 /// Value of the `format` field.
-pub const FORMAT_NAME: &str = "smoothlab-patches";
+pub(crate) const FORMAT_NAME: &str = "smoothlab-patches";
 /// Value of the `version` field.
-pub const FORMAT_VERSION: u32 = 1;
+pub(crate) const FORMAT_VERSION: u32 = 1;
 
 /// One patch record.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PatchRecord {
+pub(crate) struct PatchRecord {
     /// The mesh face the patch belongs to.
     pub face: u32,
     /// Which piece of the face it is.
@@ -118,7 +118,7 @@ fn record(face: u32, piece: u8, geometry: &PatchGeometry) -> PatchRecord {
 
 /// A whole patch file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PatchFile {
+pub(crate) struct PatchFile {
     /// Always [`FORMAT_NAME`].
     pub format: String,
     /// Always [`FORMAT_VERSION`].
@@ -133,7 +133,7 @@ pub struct PatchFile {
 
 impl PatchFile {
     /// The records of `surface`.
-    pub fn from_surface(surface: &Surface) -> Result<PatchFile> {
+    pub(crate) fn from_surface(surface: &Surface) -> Result<PatchFile> {
         let patches = surface
             .patches
             .iter()

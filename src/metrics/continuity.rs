@@ -70,14 +70,14 @@ use crate::surface::{Joint, Patch, Surface, UV_CORNERS, edge_uv};
 use crate::tolerance::G0_GAP_REL;
 
 /// Highest order compared (a joint that agrees to this order is reported as this order).
-pub const MAX_ORDER: usize = 5;
+pub(crate) const MAX_ORDER: usize = 5;
 const TERMS: usize = (MAX_ORDER + 1) * (MAX_ORDER + 2) / 2;
 
 /// Fractions along a joint where the order is measured (the joint's order is the minimum).
-pub const ORDER_SAMPLES: [f64; 4] = [0.125, 0.375, 0.625, 0.875];
+pub(crate) const ORDER_SAMPLES: [f64; 4] = [0.125, 0.375, 0.625, 0.875];
 
 /// The relative tolerance for order m.
-pub fn tolerance(m: usize) -> f64 {
+pub(crate) fn tolerance(m: usize) -> f64 {
     1e-8 * 10f64.powi(m as i32)
 }
 
@@ -546,7 +546,7 @@ struct Evaluated<'a> {
 
 /// A jump this large relative to the order-m coefficients is always detected: an order whose
 /// rounding floor exceeds it cannot be resolved in f64 and is not claimed.
-pub const RESOLVABLE: f64 = 0.1;
+pub(crate) const RESOLVABLE: f64 = 0.1;
 
 /// Perturbed evaluations behind [`rounding_floor`].
 const FLOOR_TRIALS: usize = 4;
@@ -689,7 +689,7 @@ fn exact_point<'a>(
 
 /// A measured order and why the measure stopped there.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Measured {
+pub(crate) struct Measured {
     /// The order the two sides agree to.
     pub order: i32,
     /// `true` if the next order could not be resolved (its rounding floor exceeds

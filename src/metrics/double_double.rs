@@ -18,7 +18,7 @@ use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
 /// The scalar of the continuity measure's series arithmetic: f64, or [`DoubleDouble`] for the
 /// high-precision measure.
-pub trait Real:
+pub(crate) trait Real:
     Copy
     + Debug
     + PartialEq

@@ -33,8 +33,9 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::surface::{LocalFrame, Surface};
 
+pub use crate::surface::JOINT_SAMPLES;
 pub use continuity::joint_order;
-pub use joints::{CurvatureFloor, JOINT_SAMPLES, JointStats, normal_angle};
+pub use joints::{CurvatureFloor, JointStats, normal_angle};
 pub use network::network_undulation;
 pub use vertex_curvature::vertex_curvature;
 

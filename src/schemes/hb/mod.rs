@@ -60,7 +60,7 @@ use macro_patch::{FreeRule, HalfEdgeCurve, macro_patch, piece_domains};
 use vertex::{HalfEdgeData, PlaneRule, ShapeRule};
 
 /// Registry entry.
-pub const SPEC: SchemeSpec = SchemeSpec {
+pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     name: "hb",
     summary: "Hahmann-Bonneau 2000: quintic G1 interpolant, 4 Bezier triangles per face (HB00)",
     params: &[

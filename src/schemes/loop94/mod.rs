@@ -38,7 +38,7 @@ use patch::{edge_curves, sextic};
 use vertex::{LoopHalfEdge, LoopShape, half_edges};
 
 /// Registry entry.
-pub const SPEC: SchemeSpec = SchemeSpec {
+pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     name: "loop94",
     summary: "Loop 1994: sextic G1 spline, one Bezier triangle per face (HB00 sec. 3)",
     params: &[
