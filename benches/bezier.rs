@@ -7,7 +7,7 @@ use std::time::Duration;
 use common::parameter_spread;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
-use smoothlab::bezier::TriangleBezier;
+use smoothlab::TriangleBezier;
 
 mod common;
 

@@ -5,9 +5,9 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use rayon::prelude::*;
-use smoothlab::geom::Aabb;
+use smoothlab::Aabb;
 use smoothlab::mesh::{Mesh, generate};
-use smoothlab::metrics::{Metrics, continuity, unit_scale};
+use smoothlab::metrics::{Metrics, joint_order, unit_scale};
 use smoothlab::schemes;
 
 fn metrics(c: &mut Criterion) {
@@ -27,7 +27,7 @@ fn metrics(c: &mut Criterion) {
         b.iter(|| {
             joints
                 .par_iter()
-                .map(|j| continuity::joint_order(&scaled, j, diag))
+                .map(|j| joint_order(&scaled, j, diag))
                 .min()
         })
     });

@@ -21,10 +21,10 @@ use common::{camera_rays, ray_throughput_group, trace_all};
 use criterion::{Criterion, Throughput, criterion_group};
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::analytic::torus;
-use smoothlab::render::bvh::{PatchBvh, SubdivisionCriterion};
-use smoothlab::render::tessellate::TessellatedTracer;
 use smoothlab::render::{Ray64, SurfaceTracer, Tracer};
 use smoothlab::surface::Surface;
+use smoothlab::testing::render::TessellatedTracer;
+use smoothlab::testing::render::{PatchBvh, SubdivisionCriterion};
 
 mod common;
 
@@ -73,7 +73,7 @@ fn bvh_build_at_scale(c: &mut Criterion) {
 
 /// The whole render command on the 81,920-face icosphere, as a user runs it.
 fn render_job(c: &mut Criterion) {
-    use smoothlab::app::render::{RenderArgs, render_command};
+    use smoothlab::testing::app::{RenderArgs, render_command};
     let dir = std::env::temp_dir().join(format!("smoothlab-bench-job-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("scratch folder");
     let obj = dir.join("icosphere-81920.obj");
@@ -111,7 +111,7 @@ fn primary_rays(c: &mut Criterion) {
 /// camera of `smoothlab render scenes/bunny.obj --scheme hb --eye 0,4,12 --target 0,3.5,0
 /// --up 0,0,1 --fov 40`: 256² rays through the pixel centres, one thread.
 fn bunny_view(c: &mut Criterion) {
-    use smoothlab::render::camera::{Camera, Projection};
+    use smoothlab::render::{Camera, Projection};
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bunny.obj");
     let (mesh, _) = Mesh::load(&path).expect("scenes/bunny.obj");
     let surface = smoothlab::schemes::build("hb", &mesh, &[]).expect("hb on the bunny");

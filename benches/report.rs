@@ -45,11 +45,15 @@ fn main() {
         PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("report-bench")
     };
     let start = std::time::Instant::now();
-    match smoothlab::report::write(&out) {
+    match smoothlab::testing::report::write(&out) {
         Ok(report) => {
             print!(
                 "{}",
-                smoothlab::report::summary_line(&report, &out, start.elapsed().as_secs_f64())
+                smoothlab::testing::report::summary_line(
+                    &report,
+                    &out,
+                    start.elapsed().as_secs_f64()
+                )
             );
             if !update {
                 println!(

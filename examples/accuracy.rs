@@ -14,11 +14,11 @@
 
 use glam::DVec3;
 use smoothlab::mesh::{Mesh, generate::analytic};
-use smoothlab::metrics::{network::network_undulation, vertex_curvature::vertex_curvature};
-use smoothlab::report::analytic::{
+use smoothlab::metrics::{network_undulation, vertex_curvature};
+use smoothlab::schemes;
+use smoothlab::testing::report::analytic::{
     Analytic, curvature_error, surface_error, vertex_curvature_error,
 };
-use smoothlab::schemes;
 
 fn main() -> smoothlab::Result<()> {
     let mut args = std::env::args().skip(1);

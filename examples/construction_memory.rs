@@ -57,11 +57,10 @@ fn main() {
     );
     let before = peak_resident_bytes();
     let start = std::time::Instant::now();
-    let tracer = smoothlab::render::intersect::Tracer::with_default_settings(&surface)
-        .unwrap_or_else(|e| {
-            eprintln!("error: {e}");
-            std::process::exit(1)
-        });
+    let tracer = smoothlab::render::Tracer::with_default_settings(&surface).unwrap_or_else(|e| {
+        eprintln!("error: {e}");
+        std::process::exit(1)
+    });
     let leaves = tracer.bvh.leaves.len();
     println!(
         "tracer: {leaves} leaves, peak growth {:.0} B/leaf, {:.2} s",

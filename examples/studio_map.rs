@@ -11,7 +11,7 @@
 use std::f64::consts::{PI, TAU};
 
 use glam::DVec3;
-use smoothlab::render::environment::Environment;
+use smoothlab::render::Environment;
 
 fn main() {
     let mut args = std::env::args().skip(1);

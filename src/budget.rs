@@ -11,11 +11,11 @@ pub const MAX_TESS: usize = 4096;
 /// Environment variable that sets the memory limit in bytes (instead of the system's
 /// available memory); it can raise the limit as well as lower it. It bounds the whole
 /// process: what the process already holds counts against it.
-pub const MEMORY_LIMIT_VAR: &str = "SMOOTHLAB_MEMORY_LIMIT";
+pub(crate) const MEMORY_LIMIT_VAR: &str = "SMOOTHLAB_MEMORY_LIMIT";
 
 /// The memory limit in bytes and where it comes from: [`MEMORY_LIMIT_VAR`] when set,
 /// otherwise `MemAvailable` of `/proc/meminfo` (Linux); `None` where neither is known.
-pub fn memory_limit() -> Result<Option<(f64, &'static str)>> {
+pub(crate) fn memory_limit() -> Result<Option<(f64, &'static str)>> {
     if let Ok(text) = std::env::var(MEMORY_LIMIT_VAR) {
         return match text.trim().parse::<f64>() {
             Ok(bytes) if bytes > 0.0 => Ok(Some((bytes, MEMORY_LIMIT_VAR))),
@@ -37,7 +37,7 @@ fn mem_available(meminfo: &str) -> Option<f64> {
 /// [`memory_limit`]; `remedy` says how to need less. The system's available memory already
 /// excludes what this process holds; a limit set by [`MEMORY_LIMIT_VAR`] is for the whole
 /// process, so the process's resident memory is added to the estimate.
-pub fn check_memory(what: &str, bytes: f64, remedy: &str) -> Result<()> {
+pub(crate) fn check_memory(what: &str, bytes: f64, remedy: &str) -> Result<()> {
     let Some((limit, source)) = memory_limit()? else {
         return Ok(());
     };
@@ -67,7 +67,7 @@ pub fn check_memory(what: &str, bytes: f64, remedy: &str) -> Result<()> {
 }
 
 /// The resident memory of this process (`VmRSS` of `/proc/self/status`, Linux), in bytes.
-pub fn resident_bytes() -> Option<f64> {
+pub(crate) fn resident_bytes() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     status_kib(&status, "VmRSS:").map(|kib| kib * 1024.0)
 }
@@ -79,17 +79,17 @@ fn status_kib(text: &str, key: &str) -> Option<f64> {
 }
 
 /// Environment variable through which rayon takes its number of worker threads.
-pub const THREADS_VAR: &str = "RAYON_NUM_THREADS";
+pub(crate) const THREADS_VAR: &str = "RAYON_NUM_THREADS";
 
 /// The most worker threads per core: the work is split into fixed tiles and chunks, so more
 /// threads than cores only add start-up cost and contention (1,000 threads took 1.8 s and
 /// 3,000 took 10.9 s for a 1,024-pixel render on 2 cores; 100,000 did not finish in 120 s).
-pub const MAX_THREADS_PER_CORE: usize = 4;
+pub(crate) const MAX_THREADS_PER_CORE: usize = 4;
 
 /// The thread count to use instead of `requested` (the text of [`THREADS_VAR`]) on a machine
 /// with `cores` cores, with the warning that says so: `None` when the request is at most
 /// [`MAX_THREADS_PER_CORE`] × `cores` or is not a number (rayon then applies its own rule).
-pub fn capped_threads(requested: &str, cores: usize) -> Option<(usize, String)> {
+pub(crate) fn capped_threads(requested: &str, cores: usize) -> Option<(usize, String)> {
     let wanted: u128 = requested.trim().parse().ok()?;
     let cap = MAX_THREADS_PER_CORE * cores.max(1);
     (wanted > cap as u128).then(|| {
@@ -104,7 +104,7 @@ pub fn capped_threads(requested: &str, cores: usize) -> Option<(usize, String)> 
 }
 
 /// `bytes` in GB or MB with three significant digits.
-pub fn format_bytes(bytes: f64) -> String {
+pub(crate) fn format_bytes(bytes: f64) -> String {
     if bytes >= 1e9 {
         format!("{:.3} GB", bytes / 1e9)
     } else {

@@ -30,7 +30,7 @@ fn folder_of(path: &Path) -> &Path {
 }
 
 /// True if `path` as written ends with a path separator (`out/`): it names a folder.
-pub fn ends_with_separator(path: &Path) -> bool {
+pub(crate) fn ends_with_separator(path: &Path) -> bool {
     path.as_os_str()
         .to_string_lossy()
         .chars()
@@ -54,7 +54,7 @@ fn forget_temporary(path: &Path) {
 }
 
 /// The exit code of a run ended by an interrupt (128 + SIGINT, as shells report it).
-pub const INTERRUPTED_EXIT_CODE: i32 = 130;
+pub(crate) const INTERRUPTED_EXIT_CODE: i32 = 130;
 
 /// The exit code and the standard-error line of an interrupt.
 static INTERRUPT_OUTCOME: Mutex<(i32, &str)> = Mutex::new((
@@ -65,7 +65,7 @@ static INTERRUPT_OUTCOME: Mutex<(i32, &str)> = Mutex::new((
 /// Makes an interrupt the normal end of this process (a server that runs until Ctrl-C): the
 /// handler of [`clean_up_on_signals`] still removes the temporaries, then prints `message`
 /// (one line) and exits with code 0.
-pub fn interrupt_is_the_normal_end(message: &'static str) {
+pub(crate) fn interrupt_is_the_normal_end(message: &'static str) {
     *INTERRUPT_OUTCOME
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner) = (0, message);
@@ -154,7 +154,7 @@ fn create_temporary(target: &Path) -> std::io::Result<(PathBuf, File)> {
 /// by creating and removing a temporary file there), the path is UTF-8 ([`utf8_path`]) and
 /// its file name at most 255 bytes long.
 /// The error names the path at fault.
-pub fn check_writable(path: &Path) -> Result<()> {
+pub(crate) fn check_writable(path: &Path) -> Result<()> {
     utf8_path(path)?;
     if let Some(name) = path.file_name()
         && name.len() > NAME_MAX
@@ -206,7 +206,7 @@ pub fn check_writable(path: &Path) -> Result<()> {
 }
 
 /// Creates `folder` (and its parents) if missing, so that files can be written into it.
-pub fn create_folder(folder: &Path) -> Result<()> {
+pub(crate) fn create_folder(folder: &Path) -> Result<()> {
     if folder.as_os_str().is_empty() {
         return Ok(());
     }
@@ -215,7 +215,7 @@ pub fn create_folder(folder: &Path) -> Result<()> {
 
 /// Writes `bytes` to `path` atomically: to a temporary file in the same folder, then renamed
 /// over `path`. On failure the temporary file is removed and `path` is left as it was.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let (temp, mut file) = create_temporary(path).map_err(|e| Error::io(folder_of(path), e))?;
     let written = file
         .write_all(bytes)
@@ -235,7 +235,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 /// `path` as UTF-8 text, or an error naming it: smoothlab writes only files whose paths are
 /// valid UTF-8, so that every name derived from an output name (frames, cells, shard parts)
 /// and every name recorded in a JSON file is the same bytes as the one given.
-pub fn utf8_path(path: &Path) -> Result<&str> {
+pub(crate) fn utf8_path(path: &Path) -> Result<&str> {
     path.to_str().ok_or_else(|| {
         Error::Invalid(format!(
             "{}: the path is not valid UTF-8 (shown with U+FFFD where its bytes are not); \
@@ -278,7 +278,7 @@ fn same_file(a: &Path, b: &Path) -> bool {
 /// another of its outputs. `inputs` and `outputs` are `(role, path)` pairs, the role naming
 /// the flag or the file's part in the run (`--json`, `the mesh`, `the PNG image`) for the
 /// error, which names the path and both roles.
-pub fn check_distinct(inputs: &[(&str, &Path)], outputs: &[(&str, &Path)]) -> Result<()> {
+pub(crate) fn check_distinct(inputs: &[(&str, &Path)], outputs: &[(&str, &Path)]) -> Result<()> {
     for (k, (role, output)) in outputs.iter().enumerate() {
         if let Some((input_role, _)) = inputs.iter().find(|(_, input)| same_file(input, output)) {
             return Err(Error::Invalid(format!(

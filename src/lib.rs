@@ -22,30 +22,49 @@
 // --document-private-items` renders those links.
 #![allow(rustdoc::private_intra_doc_links)]
 
-// The command layer of the `smoothlab` binary: public for `main.rs`, not a library interface.
-#[doc(hidden)]
-pub mod app;
-pub mod bezier;
-pub mod blend;
-pub(crate) mod budget;
-pub mod error;
+// The public API is the facade below: the modules a library user names (`mesh`, `schemes`,
+// `surface`, `metrics`, `render`, `export`, `tolerance`) and the re-exports at this root;
+// everything else is the crate's own (ARCHITECTURE.md, "Public API"; tests/public_api.rs).
+mod app;
+mod bezier;
+mod blend;
+mod budget;
+mod error;
 pub mod export;
-pub(crate) mod files;
-pub mod geom;
-pub(crate) mod linalg;
+mod files;
+mod geom;
+mod linalg;
 pub mod mesh;
 pub mod metrics;
-pub mod progress;
+mod progress;
 pub mod render;
-pub mod report;
+mod report;
 pub mod schemes;
 pub mod surface;
 #[doc(hidden)]
 pub mod testing;
-pub mod text;
+mod text;
 pub mod tolerance;
 
+pub use bezier::{CurveBezier, TriangleBezier};
 pub use error::{Error, Result};
+pub use geom::Aabb;
+pub use mesh::{LoadOptions, LoadReport, Mesh};
+pub use metrics::Metrics;
+pub use render::{Frame, RenderJob};
+pub use surface::{Patch, Surface};
+
+/// The command layer's entry for the `smoothlab` binary (`main.rs` parses a command line into
+/// these arguments, calls one function per command and prints its [`cli::Output`]); not a
+/// library interface.
+#[doc(hidden)]
+pub mod cli {
+    pub use crate::app::commands::*;
+    pub use crate::app::render::RenderArgs;
+    pub use crate::app::view::{ViewArgs, ViewReport};
+    pub use crate::app::{Output, clean_up_on_signals, limit_threads};
+    pub use crate::progress::set_quiet;
+}
 
 /// A render job from scene keys: the scene file of the README's Contracts as a value
 /// ([`SceneFile::parse`] of its TOML text), validated once into a [`render::RenderJob`] by

@@ -3,11 +3,11 @@
 //! nothing here runs per face.
 
 /// A dense row-major matrix.
-pub type Matrix = Vec<Vec<f64>>;
+pub(crate) type Matrix = Vec<Vec<f64>>;
 
 /// Inverse of a square matrix by Gauss–Jordan elimination with partial pivoting. Returns `None`
 /// when a pivot falls below `1e-12` times the largest entry (numerically singular).
-pub fn invert(a: &Matrix) -> Option<Matrix> {
+pub(crate) fn invert(a: &Matrix) -> Option<Matrix> {
     let n = a.len();
     let scale = a
         .iter()
@@ -45,7 +45,7 @@ pub fn invert(a: &Matrix) -> Option<Matrix> {
 }
 
 /// `a · b`.
-pub fn multiply(a: &Matrix, b: &Matrix) -> Matrix {
+pub(crate) fn multiply(a: &Matrix, b: &Matrix) -> Matrix {
     let inner = b.len();
     a.iter()
         .map(|row| {
@@ -57,7 +57,7 @@ pub fn multiply(a: &Matrix, b: &Matrix) -> Matrix {
 }
 
 /// `aᵀ`.
-pub fn transpose(a: &Matrix) -> Matrix {
+pub(crate) fn transpose(a: &Matrix) -> Matrix {
     (0..a.first().map_or(0, Vec::len))
         .map(|j| a.iter().map(|row| row[j]).collect())
         .collect()

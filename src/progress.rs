@@ -20,14 +20,14 @@ pub fn set_quiet(quiet: bool) {
 }
 
 /// Whether progress is drawn: standard error is a terminal and `--quiet` was not given.
-pub fn shown() -> bool {
+pub(crate) fn shown() -> bool {
     !QUIET.load(Ordering::Relaxed) && std::io::stderr().is_terminal()
 }
 
 /// A bar over `len` steps drawn with the indicatif `template` (e.g.
 /// `"render {bar:40} {percent:>3}% {elapsed}"`), or a hidden bar when progress is not
 /// [`shown`]. It clears itself when finished or dropped (also on an error path).
-pub fn bar(len: u64, template: &str) -> ProgressBar {
+pub(crate) fn bar(len: u64, template: &str) -> ProgressBar {
     if !shown() {
         return ProgressBar::hidden();
     }
@@ -40,7 +40,7 @@ pub fn bar(len: u64, template: &str) -> ProgressBar {
 
 /// A spinner saying `message` while one long step runs (ticking by itself), or a hidden one
 /// when progress is not [`shown`]. It clears itself when finished or dropped.
-pub fn spinner(message: String) -> ProgressBar {
+pub(crate) fn spinner(message: String) -> ProgressBar {
     if !shown() {
         return ProgressBar::hidden();
     }

@@ -556,7 +556,7 @@ fn convex_surfaces_are_positive_by_default() {
 
 #[test]
 fn gallery_writes_an_exr_beside_each_png() {
-    use smoothlab::app::gallery::{GalleryOptions, render_gallery_with};
+    use smoothlab::testing::app::{GalleryOptions, render_gallery_with};
     let dir = scratch("analysis_controls", "gallery");
     let gallery = render_gallery_with(&dir, &GalleryOptions { size: 24, spp: 1 }).expect("gallery");
     assert!(!gallery.images.is_empty());

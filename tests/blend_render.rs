@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 use smoothlab::mesh::{Mesh, generate};
-use smoothlab::render::intersect::IntersectCounters;
+use smoothlab::render::IntersectCounters;
 use smoothlab::render::{Ray64, Tracer};
 use smoothlab::surface::Surface;
 

@@ -116,8 +116,10 @@ fn the_gate_passes_a_clean_head_and_fails_a_quality_regression() {
         log.contains("== timings (same machine, reported only)"),
         "{log}"
     );
-    let base_report = smoothlab::report::read(&clean.join("base/metrics.json")).expect("base");
-    let head_report = smoothlab::report::read(&clean.join("head/metrics.json")).expect("head");
+    let base_report =
+        smoothlab::testing::report::read(&clean.join("base/metrics.json")).expect("base");
+    let head_report =
+        smoothlab::testing::report::read(&clean.join("head/metrics.json")).expect("head");
     assert_eq!(
         base_report.commit, base_commit,
         "the base measured in its checkout"

@@ -140,7 +140,10 @@ fn read_svg(text: &str) -> (Vec<SvgText>, Vec<[u32; 4]>, [u32; 2]) {
                     .ancestors()
                     .find_map(|a| a.attribute("font-family"))
                     .expect("font-family");
-                assert!(family.starts_with(smoothlab::text::FONT_FAMILY), "{family}");
+                assert!(
+                    family.starts_with(smoothlab::testing::text::FONT_FAMILY),
+                    "{family}"
+                );
             }
             "image" => {
                 let href = node.attribute("href").expect("href");
@@ -155,7 +158,7 @@ fn read_svg(text: &str) -> (Vec<SvgText>, Vec<[u32; 4]>, [u32; 2]) {
 
 /// Draws `texts` as the SVG places them with the crate's rasteriser onto `background`.
 fn draw_svg_texts(texts: &[SvgText], size: [u32; 2], background: [u8; 3]) -> image::RgbImage {
-    use smoothlab::text::{ascent, draw_text, text_width};
+    use smoothlab::testing::text::{ascent, draw_text, text_width};
     let mut img = image::RgbImage::from_pixel(size[0], size[1], image::Rgb(background));
     for t in texts {
         let left = if t.middle {

@@ -251,7 +251,7 @@ fn check_mesh(name: &str, mesh: &Mesh) {
             continue;
         }
         let crate_figures = Metrics::measure(&surface, mesh, 0.0);
-        let json = smoothlab::export::json::to_json(&surface).expect("polynomial patches");
+        let json = smoothlab::export::to_json(&surface).expect("polynomial patches");
         let ours = recompute(&json);
         let what = format!("{scheme} on {name}");
         assert_eq!(

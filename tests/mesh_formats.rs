@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use common::mesh_files::{self, Endian};
 use common::{scratch, smoothlab};
 use glam::DVec3;
-use smoothlab::error::Error;
+use smoothlab::Error;
 use smoothlab::mesh::{LoadOptions, LoadReport, Mesh, MeshFormat};
 
 fn bunny() -> Mesh {
@@ -23,7 +23,7 @@ fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
     path
 }
 
-fn parse(bytes: &[u8], format: MeshFormat) -> smoothlab::error::Result<(Mesh, LoadReport)> {
+fn parse(bytes: &[u8], format: MeshFormat) -> smoothlab::Result<(Mesh, LoadReport)> {
     Mesh::parse_format(bytes, format, &LoadOptions::default())
 }
 

@@ -6,8 +6,8 @@ mod common;
 use std::path::Path;
 
 use common::{scratch, smoothlab};
-use smoothlab::app;
 use smoothlab::mesh::LoadOptions;
+use smoothlab::testing::app;
 
 /// A closed bipyramid over a 70-gon: its apexes have valence 70, above what `gk` takes with
 /// `max_valence=64`, while every other scheme builds on it.

@@ -5,14 +5,14 @@
 use std::path::PathBuf;
 
 use glam::DVec3;
-use smoothlab::app::render::{RenderArgs, render_command};
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::{Triangles, icosahedron, mixed_valence};
-use smoothlab::render::intersect::IntersectCounters;
+use smoothlab::render::IntersectCounters;
 use smoothlab::render::output::{EXR_CHANNELS, EXR_ID_CHANNELS};
-use smoothlab::render::sampler::{sphere_direction, uniform};
 use smoothlab::render::{Ray64, Tracer};
 use smoothlab::surface::Surface;
+use smoothlab::testing::app::{RenderArgs, render_command};
+use smoothlab::testing::render::{sphere_direction, uniform};
 
 mod common;
 
@@ -267,8 +267,8 @@ fn million_rays_stay_inside_closed_hb_surfaces() {
 #[test]
 #[ignore]
 fn primary_ray_throughput_probe() {
-    use smoothlab::render::camera::Camera;
-    use smoothlab::render::job::SurfaceSamples;
+    use smoothlab::render::Camera;
+    use smoothlab::render::SurfaceSamples;
     let sampled = smoothlab::mesh::generate::analytic::torus(60, 32, 1.0, 0.35);
     let (mesh, _) = Mesh::from_triangles(sampled.positions, sampled.faces).expect("torus");
     let surface = smoothlab::schemes::build("hb", &mesh, &[]).expect("hb");

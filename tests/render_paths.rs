@@ -5,16 +5,17 @@
 
 mod common;
 
-use smoothlab::app::figure::render_figure;
-use smoothlab::app::figure::spec::FigureSpec;
-use smoothlab::app::turntable::{Animation, render_animation};
 use smoothlab::mesh::Mesh;
 use smoothlab::render::RenderSettings;
-use smoothlab::render::bvh::SubdivisionCriterion;
-use smoothlab::render::job::{Geometry, RenderJob, estimate_leaves};
-use smoothlab::report::page::{ThumbnailOptions, render_thumbnails};
+use smoothlab::render::{Geometry, RenderJob};
 use smoothlab::schemes;
 use smoothlab::surface::Surface;
+use smoothlab::testing::app::FigureSpec;
+use smoothlab::testing::app::render_figure;
+use smoothlab::testing::app::{Animation, render_animation};
+use smoothlab::testing::render::SubdivisionCriterion;
+use smoothlab::testing::render::estimate_leaves;
+use smoothlab::testing::report::page::{ThumbnailOptions, render_thumbnails};
 
 /// The hb surface of the icosahedron.
 fn icosahedron() -> (Mesh, Surface) {

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use common::smoothlab;
-use smoothlab::report::{self, Report};
+use smoothlab::testing::report::{self, Report};
 
 mod common;
 

@@ -12,7 +12,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use smoothlab::report::{self, history, page, plots, trends};
+use smoothlab::testing::report::{self, history, page, plots, trends};
 
 mod common;
 

@@ -97,7 +97,7 @@ fn records_without_timings(dir: &Path) -> Vec<serde_json::Value> {
     let mut records = report["records"].as_array().expect("records").clone();
     for r in &mut records {
         if let Some(figures) = r["figures"].as_object_mut() {
-            for key in smoothlab::report::TIMING_KEYS {
+            for key in smoothlab::testing::report::TIMING_KEYS {
                 figures.remove(key);
             }
         }

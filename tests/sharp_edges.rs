@@ -459,10 +459,10 @@ fn scene_files_take_the_crease_angle_key() {
         "mesh = {:?}\ncrease_angle = 40\n",
         scene("l-block").display().to_string()
     );
-    let parsed = smoothlab::app::scene::SceneFile::parse(&scene_text).expect("scene");
+    let parsed = smoothlab::testing::app::SceneFile::parse(&scene_text).expect("scene");
     let options = parsed.load_options().expect("valid");
     assert_eq!(options.crease_angle, Some(40.0));
-    let bad = smoothlab::app::scene::SceneFile::parse("crease_angle = 200").expect("parses");
+    let bad = smoothlab::testing::app::SceneFile::parse("crease_angle = 200").expect("parses");
     let error = bad.load_options().expect_err("out of range").to_string();
     assert!(error.starts_with("crease_angle: "), "{error}");
 }

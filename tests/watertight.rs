@@ -11,11 +11,11 @@ use glam::DVec3;
 use rayon::prelude::*;
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::{SCANNED_SCENES, SCENES};
-use smoothlab::render::camera::{Camera, Projection};
-use smoothlab::render::intersect::IntersectCounters;
-use smoothlab::render::sampler::{sphere_direction, uniform};
+use smoothlab::render::IntersectCounters;
+use smoothlab::render::{Camera, Projection};
 use smoothlab::render::{Ray64, Tracer};
 use smoothlab::surface::{Surface, edge_uv};
+use smoothlab::testing::render::{sphere_direction, uniform};
 
 /// Every test mesh with its name: the scanned ones first.
 fn meshes() -> Vec<(String, Mesh)> {

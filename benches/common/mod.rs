@@ -9,9 +9,9 @@ use std::time::Duration;
 
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, Throughput};
-use smoothlab::render::camera::Camera;
-use smoothlab::render::intersect::IntersectCounters;
-use smoothlab::render::job::SurfaceSamples;
+use smoothlab::render::Camera;
+use smoothlab::render::IntersectCounters;
+use smoothlab::render::SurfaceSamples;
 use smoothlab::render::{Ray64, SurfaceTracer};
 use smoothlab::surface::Surface;
 

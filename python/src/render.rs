@@ -11,12 +11,12 @@ use std::sync::atomic::Ordering;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyIterator, PyTuple};
-use smoothlab::render::camera::{Camera, Projection};
-use smoothlab::render::film::Frame;
+use smoothlab::render::{Camera, Projection};
+use smoothlab::render::Frame;
 use smoothlab::render::output::{
     self, EXR_CHANNELS, EXR_ID_CHANNELS, ExrCompression, OutputMeta, OutputOptions,
 };
-use smoothlab::render::stats::RenderStats;
+use smoothlab::render::RenderStats;
 
 use crate::convert;
 use crate::detached::{self, OnInterrupt};
@@ -181,7 +181,7 @@ pub(crate) fn render(
     let mut job = scene.job().map_err(to_py)?;
     let exr = scene.exr_compression().map_err(to_py)?;
     job.settings.progress = false;
-    smoothlab::render::film::check_frame_memory(
+    smoothlab::render::check_frame_memory(
         job.settings.width,
         job.settings.height,
         output::output_bytes_per_pixel(exr.is_some()),

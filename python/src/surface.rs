@@ -477,10 +477,10 @@ impl Surface {
             None => smoothlab::export::Format::from_path(&path),
         }
         .map_err(to_py)?;
-        if !(1..=smoothlab::export::obj::MAX_TESS).contains(&tess) {
+        if !(1..=smoothlab::export::MAX_TESS).contains(&tess) {
             return Err(PyValueError::new_err(format!(
                 "tess = {tess} must be in 1..={}",
-                smoothlab::export::obj::MAX_TESS
+                smoothlab::export::MAX_TESS
             )));
         }
         let built = Arc::clone(&self.built);

@@ -26,7 +26,7 @@ use crate::schemes::{self, Params, SCHEMES};
 
 /// The variants of `--scheme` (`all`, one name or a comma-separated list) when no sweep is given,
 /// else those of the sweeps (`--sweep` values, then the lines of the `--sweep-file`s).
-pub fn variants(
+pub(crate) fn variants(
     selection: &str,
     sweeps: &[String],
     sweep_files: &[PathBuf],
@@ -61,8 +61,8 @@ pub fn variants(
 /// `variants` with `report --param` pairs `raw` (`name=value`) as the defaults of every
 /// variant whose scheme declares the name; a name no variant's scheme declares is an error
 /// naming it and the parameters they have.
-pub fn with_defaults(mut variants: Vec<Variant>, raw: &[String]) -> Result<Vec<Variant>> {
-    let pairs = crate::app::parse_params(raw)?;
+pub(crate) fn with_defaults(mut variants: Vec<Variant>, raw: &[String]) -> Result<Vec<Variant>> {
+    let pairs = crate::app::selection::parse_params(raw)?;
     for (name, _) in &pairs {
         let declared = |v: &Variant| {
             schemes::find(&v.scheme).is_ok_and(|s| s.params.iter().any(|p| p.name == name))
@@ -100,7 +100,7 @@ pub fn with_defaults(mut variants: Vec<Variant>, raw: &[String]) -> Result<Vec<V
 
 /// The schemes of `--scheme`: `all` (every registered scheme) or names separated by commas.
 fn scheme_list(selection: &str) -> Result<Vec<Variant>> {
-    if selection.trim() == crate::app::ALL_SCHEMES {
+    if selection.trim() == crate::app::selection::ALL_SCHEMES {
         return Ok(SCHEMES
             .iter()
             .map(|s| Variant::default_of(s.name))
@@ -119,7 +119,7 @@ fn scheme_list(selection: &str) -> Result<Vec<Variant>> {
 /// Parses one sweep, `SCHEME:NAME=V1,V2,…[:NAME2=W1,…]`, into its variants: every combination
 /// of the values, the first parameter varying slowest. The scheme and parameter names are
 /// checked against the registry; the values when the scheme is built.
-pub fn parse_sweep(text: &str) -> Result<Vec<Variant>> {
+pub(crate) fn parse_sweep(text: &str) -> Result<Vec<Variant>> {
     let mut parts = text.split(':');
     let scheme = schemes::find(parts.next().unwrap_or_default().trim())?;
     let mut axes: Vec<(String, Vec<String>)> = Vec::new();
@@ -179,7 +179,7 @@ pub fn parse_sweep(text: &str) -> Result<Vec<Variant>> {
 
 /// The mesh files of `--meshes`: a folder's mesh files, or the files a list names. Returns
 /// (name in the report, path) in order; two meshes of one name are an error naming both.
-pub fn mesh_files(source: &Path) -> Result<Vec<(String, PathBuf)>> {
+pub(crate) fn mesh_files(source: &Path) -> Result<Vec<(String, PathBuf)>> {
     let mut out: Vec<(String, PathBuf)> = Vec::new();
     if source.is_dir() {
         let entries = std::fs::read_dir(source).map_err(|e| Error::io(source, e))?;
@@ -240,7 +240,11 @@ pub fn mesh_files(source: &Path) -> Result<Vec<(String, PathBuf)>> {
 }
 
 /// The work list of `report --meshes SOURCE` with `variants` on every mesh.
-pub fn mesh_work(source: &Path, variants: &[Variant], load: &LoadOptions) -> Result<WorkList> {
+pub(crate) fn mesh_work(
+    source: &Path,
+    variants: &[Variant],
+    load: &LoadOptions,
+) -> Result<WorkList> {
     let items = mesh_files(source)?
         .into_iter()
         .map(|(mesh, path)| WorkItem {
@@ -255,7 +259,7 @@ pub fn mesh_work(source: &Path, variants: &[Variant], load: &LoadOptions) -> Res
 
 /// The number of triangles of a mesh file, estimated without loading it (see the module doc)
 /// and at most its size in bytes; 0 when the file cannot be read.
-pub fn count_faces(path: &Path) -> usize {
+pub(crate) fn count_faces(path: &Path) -> usize {
     // Only regular files are read: a pipe named x.obj would never end.
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
         return 0;

@@ -39,7 +39,7 @@ impl Default for GalleryOptions {
 
 /// Compression of the gallery's EXRs: zlib, 60 % of RLE's size at this image size (2.75 MB
 /// instead of 4.6 MB for a 320² curvature cell).
-pub const GALLERY_EXR_COMPRESSION: ExrCompression = ExrCompression::Zip;
+pub(crate) const GALLERY_EXR_COMPRESSION: ExrCompression = ExrCompression::Zip;
 
 /// One rendered gallery image.
 #[derive(Clone, Debug)]
@@ -66,12 +66,12 @@ pub struct Gallery {
 }
 
 /// Renders the gallery into `out_dir` with default options.
-pub fn render_gallery(out_dir: &Path) -> Result<Gallery> {
+pub(crate) fn render_gallery(out_dir: &Path) -> Result<Gallery> {
     render_gallery_with(out_dir, &GalleryOptions::default())
 }
 
 /// The gallery's modes, in column order.
-pub const GALLERY_MODES: [&str; 3] = ["zebra", "isophote", "curvature"];
+pub(crate) const GALLERY_MODES: [&str; 3] = ["zebra", "isophote", "curvature"];
 
 /// Renders the gallery into `out_dir` with `options`.
 pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<Gallery> {
@@ -151,7 +151,7 @@ pub fn render_gallery_with(out_dir: &Path, options: &GalleryOptions) -> Result<G
 }
 
 /// A plain-text table of the gallery's render statistics, one line per image.
-pub fn gallery_table(gallery: &Gallery) -> String {
+pub(crate) fn gallery_table(gallery: &Gallery) -> String {
     let mut out = format!(
         "{:<10} {:<10} {:>8} {:>9} {:>8} {:>7} {:>6} {:>9}\n",
         "scheme", "mode", "patches", "leaves", "rays", "newton", "fails", "ms"

@@ -37,7 +37,7 @@ fn manifest_of(path: &Path) -> Result<Manifest> {
 }
 
 /// `smoothlab merge PARTS… -o OUT [--baseline OLD.json]` (the baseline for reports only).
-pub fn run_merge(parts: &[PathBuf], out: &Path, baseline: Option<&Path>) -> Result<Output> {
+pub(crate) fn run_merge(parts: &[PathBuf], out: &Path, baseline: Option<&Path>) -> Result<Output> {
     let first = parts
         .first()
         .ok_or_else(|| Error::Invalid("merge: no partial results given".into()))?;

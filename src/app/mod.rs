@@ -8,19 +8,22 @@
 //! `render` and `figure` commands and the built-in gallery live in [`render`], [`scene`],
 //! [`gallery`] and [`figure`].
 
-pub mod batch;
-pub mod figure;
-pub mod gallery;
-pub mod merge;
-pub mod render;
-pub mod scene;
-pub mod toml_input;
-pub mod turntable;
-pub mod view;
+pub(crate) mod batch;
+pub(crate) mod commands;
+pub(crate) mod figure;
+pub(crate) mod gallery;
+pub(crate) mod merge;
+pub(crate) mod render;
+pub(crate) mod scene;
+pub(crate) mod selection;
+pub(crate) mod toml_input;
+pub(crate) mod turntable;
+pub(crate) mod view;
 
 use std::path::Path;
 
 pub use crate::files::clean_up_on_signals;
+pub(crate) use selection::{ALL_SCHEMES, SchemeRun, parse_params, select_schemes};
 
 use crate::error::{Error, Result};
 use crate::export::{self, Format};
@@ -29,9 +32,6 @@ use crate::mesh::{LoadOptions, Mesh};
 use crate::metrics::Metrics;
 use crate::schemes::{self, SCHEMES, build_timed};
 use crate::surface::Surface;
-
-/// The `--scheme` value that selects every registered scheme.
-pub const ALL_SCHEMES: &str = "all";
 
 /// What a command produced: text for standard output and warnings (one line each, printed
 /// by the binary as `warning: …` on standard error).
@@ -63,13 +63,13 @@ pub fn limit_threads() -> Option<String> {
 
 /// Loads a mesh (OBJ, PLY, OFF or STL by extension) with `options`; the loader's report
 /// (welded vertices, re-oriented faces, …) becomes warnings.
-pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(Mesh, Vec<String>)> {
+pub(crate) fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(Mesh, Vec<String>)> {
     let (mesh, report) = Mesh::load_with(path, options)?;
     Ok((mesh, report.warnings))
 }
 
 /// Parses a relative weld tolerance (`--weld-tolerance REL`), see [`crate::mesh::check_weld_tolerance`].
-pub fn parse_weld_tolerance(text: &str) -> std::result::Result<f64, String> {
+pub(crate) fn parse_weld_tolerance(text: &str) -> std::result::Result<f64, String> {
     let value: f64 = text
         .trim()
         .parse()
@@ -79,7 +79,7 @@ pub fn parse_weld_tolerance(text: &str) -> std::result::Result<f64, String> {
 
 /// Parses a crease angle in degrees (`--crease-angle DEG`), see
 /// [`crate::mesh::check_crease_angle`].
-pub fn parse_crease_angle(text: &str) -> std::result::Result<f64, String> {
+pub(crate) fn parse_crease_angle(text: &str) -> std::result::Result<f64, String> {
     let value: f64 = text
         .trim()
         .parse()
@@ -87,86 +87,31 @@ pub fn parse_crease_angle(text: &str) -> std::result::Result<f64, String> {
     crate::mesh::check_crease_angle(value)
 }
 
-/// Parses every `--param name=value`.
-pub fn parse_params(raw: &[String]) -> Result<Vec<(String, String)>> {
-    raw.iter().map(|p| schemes::parse_param(p)).collect()
-}
-
-/// One scheme to run, with the parameters meant for it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SchemeRun {
-    /// Registered scheme name.
-    pub scheme: &'static str,
-    /// `name=value` pairs for it.
-    pub params: Vec<(String, String)>,
-}
-
-/// The schemes a `--scheme` value selects, each with the parameters meant for it.
-///
-/// For one scheme the parameters go to it unchanged (the registry rejects unknown names).
-/// For [`ALL_SCHEMES`] each parameter goes to the schemes that declare it, and a parameter
-/// that no scheme declares is an error.
-pub fn select_schemes(selection: &str, params: &[(String, String)]) -> Result<Vec<SchemeRun>> {
-    if selection != ALL_SCHEMES {
-        let spec = schemes::find(selection)?;
-        return Ok(vec![SchemeRun {
-            scheme: spec.name,
-            params: params.to_vec(),
-        }]);
-    }
-    if let Some((name, _)) = params
-        .iter()
-        .find(|(n, _)| !SCHEMES.iter().any(|s| s.params.iter().any(|p| p.name == n)))
-    {
-        let mut known: Vec<&str> = SCHEMES
-            .iter()
-            .flat_map(|s| s.params.iter().map(|p| p.name))
-            .collect();
-        known.sort_unstable();
-        known.dedup();
-        return Err(Error::UnknownParam {
-            scheme: ALL_SCHEMES.to_string(),
-            name: name.clone(),
-            known: known.join(", "),
-        });
-    }
-    Ok(SCHEMES
-        .iter()
-        .map(|s| {
-            let own = params
-                .iter()
-                .filter(|(n, _)| s.params.iter().any(|p| p.name == n))
-                .cloned()
-                .collect();
-            SchemeRun {
-                scheme: s.name,
-                params: own,
-            }
-        })
-        .collect())
-}
-
 /// Builds and measures every selected scheme on `mesh`. With [`ALL_SCHEMES`], a scheme that
 /// refuses an open mesh or sharp edges is skipped with a warning instead of failing the whole
 /// run.
-pub fn measure_schemes(
+pub(crate) fn measure_schemes(
     mesh: &Mesh,
     selection: &str,
     params: &[(String, String)],
 ) -> Result<(Vec<Metrics>, Vec<String>)> {
-    measure_schemes_each(mesh, selection, params, &mut |_| {})
+    let runs = select_schemes(selection, params)?;
+    measure_runs(mesh, &runs, selection == ALL_SCHEMES, &mut |_| {})
 }
 
-/// [`measure_schemes`], calling `each` with every scheme's metrics as soon as it is measured.
-pub fn measure_schemes_each(
+/// Builds and measures every run of a selection ([`select_schemes`]) on `mesh`, calling `each`
+/// with every scheme's metrics as soon as it is measured. With `skip_refusals` (the selection
+/// was [`ALL_SCHEMES`]), a scheme that refuses an open mesh or sharp edges is skipped with a
+/// warning instead of failing the whole run.
+pub(crate) fn measure_runs(
     mesh: &Mesh,
-    selection: &str,
-    params: &[(String, String)],
+    runs: &[SchemeRun],
+    skip_refusals: bool,
     each: &mut dyn FnMut(&Metrics),
 ) -> Result<(Vec<Metrics>, Vec<String>)> {
     let mut results = Vec::new();
     let mut warnings = Vec::new();
-    for run in select_schemes(selection, params)? {
+    for run in runs {
         match schemes::build_timed_in_frame(run.scheme, mesh, &run.params) {
             Ok((surface, frame, ms)) => {
                 warnings.extend(surface.warnings.iter().cloned());
@@ -178,7 +123,7 @@ pub fn measure_schemes_each(
                 results.push(metrics);
             }
             Err(e @ (Error::OpenMesh { .. } | Error::SharpEdgesUnsupported { .. }))
-                if selection == ALL_SCHEMES =>
+                if skip_refusals =>
             {
                 warnings.push(format!("skipped: {e}"));
             }
@@ -233,7 +178,7 @@ const METRICS_GLOSSARY: &str = include_str!("../../docs/metrics.md");
 /// JSON key, definition and good value, then the notes under the guide's table (why
 /// `curv_jump` saturates, how `G^k` is measured), all taken from the "The text table" section
 /// of docs/metrics.md with the Markdown marks removed.
-pub fn metrics_explanation() -> String {
+pub(crate) fn metrics_explanation() -> String {
     let section = glossary_section("## The text table");
     let mut out = String::from("\ncolumns (docs/metrics.md):\n");
     for line in section.lines().filter(|l| l.starts_with("| `")) {
@@ -337,12 +282,12 @@ fn table_line(cells: &[String]) -> String {
 }
 
 /// The header line of the metrics table.
-pub fn metrics_table_header() -> String {
+pub(crate) fn metrics_table_header() -> String {
     table_line(&TABLE_COLUMNS.map(|(header, _)| header.to_string()))
 }
 
 /// The metrics table's line for one scheme.
-pub fn metrics_table_row(m: &Metrics) -> String {
+pub(crate) fn metrics_table_row(m: &Metrics) -> String {
     table_line(&[
         m.scheme.clone(),
         m.faces.to_string(),
@@ -368,18 +313,18 @@ pub fn metrics_table_row(m: &Metrics) -> String {
 
 /// An aligned text table of metrics, one row per scheme. Lengths are relative to the
 /// bounding-box diagonal, angles in radians; `-` marks a figure over an empty set.
-pub fn metrics_table(metrics: &[Metrics]) -> String {
+pub(crate) fn metrics_table(metrics: &[Metrics]) -> String {
     let rows: Vec<String> = metrics.iter().map(metrics_table_row).collect();
     metrics_table_header() + &rows.concat()
 }
 
 /// The metrics JSON of docs/guide/contracts.md: a list with one object per scheme.
-pub fn metrics_json(metrics: &[Metrics]) -> Result<String> {
+pub(crate) fn metrics_json(metrics: &[Metrics]) -> Result<String> {
     serde_json::to_string_pretty(metrics).map_err(|e| Error::Invalid(format!("metrics JSON: {e}")))
 }
 
 /// Every registered scheme with its summary and parameters (default and help).
-pub fn schemes_listing() -> String {
+pub(crate) fn schemes_listing() -> String {
     let mut out = String::new();
     for spec in SCHEMES {
         let closed = if spec.needs_closed_mesh {
@@ -424,14 +369,14 @@ pub fn run_metrics_streaming(
 ) -> Result<Output> {
     let params = parse_params(raw_params)?;
     // Check the scheme, the parameters and the output path before the (possibly slow) work.
-    select_schemes(selection, &params)?;
+    let runs = select_schemes(selection, &params)?;
     if let Some(path) = json {
         check_writable(path)?;
         check_distinct(&[("the mesh", mesh_path)], &[("--json", path)])?;
     }
     let (mesh, mut warnings) = load_mesh(mesh_path, load)?;
     line(&metrics_table_header());
-    let (metrics, skipped) = measure_schemes_each(&mesh, selection, &params, &mut |m| {
+    let (metrics, skipped) = measure_runs(&mesh, &runs, selection == ALL_SCHEMES, &mut |m| {
         line(&metrics_table_row(m))
     })?;
     warnings.extend(skipped);
@@ -465,7 +410,7 @@ fn build_on_file(
 }
 
 /// `smoothlab export MESH --scheme S --format json|bv|obj -o F [--tess N] [--param k=v]…`.
-pub fn run_export(
+pub(crate) fn run_export(
     mesh_path: &Path,
     load: &LoadOptions,
     scheme: &str,
@@ -496,7 +441,7 @@ pub fn run_export(
 }
 
 /// `smoothlab sample MESH --scheme S [--param k=v]… --json F`.
-pub fn run_sample(
+pub(crate) fn run_sample(
     mesh_path: &Path,
     load: &LoadOptions,
     scheme: &str,
@@ -521,7 +466,7 @@ pub fn run_sample(
 }
 
 /// `smoothlab schemes`.
-pub fn run_schemes() -> Output {
+pub(crate) fn run_schemes() -> Output {
     Output {
         stdout: schemes_listing(),
         warnings: Vec::new(),
@@ -531,14 +476,14 @@ pub fn run_schemes() -> Output {
 }
 
 /// The mesh of the default job: the embedded deformed icosahedron.
-pub fn default_mesh() -> Result<Mesh> {
+pub(crate) fn default_mesh() -> Result<Mesh> {
     let (positions, faces) = crate::mesh::generate::deformed_icosahedron();
     Ok(Mesh::from_triangles(positions, faces)?.0)
 }
 
 /// `smoothlab` without arguments: the metrics table of every scheme on the embedded
 /// deformed icosahedron (the gallery renders are added to this job by the renderer).
-pub fn run_default() -> Result<Output> {
+pub(crate) fn run_default() -> Result<Output> {
     let mesh = default_mesh()?;
     let (metrics, warnings) = measure_schemes(&mesh, ALL_SCHEMES, &[])?;
     Ok(Output {
@@ -553,22 +498,9 @@ pub fn run_default() -> Result<Output> {
     })
 }
 
-/// `smoothlab report`: measures every scheme on the benchmark meshes and writes
-/// `metrics.{json,csv,md}`, the plots and the results page (`index.html` with its thumbnails)
-/// into `out_dir`, with a progress bar on a terminal's standard error; standard output gets one
-/// summary line, and with `baseline` (a previous `metrics.json`) a second one counting the
-/// changes and regressions the page lists.
-pub fn run_report(out_dir: &Path, baseline: Option<&Path>) -> Result<Output> {
-    run_report_with(&ReportArgs {
-        out: out_dir.to_path_buf(),
-        baseline: baseline.map(Path::to_path_buf),
-        ..ReportArgs::default()
-    })
-}
-
 /// What `smoothlab report` is asked to do.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ReportArgs {
+pub(crate) struct ReportArgs {
     /// The report folder (with a shard: the shard's folder).
     pub out: std::path::PathBuf,
     /// A previous report to list the changes against.
@@ -611,7 +543,7 @@ impl Default for ReportArgs {
 /// `smoothlab report [--meshes DIR|LIST] [--scheme …] [--sweep …] [--shard I/N]`: the report
 /// over the work list the flags describe ([`batch`]); with a shard, that shard's partial
 /// report (`OUT/partial.json`, see [`crate::report::partial`]).
-pub fn run_report_with(args: &ReportArgs) -> Result<Output> {
+pub(crate) fn run_report_with(args: &ReportArgs) -> Result<Output> {
     let start = std::time::Instant::now();
     let out_dir = args.out.as_path();
     let variants = batch::with_defaults(
@@ -692,7 +624,7 @@ pub fn run_report_with(args: &ReportArgs) -> Result<Output> {
 
 /// The line `report --baseline` and `merge --baseline` print: the counts of the comparison
 /// and where its changes are listed.
-pub fn baseline_line(
+pub(crate) fn baseline_line(
     baseline: &Path,
     comparison: &crate::report::compare::Comparison,
     out_dir: &Path,
@@ -707,7 +639,7 @@ pub fn baseline_line(
 
 /// `smoothlab compare OLD NEW`: the changes between two reports (or two `metrics --json`
 /// outputs); quality always judged, timings as `timings` says; fails on a regression.
-pub fn run_compare(
+pub(crate) fn run_compare(
     old: &Path,
     new: &Path,
     thresholds: crate::report::compare::Thresholds,
@@ -760,38 +692,6 @@ mod tests {
     }
 
     use super::*;
-
-    fn pair(n: &str, v: &str) -> (String, String) {
-        (n.to_string(), v.to_string())
-    }
-
-    #[test]
-    fn one_scheme_keeps_its_params() {
-        let sel = select_schemes("pn", &[pair("normals", "obj")]).expect("known");
-        let expected = SchemeRun {
-            scheme: "pn",
-            params: vec![pair("normals", "obj")],
-        };
-        assert_eq!(sel, vec![expected]);
-        let err = select_schemes("nope", &[]).expect_err("unknown scheme");
-        assert!(matches!(err, Error::UnknownScheme { .. }), "{err}");
-    }
-
-    #[test]
-    fn all_routes_params_to_the_schemes_that_declare_them() {
-        let sel = select_schemes(ALL_SCHEMES, &[pair("normals", "obj")]).expect("declared");
-        assert_eq!(sel.len(), SCHEMES.len());
-        for run in &sel {
-            let declares = schemes::find(run.scheme)
-                .expect("registered")
-                .params
-                .iter()
-                .any(|p| p.name == "normals");
-            assert_eq!(run.params.len(), usize::from(declares), "{}", run.scheme);
-        }
-        let err = select_schemes(ALL_SCHEMES, &[pair("bogus", "1")]).expect_err("undeclared");
-        assert!(err.to_string().contains("'bogus'"), "{err}");
-    }
 
     #[test]
     fn registry_order_is_flat_pn_hb() {

@@ -15,7 +15,7 @@ use crate::render::stats::RenderStats;
 use crate::schemes;
 
 /// The values of `--mode`: every registered mode, with its help.
-pub fn mode_value_parser() -> clap::builder::PossibleValuesParser {
+pub(crate) fn mode_value_parser() -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(
         MODE_HELP
             .iter()
@@ -379,13 +379,13 @@ pub struct RenderArgs {
 }
 
 /// Parses `X,Y,Z` ([`crate::render::modes::keys::parse_triple`]).
-pub fn parse_vec3(text: &str) -> std::result::Result<[f64; 3], String> {
+pub(crate) fn parse_vec3(text: &str) -> std::result::Result<[f64; 3], String> {
     crate::render::modes::keys::parse_triple(text)
 }
 
 /// Parses a vertical field of view in degrees (`--fov`): finite, at least
 /// [`MIN_FOV_DEG`](crate::render::camera::MIN_FOV_DEG) and below 180.
-pub fn parse_fov(text: &str) -> std::result::Result<f64, String> {
+pub(crate) fn parse_fov(text: &str) -> std::result::Result<f64, String> {
     let min = crate::render::camera::MIN_FOV_DEG;
     let fov: f64 = text
         .trim()
@@ -401,7 +401,7 @@ pub fn parse_fov(text: &str) -> std::result::Result<f64, String> {
 }
 
 /// Parses `WxH`.
-pub fn parse_size(text: &str) -> std::result::Result<[u32; 2], String> {
+pub(crate) fn parse_size(text: &str) -> std::result::Result<[u32; 2], String> {
     let (w, h) = text
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("'{text}' is not WxH"))?;
@@ -423,7 +423,7 @@ fn is_scene_file(input: &Path) -> bool {
 }
 
 /// The scene of `args`: the scene file (or a bare mesh) with every given option applied.
-pub fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
+pub(crate) fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     let mut scene = if is_scene_file(&args.input) {
         SceneFile::load(&args.input)?
     } else {
@@ -624,7 +624,7 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
 /// that missed the surface, time), then the tracer's work. Roots the leaf's fallback
 /// subdivision found after Newton did not settle (`newton_failures` in the stats JSON) are
 /// said as such: they are hits, not missed rays (docs/metrics.md, "Words the renderer prints").
-pub fn render_summary(stats: &RenderStats) -> String {
+pub(crate) fn render_summary(stats: &RenderStats) -> String {
     let stripes = match stats.zebra_stripes {
         Some(n) => format!(
             "zebra: {n} stripes per turn, chosen from the view (`--zebra-stripes N` fixes the count)\n"
@@ -648,7 +648,7 @@ pub fn render_summary(stats: &RenderStats) -> String {
 }
 
 /// Renders the gallery into `out_dir` and returns its table and where the sheet went.
-pub fn run_gallery(out_dir: &std::path::Path) -> Result<String> {
+pub(crate) fn run_gallery(out_dir: &std::path::Path) -> Result<String> {
     let gallery = crate::app::gallery::render_gallery(out_dir)?;
     Ok(format!(
         "\ngallery renders:\n{}wrote {}\n",

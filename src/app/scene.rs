@@ -75,7 +75,7 @@ use crate::render::modes::{DEFAULT_MODE, Key, MODE_KEYS, MODE_NAMES, Mode, Overl
 use crate::render::output::ExrCompression;
 use crate::render::theme::Theme;
 
-pub use crate::render::job::{DEFAULT_SIZE, DEFAULT_SPP, MAX_SPP};
+pub(crate) use crate::render::job::{DEFAULT_SIZE, DEFAULT_SPP, MAX_SPP};
 
 /// A scene file as written (every key optional).
 ///
@@ -262,16 +262,16 @@ impl BvhSection {
 }
 
 /// Allowed range of `bvh.flatness`.
-pub const FLATNESS_RANGE: (f64, f64) = (1e-4, 1.0);
+pub(crate) const FLATNESS_RANGE: (f64, f64) = (1e-4, 1.0);
 /// Allowed range of `bvh.cone_deg`.
-pub const CONE_DEG_RANGE: (f64, f64) = (1.0, 90.0);
+pub(crate) const CONE_DEG_RANGE: (f64, f64) = (1.0, 90.0);
 /// Largest `bvh.max_depth` (a piece then covers 4^-16 of its patch).
-pub const MAX_DEPTH_LIMIT: u32 = 16;
+pub(crate) const MAX_DEPTH_LIMIT: u32 = 16;
 
 /// The value `value` of mode key `key` written in a file in folder `dir`: a relative file
 /// name made relative to `dir` (as every path of scene files and figure specs is); built-in
 /// names, absolute paths and keys naming no file as they are.
-pub fn file_beside(key: &Key, value: &str, dir: &Path) -> String {
+pub(crate) fn file_beside(key: &Key, value: &str, dir: &Path) -> String {
     if !key.names_file(value) || Path::new(value).is_absolute() {
         return value.to_string();
     }

@@ -9,20 +9,20 @@ use crate::error::{Error, Result};
 
 /// Parses TOML `text` read from `origin` (the file name, or a description such as
 /// `scene file`) into `T`; see [`one_line`] for the errors.
-pub fn parse<T: DeserializeOwned>(text: &str, origin: &str) -> Result<T> {
+pub(crate) fn parse<T: DeserializeOwned>(text: &str, origin: &str) -> Result<T> {
     toml::from_str(text).map_err(|e| one_line(&e, text, origin))
 }
 
 /// True if TOML `text` has any of `keys` at its top level (false when it is no TOML): tells
 /// one kind of input file from another, e.g. a figure spec given where a scene file belongs.
-pub fn has_top_level_key(text: &str, keys: &[&str]) -> bool {
+pub(crate) fn has_top_level_key(text: &str, keys: &[&str]) -> bool {
     text.parse::<toml::Table>()
         .is_ok_and(|table| keys.iter().any(|k| table.contains_key(*k)))
 }
 
 /// The key path and message of a TOML error, `KEY: message` (just the message when the error
 /// concerns no key, e.g. a syntax error), on one line.
-pub fn describe(e: &toml::de::Error) -> String {
+pub(crate) fn describe(e: &toml::de::Error) -> String {
     // Without its input, the error shows the message and then, on its own line, the key path
     // as "in `render.size`" (with the input it draws a multi-line excerpt instead).
     let mut bare = e.clone();
@@ -50,7 +50,7 @@ pub fn describe(e: &toml::de::Error) -> String {
 
 /// The error of `e` on one line, `ORIGIN:LINE:COLUMN: KEY: message` (line and column of the
 /// start of the offending text, from 1; the key path when the error concerns a key).
-pub fn one_line(e: &toml::de::Error, text: &str, origin: &str) -> Error {
+pub(crate) fn one_line(e: &toml::de::Error, text: &str, origin: &str) -> Error {
     let position = e.span().map(|span| {
         let before = &text[..span.start.min(text.len())];
         let line = 1 + before.matches('\n').count();
@@ -68,7 +68,7 @@ pub fn one_line(e: &toml::de::Error, text: &str, origin: &str) -> Error {
 /// Deserializes an optional array of exactly `N` elements, for
 /// `#[serde(default, deserialize_with = "exact")]`: `size = [48, 32, 999]` is an error
 /// ("invalid length 3, expected 2 elements"), not `[48, 32]`.
-pub fn exact<'de, D, T, const N: usize>(d: D) -> Result<Option<[T; N]>, D::Error>
+pub(crate) fn exact<'de, D, T, const N: usize>(d: D) -> Result<Option<[T; N]>, D::Error>
 where
     D: Deserializer<'de>,
     T: Deserialize<'de>,

@@ -35,10 +35,10 @@ use crate::report::shard::{Manifest, Shard, items_of, read_complete_parts};
 use crate::surface::Surface;
 
 /// The most frames of a turntable or sweep.
-pub const MAX_FRAMES: u32 = 3600;
+pub(crate) const MAX_FRAMES: u32 = 3600;
 
 /// Time each frame of the animated GIF shows, milliseconds (12.5 frames per second).
-pub const FRAME_DELAY_MS: u32 = 80;
+pub(crate) const FRAME_DELAY_MS: u32 = 80;
 
 /// Speed of the GIF colour quantiser (1 best … 30 fastest; 10 is the `gif` crate's
 /// recommended balance).
@@ -84,7 +84,7 @@ impl Animation {
 /// The files of an animation of `frames` frames named `name`: the frames `STEM-000.png` …
 /// (at least three digits, more when needed, so they sort in order) and `STEM.gif`, where
 /// `STEM` is [`output_stem`] of `name`.
-pub fn animation_files(name: &Path, frames: u32) -> (Vec<PathBuf>, PathBuf) {
+pub(crate) fn animation_files(name: &Path, frames: u32) -> (Vec<PathBuf>, PathBuf) {
     let stem = output_stem(name);
     let digits = frames.saturating_sub(1).to_string().len().max(3);
     let base = stem
@@ -98,7 +98,7 @@ pub fn animation_files(name: &Path, frames: u32) -> (Vec<PathBuf>, PathBuf) {
 
 /// [`animation_files`], each checked writable (the folder must exist: see
 /// [`crate::render::output::prepare_outputs`], which creates it).
-pub fn prepare_animation(name: &Path, frames: u32) -> Result<(Vec<PathBuf>, PathBuf)> {
+pub(crate) fn prepare_animation(name: &Path, frames: u32) -> Result<(Vec<PathBuf>, PathBuf)> {
     let (pngs, gif) = animation_files(name, frames);
     for file in pngs.iter().chain([&gif]) {
         check_writable(file)?;
@@ -108,7 +108,7 @@ pub fn prepare_animation(name: &Path, frames: u32) -> Result<(Vec<PathBuf>, Path
 
 /// The camera and settings of frame `k` of `animation`, from the first frame's camera and
 /// settings.
-pub fn frame_view(
+pub(crate) fn frame_view(
     animation: &Animation,
     k: u32,
     camera: &Camera,
@@ -161,7 +161,7 @@ fn turntable_axis(animation: &Animation, job: &RenderJob, camera: &Camera) -> DV
 /// The camera of frame 0: the job's; for a turntable framed automatically (no eye, no target),
 /// moved back along its view until every view of the turn frames the whole surface, as
 /// automatic framing frames the first.
-pub fn first_camera(
+pub(crate) fn first_camera(
     job: &RenderJob,
     animation: &Animation,
     surface: &Surface,
@@ -257,12 +257,12 @@ pub fn render_animation(
 }
 
 /// The kind of work of partial frame sets, in their [`Manifest`].
-pub const FRAMES_KIND: &str = "frames";
+pub(crate) const FRAMES_KIND: &str = "frames";
 
 /// What one shard of a turntable or sweep wrote beside its frames
 /// (`STEM.shard-I-of-N.json`): which frames it rendered, and every frame's file name.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct FramesPart {
+pub(crate) struct FramesPart {
     /// Which shard of which run.
     pub manifest: Manifest,
     /// File names (beside this file) of every frame of the animation, in order.
@@ -278,7 +278,7 @@ pub struct FramesPart {
 }
 
 /// The file of `shard`'s [`FramesPart`] for an animation named `name`.
-pub fn part_path(name: &Path, shard: Shard) -> PathBuf {
+pub(crate) fn part_path(name: &Path, shard: Shard) -> PathBuf {
     let stem = output_stem(name);
     let base = stem
         .file_name()
@@ -295,7 +295,7 @@ pub fn part_path(name: &Path, shard: Shard) -> PathBuf {
 /// view is computed as in the whole run, and an automatic curvature range still comes from
 /// frame 0, rendered (not written) by every shard that does not own it.
 #[allow(clippy::too_many_arguments)]
-pub fn render_animation_shard(
+pub(crate) fn render_animation_shard(
     job: &RenderJob,
     animation: &Animation,
     surface: &Surface,
@@ -358,7 +358,7 @@ fn gif_frame(encoder: &mut GifEncoder<&mut Vec<u8>>, image: RgbaImage, gif: &Pat
 /// `name`'s frame files when `name` names other files, and writes `name`'s GIF from them, the
 /// bytes the whole run writes. Returns a line for the terminal. A missing shard is an error
 /// naming it.
-pub fn merge_frames(parts: &[PathBuf], name: &Path) -> Result<String> {
+pub(crate) fn merge_frames(parts: &[PathBuf], name: &Path) -> Result<String> {
     check_output_name(name)?;
     let read = read_complete_parts(
         parts,

@@ -8,7 +8,7 @@ use crate::bezier::triangle::{index, point_count};
 use crate::linalg::Matrix;
 
 /// Multi-indices (i, j, k) of degree `d` in the storage order of [`crate::bezier`].
-pub fn multi_indices(d: usize) -> Vec<[usize; 3]> {
+pub(crate) fn multi_indices(d: usize) -> Vec<[usize; 3]> {
     let mut out = Vec::with_capacity(point_count(d));
     for i in (0..=d).rev() {
         for j in (0..=d - i).rev() {
@@ -19,12 +19,12 @@ pub fn multi_indices(d: usize) -> Vec<[usize; 3]> {
 }
 
 /// `n!` as a float.
-pub fn factorial(n: usize) -> f64 {
+pub(crate) fn factorial(n: usize) -> f64 {
     (1..=n).map(|k| k as f64).product()
 }
 
 /// Gram matrix `∫ B_α B_β dA` of the degree-`m` Bernstein basis over a triangle of area `area`.
-pub fn bernstein_gram(m: usize, area: f64) -> Vec<Vec<f64>> {
+pub(crate) fn bernstein_gram(m: usize, area: f64) -> Vec<Vec<f64>> {
     let idx = multi_indices(m);
     let fact3 = |a: [usize; 3]| a.iter().map(|&x| factorial(x)).product::<f64>();
     idx.iter()
@@ -44,7 +44,7 @@ pub fn bernstein_gram(m: usize, area: f64) -> Vec<Vec<f64>> {
 /// `∫ |S_xx|² + 2|S_xy|² + |S_yy|² dx dy = Σ_{α,β} Q_αβ b_α·b_β`. Per barycentric pair of
 /// directions, `D_a D_b S = d(d−1) Σ_γ (Δ_a Δ_b b)_γ B^{d−2}_γ`, and the products are integrated
 /// with [`bernstein_gram`] (Farin, CAGD §17.6 for the derivatives).
-pub fn thin_plate_matrix(d: usize, corners: [DVec2; 3]) -> Matrix {
+pub(crate) fn thin_plate_matrix(d: usize, corners: [DVec2; 3]) -> Matrix {
     let count = point_count(d);
     let area2 = (corners[1] - corners[0]).perp_dot(corners[2] - corners[0]);
     // ∇λ_i = rot90(c_{i+2} − c_{i+1}) / (2A).
@@ -110,7 +110,7 @@ pub fn domain_point_collocation(d: usize) -> Matrix {
 
 /// Degree elevation `d → d+1` as a matrix: row β of the result holds the weights of the degree-d
 /// points in point β of the elevated patch, `b'_β = Σ_k (β_k/(d+1)) b_{β−e_k}`.
-pub fn elevation_matrix(d: usize) -> Vec<Vec<f64>> {
+pub(crate) fn elevation_matrix(d: usize) -> Vec<Vec<f64>> {
     let low = multi_indices(d);
     multi_indices(d + 1)
         .iter()

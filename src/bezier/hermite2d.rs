@@ -17,8 +17,10 @@
 //! is a polynomial, so cutting it at `t = ½` gives two cubics that describe the same points and
 //! join C¹ [Piper87 §2, after Schwartz].
 
+#[cfg(test)]
 use glam::DVec2;
 
+#[cfg(test)]
 use crate::error::{Error, Result};
 
 /// `cos 60°`: below it Farin's rule switches to the fixed length `⅔‖Δp‖`.
@@ -30,7 +32,7 @@ const COS_SIXTY_DEGREES: f64 = 0.5;
 ///
 /// Dimension free: only the chord length and the angle enter, so the same rule serves the
 /// plane curves of this module and the edge curves of 3-D schemes.
-pub fn tangent_length(chord_length: f64, cos_theta: f64) -> f64 {
+pub(crate) fn tangent_length(chord_length: f64, cos_theta: f64) -> f64 {
     if cos_theta >= COS_SIXTY_DEGREES {
         chord_length / (3.0 * cos_theta)
     } else {
@@ -40,11 +42,13 @@ pub fn tangent_length(chord_length: f64, cos_theta: f64) -> f64 {
 
 /// One cubic segment of a Hermite curve in the plane, `C(t) = Σ b_i B³_i(t)`, `t ∈ [0, 1]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg(test)]
 pub struct CubicSegment2d {
     /// The Bézier points `p_i, t1, t2, p_{i+1}`.
     pub points: [DVec2; 4],
 }
 
+#[cfg(test)]
 impl CubicSegment2d {
     /// The segment from `p0` with unit tangent `v0` to `p1` with unit tangent `v1`
     /// [Piper87 eqs. 1, 3, 4]. The caller guarantees `p0 ≠ p1` and unit tangents
@@ -104,6 +108,7 @@ impl CubicSegment2d {
 /// Errors ([`Error::HermiteData`], naming the point): fewer than two points, a different
 /// number of tangents, a non-finite coordinate, two consecutive points that coincide, a zero
 /// tangent — the two constraints of [Piper87 §2].
+#[cfg(test)]
 pub fn hermite_curve(points: &[DVec2], tangents: &[DVec2]) -> Result<Vec<CubicSegment2d>> {
     let bad = |point: usize, reason: &str| Error::HermiteData {
         point,

@@ -10,11 +10,11 @@
 //! higher degree, boundary curves) and its bounds; [`curve`] the Bézier curves; [`hermite2d`]
 //! Farin's 2-D cubic Hermite curves through points with tangents.
 
-pub mod curve;
+pub(crate) mod curve;
 pub(crate) mod gram;
-pub mod hermite2d;
-pub mod triangle;
-pub mod triangle_forms;
+pub(crate) mod hermite2d;
+pub(crate) mod triangle;
+pub(crate) mod triangle_forms;
 
 pub use curve::CurveBezier;
 pub use triangle::TriangleBezier;

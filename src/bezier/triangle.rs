@@ -19,11 +19,8 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::geom::Jet;
 
-/// Highest degree whose evaluation runs on a stack array (no heap allocation).
-pub const MAX_STACK_DEGREE: usize = 8;
-
 /// Number of control points of a triangular patch of degree `d`: (d+1)(d+2)/2.
-pub const fn point_count(degree: usize) -> usize {
+pub(crate) const fn point_count(degree: usize) -> usize {
     (degree + 1) * (degree + 2) / 2
 }
 
@@ -31,7 +28,7 @@ pub const fn point_count(degree: usize) -> usize {
 ///
 /// The rows with a larger `i` come first: there are `(d−i)(d−i+1)/2` points with first index
 /// above `i`; inside row `i`, `j` runs from `d−i` down to 0.
-pub const fn index(degree: usize, i: usize, j: usize) -> usize {
+pub(crate) const fn index(degree: usize, i: usize, j: usize) -> usize {
     let rest = degree - i;
     rest * (rest + 1) / 2 + (rest - j)
 }

@@ -28,20 +28,20 @@
 
 pub(crate) mod scalar_jet;
 pub(crate) mod taylor;
-pub mod weights;
+pub(crate) mod weights;
 
 use glam::DVec3;
 
 use crate::bezier::TriangleBezier;
 use crate::geom::{Aabb, Jet};
 use scalar_jet::{Scalar, ScalarJet, ScalarJet1};
-pub use weights::WeightFamily;
+pub(crate) use weights::WeightFamily;
 
 /// Points whose two smaller barycentric coordinates sum to less than this are evaluated as
 /// corner points (see the module documentation). Chosen so that the weight derivatives
 /// (`~1/r` and `~1/r²`) stay far from overflow while the normal of the corner evaluation
 /// differs from the exact one by `O(r)`, below 1e-9 rad.
-pub const CORNER_RADIUS: f64 = 1e-9;
+pub(crate) const CORNER_RADIUS: f64 = 1e-9;
 
 /// Three sub-surfaces of one degree and the weights that blend them.
 #[derive(Clone, Debug, PartialEq)]

@@ -10,7 +10,7 @@ use std::ops::{Add, Div, Mul, Sub};
 
 /// The arithmetic the weight formulas need: a field with constants, integer powers and a
 /// value to branch on.
-pub trait Scalar:
+pub(crate) trait Scalar:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
 {
     /// The constant `c` (all derivatives zero).
@@ -49,7 +49,7 @@ impl Scalar for f64 {
 
 /// A scalar `f(u, v)` with `f, ∂f/∂u, ∂f/∂v, ∂²f/∂u², ∂²f/∂u∂v, ∂²f/∂v²` at one point.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ScalarJet {
+pub(crate) struct ScalarJet {
     /// `f`
     pub v: f64,
     /// `∂f/∂u`
@@ -67,7 +67,7 @@ pub struct ScalarJet {
 impl ScalarJet {
     /// The affine function `value + du·(u − u₀) + dv·(v − v₀)` at `(u₀, v₀)`; the barycentric
     /// coordinates of a patch are of this kind (`1 − u − v`, `u`, `v`).
-    pub const fn affine(value: f64, du: f64, dv: f64) -> Self {
+    pub(crate) const fn affine(value: f64, du: f64, dv: f64) -> Self {
         ScalarJet {
             v: value,
             du,
@@ -79,7 +79,7 @@ impl ScalarJet {
     }
 
     /// `1 / self` by the chain rule: `(1/g)' = −g'/g²`, `(1/g)'' = −g''/g² + 2 g'g'/g³`.
-    pub fn recip(self) -> Self {
+    pub(crate) fn recip(self) -> Self {
         let r = 1.0 / self.v;
         let r2 = r * r;
         let r3 = 2.0 * r2 * r;
@@ -183,7 +183,7 @@ impl Scalar for ScalarJet {
 /// A scalar `f(u, v)` with its value and first partial derivatives only: the cheaper
 /// arithmetic for evaluations that need no curvature (Newton's point and tangents).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ScalarJet1 {
+pub(crate) struct ScalarJet1 {
     /// `f`
     pub v: f64,
     /// `∂f/∂u`

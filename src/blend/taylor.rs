@@ -14,12 +14,12 @@ use glam::DVec3;
 use crate::blend::scalar_jet::Scalar;
 
 /// Highest total order kept.
-pub const ORDER: usize = 5;
+pub(crate) const ORDER: usize = 5;
 /// Number of coefficients up to [`ORDER`].
-pub const TERMS: usize = (ORDER + 1) * (ORDER + 2) / 2;
+pub(crate) const TERMS: usize = (ORDER + 1) * (ORDER + 2) / 2;
 
 /// Index of the coefficient of `x^i y^j`.
-pub const fn term(i: usize, j: usize) -> usize {
+pub(crate) const fn term(i: usize, j: usize) -> usize {
     let m = i + j;
     m * (m + 1) / 2 + (m - i)
 }
@@ -53,11 +53,11 @@ fn factorials(n: usize) -> f64 {
 
 /// A scalar Taylor polynomial truncated at total order [`ORDER`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Taylor(pub [f64; TERMS]);
+pub(crate) struct Taylor(pub [f64; TERMS]);
 
 impl Taylor {
     /// The affine function `value + du·x + dv·y`.
-    pub fn affine(value: f64, du: f64, dv: f64) -> Taylor {
+    pub(crate) fn affine(value: f64, du: f64, dv: f64) -> Taylor {
         let mut c = [0.0; TERMS];
         c[0] = value;
         c[term(1, 0)] = du;
@@ -144,12 +144,12 @@ impl Scalar for Taylor {
 }
 
 /// Partial derivatives (in [`Taylor`] storage order) to Taylor coefficients.
-pub fn from_partials(partials: &[DVec3]) -> [DVec3; TERMS] {
+pub(crate) fn from_partials(partials: &[DVec3]) -> [DVec3; TERMS] {
     std::array::from_fn(|n| partials.get(n).copied().unwrap_or(DVec3::ZERO) / factorials(n))
 }
 
 /// Taylor coefficients back to partial derivatives, up to `max_order`.
-pub fn to_partials(coefficients: &[DVec3; TERMS], max_order: usize) -> Vec<DVec3> {
+pub(crate) fn to_partials(coefficients: &[DVec3; TERMS], max_order: usize) -> Vec<DVec3> {
     let count = (max_order.min(ORDER) + 1) * (max_order.min(ORDER) + 2) / 2;
     (0..count)
         .map(|n| coefficients[n] * factorials(n))
@@ -157,7 +157,7 @@ pub fn to_partials(coefficients: &[DVec3; TERMS], max_order: usize) -> Vec<DVec3
 }
 
 /// `acc += f · d` for a scalar series `f` and a vector series `d` (truncated).
-pub fn add_product(acc: &mut [DVec3; TERMS], f: &Taylor, d: &[DVec3; TERMS]) {
+pub(crate) fn add_product(acc: &mut [DVec3; TERMS], f: &Taylor, d: &[DVec3; TERMS]) {
     for (a, &(ia, ja)) in PAIRS.iter().enumerate() {
         if f.0[a] == 0.0 {
             continue;

@@ -40,7 +40,7 @@ fn scaled_powers<S: Scalar>(b: [S; 3], p: u32) -> [S; 3] {
 /// The three weights at barycentric coordinates `b` (non-negative, summing to one, at least
 /// [`crate::blend::CORNER_RADIUS`] away from every corner). They are non-negative and sum
 /// to one up to rounding.
-pub fn weights<S: Scalar>(family: WeightFamily, b: [S; 3]) -> [S; 3] {
+pub(crate) fn weights<S: Scalar>(family: WeightFamily, b: [S; 3]) -> [S; 3] {
     match family {
         WeightFamily::Nielson { power } => {
             let q = scaled_powers(b, power);

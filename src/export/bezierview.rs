@@ -29,16 +29,16 @@ use crate::error::{Error, Result};
 use crate::surface::Surface;
 
 /// BezierView's record type for a triangular Bézier patch.
-pub const TRIANGLE_RECORD: u32 = 3;
+pub(crate) const TRIANGLE_RECORD: u32 = 3;
 
 /// The control points of `b` in BezierView's order.
-pub fn bezierview_order(b: &TriangleBezier) -> impl Iterator<Item = glam::DVec3> + '_ {
+pub(crate) fn bezierview_order(b: &TriangleBezier) -> impl Iterator<Item = glam::DVec3> + '_ {
     let d = b.degree();
     (0..=d).flat_map(move |k| (0..=d - k).map(move |j| b.point(d - j - k, j)))
 }
 
 /// The `.bv` text of `surface`. Fails on a patch with no Bézier form, naming it.
-pub fn to_bv(surface: &Surface) -> Result<String> {
+pub(crate) fn to_bv(surface: &Surface) -> Result<String> {
     let mut out = String::new();
     for (index, patch) in surface.patches.iter().enumerate() {
         let bezier = patch.as_bezier().ok_or_else(|| {

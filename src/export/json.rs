@@ -19,22 +19,25 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use crate::bezier::TriangleBezier;
+#[cfg(test)]
 use crate::bezier::triangle::point_count;
-use crate::blend::{BlendPatch, WeightFamily};
+#[cfg(test)]
+use crate::blend::BlendPatch;
+use crate::blend::WeightFamily;
 use crate::error::{Error, Result};
 use crate::surface::{PatchGeometry, Surface};
 
 /// Value of the `kind` field of a blended patch.
-pub const BLEND_KIND: &str = "blend";
+pub(crate) const BLEND_KIND: &str = "blend";
 
 /// Value of the `format` field.
-pub const FORMAT_NAME: &str = "smoothlab-patches";
+pub(crate) const FORMAT_NAME: &str = "smoothlab-patches";
 /// Value of the `version` field.
-pub const FORMAT_VERSION: u32 = 1;
+pub(crate) const FORMAT_VERSION: u32 = 1;
 
 /// One patch record.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PatchRecord {
+pub(crate) struct PatchRecord {
     /// The mesh face the patch belongs to.
     pub face: u32,
     /// Which piece of the face it is.
@@ -56,11 +59,13 @@ pub struct PatchRecord {
 
 impl PatchRecord {
     /// How many nets the record holds: one, or three for a blend.
+    #[cfg(test)]
     fn nets(&self) -> usize {
         if self.kind.is_some() { 3 } else { 1 }
     }
 
     /// The patch geometry the record describes (checked by [`PatchFile::parse`]).
+    #[cfg(test)]
     pub fn geometry(&self) -> PatchGeometry {
         let n = point_count(self.degree);
         let net = |k: usize| {
@@ -113,7 +118,7 @@ fn record(face: u32, piece: u8, geometry: &PatchGeometry) -> PatchRecord {
 
 /// A whole patch file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PatchFile {
+pub(crate) struct PatchFile {
     /// Always [`FORMAT_NAME`].
     pub format: String,
     /// Always [`FORMAT_VERSION`].
@@ -128,7 +133,7 @@ pub struct PatchFile {
 
 impl PatchFile {
     /// The records of `surface`.
-    pub fn from_surface(surface: &Surface) -> Result<PatchFile> {
+    pub(crate) fn from_surface(surface: &Surface) -> Result<PatchFile> {
         let patches = surface
             .patches
             .iter()
@@ -145,6 +150,7 @@ impl PatchFile {
 
     /// Parses and checks a patch file: format name, version, and for every patch the number
     /// of points its degree needs and finite coordinates (errors name the patch).
+    #[cfg(test)]
     pub fn parse(text: &str) -> Result<PatchFile> {
         let file: PatchFile =
             serde_json::from_str(text).map_err(|e| Error::Invalid(format!("patch JSON: {e}")))?;
@@ -183,6 +189,7 @@ impl PatchFile {
     }
 
     /// The geometry of every record (checked by [`PatchFile::parse`]).
+    #[cfg(test)]
     pub fn geometries(&self) -> Vec<PatchGeometry> {
         self.patches.iter().map(PatchRecord::geometry).collect()
     }

@@ -4,10 +4,13 @@
 //!
 //! Every writer returns the file's text; the caller decides where it goes.
 
-pub mod bezierview;
-pub mod json;
-pub mod obj;
-pub mod samples;
+pub(crate) mod bezierview;
+pub(crate) mod json;
+pub(crate) mod obj;
+pub(crate) mod samples;
+
+pub use json::to_json;
+pub use obj::MAX_TESS;
 
 use crate::error::{Error, Result};
 use crate::surface::Surface;

@@ -20,13 +20,13 @@ use crate::mesh::PointWelder;
 use crate::surface::{Patch, Surface};
 
 /// Number of grid vertices of one patch at `tess` subdivisions per edge.
-pub const fn grid_vertex_count(tess: usize) -> usize {
+pub(crate) const fn grid_vertex_count(tess: usize) -> usize {
     (tess + 1) * (tess + 2) / 2
 }
 
 /// Index of grid vertex `(i, j)` (`u = i/tess`, `v = j/tess`, `i + j ≤ tess`) within its
 /// patch: rows of constant i, j increasing.
-pub const fn grid_index(tess: usize, i: usize, j: usize) -> usize {
+pub(crate) const fn grid_index(tess: usize, i: usize, j: usize) -> usize {
     // Rows 0..i hold (tess+1) + tess + … + (tess+2−i) vertices.
     i * (tess + 1) - i * (i.saturating_sub(1)) / 2 + j
 }
@@ -34,7 +34,7 @@ pub const fn grid_index(tess: usize, i: usize, j: usize) -> usize {
 /// The unit normal of `patch` at `uv`. Where `Su × Sv = 0` (a singular point, typically a
 /// corner where the parametrisation degenerates) the normal is the limit from inside: it is
 /// taken at points moved towards the patch centre by growing steps until one is regular.
-pub fn exact_normal(patch: &Patch, uv: DVec2) -> DVec3 {
+pub(crate) fn exact_normal(patch: &Patch, uv: DVec2) -> DVec3 {
     let centre = DVec2::splat(1.0 / 3.0);
     for step in [0.0, 1e-9, 1e-6, 1e-3] {
         let at = uv + (centre - uv) * step;
@@ -51,7 +51,7 @@ pub use crate::budget::MAX_TESS;
 /// Bytes of the OBJ text of `patches` patches at `tess` subdivisions per edge, estimated
 /// from the records' typical lengths (a `v` and a `vn` line of about 60 bytes each per
 /// vertex, an `f` line of about 40 bytes per triangle).
-pub fn estimated_bytes(patches: usize, tess: usize) -> f64 {
+pub(crate) fn estimated_bytes(patches: usize, tess: usize) -> f64 {
     let (vertices, triangles) = (grid_vertex_count(tess) as f64, (tess * tess) as f64);
     patches as f64 * (120.0 * vertices + 40.0 * triangles)
 }
@@ -60,7 +60,7 @@ pub fn estimated_bytes(patches: usize, tess: usize) -> f64 {
 /// patch edge. The size of the text is estimated first and refused when it exceeds the
 /// available memory ([`crate::budget::check_memory`]); a position or normal that is not
 /// finite, or a patch without a normal, is an error naming the patch.
-pub fn to_obj(surface: &Surface, tess: usize) -> Result<String> {
+pub(crate) fn to_obj(surface: &Surface, tess: usize) -> Result<String> {
     if !(1..=MAX_TESS).contains(&tess) {
         return Err(Error::Invalid(format!(
             "--tess {tess} must be in 1..={MAX_TESS} (subdivisions per patch edge)"

@@ -23,7 +23,7 @@ use crate::tolerance::DOMAIN_ZERO;
 
 /// One sample: a surface point and its unit normal (zero where the patch is singular).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SamplePoint {
+pub(crate) struct SamplePoint {
     /// Position.
     pub point: [f64; 3],
     /// Unit normal `Su × Sv / |Su × Sv|`.
@@ -32,7 +32,7 @@ pub struct SamplePoint {
 
 /// The samples of one edge from its two faces.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct EdgeSamples {
+pub(crate) struct EdgeSamples {
     /// The two faces (`side0` is evaluated on the first, `side1` on the second).
     pub faces: [u32; 2],
     /// Samples from the first face.
@@ -43,7 +43,7 @@ pub struct EdgeSamples {
 
 /// The whole file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SampleFile {
+pub(crate) struct SampleFile {
     /// One entry per edge with two faces.
     pub edges: Vec<EdgeSamples>,
 }
@@ -83,7 +83,7 @@ fn sample_face(
 }
 
 /// The edge samples of `surface`, built from `mesh`.
-pub fn edge_samples(surface: &Surface, mesh: &Mesh) -> Result<SampleFile> {
+pub(crate) fn edge_samples(surface: &Surface, mesh: &Mesh) -> Result<SampleFile> {
     let mut by_face = vec![Vec::new(); mesh.face_count()];
     for (i, patch) in surface.patches.iter().enumerate() {
         if let Some(list) = by_face.get_mut(patch.face as usize) {
@@ -113,12 +113,6 @@ pub fn edge_samples(surface: &Surface, mesh: &Mesh) -> Result<SampleFile> {
         });
     }
     Ok(SampleFile { edges })
-}
-
-/// The edge-sample JSON text of `surface`.
-pub fn to_json(surface: &Surface, mesh: &Mesh) -> Result<String> {
-    serde_json::to_string(&edge_samples(surface, mesh)?)
-        .map_err(|e| Error::Invalid(format!("edge samples JSON: {e}")))
 }
 
 #[cfg(test)]

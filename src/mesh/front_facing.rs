@@ -23,16 +23,16 @@ use glam::DVec3;
 /// i.e. at least 0.057° off the face's plane. An estimate closer to a face's plane than this is
 /// moved by about the shortfall, so that corner tangents projected into the tangent plane stay
 /// well apart (a normal almost in a face's plane makes that face's corner nearly singular).
-pub const FRONT_MARGIN: f64 = 1e-3;
+pub(crate) const FRONT_MARGIN: f64 = 1e-3;
 
 /// The smallest margin accepted before a one-ring counts as folded over itself: above the
 /// frame-area bound of the boundary-blend schemes (1e-8 of `|e|²`), so their frames stay
 /// regular, and far above the rounding of unit normals (1e-16).
-pub const MIN_FRONT_MARGIN: f64 = 1e-7;
+pub(crate) const MIN_FRONT_MARGIN: f64 = 1e-7;
 
 /// What [`front_facing`] did with a vertex's estimate.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum FrontFacing {
+pub(crate) enum FrontFacing {
     /// The estimate is front-facing by [`FRONT_MARGIN`]: kept.
     Kept,
     /// Replaced by the closest direction front-facing by `margin`, `angle` (rad) away.
@@ -49,7 +49,7 @@ pub enum FrontFacing {
 }
 
 /// The smallest `n · n_f` over the unit face normals `faces`.
-pub fn min_cosine(n: DVec3, faces: &[DVec3]) -> f64 {
+pub(crate) fn min_cosine(n: DVec3, faces: &[DVec3]) -> f64 {
     faces
         .iter()
         .map(|f| n.dot(*f))
@@ -58,6 +58,7 @@ pub fn min_cosine(n: DVec3, faces: &[DVec3]) -> f64 {
 
 /// The unit `estimate` made front-facing for the unit normals `faces` of the faces around its
 /// vertex (see the module documentation).
+#[cfg(test)]
 pub fn front_facing(estimate: DVec3, faces: &[DVec3]) -> FrontFacing {
     front_facing_by(estimate, faces, FRONT_MARGIN)
 }
@@ -66,7 +67,7 @@ pub fn front_facing(estimate: DVec3, faces: &[DVec3]) -> FrontFacing {
 /// [`FRONT_MARGIN`]: the estimate is kept if `n · n_f ≥ wanted` for every face, else moved to
 /// the closest direction keeping `wanted`, or the largest decade below it down to
 /// [`MIN_FRONT_MARGIN`] that the one-ring admits.
-pub fn front_facing_by(estimate: DVec3, faces: &[DVec3], wanted: f64) -> FrontFacing {
+pub(crate) fn front_facing_by(estimate: DVec3, faces: &[DVec3], wanted: f64) -> FrontFacing {
     if min_cosine(estimate, faces) >= wanted {
         return FrontFacing::Kept;
     }
@@ -130,7 +131,7 @@ fn closest_in_caps(n0: DVec3, faces: &[DVec3], margin: f64) -> Option<DVec3> {
 
 /// Vertex normals made front-facing over a whole mesh ([`front_facing_normals`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct FrontFacingNormals {
+pub(crate) struct FrontFacingNormals {
     /// One unit normal per vertex: the estimate where it was front-facing, else the closest
     /// front-facing direction; the estimate at vertices in `folded`.
     pub normals: Vec<DVec3>,
@@ -153,7 +154,7 @@ fn face_normals(positions: &[DVec3], faces: &[[u32; 3]]) -> Vec<DVec3> {
 
 /// The unit vertex normals `estimate` (one per vertex of `positions`) made front-facing for
 /// the faces around each vertex.
-pub fn front_facing_normals(
+pub(crate) fn front_facing_normals(
     positions: &[DVec3],
     faces: &[[u32; 3]],
     estimate: &[DVec3],
@@ -162,7 +163,7 @@ pub fn front_facing_normals(
 }
 
 /// [`front_facing_normals`] with the margin `wanted` ([`front_facing_by`]).
-pub fn front_facing_normals_by(
+pub(crate) fn front_facing_normals_by(
     positions: &[DVec3],
     faces: &[[u32; 3]],
     estimate: &[DVec3],

@@ -28,12 +28,12 @@
 //! [`Mesh::from_triangles`]) and numbers triangles, not polygons.
 
 mod formats;
-pub mod front_facing;
+pub(crate) mod front_facing;
 pub mod generate;
 mod normals;
 mod obj;
 mod polygon;
-pub mod repair;
+pub(crate) mod repair;
 mod sharp;
 mod topology;
 mod validate;

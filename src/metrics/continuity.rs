@@ -60,20 +60,24 @@ use std::cell::OnceCell;
 use glam::{DVec2, DVec3};
 
 use crate::bezier::TriangleBezier;
-use crate::bezier::triangle::{de_casteljau_rows, de_casteljau_step, point_count};
-use crate::metrics::double_double::{DoubleDouble, Real};
+#[cfg(test)]
+use crate::bezier::triangle::de_casteljau_rows;
+use crate::bezier::triangle::{de_casteljau_step, point_count};
+#[cfg(test)]
+use crate::metrics::double_double::DoubleDouble;
+use crate::metrics::double_double::Real;
 use crate::surface::{Joint, Patch, Surface, UV_CORNERS, edge_uv};
 use crate::tolerance::G0_GAP_REL;
 
 /// Highest order compared (a joint that agrees to this order is reported as this order).
-pub const MAX_ORDER: usize = 5;
+pub(crate) const MAX_ORDER: usize = 5;
 const TERMS: usize = (MAX_ORDER + 1) * (MAX_ORDER + 2) / 2;
 
 /// Fractions along a joint where the order is measured (the joint's order is the minimum).
-pub const ORDER_SAMPLES: [f64; 4] = [0.125, 0.375, 0.625, 0.875];
+pub(crate) const ORDER_SAMPLES: [f64; 4] = [0.125, 0.375, 0.625, 0.875];
 
 /// The relative tolerance for order m.
-pub fn tolerance(m: usize) -> f64 {
+pub(crate) fn tolerance(m: usize) -> f64 {
     1e-8 * 10f64.powi(m as i32)
 }
 
@@ -542,7 +546,7 @@ struct Evaluated<'a> {
 
 /// A jump this large relative to the order-m coefficients is always detected: an order whose
 /// rounding floor exceeds it cannot be resolved in f64 and is not claimed.
-pub const RESOLVABLE: f64 = 0.1;
+pub(crate) const RESOLVABLE: f64 = 0.1;
 
 /// Perturbed evaluations behind [`rounding_floor`].
 const FLOOR_TRIALS: usize = 4;
@@ -649,6 +653,7 @@ impl<'a> Floor<'a> {
 /// whatever the measure does (`d!/(d−m)!` times the m-th differences of points known to
 /// `ε |b|`, divided by the speed to the m-th power). Zero for patch kinds without a control
 /// net.
+#[cfg(test)]
 pub fn rounding_floor(surface: &Surface, joint: &Joint, s: f64) -> [f64; MAX_ORDER + 1] {
     let mut floor = [0.0; MAX_ORDER + 1];
     let nets = perturbed_nets(surface, joint);
@@ -682,19 +687,9 @@ fn exact_point<'a>(
     (gap, JointPoint::new(evaluated, joint.a.edge as usize))
 }
 
-/// The measured order of `joint` at fraction `s` along it; `diag` is the length scale L.
-///
-/// Order m agrees when the coefficients differ by at most `tolerance(m)` of their scale, or
-/// — for high derivatives of small high-degree patches — by at most their [`rounding_floor`]
-/// while that floor is below [`RESOLVABLE`] of the scale (a genuine jump of that size would
-/// still be seen). An order whose floor is larger is not resolved and not claimed.
-pub fn order_at(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> i32 {
-    measure_at(surface, joint, s, diag).order
-}
-
 /// A measured order and why the measure stopped there.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Measured {
+pub(crate) struct Measured {
     /// The order the two sides agree to.
     pub order: i32,
     /// `true` if the next order could not be resolved (its rounding floor exceeds
@@ -704,6 +699,7 @@ pub struct Measured {
 }
 
 /// [`order_at`] with the reason it stopped.
+#[cfg(test)]
 pub fn measure_at(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> Measured {
     measure_with_floor(
         surface,
@@ -804,11 +800,13 @@ pub fn joint_order(surface: &Surface, joint: &Joint, diag: f64) -> i32 {
 /// [`crate::bezier::triangle::index`]`(d, i, j)`, as in [`TriangleBezier`]): a stored f64 net
 /// read exactly, or a net constructed in double-double, for [`precise_measure`].
 #[derive(Clone, Debug, PartialEq)]
+#[cfg(test)]
 pub struct PreciseNet {
     degree: usize,
     points: Vec<[DoubleDouble; 3]>,
 }
 
+#[cfg(test)]
 impl PreciseNet {
     /// The net of degree `degree` with control points `points`; panics unless there are
     /// `(d+1)(d+2)/2` of them.
@@ -842,11 +840,6 @@ impl PreciseNet {
         self.degree
     }
 
-    /// The control points.
-    pub fn points(&self) -> &[[DoubleDouble; 3]] {
-        &self.points
-    }
-
     /// Control point `b(i,j,k)` (`k = d − i − j`).
     pub fn point(&self, i: usize, j: usize) -> [DoubleDouble; 3] {
         self.points[crate::bezier::triangle::index(self.degree, i, j)]
@@ -862,6 +855,7 @@ impl PreciseNet {
 }
 
 /// One de Casteljau step in double-double, as [`de_casteljau_step`] (same layout, in place).
+#[cfg(test)]
 fn precise_step(net: &mut [[DoubleDouble; 3]], m: usize, w: [DoubleDouble; 3]) {
     de_casteljau_rows(net, m, |t, b_j, b_k| {
         let old = *t;
@@ -871,6 +865,7 @@ fn precise_step(net: &mut [[DoubleDouble; 3]], m: usize, w: [DoubleDouble; 3]) {
 
 /// The partial derivatives of orders `0..=MAX_ORDER` of `net` at `uv` in double-double, by
 /// the blossom steps of [`bezier_partials`].
+#[cfg(test)]
 fn precise_partials(net: &PreciseNet, uv: DVec2) -> [[DoubleDouble; 3]; TERMS] {
     let dd = DoubleDouble::from_f64;
     let d = net.degree;
@@ -902,6 +897,7 @@ fn precise_partials(net: &PreciseNet, uv: DVec2) -> [[DoubleDouble; 3]; TERMS] {
 }
 
 /// [`frame_series`] in double-double for all orders (the frame's f64 vectors taken as exact).
+#[cfg(test)]
 fn precise_frame_series(
     partials: &[[DoubleDouble; 3]; TERMS],
     frame: [DVec3; 3],
@@ -929,6 +925,7 @@ fn precise_frame_series(
 /// edges differ by an ulp) place the two sides' points ~1e-16 apart, which moves the
 /// height coefficients of small patches by up to ~1e-13 of their scale (measured: at most
 /// 4e-13, at order 5). A construction error of 1e-6 of a patch's size shows as 1e-5 or more.
+#[cfg(test)]
 pub fn precise_tolerance(m: usize) -> f64 {
     1e-14 * 10f64.powi(m as i32)
 }
@@ -937,6 +934,7 @@ pub fn precise_tolerance(m: usize) -> f64 {
 /// order-m height coefficients and their scale (as in the f64 measure: the larger magnitude
 /// of the coefficients, or `L^{1−m}`).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg(test)]
 pub struct PreciseTerm {
     /// `max |h_A,ij − h_B,ij|` over `i + j = m`.
     pub difference: f64,
@@ -953,6 +951,7 @@ pub struct PreciseTerm {
 /// (its points taken as exact); for nets constructed in double-double, that of the
 /// construction.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg(test)]
 pub struct PreciseMeasure {
     /// `|S_A − S_B|` at the point.
     pub gap: f64,
@@ -962,6 +961,7 @@ pub struct PreciseMeasure {
     pub terms: Vec<PreciseTerm>,
 }
 
+#[cfg(test)]
 impl PreciseMeasure {
     /// The order the sides agree to: −1 for a gap above [`G0_GAP_REL`]` L`, else the largest m such
     /// that every order up to m differs by at most [`precise_tolerance`]`(m)` of its scale.
@@ -994,6 +994,7 @@ impl PreciseMeasure {
 
 /// The sides `nets` at domain points `uvs` (side A on edge `edge_a`) compared in
 /// double-double; `None` where a side is singular.
+#[cfg(test)]
 fn precise_point(
     nets: [&PreciseNet; 2],
     uvs: [DVec2; 2],
@@ -1041,6 +1042,7 @@ fn precise_point(
 /// The order measure of [`measure_at`] in double-double on the nets `nets` of the two sides
 /// of `joint` (side A's first) at fraction `s`; `diag` is the length scale L. `None` where a
 /// side is singular.
+#[cfg(test)]
 pub fn precise_measure(
     nets: [&PreciseNet; 2],
     joint: &Joint,

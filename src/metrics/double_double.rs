@@ -18,7 +18,7 @@ use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
 /// The scalar of the continuity measure's series arithmetic: f64, or [`DoubleDouble`] for the
 /// high-precision measure.
-pub trait Real:
+pub(crate) trait Real:
     Copy
     + Debug
     + PartialEq
@@ -33,21 +33,25 @@ pub trait Real:
     /// Zero.
     const ZERO: Self;
     /// The number `x` (exact).
+    #[cfg(test)]
     fn from_f64(x: f64) -> Self;
     /// The nearest f64 (for a double-double: its high part).
     fn to_f64(self) -> f64;
     /// The absolute value.
+    #[cfg(test)]
     fn abs(self) -> Self;
 }
 
 impl Real for f64 {
     const ZERO: f64 = 0.0;
+    #[cfg(test)]
     fn from_f64(x: f64) -> f64 {
         x
     }
     fn to_f64(self) -> f64 {
         self
     }
+    #[cfg(test)]
     fn abs(self) -> f64 {
         f64::abs(self)
     }
@@ -56,12 +60,14 @@ impl Real for f64 {
 /// `hi + lo`, normalised (`hi` is `hi + lo` rounded to f64). Derived comparisons are those
 /// of the value: the high parts decide unless equal, then the low parts.
 #[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
+#[cfg(test)]
 pub struct DoubleDouble {
     hi: f64,
     lo: f64,
 }
 
 /// `a + b = s + e` exactly, `s = fl(a + b)` (Knuth's TwoSum, any order of magnitudes).
+#[cfg(test)]
 fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let b_virtual = s - a;
@@ -70,32 +76,25 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
 }
 
 /// `a + b = s + e` exactly when `|a| ≥ |b|` or `a = 0` (Dekker's Fast2Sum).
+#[cfg(test)]
 fn fast_two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     (s, b - (s - a))
 }
 
 /// `a · b = p + e` exactly (barring underflow), by a fused multiply-add.
+#[cfg(test)]
 fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
     (p, a.mul_add(b, -p))
 }
 
+#[cfg(test)]
 impl DoubleDouble {
     /// The pair `hi + lo`, normalised.
     pub fn new(hi: f64, lo: f64) -> Self {
         let (hi, lo) = two_sum(hi, lo);
         DoubleDouble { hi, lo }
-    }
-
-    /// The high part: the value rounded to f64.
-    pub fn hi(self) -> f64 {
-        self.hi
-    }
-
-    /// The low part: the value minus [`DoubleDouble::hi`].
-    pub fn lo(self) -> f64 {
-        self.lo
     }
 
     /// `self · b` for an f64 `b` (Joldeș–Muller–Popescu, DWTimesFP3: error below `2u²`).
@@ -107,6 +106,7 @@ impl DoubleDouble {
     }
 }
 
+#[cfg(test)]
 impl Real for DoubleDouble {
     const ZERO: DoubleDouble = DoubleDouble { hi: 0.0, lo: 0.0 };
     fn from_f64(x: f64) -> Self {
@@ -124,6 +124,7 @@ impl Real for DoubleDouble {
     }
 }
 
+#[cfg(test)]
 impl Neg for DoubleDouble {
     type Output = DoubleDouble;
     fn neg(self) -> DoubleDouble {
@@ -134,6 +135,7 @@ impl Neg for DoubleDouble {
     }
 }
 
+#[cfg(test)]
 impl Add for DoubleDouble {
     type Output = DoubleDouble;
     /// AccurateDWPlusDW (relative error below `3u² + 13u³`).
@@ -146,12 +148,14 @@ impl Add for DoubleDouble {
     }
 }
 
+#[cfg(test)]
 impl AddAssign for DoubleDouble {
     fn add_assign(&mut self, y: DoubleDouble) {
         *self = *self + y;
     }
 }
 
+#[cfg(test)]
 impl Sub for DoubleDouble {
     type Output = DoubleDouble;
     fn sub(self, y: DoubleDouble) -> DoubleDouble {
@@ -159,6 +163,7 @@ impl Sub for DoubleDouble {
     }
 }
 
+#[cfg(test)]
 impl Mul for DoubleDouble {
     type Output = DoubleDouble;
     /// DWTimesDW3 with fused multiply-adds (relative error below `4u²`).
@@ -172,6 +177,7 @@ impl Mul for DoubleDouble {
     }
 }
 
+#[cfg(test)]
 impl Div for DoubleDouble {
     type Output = DoubleDouble;
     /// DWDivDW2 (relative error below `15u² + 56u³`).

@@ -8,12 +8,12 @@ use rayon::prelude::*;
 use crate::surface::{Patch, Surface};
 
 /// Each patch's (u, v) triangle is split into this many² sub-triangles for the quadrature.
-pub const ENERGY_SPLIT: usize = 12;
+pub(crate) const ENERGY_SPLIT: usize = 12;
 
 /// Quadrature points of the regular split of the unit (u, v) triangle into `n²` sub-triangles,
 /// three per sub-triangle (the degree-2 rule at `(2/3, 1/6, 1/6)` and its permutations), all of
 /// equal weight.
-pub fn split_points(n: usize) -> Vec<DVec2> {
+pub(crate) fn split_points(n: usize) -> Vec<DVec2> {
     let h = 1.0 / n as f64;
     let mut out = Vec::with_capacity(3 * n * n);
     let mut rule = |c: [DVec2; 3]| {
@@ -47,12 +47,12 @@ fn patch_bending(patch: &Patch, points: &[DVec2]) -> f64 {
 }
 
 /// `∫ κ1² + κ2² dA` over the whole surface (singular samples are left out).
-pub fn bending_energy(surface: &Surface) -> f64 {
+pub(crate) fn bending_energy(surface: &Surface) -> f64 {
     bending_energy_with(surface, ENERGY_SPLIT)
 }
 
 /// [`bending_energy`] with `split`² quadrature cells per patch.
-pub fn bending_energy_with(surface: &Surface, split: usize) -> f64 {
+pub(crate) fn bending_energy_with(surface: &Surface, split: usize) -> f64 {
     let points = split_points(split);
     let per_patch: Vec<f64> = surface
         .patches

@@ -14,7 +14,9 @@ use glam::DVec3;
 use crate::geom::Jet;
 use crate::surface::{Joint, Surface, edge_uv};
 
-pub use crate::surface::{JOINT_SAMPLES, joint_fractions};
+#[cfg(test)]
+use crate::surface::JOINT_SAMPLES;
+pub(crate) use crate::surface::joint_fractions;
 
 /// The angle between two (not necessarily unit) normals, `atan2(|n0 × n1|, n0 · n1)`:
 /// accurate to machine precision near 0 and near π, where `acos` of the dot product loses
@@ -70,7 +72,7 @@ pub struct JointStats {
 /// what every scheme guarantees: a patch is parametrised with the orientation of its face,
 /// and the mesh is consistently oriented. A patch with the opposite orientation shows up
 /// honestly as a jump of π (and as a sign change of the mean curvature).
-pub fn measure_joint(surface: &Surface, joint: &Joint, floor: CurvatureFloor) -> JointStats {
+pub(crate) fn measure_joint(surface: &Surface, joint: &Joint, floor: CurvatureFloor) -> JointStats {
     let mut stats = JointStats {
         between_faces: joint.between_faces,
         ..JointStats::default()
@@ -95,7 +97,7 @@ pub fn measure_joint(surface: &Surface, joint: &Joint, floor: CurvatureFloor) ->
 }
 
 /// The jets of both sides of `joint` at fraction `s` along side `a` (the same domain point).
-pub fn sides_at(surface: &Surface, joint: &Joint, s: f64) -> [Jet; 2] {
+pub(crate) fn sides_at(surface: &Surface, joint: &Joint, s: f64) -> [Jet; 2] {
     let s_b = if joint.reversed { 1.0 - s } else { s };
     let uv_a = edge_uv(joint.a.edge as usize, s);
     let uv_b = edge_uv(joint.b.edge as usize, s_b);
@@ -108,7 +110,7 @@ pub fn sides_at(surface: &Surface, joint: &Joint, s: f64) -> [Jet; 2] {
 /// normals (`None` where a side is singular, `Su × Sv = 0`) — [`measure_joint`]'s figures at a
 /// single fraction.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JumpAt {
+pub(crate) struct JumpAt {
     /// Distance between the two sides' points.
     pub gap: f64,
     /// Angle between the sides' normals (rad).
@@ -116,7 +118,7 @@ pub struct JumpAt {
 }
 
 /// The jump across `joint` at fraction `s` along side `a`.
-pub fn jump_at(surface: &Surface, joint: &Joint, s: f64) -> JumpAt {
+pub(crate) fn jump_at(surface: &Surface, joint: &Joint, s: f64) -> JumpAt {
     let [a, b] = sides_at(surface, joint, s);
     let (cross_a, cross_b) = (a.cross(), b.cross());
     JumpAt {

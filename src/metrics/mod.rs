@@ -15,13 +15,13 @@
 //! the per-item results are collected in order and reduced sequentially, so every figure
 //! (including the mean) is bit-for-bit the same for any thread count.
 
-pub mod continuity;
-pub mod double_double;
-pub mod energy;
-pub mod joints;
-pub mod network;
-pub mod patchwise;
-pub mod vertex_curvature;
+pub(crate) mod continuity;
+pub(crate) mod double_double;
+pub(crate) mod energy;
+pub(crate) mod joints;
+pub(crate) mod network;
+pub(crate) mod patchwise;
+pub(crate) mod vertex_curvature;
 
 use std::collections::BTreeMap;
 
@@ -33,7 +33,11 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::surface::{LocalFrame, Surface};
 
-pub use joints::{CurvatureFloor, JOINT_SAMPLES, JointStats, normal_angle};
+pub use crate::surface::JOINT_SAMPLES;
+pub use continuity::joint_order;
+pub use joints::{CurvatureFloor, JointStats, normal_angle};
+pub use network::network_undulation;
+pub use vertex_curvature::vertex_curvature;
 
 /// The keys every object of the metrics JSON has: the contract in docs/guide/contracts.md (`continuity_order`
 /// included) and the regularity figure. Tools reading the JSON may rely on them.

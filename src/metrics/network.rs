@@ -26,11 +26,11 @@ use crate::mesh::Mesh;
 use crate::surface::Surface;
 
 /// Samples per mesh edge.
-pub const NETWORK_SAMPLES: usize = 64;
+pub(crate) const NETWORK_SAMPLES: usize = 64;
 
 /// Figures of one boundary curve.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CurveUndulation {
+pub(crate) struct CurveUndulation {
     /// Turning against the overall bending (rad).
     pub undulation_rad: f64,
     /// Sign changes of the signed curvature.
@@ -92,7 +92,7 @@ fn unit(c: usize) -> DVec3 {
 
 /// Undulation figures of one sampled curve from `a` to `b` with surface normal `normal` at its
 /// middle. `None` if the chord is degenerate or parallel to the normal.
-pub fn curve_undulation(
+pub(crate) fn curve_undulation(
     samples: &[(DVec3, DVec3, DVec3)],
     a: DVec3,
     b: DVec3,

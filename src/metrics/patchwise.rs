@@ -7,11 +7,11 @@ use crate::surface::{Patch, Surface, UV_CORNERS};
 
 /// Subdivisions per patch edge of the grid on which regularity is sampled
 /// (`(n+1)(n+2)/2 = 45` points, corners and edges included).
-pub const REGULARITY_GRID: usize = 8;
+pub(crate) const REGULARITY_GRID: usize = 8;
 
 /// Largest `|S(corner) − vertex|` (absolute) over every patch corner that sits on a mesh
 /// vertex; `None` if no corner does.
-pub fn interpolation_error(
+pub(crate) fn interpolation_error(
     surface: &Surface,
     faces: &[[u32; 3]],
     positions: &[DVec3],
@@ -30,7 +30,7 @@ pub fn interpolation_error(
 /// Regularity of one patch: `min |Su × Sv| / mean |Su × Sv|` over the sample grid. Scale
 /// free (a small patch is not less regular than a big one) and 0 exactly where the
 /// parametrisation is singular at a sample; 0 also for a patch that is singular everywhere.
-pub fn patch_regularity(patch: &Patch) -> f64 {
+pub(crate) fn patch_regularity(patch: &Patch) -> f64 {
     let n = REGULARITY_GRID;
     let (mut min, mut sum, mut count) = (f64::INFINITY, 0.0, 0usize);
     for i in 0..=n {
@@ -51,7 +51,7 @@ pub fn patch_regularity(patch: &Patch) -> f64 {
 /// is parametrised with the orientation of its face (the export contract, docs/guide/contracts.md), so a
 /// surface that follows its mesh has none; a fold is where the surface doubles back over the
 /// face. Samples where `Su × Sv = 0` are not counted.
-pub fn patch_fold_samples(patch: &Patch, face_normal: DVec3) -> usize {
+pub(crate) fn patch_fold_samples(patch: &Patch, face_normal: DVec3) -> usize {
     let n = REGULARITY_GRID;
     (0..=n)
         .flat_map(|i| (0..=n - i).map(move |j| (i, j)))
@@ -64,7 +64,7 @@ pub fn patch_fold_samples(patch: &Patch, face_normal: DVec3) -> usize {
 
 /// The folds of a surface ([`patch_fold_samples`] over every patch).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Folds {
+pub(crate) struct Folds {
     /// Samples where a patch's normal points against its face's normal.
     pub samples: usize,
     /// Patches with at least one such sample.
@@ -72,7 +72,7 @@ pub struct Folds {
 }
 
 /// The [`Folds`] of `surface` over the mesh `faces` on `positions`.
-pub fn folds(surface: &Surface, faces: &[[u32; 3]], positions: &[DVec3]) -> Folds {
+pub(crate) fn folds(surface: &Surface, faces: &[[u32; 3]], positions: &[DVec3]) -> Folds {
     let per_patch: Vec<usize> = surface
         .patches
         .par_iter()
@@ -88,7 +88,7 @@ pub fn folds(surface: &Surface, faces: &[[u32; 3]], positions: &[DVec3]) -> Fold
 }
 
 /// Smallest [`patch_regularity`] over all patches (`None` for an empty surface).
-pub fn min_regularity(surface: &Surface) -> Option<f64> {
+pub(crate) fn min_regularity(surface: &Surface) -> Option<f64> {
     let per_patch: Vec<f64> = surface.patches.par_iter().map(patch_regularity).collect();
     per_patch.into_iter().reduce(f64::min)
 }

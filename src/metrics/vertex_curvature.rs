@@ -25,14 +25,14 @@ use crate::surface::{Surface, UV_CORNERS};
 
 /// A vertex is *curved* in the mesh when its curvature scale times its mean edge length
 /// exceeds this: a mesh bend of about a micro-radian per edge (planar vertices are left out).
-pub const MESH_CURVED: f64 = 1e-6;
+pub(crate) const MESH_CURVED: f64 = 1e-6;
 
 /// A curved vertex is a *flat point* of the surface when both principal curvatures at every
 /// patch corner on it are at most this fraction of the mesh's curvature scale there.
-pub const FLAT_FRACTION: f64 = 1e-3;
+pub(crate) const FLAT_FRACTION: f64 = 1e-3;
 
 /// `(κ1, κ2, H)` at one patch corner.
-pub type CornerCurvature = (f64, f64, f64);
+pub(crate) type CornerCurvature = (f64, f64, f64);
 
 /// The vertex figures of one surface.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -50,7 +50,10 @@ pub struct VertexCurvature {
 
 /// The discrete curvature of the mesh at every vertex: `(H_mesh, curvature scale, mean edge
 /// length)`, each 0 for a vertex without faces.
-pub fn mesh_vertex_curvature(faces: &[[u32; 3]], positions: &[DVec3]) -> Vec<(f64, f64, f64)> {
+pub(crate) fn mesh_vertex_curvature(
+    faces: &[[u32; 3]],
+    positions: &[DVec3],
+) -> Vec<(f64, f64, f64)> {
     let n = positions.len();
     let mut normal = vec![DVec3::ZERO; n];
     for f in faces {
@@ -95,7 +98,7 @@ pub fn mesh_vertex_curvature(faces: &[[u32; 3]], positions: &[DVec3]) -> Vec<(f6
 
 /// Principal curvatures `(κ1, κ2, H)` of the surface at every patch corner on a mesh vertex,
 /// grouped by vertex (corners with a singular parametrisation left out).
-pub fn surface_vertex_curvature(
+pub(crate) fn surface_vertex_curvature(
     surface: &Surface,
     faces: &[[u32; 3]],
     vertex_count: usize,

@@ -287,7 +287,7 @@ fn f32_up(x: f64) -> f32 {
 }
 
 /// Barycentric coordinates of `p` in the triangle `tri` (non-degenerate).
-pub fn barycentric_in(tri: [DVec2; 3], p: DVec2) -> DVec3 {
+pub(crate) fn barycentric_in(tri: [DVec2; 3], p: DVec2) -> DVec3 {
     let e1 = tri[1] - tri[0];
     let e2 = tri[2] - tri[0];
     let q = p - tri[0];
@@ -299,7 +299,7 @@ pub fn barycentric_in(tri: [DVec2; 3], p: DVec2) -> DVec3 {
 
 /// The four sub-triangles of `tri` split at its edge midpoints, all counter-clockwise like
 /// `tri`; the middle one last.
-pub fn split4(tri: [DVec2; 3]) -> [[DVec2; 3]; 4] {
+pub(crate) fn split4(tri: [DVec2; 3]) -> [[DVec2; 3]; 4] {
     let m01 = 0.5 * (tri[0] + tri[1]);
     let m12 = 0.5 * (tri[1] + tri[2]);
     let m20 = 0.5 * (tri[2] + tri[0]);
@@ -328,7 +328,7 @@ const CHILD_CORNERS: [[DVec3; 3]; 4] = {
 };
 
 /// An f64 box as an f32 box that contains it, grown by `pad` on every side.
-pub fn outward_f32(b: &Aabb, pad: f64) -> obvhs::aabb::Aabb {
+pub(crate) fn outward_f32(b: &Aabb, pad: f64) -> obvhs::aabb::Aabb {
     let lo = b.min - DVec3::splat(pad);
     let hi = b.max + DVec3::splat(pad);
     obvhs::aabb::Aabb::new(
@@ -339,7 +339,7 @@ pub fn outward_f32(b: &Aabb, pad: f64) -> obvhs::aabb::Aabb {
 
 /// The box padding for a scene with bounds `scene`: covers the f32 rounding of traversal rays
 /// whose origin and hit distance are within about ten scene sizes of the scene.
-pub fn box_padding(scene: &Aabb) -> f64 {
+pub(crate) fn box_padding(scene: &Aabb) -> f64 {
     let extent = scene
         .diagonal()
         .max(scene.min.abs().max_element())
@@ -700,7 +700,7 @@ fn permute_blocks<T: Copy>(data: &mut [T], block: usize, order: &[u32]) {
 
 /// PLOC with a medium search radius and a little reinsertion: reinsertion pays for itself
 /// once a frame has more rays than the scene has leaves, which is every frame here.
-pub fn build_params() -> BvhBuildParams {
+pub(crate) fn build_params() -> BvhBuildParams {
     let mut params = BvhBuildParams::medium_build();
     params.max_prims_per_leaf = 3;
     params
@@ -800,7 +800,7 @@ fn subdivide_blend(
 /// ray's meeting point with the corner plane (θ: angle between ray and plane normal), and the
 /// preimage under `A` shrinks distances by at most `1 / σ_min(J_A)`. Infinite for a degenerate
 /// corner triangle.
-pub fn affine_radius(corners: [DVec3; 3], nets: &[&TriangleBezier]) -> f64 {
+pub(crate) fn affine_radius(corners: [DVec3; 3], nets: &[&TriangleBezier]) -> f64 {
     let (e1, e2) = (corners[1] - corners[0], corners[2] - corners[0]);
     let sigma = smallest_singular_value(e1, e2);
     if sigma.is_nan() || sigma <= 0.0 {
@@ -839,7 +839,7 @@ pub fn affine_radius(corners: [DVec3; 3], nets: &[&TriangleBezier]) -> f64 {
 /// `u + Σ β_m D_m M⁻¹ u`, at least `(1 − K) |u|` with `K = max ‖D_m M⁻¹‖_F`. So every chord
 /// makes an angle of tangent at most `H / (1 − K)` with the plane, and a ray at a larger angle
 /// is parallel to no chord: it meets the piece at most once.
-pub fn tilt(corners: [DVec3; 3], net: &TriangleBezier) -> f64 {
+pub(crate) fn tilt(corners: [DVec3; 3], net: &TriangleBezier) -> f64 {
     let (e1, e2) = (corners[1] - corners[0], corners[2] - corners[0]);
     let normal = e1.cross(e2).normalize_or_zero();
     let d = net.degree();
@@ -899,7 +899,7 @@ pub fn tilt(corners: [DVec3; 3], net: &TriangleBezier) -> f64 {
 
 /// The smallest singular value of the 3×2 matrix `[a b]`: `|a × b| / σ_max`, with `σ_max²` the
 /// larger eigenvalue of the Gram matrix (the product form avoids cancellation on slivers).
-pub fn smallest_singular_value(a: DVec3, b: DVec3) -> f64 {
+pub(crate) fn smallest_singular_value(a: DVec3, b: DVec3) -> f64 {
     let (aa, ab, bb) = (a.length_squared(), a.dot(b), b.length_squared());
     let largest = 0.5 * (aa + bb + ((aa - bb).powi(2) + 4.0 * ab * ab).sqrt());
     if largest > 0.0 {
@@ -915,7 +915,11 @@ pub fn smallest_singular_value(a: DVec3, b: DVec3) -> f64 {
 /// midpoints and interior points of the piece and the largest `|S_ss| + |S_st| + |S_tt|` of
 /// each part is doubled. Not a proof: the blend is the one patch kind whose misses are not
 /// certified.
-pub fn sampled_second_bounds(blend: &BlendPatch, tri: [DVec2; 3], normal: DVec3) -> [f64; 2] {
+pub(crate) fn sampled_second_bounds(
+    blend: &BlendPatch,
+    tri: [DVec2; 3],
+    normal: DVec3,
+) -> [f64; 2] {
     let (e1, e2) = (tri[1] - tri[0], tri[2] - tri[0]);
     const SAMPLES: [(f64, f64); 10] = [
         (0.0, 0.0),
@@ -957,13 +961,13 @@ pub fn sampled_second_bounds(blend: &BlendPatch, tri: [DVec2; 3], normal: DVec3)
 /// solver accepts roots only in the leaf's closed domain triangle (it projects its iterates
 /// into it, [`crate::render::newton`]), so the pad covers the rounding of the prism's planes
 /// and of the f32 bounds, with a wide margin for every degree up to 6.
-pub const PRISM_PAD: f64 = 1e-5;
+pub(crate) const PRISM_PAD: f64 = 1e-5;
 
 /// Largest degree given a power form (the degrees the intersection code specialises).
-pub const MAX_POWER_DEGREE: usize = 6;
+pub(crate) const MAX_POWER_DEGREE: usize = 6;
 
 /// The flatness and normal-cone test of [`SubdivisionCriterion`] on one control net.
-pub fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) -> bool {
+pub(crate) fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) -> bool {
     let d = net.degree();
     let p0 = net.point(d, 0);
     let p1 = net.point(0, d);

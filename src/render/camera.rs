@@ -35,7 +35,7 @@ impl FramedPoints for [DVec3] {
 /// Automatic framing leaves this factor of room around the framed points: their extent is at
 /// most `1/FRAMING_MARGIN` of the half-image on the axis that sets the distance, so each
 /// margin is `(1 − 1/FRAMING_MARGIN)/2` ≈ 4.5 % of the image there.
-pub const FRAMING_MARGIN: f64 = 1.1;
+pub(crate) const FRAMING_MARGIN: f64 = 1.1;
 
 /// How the image plane maps to rays.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,7 +56,7 @@ pub enum Projection {
 /// `diagonal / fov` from the surface (6·10^4 diagonals at 10^-3°), and the f32 BVH traversal
 /// loses hits when the eye is much farther (measured on the bunny: all hits at 10^-3°, 12 %
 /// lost at 10^-4°, all at 10^-6°).
-pub const MIN_FOV_DEG: f64 = 1e-3;
+pub(crate) const MIN_FOV_DEG: f64 = 1e-3;
 
 /// Checks a vertical field of view: in [[`MIN_FOV_DEG`], 180°).
 fn check_fov(fov_deg: f64) -> Result<()> {
@@ -82,7 +82,7 @@ fn short(x: f64) -> String {
 
 /// The unit vector along `v`, or None if `v` is zero or not finite. Scaled by its largest
 /// component first, so that neither `|v|²` overflows (|v| ≈ 1e300) nor underflows (1e-300).
-pub fn unit(v: DVec3) -> Option<DVec3> {
+pub(crate) fn unit(v: DVec3) -> Option<DVec3> {
     let scale = v.abs().max_element();
     (scale > 0.0 && scale.is_finite()).then(|| (v / scale).normalize())
 }
@@ -90,7 +90,7 @@ pub fn unit(v: DVec3) -> Option<DVec3> {
 /// The unit direction from `from` to `to`, or None if they coincide. Both points are scaled by
 /// their largest coordinate before the difference is taken, so that it cannot overflow (eye at
 /// 1e300, target at −1e300) and the result does not depend on the scale of the scene.
-pub fn unit_direction(from: DVec3, to: DVec3) -> Option<DVec3> {
+pub(crate) fn unit_direction(from: DVec3, to: DVec3) -> Option<DVec3> {
     let scale = from.abs().max_element().max(to.abs().max_element());
     if !(scale > 0.0 && scale.is_finite()) {
         return None;

@@ -19,14 +19,14 @@ use crate::surface::{Patch, Surface};
 use crate::tolerance::DOMAIN_ZERO;
 
 /// Dense samples per boundary curve (segments of its polyline).
-pub const CURVE_SEGMENTS: usize = 48;
+pub(crate) const CURVE_SEGMENTS: usize = 48;
 
 /// Relative size (to the polygon's extent) below which a degree reduction counts as exact:
 /// what inverse elevation leaves of f64 round-off for degrees ≤ 8.
-pub const EXACT_REDUCTION_REL: f64 = 1e-12;
+pub(crate) const EXACT_REDUCTION_REL: f64 = 1e-12;
 
 /// Default tube radius relative to the bounding-box diagonal of the surface.
-pub const DEFAULT_RADIUS_REL: f64 = 0.003;
+pub(crate) const DEFAULT_RADIUS_REL: f64 = 0.003;
 
 /// Which curves the overlay draws and how thick.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,7 +94,7 @@ fn edge_corners(mesh: &Mesh, edge: &MeshEdge) -> Option<(u32, usize, usize)> {
 
 /// The boundary curve of `edge` sampled at `CURVE_SEGMENTS + 1` points from vertex `a` to `b`,
 /// `None` if part of the edge is not covered by a patch of its face.
-pub fn boundary_curve(
+pub(crate) fn boundary_curve(
     surface: &Surface,
     face_patches: &[Vec<u32>],
     mesh: &Mesh,
@@ -130,7 +130,7 @@ fn patch_edge_points(patch: &Patch, e: usize) -> Option<Vec<DVec3>> {
 
 /// The control polygons of the patch edges that lie on `edge` (in its first face), each
 /// reduced by [`reduce_exact`]; ordered along the edge from `a` to `b` and oriented that way.
-pub fn control_polygons(
+pub(crate) fn control_polygons(
     surface: &Surface,
     face_patches: &[Vec<u32>],
     mesh: &Mesh,
@@ -166,7 +166,7 @@ pub fn control_polygons(
 
 /// One step of exact degree reduction: the degree n−1 polygon whose elevation is `points`, if
 /// there is one (inverse elevation from the first point, checked at the last).
-pub fn reduce_once(points: &[DVec3]) -> Option<Vec<DVec3>> {
+pub(crate) fn reduce_once(points: &[DVec3]) -> Option<Vec<DVec3>> {
     let n = points.len().checked_sub(1)?;
     if n < 2 {
         return None;
@@ -189,7 +189,7 @@ pub fn reduce_once(points: &[DVec3]) -> Option<Vec<DVec3>> {
 }
 
 /// `points` reduced in degree as long as the reduction is exact.
-pub fn reduce_exact(points: &[DVec3]) -> Vec<DVec3> {
+pub(crate) fn reduce_exact(points: &[DVec3]) -> Vec<DVec3> {
     let mut current = points.to_vec();
     while let Some(lower) = reduce_once(&current) {
         current = lower;
@@ -199,7 +199,7 @@ pub fn reduce_exact(points: &[DVec3]) -> Vec<DVec3> {
 
 /// The polylines of the overlay: boundary curves and/or control polygons of every mesh edge, or
 /// of edge `only` alone.
-pub fn network_polylines(
+pub(crate) fn network_polylines(
     surface: &Surface,
     mesh: &Mesh,
     curves: bool,

@@ -164,7 +164,7 @@ fn texel(t: &[f32; 3]) -> DVec3 {
 }
 
 /// Rec. 709 luminance of linear RGB.
-pub fn luminance(c: DVec3) -> f64 {
+pub(crate) fn luminance(c: DVec3) -> f64 {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
 

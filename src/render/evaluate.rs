@@ -18,10 +18,10 @@ use crate::bezier::TriangleBezier;
 use crate::surface::Patch;
 
 /// Largest degree evaluated on the stack (28 control points).
-pub const MAX_STACK_DEGREE: usize = 6;
+pub(crate) const MAX_STACK_DEGREE: usize = 6;
 
 /// `S(u, v)`, `∂S/∂u`, `∂S/∂v` at barycentric `(1−u−v, u, v)`.
-pub fn point_and_tangents(patch: &Patch, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
+pub(crate) fn point_and_tangents(patch: &Patch, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
     if let Some(blend) = patch.as_blend() {
         return blend.point_and_tangents(u, v);
     }
@@ -34,7 +34,11 @@ pub fn point_and_tangents(patch: &Patch, u: f64, v: f64) -> (DVec3, DVec3, DVec3
 
 /// [`point_and_tangents`] of a Bézier triangle: de Casteljau on the stack up to degree
 /// [`MAX_STACK_DEGREE`], its jet above.
-pub fn net_point_and_tangents(net: &TriangleBezier, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
+pub(crate) fn net_point_and_tangents(
+    net: &TriangleBezier,
+    u: f64,
+    v: f64,
+) -> (DVec3, DVec3, DVec3) {
     let d = net.degree();
     if d == 0 || d > MAX_STACK_DEGREE {
         let jet = net.jet(u, v);
@@ -85,7 +89,7 @@ pub fn net_point_and_tangents(net: &TriangleBezier, u: f64, v: f64) -> (DVec3, D
 /// With `f(j, k) = b(d−j−k, j, k)` and forward differences Δ₁ in `j`, Δ₂ in `k`, the Taylor
 /// coefficients at the first corner are `c_jk = d! / (j! k! (d−j−k)!) · Δ₁^j Δ₂^k f(0, 0)`, the
 /// triangular form of the univariate `c_j = C(d, j) Δ^j b_0` [Farin, CAGD §17.3].
-pub fn power_coefficients(net: &TriangleBezier) -> Vec<DVec3> {
+pub(crate) fn power_coefficients(net: &TriangleBezier) -> Vec<DVec3> {
     let d = net.degree();
     let mut c: Vec<DVec3> = Vec::with_capacity(point_count(d));
     for j in 0..=d {
@@ -125,7 +129,7 @@ pub fn power_coefficients(net: &TriangleBezier) -> Vec<DVec3> {
 
 /// Position of `c_jk` in [`power_coefficients`] of degree `d`: rows `0..j` hold
 /// `(d+1) + d + … + (d−j+2)` entries.
-pub const fn power_index(d: usize, j: usize, k: usize) -> usize {
+pub(crate) const fn power_index(d: usize, j: usize, k: usize) -> usize {
     j * (d + 1) - j * (j.saturating_sub(1)) / 2 + k
 }
 
@@ -133,7 +137,7 @@ pub const fn power_index(d: usize, j: usize, k: usize) -> usize {
 /// Horner in `t` inside each row and in `s` across rows. `D` is a constant so that every loop
 /// unrolls; `c` must hold `(D+1)(D+2)/2` coefficients.
 #[inline]
-pub fn local_point_and_tangents<const D: usize>(
+pub(crate) fn local_point_and_tangents<const D: usize>(
     c: &[DVec3],
     s: f64,
     t: f64,
@@ -186,7 +190,7 @@ impl<const D: usize> InverseMultinomials<D> {
 /// positive and the result is a convex combination's worth of the inputs, so each entry's
 /// rounding is a few ulps of `Σ |c_jk|` (returned second, as the sum of the projected
 /// coefficients' absolute coordinates).
-pub fn projected_net<const D: usize>(
+pub(crate) fn projected_net<const D: usize>(
     c: &[DVec3],
     project: impl Fn(DVec3) -> DVec2,
     offset: DVec2,
@@ -237,7 +241,7 @@ pub fn second_derivative_bound(net: &TriangleBezier) -> f64 {
 /// §17.3]; for a unit δ each term is at most `max(|Q11|, |Q22|) + |Q12|` (δu² + δv² = 1,
 /// 2|δu δv| ≤ 1), and the Bernstein weights sum to one, so `d(d−1)` times the largest of these
 /// over the net bounds it — for each part of the split separately.
-pub fn second_derivative_bounds(net: &TriangleBezier, normal: DVec3) -> [f64; 2] {
+pub(crate) fn second_derivative_bounds(net: &TriangleBezier, normal: DVec3) -> [f64; 2] {
     let d = net.degree();
     if d < 2 {
         return [0.0; 2];

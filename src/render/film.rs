@@ -232,7 +232,7 @@ pub fn render<T: SurfaceTracer>(
 /// it answers true the remaining tiles are skipped and the result is `None` (an interactive
 /// view drops a frame whose camera has moved on). A frame that is returned is the one
 /// [`render`] gives, bit for bit.
-pub fn render_cancellable<T: SurfaceTracer>(
+pub(crate) fn render_cancellable<T: SurfaceTracer>(
     tracer: &T,
     camera: &Camera,
     settings: &RenderSettings,

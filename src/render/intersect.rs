@@ -36,7 +36,7 @@ use crate::render::newton::{
     Newton, PieceBounds, Start, hull_clears_origin, newton_clearing, planar_start, search,
     taylor_excludes,
 };
-pub use crate::render::ray::{Ray64, RayPlanes, ray_enters_box};
+pub(crate) use crate::render::ray::{Ray64, RayPlanes};
 use crate::surface::{Patch, Surface};
 
 /// The cheap result of the hit test: which patch, where in its domain, how far.
@@ -507,7 +507,7 @@ impl<'s> Tracer<'s> {
 }
 
 /// The power of two that brings a box diagonal `diagonal` into `[1, 2)`: exact to apply.
-pub fn unit_scale(diagonal: f64) -> f64 {
+pub(crate) fn unit_scale(diagonal: f64) -> f64 {
     if diagonal.is_nan() || diagonal <= 0.0 || diagonal.is_infinite() {
         return f64::NAN;
     }

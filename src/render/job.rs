@@ -23,22 +23,22 @@ use crate::render::trace::SurfaceTracer;
 use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Default vertical field of view, degrees.
-pub const DEFAULT_FOV: f64 = 35.0;
+pub(crate) const DEFAULT_FOV: f64 = 35.0;
 
 /// Default image size of a render.
-pub const DEFAULT_SIZE: [u32; 2] = [640, 480];
+pub(crate) const DEFAULT_SIZE: [u32; 2] = [640, 480];
 /// Default samples per pixel of a render.
-pub const DEFAULT_SPP: u32 = 4;
+pub(crate) const DEFAULT_SPP: u32 = 4;
 /// The largest image side of a render (`render.size`, `--size`).
-pub const MAX_SIDE: u32 = 16384;
+pub(crate) const MAX_SIDE: u32 = 16384;
 /// The most samples per pixel a render takes (`render.spp`, `--spp`).
-pub const MAX_SPP: u32 = 65536;
+pub(crate) const MAX_SPP: u32 = 65536;
 /// Default cell size of a figure.
-pub const DEFAULT_CELL_SIZE: [u32; 2] = [256, 256];
+pub(crate) const DEFAULT_CELL_SIZE: [u32; 2] = [256, 256];
 /// The largest cell side of a figure.
-pub const MAX_CELL_SIDE: u32 = 4096;
+pub(crate) const MAX_CELL_SIDE: u32 = 4096;
 /// The most samples per pixel of a figure cell.
-pub const MAX_CELL_SPP: u32 = 4096;
+pub(crate) const MAX_CELL_SPP: u32 = 4096;
 
 /// Steps of the framing grid on a patch's domain: `(i/N, j/N)`, `i + j ≤ N`.
 const FRAMING_STEPS: u32 = 6;
@@ -296,7 +296,7 @@ impl CameraSpec {
 }
 
 /// Default of the most BVH leaves a job may build: 2^24 leaves, a few GB of BVH.
-pub const DEFAULT_MAX_LEAVES: u64 = 1 << 24;
+pub(crate) const DEFAULT_MAX_LEAVES: u64 = 1 << 24;
 
 /// What the rays meet: the exact patches (through a BVH of subdivided patch bounds) or a
 /// tessellation of them.
@@ -482,7 +482,7 @@ impl<'s> JobTracer<'s> {
 
 /// `mode` as a surface built on `mesh` is rendered with: an open mesh's back shows, so the
 /// quality modes tint it ([`Mode::with_back_faces_tinted`]).
-pub fn mode_for_mesh(mode: &Mode, mesh: &Mesh) -> Mode {
+pub(crate) fn mode_for_mesh(mode: &Mode, mesh: &Mesh) -> Mode {
     if mesh.is_closed() {
         mode.clone()
     } else {
@@ -491,7 +491,7 @@ pub fn mode_for_mesh(mode: &Mode, mesh: &Mesh) -> Mode {
 }
 
 /// Refuses an image of `width` × `height` outside `1..=max_side` per side, naming `what`.
-pub fn check_size(what: &str, width: u32, height: u32, max_side: u32) -> Result<()> {
+pub(crate) fn check_size(what: &str, width: u32, height: u32, max_side: u32) -> Result<()> {
     if width == 0 || height == 0 || width > max_side || height > max_side {
         return Err(Error::Invalid(format!(
             "{what} {width}x{height} must be between 1 and {max_side} per side"
@@ -501,7 +501,7 @@ pub fn check_size(what: &str, width: u32, height: u32, max_side: u32) -> Result<
 }
 
 /// Refuses samples per pixel outside `1..=max`, naming `what`.
-pub fn check_spp(what: &str, spp: u32, max: u32) -> Result<()> {
+pub(crate) fn check_spp(what: &str, spp: u32, max: u32) -> Result<()> {
     if spp == 0 || spp > max {
         return Err(Error::Invalid(format!("{what} {spp} must be in 1..={max}")));
     }
@@ -648,7 +648,7 @@ fn leaf_bytes(points: usize) -> f64 {
 
 /// Refuses a BVH that would have more than `max_leaves` leaves or need more memory than is
 /// available, by [`estimate_leaves`], before the subdivision allocates anything.
-pub fn check_bvh_size(
+pub(crate) fn check_bvh_size(
     surface: &Surface,
     criterion: &SubdivisionCriterion,
     max_leaves: u64,

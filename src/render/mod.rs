@@ -6,32 +6,34 @@
 //! (camera rays, stratified supersampling, a [`modes::Mode`]) → [`output`] (PNG + EXR) and
 //! [`stats::RenderStats`].
 
-pub mod bvh;
-pub mod camera;
-pub mod curves;
-pub mod environment;
+pub(crate) mod bvh;
+pub(crate) mod camera;
+pub(crate) mod curves;
+pub(crate) mod environment;
 pub(crate) mod evaluate;
-pub mod film;
-pub mod interaction;
-pub mod intersect;
-pub mod job;
+pub(crate) mod film;
+pub(crate) mod interaction;
+pub(crate) mod intersect;
+pub(crate) mod job;
 pub mod modes;
 pub(crate) mod newton;
 pub mod output;
-pub mod ray;
-pub mod sampler;
-pub mod shaded;
-pub mod stats;
-pub mod tessellate;
-pub mod theme;
-pub mod trace;
+pub(crate) mod ray;
+pub(crate) mod sampler;
+pub(crate) mod shaded;
+pub(crate) mod stats;
+pub(crate) mod tessellate;
+pub(crate) mod theme;
+pub(crate) mod trace;
 pub(crate) mod tubes;
 
 pub use camera::{Camera, Projection};
-pub use film::{Frame, PixelGeometry, RenderSettings, render};
-pub use intersect::{Hit, NewtonSettings, Ray64, Tracer};
-pub use job::{CameraSpec, Geometry, RenderJob};
+pub use environment::Environment;
+pub use film::{Frame, PixelGeometry, RenderSettings, check_frame_memory, render};
+pub use intersect::{Hit, IntersectCounters, NewtonSettings, Tracer};
+pub use job::{CameraSpec, Geometry, RenderJob, SurfaceSamples};
 pub use modes::Mode;
+pub use ray::Ray64;
 pub use stats::RenderStats;
 pub use theme::{Legend, LegendStyle, Theme};
 pub use trace::SurfaceTracer;

@@ -77,7 +77,7 @@ impl Default for NewtonSettings {
 
 /// The bounds of one piece that certify its misses (see the module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PieceBounds {
+pub(crate) struct PieceBounds {
     /// Surface points at the piece's corners `(s, t) = (0, 0), (1, 0), (0, 1)`.
     pub corners: [DVec3; 3],
     /// `δ / σ_min(J_A)`: see [`crate::render::bvh::affine_radius`].
@@ -96,7 +96,7 @@ pub struct PieceBounds {
 
 /// Outcome of one Newton run.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Newton {
+pub(crate) enum Newton {
     /// A root at `(s, t)` in the piece after `iterations` steps, with surface point `p`.
     Root(DVec2, u32, DVec3),
     /// Proved: the piece holds no root.
@@ -108,7 +108,7 @@ pub enum Newton {
 
 /// Where a Newton run starts.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Start {
+pub(crate) enum Start {
     /// The ray meets the corner plane at `at` (`(s, t)`, possibly outside `T`); a root lies
     /// within `radius` of it.
     At {
@@ -133,7 +133,7 @@ impl Start {
     /// corner plane is at most the piece's [`PieceBounds::tilt`], so it may be parallel to a
     /// chord of the piece. Without a tilt bound (blends), when it runs within 30° of the plane
     /// (leaves have control-net normal cones of at most 25°).
-    pub fn may_meet_twice(&self) -> bool {
+    pub(crate) fn may_meet_twice(&self) -> bool {
         match *self {
             Start::At { once, .. } => !once,
             Start::Outside => false,
@@ -163,7 +163,7 @@ impl Start {
 
 /// The start of Newton for `ray` on a piece with `bounds` (its corners, affine radius and tilt;
 /// see [`Start`]). Möller–Trumbore barycentrics of the ray–plane point.
-pub fn planar_start(bounds: &PieceBounds, ray: &Ray64) -> Start {
+pub(crate) fn planar_start(bounds: &PieceBounds, ray: &Ray64) -> Start {
     let [a, b, c] = bounds.corners;
     let (e1, e2) = (b - a, c - a);
     let pvec = ray.dir.cross(e2);
@@ -203,7 +203,7 @@ pub fn planar_start(bounds: &PieceBounds, ray: &Ray64) -> Start {
 /// Certified Newton on a piece: `eval(s, t)` gives `S`, `∂S/∂s`, `∂S/∂t`; `tolerance` is the
 /// accepted distance of a root from the ray. See the module documentation for why
 /// [`Newton::NoRoot`] is a proof and iterates stay in `T`.
-pub fn newton(
+pub(crate) fn newton(
     eval: &impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
     bounds: &PieceBounds,
     start: Start,
@@ -223,7 +223,7 @@ pub fn newton(
 /// `tolerance` of the ray, so no run could have accepted a root there: the outcome
 /// [`Newton::NoRoot`] is the one the caller would reach after [`Newton::Failed`] and the
 /// same test, only sooner.
-pub fn newton_clearing(
+pub(crate) fn newton_clearing(
     eval: &impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
     bounds: &PieceBounds,
     start: Start,
@@ -395,7 +395,7 @@ const FOLD_MU_SLACK: f64 = 0.1;
 
 /// Deepest search level [`search`] goes to, whatever [`NewtonSettings::fallback_depth`] says:
 /// 4^-12 of the piece is far below any root tolerance.
-pub const SEARCH_DEPTH_CAP: u32 = 12;
+pub(crate) const SEARCH_DEPTH_CAP: u32 = 12;
 
 /// The search of a piece whose Newton run was undecided: the unit triangle is split into four
 /// recursively (`depth` levels); a sub-triangle Δ is excluded when the residual's Taylor bound
@@ -412,7 +412,7 @@ pub const SEARCH_DEPTH_CAP: u32 = 12;
 /// number of sub-triangles left undecided at the last level (0: every root of the piece was
 /// visited), or `None` when a run proved that the piece holds no root.
 #[allow(clippy::too_many_arguments)]
-pub fn search(
+pub(crate) fn search(
     eval: impl Fn(DVec2) -> (DVec3, DVec3, DVec3),
     bounds: &PieceBounds,
     start: Start,
@@ -611,7 +611,7 @@ impl RootDisks {
 /// and the two coordinate axes on its side. Unlike the Newton bound it does not divide by the
 /// Jacobian's smallest singular value, so it still excludes a triangle near a silhouette, where
 /// that Jacobian is nearly singular.
-pub fn taylor_excludes(
+pub(crate) fn taylor_excludes(
     parts: &[(DVec2, DVec2, DVec2)],
     tri: [DVec2; 3],
     y: DVec2,
@@ -653,7 +653,7 @@ pub fn taylor_excludes(
 /// smallest `n · p` (a lower bound on the distance, so a proof as soon as it exceeds `limit`)
 /// and moves to the nearest point of the simplex with it. It answers false (no proof) when
 /// the hull comes within `limit`, holds the origin, or the iteration stops improving.
-pub fn hull_clears_origin(points: &[DVec2], limit: f64) -> bool {
+pub(crate) fn hull_clears_origin(points: &[DVec2], limit: f64) -> bool {
     let Some(&first) = points.first() else {
         return false;
     };
@@ -759,7 +759,7 @@ fn farthest_corner_distance(x: DVec2) -> f64 {
 }
 
 /// The point of the unit triangle `T = {s, t ≥ 0, s + t ≤ 1}` closest to `x`.
-pub fn project_to_unit_triangle(x: DVec2) -> DVec2 {
+pub(crate) fn project_to_unit_triangle(x: DVec2) -> DVec2 {
     if x.x >= 0.0 && x.y >= 0.0 && x.x + x.y <= 1.0 {
         return x;
     }
@@ -783,7 +783,7 @@ pub fn project_to_unit_triangle(x: DVec2) -> DVec2 {
 }
 
 /// Distance from `x` to the unit triangle `T` (0 inside).
-pub fn distance_to_unit_triangle(x: DVec2) -> f64 {
+pub(crate) fn distance_to_unit_triangle(x: DVec2) -> f64 {
     (project_to_unit_triangle(x) - x).length()
 }
 

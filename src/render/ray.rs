@@ -1,9 +1,6 @@
-//! Rays in f64 and the two ray representations the intersection code uses: the two-plane form
-//! of the Newton system and the slab test against an axis-aligned box.
+//! Rays in f64 and the two-plane form of the Newton system that the intersection code uses.
 
 use glam::{DVec2, DVec3};
-
-use crate::geom::Aabb;
 
 /// A ray in f64. `dir` has unit length, so `t` is a distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,26 +69,4 @@ impl RayPlanes {
     pub fn project(&self, v: DVec3) -> DVec2 {
         DVec2::new(self.n1.dot(v), self.n2.dot(v))
     }
-}
-
-/// Slab test of an f64 ray against a box grown by `pad`, restricted to `(t_min, t_max)`.
-pub fn ray_enters_box(ray: &Ray64, b: &Aabb, pad: f64, t_min: f64, t_max: f64) -> bool {
-    let lo = b.min - DVec3::splat(pad);
-    let hi = b.max + DVec3::splat(pad);
-    let mut near = t_min - pad;
-    let mut far = t_max + pad;
-    for axis in 0..3 {
-        let o = ray.origin[axis];
-        let d = ray.dir[axis];
-        if d == 0.0 {
-            if o < lo[axis] || o > hi[axis] {
-                return false;
-            }
-            continue;
-        }
-        let (a, b) = ((lo[axis] - o) / d, (hi[axis] - o) / d);
-        near = near.max(a.min(b));
-        far = far.min(a.max(b));
-    }
-    near <= far
 }

@@ -20,7 +20,7 @@ pub fn uniform(seed: u64, pixel: u64, sample: u32, dimension: u32) -> f64 {
 
 /// Samples per pixel the Owen-scrambled Sobol' points cover (the `sobol_burley` limit); later
 /// samples of a pixel use [`uniform`].
-pub const SOBOL_SAMPLES: u32 = 1 << 16;
+pub(crate) const SOBOL_SAMPLES: u32 = 1 << 16;
 
 /// Four numbers in `[0, 1)` of dimension set `set` of sample `sample` of pixel `pixel`: the
 /// first four dimensions of an Owen-scrambled Sobol' sequence (Burley's hash-based scrambling)
@@ -28,7 +28,7 @@ pub const SOBOL_SAMPLES: u32 = 1 << 16;
 /// is stratified over a pixel's samples (its 2-D projections are (0, 2)-sequences) and
 /// decorrelated from the other sets and pixels ("padding"). Deterministic per (seed, pixel,
 /// sample, set), like [`uniform`].
-pub fn sobol_4d(seed: u64, pixel: u64, sample: u32, set: u32) -> [f64; 4] {
+pub(crate) fn sobol_4d(seed: u64, pixel: u64, sample: u32, set: u32) -> [f64; 4] {
     if sample >= SOBOL_SAMPLES {
         return std::array::from_fn(|k| uniform(seed, pixel, sample, 4 * set + k as u32));
     }
@@ -50,7 +50,7 @@ pub fn sphere_direction(seed: u64, index: u64) -> DVec3 {
 
 /// The position in the unit pixel square of sample `s` of `n`, stratified: a jittered m×m grid
 /// when `n = m²`, otherwise n-rooks (one sample per row and per column of an n×n grid).
-pub fn pixel_offset(seed: u64, pixel: u64, s: u32, n: u32) -> (f64, f64) {
+pub(crate) fn pixel_offset(seed: u64, pixel: u64, s: u32, n: u32) -> (f64, f64) {
     let jx = uniform(seed, pixel, s, 0);
     let jy = uniform(seed, pixel, s, 1);
     let m = (f64::from(n).sqrt().round()) as u32;

@@ -15,8 +15,8 @@ use std::f64::consts::{PI, TAU};
 
 use glam::DVec3;
 
+pub(crate) use crate::render::environment::Environment;
 use crate::render::environment::luminance;
-pub use crate::render::environment::{Environment, LatLongMap};
 use crate::render::interaction::ShadingPoint;
 use crate::render::intersect::{IntersectCounters, Ray64};
 use crate::render::sampler::sobol_4d;
@@ -58,7 +58,7 @@ impl Default for ShadedParams {
 
 /// Identity of one path's random numbers, and its ray counts.
 #[derive(Clone, Copy, Debug)]
-pub struct PathState {
+pub(crate) struct PathState {
     /// Render seed.
     pub seed: u64,
     /// Pixel index.
@@ -186,7 +186,7 @@ fn power_heuristic(a: f64, b: f64) -> f64 {
 }
 
 /// Radiance along the camera ray whose closest hit is `first` (linear RGB).
-pub fn trace_path<T: SurfaceTracer>(
+pub(crate) fn trace_path<T: SurfaceTracer>(
     tracer: &T,
     params: &ShadedParams,
     first: &ShadingPoint,

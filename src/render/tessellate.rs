@@ -60,10 +60,10 @@ fn grid_index(n: u32, i: u32, j: u32) -> u32 {
 /// BVH builder's temporaries. Measured as the peak resident memory of `render --tessellate N`
 /// on the 80 `hb` patches of `scenes/icosahedron.obj`: 297 B per triangle at N = 128 and at
 /// N = 256; rounded up.
-pub const TESSELLATION_BYTES_PER_TRIANGLE: f64 = 320.0;
+pub(crate) const TESSELLATION_BYTES_PER_TRIANGLE: f64 = 320.0;
 
 /// The estimated peak memory of tessellating `patches` patches with `n` segments per edge.
-pub fn estimated_bytes(patches: usize, n: u32) -> f64 {
+pub(crate) fn estimated_bytes(patches: usize, n: u32) -> f64 {
     patches as f64 * f64::from(n) * f64::from(n) * TESSELLATION_BYTES_PER_TRIANGLE
 }
 

@@ -36,12 +36,12 @@ pub struct Polyline {
 }
 
 /// Segments per run (one box test guards this many capsule tests).
-pub const CHUNK: usize = 8;
+pub(crate) const CHUNK: usize = 8;
 
 /// Linear RGB of network curves (blue) and control polygons (red), as in [HB00 Fig. 14].
-pub const NETWORK_COLOUR: DVec3 = DVec3::new(0.02, 0.10, 0.85);
+pub(crate) const NETWORK_COLOUR: DVec3 = DVec3::new(0.02, 0.10, 0.85);
 /// Linear RGB of control polygons.
-pub const POLYGON_COLOUR: DVec3 = DVec3::new(0.85, 0.03, 0.02);
+pub(crate) const POLYGON_COLOUR: DVec3 = DVec3::new(0.85, 0.03, 0.02);
 
 /// One segment of a tube.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -10,7 +10,7 @@ use crate::schemes::{Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface, WHOLE_FACE};
 
 /// Registry entry.
-pub const SPEC: SchemeSpec = SchemeSpec {
+pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     name: "flat",
     summary: "the mesh itself: one linear triangle per face (C0 baseline)",
     params: &[],

@@ -2,13 +2,13 @@
 //! [`SCHEMES`]. `build` checks the parameter names, fills in defaults and refuses meshes a
 //! scheme cannot take (by name), so scheme code only sees valid input.
 
-pub mod boundary_blend;
-pub mod flat;
-pub mod gk;
-pub mod hb;
-pub mod loop94;
-pub mod piper;
-pub mod pn;
+pub(crate) mod boundary_blend;
+pub(crate) mod flat;
+pub(crate) mod gk;
+pub(crate) mod hb;
+pub(crate) mod loop94;
+pub(crate) mod piper;
+pub(crate) mod pn;
 
 pub(crate) mod vertex_rings;
 

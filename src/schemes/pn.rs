@@ -16,7 +16,7 @@ use crate::schemes::{AtFoldedVertex, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Registry entry.
-pub const SPEC: SchemeSpec = SchemeSpec {
+pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     name: "pn",
     summary: "PN triangles (Vlachos et al. 2001): cubic per face from vertex normals, C0",
     params: &[crate::schemes::NORMALS_PARAM],
@@ -124,7 +124,7 @@ fn recentre(patch: &mut TriangleBezier) {
 /// with E the mean of the six edge points and V the mean of the corners (this choice
 /// reproduces quadratics). In smoothlab's indexing corner `p[0]` is `b(3,0,0)`, `p[1]` is
 /// `b(0,3,0)`, `p[2]` is `b(0,0,3)`.
-pub fn pn_triangle(p: [DVec3; 3], n: [DVec3; 3]) -> TriangleBezier {
+pub(crate) fn pn_triangle(p: [DVec3; 3], n: [DVec3; 3]) -> TriangleBezier {
     // Third point of edge (a → b) next to corner a, moved into a's tangent plane.
     let edge_point = |a: usize, b: usize| {
         let w = (p[b] - p[a]).dot(n[a]);

@@ -12,19 +12,19 @@ use crate::mesh::Mesh;
 use crate::mesh::front_facing::{FrontFacing, front_facing_by, min_cosine};
 
 /// `Φ_i(0) = cos(2π/n)` [HB00 eq. 6].
-pub fn phi0(n: usize) -> f64 {
+pub(crate) fn phi0(n: usize) -> f64 {
     (2.0 * PI / n as f64).cos()
 }
 
 /// `Ψ_i(0) = sin(2π/n)` [HB00 eq. 20].
-pub fn psi0(n: usize) -> f64 {
+pub(crate) fn psi0(n: usize) -> f64 {
     (2.0 * PI / n as f64).sin()
 }
 
 /// Discrete Fourier sums of a one-ring `p_0..p_{n−1}` with `θ = 2π/n`:
 /// `C = Σ cos(θj) p_j`, `S = Σ sin(θj) p_j`, so that every rotated sum is O(1).
 #[derive(Clone, Copy, Debug)]
-pub struct RingFourier {
+pub(crate) struct RingFourier {
     theta: f64,
     cos_part: DVec3,
     sin_part: DVec3,
@@ -33,7 +33,7 @@ pub struct RingFourier {
 
 impl RingFourier {
     /// The sums of `ring`.
-    pub fn new(ring: &[DVec3]) -> RingFourier {
+    pub(crate) fn new(ring: &[DVec3]) -> RingFourier {
         let theta = 2.0 * PI / ring.len() as f64;
         let (mut cos_part, mut sin_part, mut mean) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
         for (j, p) in ring.iter().enumerate() {
@@ -52,7 +52,7 @@ impl RingFourier {
 
     /// The same sums with their components along the unit `normal` removed: the ring's first
     /// harmonic seen in the plane with that normal (the centroid is kept).
-    pub fn in_plane(self, normal: DVec3) -> RingFourier {
+    pub(crate) fn in_plane(self, normal: DVec3) -> RingFourier {
         RingFourier {
             cos_part: self.cos_part.reject_from_normalized(normal),
             sin_part: self.sin_part.reject_from_normalized(normal),
@@ -61,30 +61,30 @@ impl RingFourier {
     }
 
     /// Unit normal of the plane of the first harmonic, `C × S` (zero if they are parallel).
-    pub fn normal(&self) -> DVec3 {
+    pub(crate) fn normal(&self) -> DVec3 {
         self.cos_part.cross(self.sin_part).normalize_or_zero()
     }
 
     /// Centroid of the ring.
-    pub fn mean(&self) -> DVec3 {
+    pub(crate) fn mean(&self) -> DVec3 {
         self.mean
     }
 
     /// `Σ_j cos(θ(j−i)) p_j` (the first-order Fourier component seen from edge i).
-    pub fn cos_sum(&self, i: usize) -> DVec3 {
+    pub(crate) fn cos_sum(&self, i: usize) -> DVec3 {
         let (s, c) = (self.theta * i as f64).sin_cos();
         c * self.cos_part + s * self.sin_part
     }
 
     /// `Σ_j sin(θ(j−i)) p_j`.
-    pub fn sin_sum(&self, i: usize) -> DVec3 {
+    pub(crate) fn sin_sum(&self, i: usize) -> DVec3 {
         let (s, c) = (self.theta * i as f64).sin_cos();
         c * self.sin_part - s * self.cos_part
     }
 
     /// `Σ_j [cos(θ(j−i)) + tan(θ/2) sin(θ(j−i))] p_j`: the preimage under the twist matrix
     /// `T` of (II_T) (`½(x_i + x_{i−1})`) of the cosine sums [HB00 §6, b̃¹].
-    pub fn twist_preimage_sum(&self, i: usize) -> DVec3 {
+    pub(crate) fn twist_preimage_sum(&self, i: usize) -> DVec3 {
         self.cos_sum(i) + (self.theta / 2.0).tan() * self.sin_sum(i)
     }
 }
@@ -121,27 +121,27 @@ impl RingFourier {
 /// 5.7° off the face's plane), the largest decade below that the one-ring admits otherwise
 /// ([`front_facing_by`]). A face seen this close to edge-on is projected into the plane as a
 /// corner of tiny but right-handed angle.
-pub const PLANE_MARGIN: f64 = 0.1;
+pub(crate) const PLANE_MARGIN: f64 = 0.1;
 
 /// A plane is moved only when a face around the vertex sees its normal from behind or
 /// edge-on: `N · n_f < 1e-3` ([`crate::mesh::front_facing::FRONT_MARGIN`]). A clean mesh,
 /// whose faces all see their vertices' planes from the front, keeps every plane bit for bit.
-pub const PLANE_TRIGGER: f64 = crate::mesh::front_facing::FRONT_MARGIN;
+pub(crate) const PLANE_TRIGGER: f64 = crate::mesh::front_facing::FRONT_MARGIN;
 
 /// Above this tilt (rad) the ring's first harmonic projected into the moved plane is no
 /// guide to the tangents (it was computed for a plane far from this one, and its projection
 /// can turn the wrong way round): it is replaced by its closest rotation-and-scale
 /// ([`RingFourier`]'s conformal part). Below it, likewise whenever the projection would not
 /// turn the right way round by a sine of at least [`PLANE_MIN_SINE`].
-pub const LARGE_TILT: f64 = 0.35;
+pub(crate) const LARGE_TILT: f64 = 0.35;
 
 /// The smallest sine between the projected harmonic's `C` and `S` (turning the right way
 /// round the moved plane's normal) kept as it is; below, the conformal fit is used.
-pub const PLANE_MIN_SINE: f64 = 0.2;
+pub(crate) const PLANE_MIN_SINE: f64 = 0.2;
 
 /// What [`front_facing_plane`] did with a vertex's tangent plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum PlaneMove {
+pub(crate) enum PlaneMove {
     /// Every face sees the plane from the front: kept bit for bit.
     Kept,
     /// Tilted by `angle` (rad) to the closest plane the faces see from the front; `conformal`
@@ -174,7 +174,7 @@ fn ring_face_normals(v: DVec3, ring: &[DVec3]) -> Vec<DVec3> {
 /// — or, when the tilt exceeds [`LARGE_TILT`] or the projection would turn the wrong way,
 /// replaced by its closest rotation-and-scale in the new plane. The G¹ conditions at the
 /// vertex (eqs. 19, (II_T)) hold for any harmonic, so this changes shape, not continuity.
-pub fn front_facing_plane(
+pub(crate) fn front_facing_plane(
     v: DVec3,
     ring: &[DVec3],
     fourier: RingFourier,
@@ -213,17 +213,17 @@ pub fn front_facing_plane(
 /// Measured on the two bunny scenes (fold samples on the regularity grid of 12, hb): 81 / 691
 /// with a cap of 0.1 chord whatever the face, 23 / 123 with 0.1 times the face's sine, 14 / 9
 /// with 0.03, 14 / 6 with 0.02 (examples/fold_sites.rs).
-pub const HB_SWERVE: f64 = 0.03;
+pub(crate) const HB_SWERVE: f64 = 0.03;
 
 /// The same bound at Loop94 vertices. Loop's middle point `f²` is fixed (eq. 2), so a shorter
 /// tangent raises the curvature at the vertex instead of straightening the curve, and short
 /// tangents fold too: fold samples on the two bunny scenes 11 / 40 at 0.1, 11 / 31 at 0.05,
 /// 13 / 54 at 0.03, 27 / 280 at 0.01.
-pub const LOOP_SWERVE: f64 = 0.05;
+pub(crate) const LOOP_SWERVE: f64 = 0.05;
 
 /// ... and reach at most this fraction of the chord along it (the edge's midpoint, where the
 /// curves from the two ends meet).
-pub const REACH: f64 = 0.5;
+pub(crate) const REACH: f64 = 0.5;
 
 /// The largest β at a vertex `v` for which no boundary curve leaving it swerves: with
 /// `step(i)` the first control point's offset `b¹_i − b⁰` per unit β (HB00 eq. 11: `r¹_i / 6`;
@@ -237,7 +237,7 @@ pub const REACH: f64 = 0.5;
 /// first and last chords are boundary edges, with no face beyond them). `f64::INFINITY` when
 /// nothing bounds it. Everything is measured in the
 /// tangent plane, so the cap commutes with similarities of the mesh.
-pub fn swerve_cap(
+pub(crate) fn swerve_cap(
     v: DVec3,
     ring: &[DVec3],
     normal: DVec3,
@@ -284,7 +284,7 @@ pub fn swerve_cap(
 /// rotation-and-scale fit), one counting the vertices whose faces fold over themselves.
 /// Boundary vertices keep their half-ring planes and vertices cut into sectors by sharp edges
 /// their sectors' planes ([`Sector`]); neither is counted.
-pub fn plane_warnings(
+pub(crate) fn plane_warnings(
     mesh: &Mesh,
     scheme: &str,
     plane: impl Fn(DVec3, &[DVec3]) -> RingFourier + Sync,
@@ -348,7 +348,7 @@ pub fn plane_warnings(
 }
 
 /// Per-directed-edge data of a mesh, computed vertex by vertex.
-pub struct HalfEdgeTable<T> {
+pub(crate) struct HalfEdgeTable<T> {
     /// `offsets[v] + i` is the edge `v → one_ring(v)[i]`.
     offsets: Vec<usize>,
     data: Vec<T>,
@@ -359,7 +359,7 @@ pub struct HalfEdgeTable<T> {
 impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
     /// Runs `per_vertex(v, ring positions, ring valences, out)` for every vertex in parallel;
     /// `out[i]` is the entry of edge `v → ring[i]`.
-    pub fn build(
+    pub(crate) fn build(
         mesh: &Mesh,
         per_vertex: impl Fn(DVec3, &[DVec3], &[usize], &mut [T]) + Sync,
     ) -> HalfEdgeTable<T> {
@@ -380,7 +380,7 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
     /// As [`HalfEdgeTable::build`] for a mesh that may have boundaries and sharp edges
     /// (`sectors`, [`MeshSectors::new`]): `per_vertex` gets each vertex's [`Fan`] (boundary
     /// flag, angle steps of the vertex and its neighbours, sectors).
-    pub fn build_open(
+    pub(crate) fn build_open(
         mesh: &Mesh,
         sectors: &MeshSectors,
         per_vertex: impl Fn(&Fan, &mut [T]) + Sync,
@@ -471,7 +471,7 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
 
 impl<T> HalfEdgeTable<T> {
     /// The entry of directed edge `h`.
-    pub fn get(&self, h: usize) -> &T {
+    pub(crate) fn get(&self, h: usize) -> &T {
         &self.data[h]
     }
     /// The entries of the directed edges leaving vertex `v`, in the order of its one-ring.
@@ -480,7 +480,7 @@ impl<T> HalfEdgeTable<T> {
     }
 
     /// Index of the directed edge from `faces[f][k]` to the corner `step` (1 or 2) after it.
-    pub fn directed(&self, face: [u32; 3], f: usize, k: usize, step: usize) -> usize {
+    pub(crate) fn directed(&self, face: [u32; 3], f: usize, k: usize, step: usize) -> usize {
         let x = face[k] as usize;
         let n = self.offsets[x + 1] - self.offsets[x];
         // Face (X, Y, Z) is (v, ring[j], ring[j+1]) around X with j = corner_ring.
@@ -490,7 +490,7 @@ impl<T> HalfEdgeTable<T> {
 
     /// For each corner `X = a_k` of face `f`: the directed edges `[X→Y, Y→X, X→Z, Z→X]`
     /// (`Y = a_{k+1}`, `Z = a_{k+2}`).
-    pub fn corner_edges(&self, face: [u32; 3], f: usize) -> [[usize; 4]; 3] {
+    pub(crate) fn corner_edges(&self, face: [u32; 3], f: usize) -> [[usize; 4]; 3] {
         let forward: [usize; 3] = std::array::from_fn(|k| self.directed(face, f, k, 1));
         let backward: [usize; 3] = std::array::from_fn(|k| self.directed(face, f, k, 2));
         // X→Y reversed is a_{k+1} → a_k = backward[k+1]; X→Z reversed is forward[k+2].
@@ -511,7 +511,7 @@ impl<T> HalfEdgeTable<T> {
 /// through `v`), `π/(n − 1)`, written `2π/(2(n − 1))` so that it is bit for bit the step of an
 /// interior vertex of order `2(n − 1)` ([`fan_order`]); at a boundary vertex of valence 2 (a
 /// corner: one face, two boundary edges), the angle of that face at `v`.
-pub fn fan_angle_step(mesh: &Mesh, v: u32) -> f64 {
+pub(crate) fn fan_angle_step(mesh: &Mesh, v: u32) -> f64 {
     let n = mesh.valence(v);
     if !mesh.is_boundary_vertex(v) || n >= 3 {
         2.0 * PI / fan_order(mesh, v) as f64
@@ -530,7 +530,7 @@ pub fn fan_angle_step(mesh: &Mesh, v: u32) -> f64 {
 /// The order whose `θ = 2π/order` a vertex's fan uses ([`fan_angle_step`]): the valence at an
 /// interior vertex, `2(n − 1)` at a boundary vertex of valence n (a half fan); 0 for a corner
 /// (valence 2 on the boundary), whose step is its face angle and no order.
-pub fn fan_order(mesh: &Mesh, v: u32) -> usize {
+pub(crate) fn fan_order(mesh: &Mesh, v: u32) -> usize {
     let n = mesh.valence(v);
     match (mesh.is_boundary_vertex(v), n) {
         (false, _) => n,
@@ -541,7 +541,7 @@ pub fn fan_order(mesh: &Mesh, v: u32) -> usize {
 
 /// The fan of one vertex of a mesh that may be open, as [`HalfEdgeTable::build_open`] hands it
 /// to the per-vertex rule.
-pub struct Fan<'a> {
+pub(crate) struct Fan<'a> {
     /// Position of the vertex.
     pub position: DVec3,
     /// True on the boundary: `(v, ring[0])` and `(v, ring[n−1])` are boundary edges and
@@ -566,7 +566,7 @@ pub struct Fan<'a> {
 
 /// Sectors are told apart from a crease tangent of zero length by this fraction of the
 /// edge: below it the edge runs (nearly) along the normal of a sector it bounds.
-pub const MIN_CREASE_TANGENT: f64 = 1e-9;
+pub(crate) const MIN_CREASE_TANGENT: f64 = 1e-9;
 
 /// One sector of a vertex's fan (the faces between two consecutive sharp or boundary edges,
 /// see [`crate::mesh::SharpEdges`]) read as a fan of its own, with the tangents of its edges.
@@ -586,7 +586,7 @@ pub const MIN_CREASE_TANGENT: f64 = 1e-9;
 /// sector's normal too, up to rounding. A sector of one face has no inner edge; its step
 /// is the face's angle at `v` (as at a corner of an open mesh, [`fan_angle_step`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Sector {
+pub(crate) struct Sector {
     /// Fan position of the first edge.
     pub first: usize,
     /// Number of faces (at least 1).
@@ -612,7 +612,7 @@ fn turn_from(a: DVec3, b: DVec3, normal: DVec3) -> f64 {
 /// which the closed and half-ring rules build. Fails, naming the edge, when an end edge runs
 /// along the normal of a sector it bounds (its tangent would vanish) or a sector's faces
 /// cancel in its normal.
-pub fn fan_sectors(
+pub(crate) fn fan_sectors(
     mesh: &Mesh,
     v: u32,
     corner_normals: &[[DVec3; 3]],
@@ -742,7 +742,7 @@ pub fn fan_sectors(
 /// The sectors of every vertex of a mesh ([`fan_sectors`]) and the angle step at every face
 /// corner: the step of the corner's sector, or [`fan_angle_step`] of a vertex whose fan is
 /// one sector.
-pub struct MeshSectors {
+pub(crate) struct MeshSectors {
     /// Per vertex, its sectors (`None`: one sector).
     pub by_vertex: Vec<Option<Vec<Sector>>>,
     /// `corner_step[3f + k]`: the angle step of vertex `faces[f][k]` in face `f`.
@@ -752,7 +752,7 @@ pub struct MeshSectors {
 impl MeshSectors {
     /// The sectors of `mesh` ([`fan_sectors`]): none without sharp edges. Fails as
     /// [`fan_sectors`] does, with the edge at fault.
-    pub fn new(mesh: &Mesh) -> std::result::Result<MeshSectors, (u32, u32)> {
+    pub(crate) fn new(mesh: &Mesh) -> std::result::Result<MeshSectors, (u32, u32)> {
         if mesh.sharp_edges().is_empty() {
             return Ok(MeshSectors::plain(mesh));
         }
@@ -768,7 +768,7 @@ impl MeshSectors {
     }
 
     /// One sector per vertex (sharp edges ignored), for the schemes that refuse them.
-    pub fn plain(mesh: &Mesh) -> MeshSectors {
+    pub(crate) fn plain(mesh: &Mesh) -> MeshSectors {
         MeshSectors::from_sectors(mesh, vec![None; mesh.vertex_count()])
     }
 
@@ -811,7 +811,7 @@ impl MeshSectors {
 /// chords `p_j − v` of the interior edges by `A cos(jθ) + B sin(jθ)`. For a corner (n = 2, θ the
 /// face angle) both chords are met exactly. On a planar regular half-ring `p_j = v + ρ(cos jθ,
 /// sin jθ)` the fit is exact, which gives linear precision with β = 1/3 as at interior vertices.
-pub fn half_ring_tangent_basis(v: DVec3, ring: &[DVec3], theta: f64) -> (DVec3, DVec3) {
+pub(crate) fn half_ring_tangent_basis(v: DVec3, ring: &[DVec3], theta: f64) -> (DVec3, DVec3) {
     let n = ring.len();
     let (s, c) = theta.sin_cos();
     if n == 2 {
@@ -840,7 +840,7 @@ fn sine_part(v: DVec3, ring: &[DVec3], theta: f64, a: DVec3) -> DVec3 {
 /// vertex, and the same from the edge's other end); on a boundary edge, whose second face is
 /// missing, its curve analogue, the chord midpoint `(v + p_j)/2` — what `d_j` is on a regular
 /// planar ring, and again symmetric in the two ends.
-pub fn open_loop_point(v: DVec3, ring: &[DVec3], j: usize) -> DVec3 {
+pub(crate) fn open_loop_point(v: DVec3, ring: &[DVec3], j: usize) -> DVec3 {
     let n = ring.len();
     if j == 0 || j == n - 1 {
         0.5 * (v + ring[j])
@@ -863,7 +863,7 @@ pub fn open_loop_point(v: DVec3, ring: &[DVec3], j: usize) -> DVec3 {
 /// smooth estimate `τ_j = ½(R_j + R_{j+1})` (what (II_T) gives when neighbouring twists are
 /// equal). Then (19) and (21) are solved for `V(0)` and `V'(0)` on the side of the edge that has
 /// a face — the "+" side except on the last boundary edge.
-pub fn open_fan_cross_data(
+pub(crate) fn open_fan_cross_data(
     r1: &[DVec3],
     r2: &[DVec3],
     psi_slope: &[f64],

@@ -13,3 +13,34 @@ pub use schemes::{
     JointFigures, assert_g1_joints, closed_test_meshes, max_smoothness_defect_inside_faces, mesh,
     open_bunny, open_test_meshes, params, unit_icosphere_accuracy,
 };
+
+/// The command layer's functions that end-to-end tests and benchmarks call directly.
+pub mod app {
+    pub use crate::app::figure::render_figure;
+    pub use crate::app::figure::spec::FigureSpec;
+    pub use crate::app::gallery::{GalleryOptions, render_gallery_with};
+    pub use crate::app::render::{RenderArgs, render_command};
+    pub use crate::app::scene::SceneFile;
+    pub use crate::app::turntable::{Animation, render_animation};
+    pub use crate::app::{run_metrics, run_metrics_streaming};
+}
+
+/// The benchmark report and results page (`smoothlab report`), for the tests that check
+/// what it writes.
+pub mod report {
+    pub use crate::report::*;
+}
+
+/// The renderer's internals that tests and benchmarks drive directly: the BVH, the tessellated
+/// reference tracer, the samplers.
+pub mod render {
+    pub use crate::render::bvh::{PatchBvh, SubdivisionCriterion};
+    pub use crate::render::job::estimate_leaves;
+    pub use crate::render::sampler::{sphere_direction, uniform};
+    pub use crate::render::tessellate::TessellatedTracer;
+}
+
+/// The label text of figures and legends.
+pub mod text {
+    pub use crate::text::*;
+}

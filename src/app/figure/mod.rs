@@ -7,9 +7,9 @@
 //! in view): one fixed range for all cells so colours compare, and a scheme with sharp creases
 //! saturates instead of washing out the others.
 
-pub mod shard;
-pub mod sheet;
-pub mod spec;
+pub(crate) mod shard;
+pub(crate) mod sheet;
+pub(crate) mod spec;
 
 use std::sync::Arc;
 
@@ -24,7 +24,7 @@ use crate::render::stats::RenderStats;
 use crate::render::theme::Theme;
 use crate::surface::Surface;
 
-pub use sheet::{SheetLabels, compose, compose_images, svg, svg_images};
+pub(crate) use sheet::{SheetLabels, compose, compose_images, svg, svg_images};
 
 /// One surface of a figure (a row, or a column when transposed).
 #[derive(Clone, Debug)]
@@ -128,13 +128,13 @@ pub struct Figure {
 }
 
 /// The camera that frames all `surfaces` from the default direction.
-pub fn framing_camera(surfaces: &[&Surface], fov: f64, aspect: f64) -> Result<Camera> {
+pub(crate) fn framing_camera(surfaces: &[&Surface], fov: f64, aspect: f64) -> Result<Camera> {
     let samples = crate::render::job::SurfaceSamples::new(surfaces);
     Camera::frame_points(&samples, Camera::DEFAULT_VIEW, fov, aspect)
 }
 
 /// The side camera of [`View::EdgeSide`] for an image of aspect `aspect`.
-pub fn edge_side_camera(mesh: &Mesh, edge: usize, aspect: f64) -> Result<Camera> {
+pub(crate) fn edge_side_camera(mesh: &Mesh, edge: usize, aspect: f64) -> Result<Camera> {
     let edges = mesh.edges();
     let e = edges.get(edge).ok_or_else(|| {
         crate::Error::Invalid(format!(
@@ -216,7 +216,7 @@ impl FigureJob {
 
 /// The labels of a sheet of `surfaces` × `modes` (label, whether it shows curvature): the
 /// curvature modes' labels end in `±half_range` when it is known.
-pub fn sheet_labels(
+pub(crate) fn sheet_labels(
     title: &str,
     surfaces: Vec<String>,
     modes: &[(String, bool)],
@@ -263,7 +263,10 @@ pub fn render_figure(job: &FigureJob) -> Result<Figure> {
 /// wanted or when the common automatic curvature range needs it (a wanted cell shows
 /// curvature). Returns the cells in sheet order and the curvature half-range: known when the
 /// figure has a curvature mode and the range is fixed or a wanted cell shows curvature.
-pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell>, Option<f64>)> {
+pub(crate) fn render_cells(
+    job: &FigureJob,
+    wanted: &[usize],
+) -> Result<(Vec<FigureCell>, Option<f64>)> {
     let [w, h] = job.size;
     let aspect = f64::from(w) / f64::from(h);
     let count = job.cell_count();
@@ -385,7 +388,7 @@ pub fn render_cells(job: &FigureJob, wanted: &[usize]) -> Result<(Vec<FigureCell
 }
 
 /// A number with three significant digits for labels.
-pub fn short_number(x: f64) -> String {
+pub(crate) fn short_number(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");
     }

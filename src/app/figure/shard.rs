@@ -31,7 +31,7 @@ use crate::render::theme::Theme;
 use crate::report::shard::{Manifest, Shard, items_of, read_complete_parts};
 
 /// The kind of work of partial figures, in their [`Manifest`].
-pub const FIGURE_KIND: &str = "figure";
+pub(crate) const FIGURE_KIND: &str = "figure";
 
 /// Relative cost per pixel sample of rendering each scheme's surface, `flat` = 1 — not
 /// [`crate::report::shard::scheme_cost`], which is the cost of building and measuring (gk is
@@ -57,7 +57,7 @@ const RENDER_COST: &[(&str, f64)] = &[
 /// The relative rendering cost per pixel sample of `scheme` ([`RENDER_COST`]); a scheme
 /// missing from the table costs as much as the dearest one (a wrong guess only unbalances the
 /// shards).
-pub fn render_cost(scheme: &str) -> f64 {
+pub(crate) fn render_cost(scheme: &str) -> f64 {
     RENDER_COST
         .iter()
         .find(|(name, _)| *name == scheme)
@@ -70,7 +70,7 @@ pub fn render_cost(scheme: &str) -> f64 {
 /// The estimated cost of every cell of `job` in sheet order: pixels × samples × the scheme's
 /// [`render_cost`], × the mode's cost per sample ([`crate::render::modes::ModeKind::COST`]). The mesh's face count is left out:
 /// it is the same for every cell of a figure.
-pub fn cell_costs(job: &FigureJob) -> Vec<f64> {
+pub(crate) fn cell_costs(job: &FigureJob) -> Vec<f64> {
     let samples = f64::from(job.size[0]) * f64::from(job.size[1]) * f64::from(job.spp);
     (0..job.cell_count())
         .map(|k| {
@@ -84,7 +84,7 @@ pub fn cell_costs(job: &FigureJob) -> Vec<f64> {
 /// What one shard of a figure wrote beside its cells (`STEM.shard-I-of-N.json`): which cells
 /// it rendered, every cell's file names, and what `merge` needs to compose the sheet.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FigurePart {
+pub(crate) struct FigurePart {
     /// Which shard of which run.
     pub manifest: Manifest,
     /// File name of the output stem (the cells' files are `STEM<suffix>.png` / `.exr`).
@@ -117,13 +117,13 @@ pub struct FigurePart {
 }
 
 /// The file of `shard`'s [`FigurePart`] for a figure whose output is `output`.
-pub fn part_path(output: &Path, shard: Shard) -> PathBuf {
+pub(crate) fn part_path(output: &Path, shard: Shard) -> PathBuf {
     crate::app::turntable::part_path(output, shard)
 }
 
 /// What `smoothlab figure SPEC --shard I/N` wrote.
 #[derive(Clone, Debug)]
-pub struct FigureShardFiles {
+pub(crate) struct FigureShardFiles {
     /// The part file.
     pub part: PathBuf,
     /// What it says.
@@ -134,7 +134,7 @@ pub struct FigureShardFiles {
 /// unless `exr = false`) with the part file, last; every output path is checked (its folder
 /// created if missing) before rendering, and an earlier part of this shard is removed. The
 /// sheet is left to `smoothlab merge`. `theme`, when given, replaces the spec's.
-pub fn run_figure_spec_shard(
+pub(crate) fn run_figure_spec_shard(
     path: &Path,
     shard: Shard,
     theme: Option<Theme>,
@@ -225,7 +225,7 @@ pub fn run_figure_spec_shard(
 }
 
 /// One line for the terminal about a shard of a figure.
-pub fn shard_summary(files: &FigureShardFiles) -> String {
+pub(crate) fn shard_summary(files: &FigureShardFiles) -> String {
     let r = &files.record;
     format!(
         "wrote shard {} of the figure: {} of {} cells ({}) and {}; {:.0} ms rendering\n",
@@ -244,7 +244,7 @@ pub fn shard_summary(files: &FigureShardFiles) -> String {
 /// and copies the cells' EXRs to `OUT-<row>-<column>-<scheme>-<mode>.exr` when those are other
 /// files: the bytes `smoothlab figure SPEC` writes. Returns a line for the terminal. A missing
 /// shard is an error naming it.
-pub fn merge_figure(parts: &[PathBuf], out: &Path) -> Result<String> {
+pub(crate) fn merge_figure(parts: &[PathBuf], out: &Path) -> Result<String> {
     check_output_name(out)?;
     let read = read_complete_parts(
         parts,

@@ -35,7 +35,7 @@ pub struct SheetLabels {
 
 /// Where a label's `x` is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Anchor {
+pub(crate) enum Anchor {
     /// At the start of the text.
     Start,
     /// At the middle of the text.
@@ -44,7 +44,7 @@ pub enum Anchor {
 
 /// One line of text of a sheet.
 #[derive(Clone, Debug, PartialEq)]
-pub struct TextItem {
+pub(crate) struct TextItem {
     /// The text.
     pub text: String,
     /// Anchor position, pixels from the left.
@@ -59,7 +59,7 @@ pub struct TextItem {
 
 impl TextItem {
     /// Left end of the text as drawn.
-    pub fn left(&self) -> f32 {
+    pub(crate) fn left(&self) -> f32 {
         match self.anchor {
             Anchor::Start => self.x,
             Anchor::Middle => self.x - 0.5 * text_width(self.size, &self.text),
@@ -67,14 +67,14 @@ impl TextItem {
     }
 
     /// Top of the line as drawn (the `y` of [`draw_text`]).
-    pub fn top(&self) -> f32 {
+    pub(crate) fn top(&self) -> f32 {
         self.baseline - ascent(self.size)
     }
 }
 
 /// Everything placed on a sheet.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SheetLayout {
+pub(crate) struct SheetLayout {
     /// Sheet width, pixels.
     pub width: u32,
     /// Sheet height, pixels.
@@ -91,7 +91,7 @@ pub struct SheetLayout {
 
 /// Label font size (em, pixels) for cells of height `cell_height`: 8 % of it, between 10 and
 /// 24 pixels.
-pub fn label_size(cell_height: u32) -> f32 {
+pub(crate) fn label_size(cell_height: u32) -> f32 {
     (0.08 * cell_height as f32).clamp(10.0, 24.0).round()
 }
 
@@ -100,7 +100,7 @@ pub fn label_size(cell_height: u32) -> f32 {
 /// same (the same mode and range: a figure's curvature column) shows it once, beside its
 /// first cell that has one; any other column shows every cell's strip beside that cell.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct SheetLegends {
+pub(crate) struct SheetLegends {
     /// Width each column reserves right of its cells for strips (0: none).
     pub widths: Vec<u32>,
     /// The cells whose strips are drawn, in sheet order.
@@ -109,7 +109,7 @@ pub struct SheetLegends {
 
 impl SheetLegends {
     /// The strips of `images` (row-major, `columns` per row) of cells `cell_width` wide.
-    pub fn of(images: &[&RgbImage], columns: usize, cell_width: u32) -> SheetLegends {
+    pub(crate) fn of(images: &[&RgbImage], columns: usize, cell_width: u32) -> SheetLegends {
         let columns = columns.max(1);
         let mut widths = vec![0; columns];
         let mut drawn = Vec::new();
@@ -148,7 +148,7 @@ fn cell_part(image: &RgbImage, cell: [u32; 2]) -> RgbImage {
 
 /// Places `count` cells of size `cell` (row-major, `labels.columns.len()` per row), the
 /// labels and the legend strips of `legends`.
-pub fn layout(
+pub(crate) fn layout(
     count: usize,
     labels: &SheetLabels,
     cell: [u32; 2],
@@ -268,7 +268,12 @@ fn frame_image(frame: &Frame) -> RgbImage {
 /// Composes `frames` (row-major, `labels.rows.len()` × `labels.columns.len()`, all
 /// `cell_width` × `cell_height`, each with its legend strip, if any) into one labelled sheet
 /// in the colours of `theme`.
-pub fn compose(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2], theme: Theme) -> RgbImage {
+pub(crate) fn compose(
+    frames: &[&Frame],
+    labels: &SheetLabels,
+    cell: [u32; 2],
+    theme: Theme,
+) -> RgbImage {
     let images: Vec<RgbImage> = frames.iter().map(|f| frame_image(f)).collect();
     let images: Vec<&RgbImage> = images.iter().collect();
     compose_images(&images, labels, cell, theme)
@@ -277,7 +282,7 @@ pub fn compose(frames: &[&Frame], labels: &SheetLabels, cell: [u32; 2], theme: T
 /// [`compose`] of the cells' 8-bit sRGB images (what a frame becomes in a PNG: the cell, then
 /// its legend strip), so that a sheet can be composed from cell files: the same bytes as from
 /// the frames.
-pub fn compose_images(
+pub(crate) fn compose_images(
     images: &[&RgbImage],
     labels: &SheetLabels,
     cell: [u32; 2],
@@ -314,7 +319,7 @@ fn hex(rgb: [u8; 3]) -> String {
 /// The sheet of [`compose`] as SVG: the same size and places, each cell an `<image>` holding
 /// its PNG as a data URI, each label a `<text>` in [`FONT_FAMILY`] (positions in pixels, one
 /// SVG user unit per pixel).
-pub fn svg(
+pub(crate) fn svg(
     frames: &[&Frame],
     labels: &SheetLabels,
     cell: [u32; 2],
@@ -326,7 +331,7 @@ pub fn svg(
 }
 
 /// [`svg`] of the cells' 8-bit sRGB images: the same text as from the frames.
-pub fn svg_images(
+pub(crate) fn svg_images(
     images: &[&RgbImage],
     labels: &SheetLabels,
     cell: [u32; 2],

@@ -422,7 +422,7 @@ impl FigureSpec {
 
 /// What `smoothlab figure` wrote.
 #[derive(Clone, Debug)]
-pub struct FigureFiles {
+pub(crate) struct FigureFiles {
     /// The labelled grid.
     pub png: PathBuf,
     /// The labelled grid as SVG.
@@ -500,7 +500,7 @@ impl FigureSpec {
 
 /// Renders the spec at `path` (in `theme` instead of the spec's when given) and writes its
 /// files; every output path is checked (its folder created if missing) before rendering.
-pub fn run_figure_spec(path: &Path, theme: Option<Theme>) -> Result<FigureFiles> {
+pub(crate) fn run_figure_spec(path: &Path, theme: Option<Theme>) -> Result<FigureFiles> {
     let spec = FigureSpec::load_themed(path, theme)?;
     let (png, exrs) = spec.output_files();
     let svg = spec.svg_file();
@@ -536,7 +536,7 @@ pub fn run_figure_spec(path: &Path, theme: Option<Theme>) -> Result<FigureFiles>
 }
 
 /// One summary per figure for the terminal.
-pub fn figure_summary(files: &FigureFiles) -> String {
+pub(crate) fn figure_summary(files: &FigureFiles) -> String {
     let mut out = format!("wrote {}, {}", files.png.display(), files.svg.display());
     if !files.exrs.is_empty() {
         out += &format!(" and {} EXR cells", files.exrs.len());

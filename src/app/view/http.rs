@@ -25,7 +25,7 @@ use crate::error::{Error, Result};
 
 /// What one client may hold of the server.
 #[derive(Clone, Copy, Debug)]
-pub struct Limits {
+pub(crate) struct Limits {
     /// Connections open at once.
     pub connections: usize,
     /// Time from a connection's opening by which its whole request must have arrived.
@@ -40,7 +40,7 @@ pub struct Limits {
 
 /// The request method, as far as the view distinguishes it.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Method {
+pub(crate) enum Method {
     /// `GET`.
     Get,
     /// `POST`.
@@ -51,7 +51,7 @@ pub enum Method {
 
 /// One parsed request.
 #[derive(Clone, Debug)]
-pub struct Request {
+pub(crate) struct Request {
     /// Its method.
     pub method: Method,
     /// The request target as sent (path and query).
@@ -64,7 +64,7 @@ pub struct Request {
 
 /// One response: status, content type, extra headers and body.
 #[derive(Clone, Debug)]
-pub struct Response {
+pub(crate) struct Response {
     /// HTTP status code.
     pub status: u16,
     /// `Content-Type`.
@@ -77,7 +77,7 @@ pub struct Response {
 
 impl Response {
     /// A response of `status` with `body` of type `content_type`.
-    pub fn new(status: u16, content_type: &str, body: Vec<u8>) -> Response {
+    pub(crate) fn new(status: u16, content_type: &str, body: Vec<u8>) -> Response {
         Response {
             status,
             content_type: content_type.to_string(),
@@ -87,14 +87,14 @@ impl Response {
     }
 
     /// This response with header `name: value` added.
-    pub fn with_header(mut self, name: &str, value: impl Into<String>) -> Response {
+    pub(crate) fn with_header(mut self, name: &str, value: impl Into<String>) -> Response {
         self.headers.push((name.to_string(), value.into()));
         self
     }
 }
 
 /// A bound listener with its [`Limits`].
-pub struct HttpServer {
+pub(crate) struct HttpServer {
     listener: TcpListener,
     limits: Limits,
     open: Arc<AtomicUsize>,
@@ -105,7 +105,7 @@ struct Unreadable(Option<(u16, &'static str)>);
 
 impl HttpServer {
     /// Listens on `addr` (port 0: any free port).
-    pub fn bind(addr: SocketAddr, limits: Limits) -> Result<HttpServer> {
+    pub(crate) fn bind(addr: SocketAddr, limits: Limits) -> Result<HttpServer> {
         let listener = TcpListener::bind(addr)
             .map_err(|e| Error::Invalid(format!("cannot listen on {addr}: {e}")))?;
         Ok(HttpServer {
@@ -116,20 +116,21 @@ impl HttpServer {
     }
 
     /// The address bound, with the port chosen when 0 was asked for.
-    pub fn local_addr(&self) -> Result<SocketAddr> {
+    pub(crate) fn local_addr(&self) -> Result<SocketAddr> {
         self.listener
             .local_addr()
             .map_err(|e| Error::Invalid(format!("the listening address: {e}")))
     }
 
     /// Connections open now.
+    #[cfg(test)]
     pub fn open_connections(&self) -> usize {
         self.open.load(Ordering::SeqCst)
     }
 
     /// Accepts connections until the listener fails, answering each connection's one request
     /// with `handler` on a thread of its own (at most [`Limits::connections`] at once).
-    pub fn serve<H>(&self, handler: Arc<H>)
+    pub(crate) fn serve<H>(&self, handler: Arc<H>)
     where
         H: Fn(Request) -> Response + Send + Sync + 'static,
     {

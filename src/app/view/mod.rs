@@ -34,10 +34,10 @@
 //!   request; the `Host` header checked against the bound address; fixed endpoints; bounded
 //!   URLs, bodies, frame sizes, samples and waiting requests.
 
-pub mod http;
-pub mod scene;
-pub mod server;
-pub mod session;
+pub(crate) mod http;
+pub(crate) mod scene;
+pub(crate) mod server;
+pub(crate) mod session;
 
 use std::collections::HashMap;
 use std::net::{IpAddr, SocketAddr};
@@ -91,7 +91,7 @@ pub struct ViewArgs {
 /// The PNG bytes of a frame as the page gets it: the 8-bit sRGB pixels of the PNG `render`
 /// writes ([`crate::render::output::srgb8`]: the image and, right of it, the mode's legend
 /// strip, which the page draws beside its canvas), fast compression.
-pub fn png_bytes(frame: &Frame) -> Result<Vec<u8>> {
+pub(crate) fn png_bytes(frame: &Frame) -> Result<Vec<u8>> {
     let pixels = crate::render::output::srgb8(frame);
     let mut bytes = Vec::new();
     let mut encoder = png::Encoder::new(&mut bytes, frame.png_width(), frame.height);
@@ -108,17 +108,17 @@ pub fn png_bytes(frame: &Frame) -> Result<Vec<u8>> {
 
 /// How near a joint the probe must hit to report it: within this many pixels' width of
 /// the hit.
-pub const JOINT_PIXELS: f64 = 2.0;
+pub(crate) const JOINT_PIXELS: f64 = 2.0;
 
 /// The joints of a surface by the patch edges on either side: `(patch, edge)` → the joint,
 /// whether the patch is its side `a`, and whether it runs along a sharp edge of the mesh.
-pub struct JointIndex {
+pub(crate) struct JointIndex {
     by_edge: HashMap<(u32, u8), (Joint, bool, bool)>,
 }
 
 /// A joint next to a probed hit and the jump measured across it there.
 #[derive(Clone, Copy, Debug)]
-pub struct JointUnder {
+pub(crate) struct JointUnder {
     /// The joint.
     pub joint: Joint,
     /// Fraction along side `a` of the point nearest the hit.
@@ -133,7 +133,7 @@ pub struct JointUnder {
 
 impl JointIndex {
     /// The joints of `surface`, built on `mesh`.
-    pub fn new(surface: &Surface, mesh: &crate::mesh::Mesh) -> JointIndex {
+    pub(crate) fn new(surface: &Surface, mesh: &crate::mesh::Mesh) -> JointIndex {
         let sharp = mesh.sharp_face_pairs();
         let mut by_edge = HashMap::new();
         for joint in surface.joints(mesh.faces(), Some(&mesh.edge_ids())) {
@@ -152,7 +152,7 @@ impl JointIndex {
     /// The joint within [`JOINT_PIXELS`] of the hit `sp` through image point `(x, y)` of
     /// `job`, if any: the patch edge nearest the hit's `(u, v)`, the point on it at the same
     /// barycentric ratio, and the normal-angle jump measured there.
-    pub fn near(
+    pub(crate) fn near(
         &self,
         job: &RenderJob,
         surface: &Surface,
@@ -205,7 +205,7 @@ impl JointIndex {
 /// convex seen from the side its normal points to, as the curvature mode's default); and, next
 /// to a joint, the jump measured across it (`joint`: its two patches, the fraction along it,
 /// the distance in pixels, gap, normal angle in radians, and whether it is a sharp edge).
-pub fn probe_json(
+pub(crate) fn probe_json(
     wanted: &session::Wanted,
     x: f64,
     y: f64,
@@ -258,7 +258,7 @@ pub trait ViewReport {
 /// Runs `smoothlab view`: loads the mesh, builds the surface and its tracer, starts the
 /// render worker and the server, reports the URL and (unless `--no-browser`) opens it; then
 /// serves until the process is interrupted.
-pub fn view_command(args: &ViewArgs, report: &mut dyn ViewReport) -> Result<()> {
+pub(crate) fn view_command(args: &ViewArgs, report: &mut dyn ViewReport) -> Result<()> {
     if args.bind.is_unspecified() {
         return Err(Error::Invalid(format!(
             "--bind {}: give the address of one interface (every request's Host header must \

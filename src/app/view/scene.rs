@@ -12,10 +12,10 @@ use crate::render::RenderJob;
 use crate::render::modes::MODE_KEYS;
 
 /// The largest image side the view renders (the page's canvas, clamped by the page).
-pub const MAX_VIEW_SIDE: u32 = 2048;
+pub(crate) const MAX_VIEW_SIDE: u32 = 2048;
 
 /// The most samples per pixel the view renders for its converged frame.
-pub const MAX_VIEW_SPP: u32 = 256;
+pub(crate) const MAX_VIEW_SPP: u32 = 256;
 
 /// The keys a page may set, by section, beside every mode's keys that name no file
 /// ([`page_keys`]): no key names a file (no `mesh`, `render.output`, `shaded.environment`),
@@ -58,7 +58,7 @@ fn page_keys(name: &str) -> Option<Vec<&'static str>> {
 /// The scene a view starts from: a scene file's keys (its relative paths made absolute) or a
 /// bare mesh, with the command line's scheme, parameters and mode.
 #[derive(Clone, Debug)]
-pub struct BaseScene {
+pub(crate) struct BaseScene {
     /// The scene as a TOML table, paths absolute.
     pub table: toml::Table,
 }
@@ -72,7 +72,7 @@ impl BaseScene {
     /// The scene of `input` (a `.toml` scene file or a mesh) with `scheme`, `params` and
     /// `mode` (when given) replacing the file's. The scene's output name, animation and EXR
     /// keys are dropped: the view writes only what "save" names.
-    pub fn new(
+    pub(crate) fn new(
         input: &Path,
         scheme: Option<&str>,
         params: &[(String, String)],
@@ -161,7 +161,7 @@ impl BaseScene {
     }
 
     /// The scene file of the table.
-    pub fn scene(&self) -> Result<SceneFile> {
+    pub(crate) fn scene(&self) -> Result<SceneFile> {
         scene_of(&self.table)
     }
 
@@ -169,7 +169,7 @@ impl BaseScene {
     /// merged over it: every section and key checked against the keys a page may set, a
     /// `[scheme]` of the page replacing the base's as a whole. Returns the merged table,
     /// its scene and its validated job (size and samples within the view's bounds).
-    pub fn with_page(
+    pub(crate) fn with_page(
         &self,
         settings: &serde_json::Value,
     ) -> Result<(toml::Table, SceneFile, RenderJob)> {

@@ -41,28 +41,26 @@ const PAGE: &str = include_str!("../../../assets/view/index.html");
 
 /// The most connections open at once (a page holds two or three: a frame poll, a probe,
 /// a settings change).
-pub const MAX_CONNECTIONS: usize = 16;
+pub(crate) const MAX_CONNECTIONS: usize = 16;
 
 /// Time from a connection's opening by which its request must have arrived.
-pub const REQUEST_DEADLINE: Duration = Duration::from_secs(10);
+pub(crate) const REQUEST_DEADLINE: Duration = Duration::from_secs(10);
 
 /// The most frame requests waiting at once.
-pub const MAX_WAITING: usize = 2;
+pub(crate) const MAX_WAITING: usize = 2;
 
 /// The longest URL accepted, bytes.
-pub const MAX_URL: usize = 4096;
+pub(crate) const MAX_URL: usize = 4096;
 
 /// The largest request body accepted, bytes.
-pub const MAX_BODY: usize = 64 * 1024;
+pub(crate) const MAX_BODY: usize = 64 * 1024;
 
 /// How long a frame request waits for a new frame before it is answered 204.
-pub const FRAME_WAIT: Duration = Duration::from_secs(10);
+pub(crate) const FRAME_WAIT: Duration = Duration::from_secs(10);
 
 /// A running view server.
-pub struct ViewServer {
+pub(crate) struct ViewServer {
     http: HttpServer,
-    /// The address bound (with the port chosen when 0 was asked for).
-    pub addr: SocketAddr,
     /// The token every request must carry.
     pub token: String,
     session: Arc<Session>,
@@ -73,7 +71,7 @@ pub struct ViewServer {
 }
 
 /// 128 random bits from the operating system, as 32 hex digits.
-pub fn random_token() -> Result<String> {
+pub(crate) fn random_token() -> Result<String> {
     let mut bytes = [0u8; 16];
     getrandom::fill(&mut bytes)
         .map_err(|e| Error::Invalid(format!("no random numbers from the system: {e}")))?;
@@ -135,7 +133,11 @@ fn refuse(status: u16, why: &str) -> Response {
 
 impl ViewServer {
     /// Binds `addr` (port 0: any free port) for `session`; "save" writes into `out_dir`.
-    pub fn bind(addr: SocketAddr, session: Arc<Session>, out_dir: PathBuf) -> Result<ViewServer> {
+    pub(crate) fn bind(
+        addr: SocketAddr,
+        session: Arc<Session>,
+        out_dir: PathBuf,
+    ) -> Result<ViewServer> {
         if addr.ip().is_unspecified() {
             return Err(Error::Invalid(format!(
                 "--bind {}: give the address of one interface (every request's Host header must \
@@ -157,7 +159,6 @@ impl ViewServer {
         let addr = http.local_addr()?;
         Ok(ViewServer {
             http,
-            addr,
             token: random_token()?,
             session,
             allowed_hosts: hosts_of(addr),
@@ -168,12 +169,12 @@ impl ViewServer {
     }
 
     /// The URL of the page, with the token.
-    pub fn url(&self) -> String {
+    pub(crate) fn url(&self) -> String {
         format!("http://{}/?token={}", self.allowed_hosts[0], self.token)
     }
 
     /// Serves requests until the process ends.
-    pub fn serve(self: Arc<Self>) {
+    pub(crate) fn serve(self: Arc<Self>) {
         let me = self.clone();
         self.http.serve(Arc::new(move |request| me.handle(request)));
     }
@@ -350,7 +351,11 @@ impl ViewServer {
 /// Writes `wanted` into `dir` as the first free `view-NNN`: the scene TOML (its
 /// `render.output` naming the PNG and EXR beside it), then the converged frame as PNG and EXR
 /// through the normal output path. Returns the three paths.
-pub fn save_view(session: &Session, wanted: &Wanted, dir: &std::path::Path) -> Result<[String; 3]> {
+pub(crate) fn save_view(
+    session: &Session,
+    wanted: &Wanted,
+    dir: &std::path::Path,
+) -> Result<[String; 3]> {
     crate::files::create_folder(dir)?;
     let (stem, toml_path) = (1..10000)
         .map(|n| {

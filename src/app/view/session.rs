@@ -25,18 +25,18 @@ use crate::render::job::{JobTracer, RenderJob};
 use crate::surface::Surface;
 
 /// The most surfaces (schemes with their parameters) one view builds and keeps.
-pub const MAX_SURFACES: usize = 8;
+pub(crate) const MAX_SURFACES: usize = 8;
 
 /// Side divisor of the coarse pass.
 const COARSE: u32 = 4;
 
 /// A scheme's name and its parameters (sorted by name): which surface a view renders.
-pub type SchemeKey = (String, Vec<(String, String)>);
+pub(crate) type SchemeKey = (String, Vec<(String, String)>);
 
 /// A surface of the view with its tracer. Both live as long as the process: a view keeps
 /// every surface it built so that switching back to a scheme costs nothing, and their number
 /// is bounded by [`MAX_SURFACES`].
-pub struct Built {
+pub(crate) struct Built {
     /// The surface.
     pub surface: &'static Surface,
     /// Its tracer (the base scene's geometry and BVH settings).
@@ -51,7 +51,7 @@ pub struct Built {
 
 /// What the page asked for: the merged scene table and its job, of one generation.
 #[derive(Clone)]
-pub struct Wanted {
+pub(crate) struct Wanted {
     /// Generation (1, 2, …).
     pub generation: u64,
     /// The merged scene keys.
@@ -64,7 +64,7 @@ pub struct Wanted {
 
 /// A finished frame as the page gets it.
 #[derive(Clone)]
-pub struct Published {
+pub(crate) struct Published {
     /// Running number of published frames (1, 2, …).
     pub seq: u64,
     /// The generation it shows.
@@ -84,7 +84,7 @@ pub struct Published {
 }
 
 /// The shared state of a view.
-pub struct Session {
+pub(crate) struct Session {
     /// The scene the command was started with.
     pub base: BaseScene,
     /// The mesh.
@@ -116,7 +116,7 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 }
 
 /// The scheme name and parameters of a scene.
-pub fn scheme_of(scene: &SceneFile) -> Result<SchemeKey> {
+pub(crate) fn scheme_of(scene: &SceneFile) -> Result<SchemeKey> {
     let name = scene.scheme.name.clone().ok_or_else(|| {
         Error::Invalid(format!(
             "no scheme given: pass --scheme NAME (one of {}) or set [scheme] name in the scene",
@@ -131,7 +131,7 @@ pub fn scheme_of(scene: &SceneFile) -> Result<SchemeKey> {
 
 impl Session {
     /// A view of `mesh` starting from `base`.
-    pub fn new(base: BaseScene, mesh: Mesh) -> Session {
+    pub(crate) fn new(base: BaseScene, mesh: Mesh) -> Session {
         Session {
             base,
             mesh: Box::leak(Box::new(mesh)),
@@ -151,7 +151,7 @@ impl Session {
 
     /// The surface and tracer of `scheme` with its parameters, built on first use with the
     /// job's geometry (at most [`MAX_SURFACES`] of them).
-    pub fn built(&self, scheme: &SchemeKey, job: &RenderJob) -> Result<Arc<Built>> {
+    pub(crate) fn built(&self, scheme: &SchemeKey, job: &RenderJob) -> Result<Arc<Built>> {
         if let Some(b) = lock(&self.state).built.get(scheme) {
             return Ok(b.clone());
         }
@@ -188,7 +188,7 @@ impl Session {
 
     /// Checks the page's `settings` and makes them the newest generation; returns it. The
     /// render of an older generation stops at its next tile.
-    pub fn request(&self, settings: &serde_json::Value) -> Result<Wanted> {
+    pub(crate) fn request(&self, settings: &serde_json::Value) -> Result<Wanted> {
         let (table, scene, job) = self.base.with_page(settings)?;
         let scheme = scheme_of(&scene)?;
         let mut job = job.for_mesh(self.mesh);
@@ -208,13 +208,13 @@ impl Session {
     }
 
     /// The newest request, if any.
-    pub fn wanted(&self) -> Option<Wanted> {
+    pub(crate) fn wanted(&self) -> Option<Wanted> {
         lock(&self.state).wanted.as_ref().map(|(w, _)| w.clone())
     }
 
     /// The first published frame with a sequence number above `after`, waiting up to
     /// `timeout` for it; also returns the newest render error, if any.
-    pub fn frame_after(
+    pub(crate) fn frame_after(
         &self,
         after: u64,
         timeout: Duration,
@@ -247,7 +247,7 @@ impl Session {
 
     /// The exact hit under image point `(x, y)` (pixels of the full-size frame) of the
     /// newest request.
-    pub fn probe(
+    pub(crate) fn probe(
         &self,
         x: f64,
         y: f64,
@@ -266,7 +266,7 @@ impl Session {
 
     /// The converged frame of `wanted`: the one rendered for the page if it is of that
     /// generation, else rendered now (never cancelled).
-    pub fn converged(&self, wanted: &Wanted) -> Result<Arc<Frame>> {
+    pub(crate) fn converged(&self, wanted: &Wanted) -> Result<Arc<Frame>> {
         if let Some((g, frame)) = &lock(&self.state).converged
             && *g == wanted.generation
         {
@@ -282,7 +282,7 @@ impl Session {
 
     /// The render worker: runs for the life of the process, rendering the passes of the
     /// newest generation as frames for the page.
-    pub fn run_worker(&self) {
+    pub(crate) fn run_worker(&self) {
         let mut done = 0u64;
         loop {
             let (wanted, since) = {

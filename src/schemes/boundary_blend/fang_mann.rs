@@ -58,10 +58,10 @@ use crate::surface::Surface;
 
 /// Largest accepted `t` (the weights use powers `t + 1`; beyond this nothing new is shown and
 /// the weight derivatives near corners grow like `r^{−(t+1)}`).
-pub const MAX_T: u32 = 6;
+pub(crate) const MAX_T: u32 = 6;
 
 /// Registry entry.
-pub const SPEC: SchemeSpec = SchemeSpec {
+pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     name: "fang-mann",
     summary: "Fang-Mann boundary blend: cubic sub-surfaces from one edge surface per edge, C^t",
     params: &blend_params("continuity order t (0..=6): weights f_{t,i} with alpha = u^(t+1)"),
@@ -83,7 +83,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
 }
 
 /// The cross-edge curvature term `Q` of the edge surface: least squares over the apexes.
-pub fn cross_curvature(frame: &EdgeFrame) -> DVec3 {
+pub(crate) fn cross_curvature(frame: &EdgeFrame) -> DVec3 {
     let (mut weighted, mut norm) = (DVec3::ZERO, 0.0);
     for (x, p) in frame.apex.iter().flatten() {
         let h2 = x.y * x.y;
@@ -99,14 +99,14 @@ pub fn cross_curvature(frame: &EdgeFrame) -> DVec3 {
 }
 
 /// `E(s, h)` with cross term `q`.
-pub fn edge_surface(frame: &EdgeFrame, q: DVec3, x: DVec2) -> DVec3 {
+pub(crate) fn edge_surface(frame: &EdgeFrame, q: DVec3, x: DVec2) -> DVec3 {
     edge_surface_blossom(frame, q, [x, x, x])
 }
 
 /// The blossom of `E` (symmetric, affine in each argument, `E` on the diagonal):
 /// `c[s₁,s₂,s₃] + D_a (Σh)/3 + (D_b − D_a) Σ_{i≠j} h_i s_j / 6 + Q Σ_{i<j} h_i h_j / 3`,
 /// the cubic blossoms of `C(s)`, `h`, `h·s` and `h²`.
-pub fn edge_surface_blossom(frame: &EdgeFrame, q: DVec3, x: [DVec2; 3]) -> DVec3 {
+pub(crate) fn edge_surface_blossom(frame: &EdgeFrame, q: DVec3, x: [DVec2; 3]) -> DVec3 {
     let c = frame.curve.blossom(&[x[0].x, x[1].x, x[2].x]);
     let [d_a, d_b] = frame.transversal;
     let h_sum = x[0].y + x[1].y + x[2].y;
@@ -118,7 +118,12 @@ pub fn edge_surface_blossom(frame: &EdgeFrame, q: DVec3, x: [DVec2; 3]) -> DVec3
 
 /// The sub-surface of face `f` owning the edge opposite corner `c`: the edge surface over the
 /// face's triangle in the edge plane, as a cubic net in the face's corner order.
-pub fn sub_surface(frames: &EdgeFrames, faces: &[[u32; 3]], f: usize, c: usize) -> TriangleBezier {
+pub(crate) fn sub_surface(
+    frames: &EdgeFrames,
+    faces: &[[u32; 3]],
+    f: usize,
+    c: usize,
+) -> TriangleBezier {
     let (frame, forward) = frames.opposite(faces, f, c);
     let q = cross_curvature(frame);
     let mut corners = [DVec2::ZERO; 3];

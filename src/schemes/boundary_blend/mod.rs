@@ -21,8 +21,8 @@
 //!   written as `P_a + σ (P_b − P_a) + h f` with `h > 0` for the face that runs `a → b`
 //!   (on the left) and `h < 0` for the face that runs `b → a`.
 
-pub mod fang_mann;
-pub mod nielson;
+pub(crate) mod fang_mann;
+pub(crate) mod nielson;
 #[cfg(test)]
 mod tests;
 
@@ -40,11 +40,11 @@ use crate::surface::{Patch, PatchGeometry, Surface};
 /// Smallest `|π(e) × D| / |e|²` accepted at an edge end: below it the vertex normal is
 /// (nearly) in the plane of the boundary tangent and the transversal, and the sub-surfaces
 /// would be singular there.
-pub const MIN_FRAME_AREA: f64 = 1e-8;
+pub(crate) const MIN_FRAME_AREA: f64 = 1e-8;
 
 /// The data of one mesh edge `a → b` (`a < b`) shared by the faces on both sides.
 #[derive(Clone, Debug, PartialEq)]
-pub struct EdgeFrame {
+pub(crate) struct EdgeFrame {
     /// First vertex (the smaller index).
     pub a: u32,
     /// Second vertex.
@@ -64,7 +64,7 @@ pub struct EdgeFrame {
 impl EdgeFrame {
     /// The domain point of the apex of the face that runs `a → b` (`left = true`) or
     /// `b → a`. Panics if that side has no face (callers ask only for their own face).
-    pub fn apex_point(&self, left: bool) -> DVec2 {
+    pub(crate) fn apex_point(&self, left: bool) -> DVec2 {
         self.apex[usize::from(!left)]
             .expect("the face asking for its apex lies on that side")
             .0
@@ -137,7 +137,7 @@ fn edge_frame(
 
 /// Every edge's frame, and for every face and each of its edges `e` (from corner `e` to
 /// corner `e+1`) the index of that edge's frame.
-pub struct EdgeFrames {
+pub(crate) struct EdgeFrames {
     /// One frame per undirected mesh edge.
     pub frames: Vec<EdgeFrame>,
     /// `face_edges[f][e]`: frame of edge `e` of face `f`.
@@ -152,7 +152,7 @@ impl EdgeFrames {
     /// ([`Mesh::corner_normals`]); both share one boundary curve (computed once), whose end
     /// tangents follow the crease ([`crate::mesh::crease_tangent`]): the two faces join with
     /// G0 there, and each face is smooth up to the crease.
-    pub fn build(mesh: &Mesh, normals: &[DVec3], scheme: &str) -> Result<EdgeFrames> {
+    pub(crate) fn build(mesh: &Mesh, normals: &[DVec3], scheme: &str) -> Result<EdgeFrames> {
         let faces = mesh.faces();
         let edges = mesh.edges();
         let corner_normals = mesh.corner_normals(normals);
@@ -255,14 +255,14 @@ impl EdgeFrames {
 
     /// The frame of the edge opposite corner `c` of face `f`, and whether the face runs along
     /// it from `a` to `b` (corner `c+1` is `a`).
-    pub fn opposite(&self, faces: &[[u32; 3]], f: usize, c: usize) -> (&EdgeFrame, bool) {
+    pub(crate) fn opposite(&self, faces: &[[u32; 3]], f: usize, c: usize) -> (&EdgeFrame, bool) {
         let frame = &self.frames[self.face_edges[f][(c + 1) % 3]];
         (frame, faces[f][(c + 1) % 3] == frame.a)
     }
 
     /// The boundary curve of the edge of face `f` from its vertex `from` to its vertex `to`,
     /// cubic or quartic, in that direction (bit-identical from both faces).
-    pub fn curve_between(
+    pub(crate) fn curve_between(
         &self,
         faces: &[[u32; 3]],
         f: usize,
@@ -288,7 +288,7 @@ impl EdgeFrames {
 
 /// The parameters of a blend scheme: the power `t` of its weights (default 1; `t_help` says
 /// which values it takes and what they mean) and the vertex normals.
-pub const fn blend_params(t_help: &'static str) -> [ParamSpec; 2] {
+pub(crate) const fn blend_params(t_help: &'static str) -> [ParamSpec; 2] {
     [
         ParamSpec {
             name: "t",
@@ -302,7 +302,7 @@ pub const fn blend_params(t_help: &'static str) -> [ParamSpec; 2] {
 /// Builds one blend patch per face: the weights `family(t)` for the parameter `t` (an integer
 /// in `orders`) over the three sub-surfaces `sub_surface(frames, faces, face, corner)`, the
 /// one for `corner` owning the edge opposite it.
-pub fn build_blend(
+pub(crate) fn build_blend(
     mesh: &Mesh,
     params: &Params,
     scheme: &str,

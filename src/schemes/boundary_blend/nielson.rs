@@ -52,7 +52,7 @@ use crate::schemes::{Params, SchemeSpec};
 use crate::surface::Surface;
 
 /// Registry entry.
-pub const SPEC: SchemeSpec = SchemeSpec {
+pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     name: "nielson",
     summary: "Nielson 1987 side-vertex blend of three quartic sub-surfaces per face, G1 (FM)",
     params: &blend_params(
@@ -99,7 +99,7 @@ fn decompose(target: DVec3, w: DVec3, t: DVec3) -> (f64, f64) {
 
 /// The quartic sub-surface of face `f` owning the edge opposite corner `c`, in the face's
 /// corner order.
-pub fn sub_surface(
+pub(crate) fn sub_surface(
     frames: &EdgeFrames,
     faces: &[[u32; 3]],
     f: usize,

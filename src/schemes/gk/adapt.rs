@@ -47,7 +47,7 @@ use crate::linalg::{Matrix, invert};
 
 /// What the adaptation does with one control point of a ring triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PointRole {
+pub(crate) enum PointRole {
     /// Taken from `q ∘ x` (`D' = D`).
     Inner,
     /// Taken from `r` (`D' = 0`).
@@ -58,7 +58,7 @@ pub enum PointRole {
 
 /// Ring triangle `tau` of a sector (0 = `Δ(1,0)`, 1 = `∇(1,0)`, 2 = `Δ(1,1)`), point `a`
 /// (multi-index) of degree `degree`, order `k`.
-pub fn role(tau: usize, a: [usize; 3], degree: usize, k: usize) -> PointRole {
+pub(crate) fn role(tau: usize, a: [usize; 3], degree: usize, k: usize) -> PointRole {
     // Δ(1,0), Δ(1,1): corner 0 is on the inner boundary, edge 1–2 on the outer one.
     // ∇(1,0): edge 0–2 is on the inner boundary, corner 1 on the outer one.
     let inner_level = if tau == 1 { degree - a[1] } else { a[0] };
@@ -138,7 +138,7 @@ impl Fairing {
 
 /// The precomputed adaptation for one valence and order.
 #[derive(Debug)]
-pub struct Adaptation {
+pub(crate) struct Adaptation {
     /// Valence.
     n: usize,
     degree: usize,
@@ -232,7 +232,7 @@ impl Adaptation {
     /// The cached adaptation for valence `n`, order `k`, patch degree `degree` (= 2d); `None`
     /// if a ring triangle's thin-plate block over its free points is singular (it is not for
     /// any order: the prescribed rows fix the linear polynomials).
-    pub fn get(n: usize, k: usize, degree: usize) -> Option<Arc<Adaptation>> {
+    pub(crate) fn get(n: usize, k: usize, degree: usize) -> Option<Arc<Adaptation>> {
         static CACHE: OnceLock<Mutex<AdaptationCache>> = OnceLock::new();
         let cache = CACHE.get_or_init(Default::default);
         if let Some(a) = cache.lock().ok()?.get(&(n, k, degree)) {
@@ -246,7 +246,7 @@ impl Adaptation {
     /// Conditions per sector for order `k` and patch degree `degree` (= 2d), from the layout
     /// of one sector: what the solve of valence n needs is `n/2 + 1` dense blocks of at most
     /// twice this size.
-    pub fn conditions_per_sector(k: usize, degree: usize) -> usize {
+    pub(crate) fn conditions_per_sector(k: usize, degree: usize) -> usize {
         Self::layout(3, k, degree).map_or(0, |a| a.per_sector)
     }
 
@@ -520,7 +520,7 @@ impl Adaptation {
     }
 
     /// The correction `D'` for the differences `D` (all 3n nets, `3s + tau` order).
-    pub fn apply(&self, differences: &[Vec<DVec3>]) -> Vec<Vec<DVec3>> {
+    pub(crate) fn apply(&self, differences: &[Vec<DVec3>]) -> Vec<Vec<DVec3>> {
         let mut f = self.unconstrained(differences);
         // f += A⁻¹ Mᵀ (M A⁻¹ Mᵀ)⁻¹ (g − M f); the second round removes what rounding left
         // of the residual (iterative refinement).

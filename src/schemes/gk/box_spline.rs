@@ -31,7 +31,7 @@ use crate::bezier::gram::multi_indices;
 
 /// A triangle of the three-directional grid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct GridTriangle {
+pub(crate) struct GridTriangle {
     /// First lattice coordinate of its first corner.
     pub i: i32,
     /// Second lattice coordinate of its first corner.
@@ -42,13 +42,13 @@ pub struct GridTriangle {
 
 impl GridTriangle {
     /// `Δ(0,0)`, the reference triangle of a patch.
-    pub const UP: GridTriangle = GridTriangle {
+    pub(crate) const UP: GridTriangle = GridTriangle {
         i: 0,
         j: 0,
         up: true,
     };
     /// `∇(0,0)`.
-    pub const DOWN: GridTriangle = GridTriangle {
+    pub(crate) const DOWN: GridTriangle = GridTriangle {
         i: 0,
         j: 0,
         up: false,
@@ -56,7 +56,7 @@ impl GridTriangle {
 
     /// The three corners, counter-clockwise, in the order of the Bézier net's corners
     /// `b(d,0,0)`, `b(0,d,0)`, `b(0,0,d)`.
-    pub fn corners(&self) -> [[i32; 2]; 3] {
+    pub(crate) fn corners(&self) -> [[i32; 2]; 3] {
         let (i, j) = (self.i, self.j);
         if self.up {
             [[i, j], [i + 1, j], [i + 1, j + 1]]
@@ -66,7 +66,7 @@ impl GridTriangle {
     }
 
     /// The same triangle moved by `offset`.
-    pub fn translated(&self, offset: [i32; 2]) -> GridTriangle {
+    pub(crate) fn translated(&self, offset: [i32; 2]) -> GridTriangle {
         GridTriangle {
             i: self.i + offset[0],
             j: self.j + offset[1],
@@ -104,7 +104,7 @@ impl GridTriangle {
 }
 
 /// Hexagonal (grid) distance between two lattice points: the fewest steps along `±v1, ±v2, ±v3`.
-pub fn grid_distance(p: [i32; 2], q: [i32; 2]) -> i32 {
+pub(crate) fn grid_distance(p: [i32; 2], q: [i32; 2]) -> i32 {
     let (x, y) = (p[0] - q[0], p[1] - q[1]);
     if x * y >= 0 {
         x.abs().max(y.abs())
@@ -114,12 +114,12 @@ pub fn grid_distance(p: [i32; 2], q: [i32; 2]) -> i32 {
 }
 
 /// The three grid directions `v1, v2, v3` [UP Fig. 2.1].
-pub const DIRECTIONS: [[i32; 2]; 3] = [[1, 0], [0, 1], [1, 1]];
+pub(crate) const DIRECTIONS: [[i32; 2]; 3] = [[1, 0], [0, 1], [1, 1]];
 
 /// A piecewise polynomial over the grid: one Bézier net per triangle of its support, with
 /// integer coefficients over a common denominator.
 #[derive(Clone, Debug, PartialEq)]
-pub struct GridSpline {
+pub(crate) struct GridSpline {
     /// Polynomial degree of every piece.
     pub degree: usize,
     /// The common denominator of all coefficients.
@@ -130,7 +130,7 @@ pub struct GridSpline {
 
 impl GridSpline {
     /// The hat function `N_1`: piecewise linear, 1 at `(1,1)`, 0 at every other lattice point.
-    pub fn hat() -> GridSpline {
+    pub(crate) fn hat() -> GridSpline {
         let peak = [1, 1];
         let pieces = GridTriangle::around(peak)
             .into_iter()
@@ -147,7 +147,7 @@ impl GridSpline {
     }
 
     /// The indicator function of one grid triangle (`H_1^Δ` or `H_1^∇` for `Δ(0,0)`, `∇(0,0)`).
-    pub fn indicator(triangle: GridTriangle) -> GridSpline {
+    pub(crate) fn indicator(triangle: GridTriangle) -> GridSpline {
         GridSpline {
             degree: 0,
             denominator: 1,
@@ -156,7 +156,7 @@ impl GridSpline {
     }
 
     /// `g(x) = ∫_0^1 f(x − t·direction) dt`, exactly (see the module doc).
-    pub fn integrate(&self, direction: [i32; 2]) -> GridSpline {
+    pub(crate) fn integrate(&self, direction: [i32; 2]) -> GridSpline {
         let d = self.degree;
         let high = multi_indices(d + 1);
         let position: HashMap<[usize; 3], usize> =
@@ -251,7 +251,7 @@ impl GridSpline {
     }
 
     /// One step of the paper's recursion: integration along `v1`, `v2`, `v3` in turn.
-    pub fn convolve_with_box(&self) -> GridSpline {
+    pub(crate) fn convolve_with_box(&self) -> GridSpline {
         DIRECTIONS
             .iter()
             .fold(self.clone(), |s, &dir| s.integrate(dir))
@@ -260,7 +260,7 @@ impl GridSpline {
 
 /// Which spline family a smoothness order uses, with its recursion index `m`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Family {
+pub(crate) enum Family {
     /// Box spline `N_m`, even `k = 2(m−1)`, control points at net vertices.
     Box {
         /// Recursion index.
@@ -276,7 +276,7 @@ pub enum Family {
 
 impl Family {
     /// The family of smoothness order `k ≥ 1` [UP §2, §3].
-    pub fn for_order(k: usize) -> Family {
+    pub(crate) fn for_order(k: usize) -> Family {
         if k.is_multiple_of(2) {
             Family::Box { m: k / 2 + 1 }
         } else {
@@ -285,7 +285,7 @@ impl Family {
     }
 
     /// Polynomial degree of a patch: `3m − 2` or `3(m − 1)`.
-    pub fn degree(&self) -> usize {
+    pub(crate) fn degree(&self) -> usize {
         match *self {
             Family::Box { m } => 3 * m - 2,
             Family::HalfBox { m } => 3 * (m - 1),
@@ -295,7 +295,7 @@ impl Family {
 
 /// Where a control point of a regular net sits on the grid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ControlSite {
+pub(crate) enum ControlSite {
     /// A net vertex at a lattice point (box splines).
     Vertex([i32; 2]),
     /// A vertex of the hexagonal net, dual to a grid triangle (half-box splines).
@@ -305,7 +305,7 @@ pub enum ControlSite {
 /// The Bézier net of one patch as a linear combination of the control points of its regular
 /// subnet [UP Fig. 2.2]: `b_α = Σ_site weights[site][α] · c_site / denominator`.
 #[derive(Clone, Debug, PartialEq)]
-pub struct PatchStencil {
+pub(crate) struct PatchStencil {
     /// Polynomial degree of the patch.
     pub degree: usize,
     /// Common denominator of the weights.
@@ -321,7 +321,7 @@ impl PatchStencil {
     /// The stencil over the reference triangle `Δ(0,0)` (`up`) or `∇(0,0)`, computed once per
     /// order and orientation (the derivation by repeated integration is the costly part of
     /// building small nets).
-    pub fn reference(k: usize, up: bool) -> Arc<PatchStencil> {
+    pub(crate) fn reference(k: usize, up: bool) -> Arc<PatchStencil> {
         static CACHE: OnceLock<Mutex<StencilCache>> = OnceLock::new();
         let cache = CACHE.get_or_init(Default::default);
         let mut map = cache
@@ -337,7 +337,7 @@ impl PatchStencil {
     /// Box splines: the control point at lattice point `p` weighs `N_m(x − p + (m,m))` (the
     /// centre of `N_m` is `(m,m)`). Half-box splines: the control point of grid triangle `F`
     /// weighs `H_m^{type F}(x − origin(F) + (m−1, m−1))`.
-    pub fn new(k: usize, target: GridTriangle) -> PatchStencil {
+    pub(crate) fn new(k: usize, target: GridTriangle) -> PatchStencil {
         let mut entries = Vec::new();
         let family = Family::for_order(k);
         let spline_of =
@@ -382,7 +382,7 @@ impl PatchStencil {
     }
 
     /// The Bézier net for control values looked up per site.
-    pub fn apply<T>(&self, mut value: impl FnMut(ControlSite) -> T) -> Vec<T>
+    pub(crate) fn apply<T>(&self, mut value: impl FnMut(ControlSite) -> T) -> Vec<T>
     where
         T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<f64, Output = T>,
     {

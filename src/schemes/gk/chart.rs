@@ -15,13 +15,14 @@ use crate::mesh::Mesh;
 use crate::schemes::gk::box_spline::{GridTriangle, grid_distance};
 
 /// The six grid directions in counter-clockwise order.
-pub const RING_DIRECTIONS: [[i32; 2]; 6] = [[1, 0], [1, 1], [0, 1], [-1, 0], [-1, -1], [0, -1]];
+pub(crate) const RING_DIRECTIONS: [[i32; 2]; 6] =
+    [[1, 0], [1, 1], [0, 1], [-1, 0], [-1, -1], [0, -1]];
 
 /// Mesh vertices at the lattice points of a chart.
-pub type Chart = HashMap<[i32; 2], u32>;
+pub(crate) type Chart = HashMap<[i32; 2], u32>;
 
 /// Grid distance of `p` from the reference triangle `Δ(0,0)`.
-pub fn distance_from_reference(p: [i32; 2]) -> i32 {
+pub(crate) fn distance_from_reference(p: [i32; 2]) -> i32 {
     GridTriangle::UP
         .corners()
         .iter()
@@ -41,7 +42,7 @@ fn offset_of(mesh: &Mesh, v: u32, neighbour: u32, dir: usize) -> Option<usize> {
 }
 
 /// The chart of radius `radius` around `face`, or `None` if its subnet is not regular.
-pub fn chart(mesh: &Mesh, face: [u32; 3], radius: i32) -> Option<Chart> {
+pub(crate) fn chart(mesh: &Mesh, face: [u32; 3], radius: i32) -> Option<Chart> {
     let [a, b, c] = face;
     let mut points: Chart = HashMap::from([([0, 0], a), ([1, 0], b), ([1, 1], c)]);
     if radius == 0 {
@@ -79,7 +80,7 @@ pub fn chart(mesh: &Mesh, face: [u32; 3], radius: i32) -> Option<Chart> {
 }
 
 /// The mesh face with corners `(x, y, z)` in this cyclic order, if there is one.
-pub fn face_of(mesh: &Mesh, x: u32, y: u32, z: u32) -> Option<u32> {
+pub(crate) fn face_of(mesh: &Mesh, x: u32, y: u32, z: u32) -> Option<u32> {
     let ring = mesh.one_ring(x);
     let faces = mesh.ring_faces(x);
     (0..faces.len())

@@ -21,7 +21,7 @@ use crate::linalg::invert;
 
 /// A quadratic map `q(x, y) = c₀ + c₁x + c₂y + c₃x² + c₄xy + c₅y²`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Quadratic(pub [DVec3; 6]);
+pub(crate) struct Quadratic(pub [DVec3; 6]);
 
 /// The monomials 1, x, y, x², xy, y².
 fn monomials(p: DVec2) -> [f64; 6] {
@@ -37,7 +37,7 @@ impl Quadratic {
 
     /// The least-squares fit of `samples` (planar point, target point); `None` if the planar
     /// points do not determine a quadratic (they lie on a conic).
-    pub fn fit(samples: &[(DVec2, DVec3)]) -> Option<Quadratic> {
+    pub(crate) fn fit(samples: &[(DVec2, DVec3)]) -> Option<Quadratic> {
         let rows = samples
             .iter()
             .map(|(p, target)| (monomials(*p).to_vec(), *target));
@@ -47,7 +47,7 @@ impl Quadratic {
 
     /// The joint least-squares fit of q and a shift `δ` to targets that move with it:
     /// `min Σ |q(p) − (r + β δ)|²` over samples (planar point p, target r, weight β).
-    pub fn fit_with_shift(samples: &[(DVec2, DVec3, f64)]) -> Option<(Quadratic, DVec3)> {
+    pub(crate) fn fit_with_shift(samples: &[(DVec2, DVec3, f64)]) -> Option<(Quadratic, DVec3)> {
         let rows = samples.iter().map(|(p, target, beta)| {
             let mut basis = monomials(*p).to_vec();
             basis.push(-beta);
@@ -105,7 +105,7 @@ impl Quadratic {
     }
 
     /// `q ∘ x` for a planar patch `x` (its z coordinates are ignored): a patch of degree 2d.
-    pub fn compose(&self, x: &TriangleBezier) -> TriangleBezier {
+    pub(crate) fn compose(&self, x: &TriangleBezier) -> TriangleBezier {
         let d = x.degree();
         let xs: Vec<f64> = x.points().iter().map(|p| p.x).collect();
         let ys: Vec<f64> = x.points().iter().map(|p| p.y).collect();
@@ -156,7 +156,7 @@ fn least_squares(
 }
 
 /// The product of a scalar net of degree `d1` and a vector net of degree `d2`.
-pub fn product(a: &[f64], b: &[DVec3], d1: usize, d2: usize) -> Vec<DVec3> {
+pub(crate) fn product(a: &[f64], b: &[DVec3], d1: usize, d2: usize) -> Vec<DVec3> {
     let d = d1 + d2;
     let multinomial = |n: usize, m: &[usize; 3]| {
         factorial(n) / (factorial(m[0]) * factorial(m[1]) * factorial(m[2]))

@@ -30,7 +30,7 @@ use crate::schemes::gk::sector::{Rings, SectorSite, classify, resolve, sector_pa
 
 /// One patch of a p-patch, in chart corner order.
 #[derive(Clone, Debug)]
-pub struct HolePatch {
+pub(crate) struct HolePatch {
     /// The face of the prepared net.
     pub face: u32,
     /// The net vertices at the chart corners, in chart order.
@@ -44,7 +44,7 @@ pub struct HolePatch {
 /// Everything the filling of one hole computed: the patches and, for the tests, the surface
 /// ring they were built from.
 #[derive(Clone, Debug)]
-pub struct Filling {
+pub(crate) struct Filling {
     /// The 4n patches: per sector the inner patch, then the three ring patches.
     pub patches: Vec<HolePatch>,
     /// The surface ring `r`, per sector and ring triangle (degree d).
@@ -126,7 +126,12 @@ fn sector_angle(s: usize, n: usize) -> f64 {
 /// to a quadratic over the plane parametrization as the net allows, and the adaptation has
 /// the least to correct: on the deformed icosahedron `max |q ∘ x − r|` halves at k = 3, 4
 /// against `P = v`.
-pub fn placed_multiple(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<DVec3> {
+pub(crate) fn placed_multiple(
+    mesh: &Mesh,
+    control: &ControlNet,
+    k: usize,
+    v: u32,
+) -> Result<DVec3> {
     let (rings, _, x_ring) = charts(mesh, k, v)?;
     let start = control
         .multiple(v)
@@ -202,7 +207,7 @@ fn prepare_hole(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<P
 }
 
 /// Fills the hole of irregular vertex `v`.
-pub fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filling> {
+pub(crate) fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<Filling> {
     let n = mesh.valence(v);
     let prepared = prepare_hole(mesh, control, k, v)?;
     let (rings, planar, q) = (&prepared.rings, &prepared.planar, &prepared.q);
@@ -279,7 +284,11 @@ fn fit_quadratic(x: &[[TriangleBezier; 3]], r: &[[TriangleBezier; 3]]) -> Option
 }
 
 /// The patch in the face's own corner order, given its chart-order corners.
-pub fn in_face_order(face: [u32; 3], corners: [u32; 3], patch: &TriangleBezier) -> TriangleBezier {
+pub(crate) fn in_face_order(
+    face: [u32; 3],
+    corners: [u32; 3],
+    patch: &TriangleBezier,
+) -> TriangleBezier {
     let r = corners.iter().position(|&c| c == face[0]).unwrap_or(0);
     TriangleBezier::from_fn(patch.degree(), |i, j, l| {
         let mut a = [0usize; 3];

@@ -46,7 +46,7 @@ use crate::schemes::{ParamSpec, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 
 /// Registry entry.
-pub const SPEC: SchemeSpec = SchemeSpec {
+pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     name: "gk",
     summary: "Umlauf-Prautzsch 2000: C^k (half-)box-spline surface of a refined control net (UP)",
     params: &[
@@ -70,7 +70,7 @@ pub const SPEC: SchemeSpec = SchemeSpec {
 };
 
 /// The smoothness order parameter, checked to be 1..=4.
-pub fn order(params: &Params) -> Result<usize> {
+pub(crate) fn order(params: &Params) -> Result<usize> {
     let k = params.number("k")?;
     if k.fract() != 0.0 || !(1.0..=4.0).contains(&k) {
         return Err(Error::BadParam {
@@ -83,7 +83,7 @@ pub fn order(params: &Params) -> Result<usize> {
 
 /// The control net of the prepared mesh: where rings coalesce (k ≥ 3), each multiple vertex
 /// is placed by [`hole::placed_multiple`].
-pub fn control_net(mesh: &Mesh, k: usize) -> Result<regular::ControlNet<'_>> {
+pub(crate) fn control_net(mesh: &Mesh, k: usize) -> Result<regular::ControlNet<'_>> {
     let control = regular::ControlNet::new(mesh, k);
     if sector::coalesced_rings(k) == 0 {
         return Ok(control);
@@ -98,7 +98,7 @@ pub fn control_net(mesh: &Mesh, k: usize) -> Result<regular::ControlNet<'_>> {
 }
 
 /// The surface of the prepared net: regular patches, and with `fill_holes` the p-patches.
-pub fn surface_patches(
+pub(crate) fn surface_patches(
     net: &refine::RefinedNet,
     k: usize,
     fill_holes: bool,
@@ -146,10 +146,10 @@ pub fn surface_patches(
 /// [`adapt::Adaptation`]). Measured at valence 200: 0.07, 0.09, 0.4, 1.8 s for k = 1..4; at
 /// the default limit the estimate is about 10 s and 350 MB at k = 4, and the valence far
 /// beyond any sensible mesh. [`valence_cost`] is the estimate the error quotes.
-pub const DEFAULT_MAX_VALENCE: &str = "1000";
+pub(crate) const DEFAULT_MAX_VALENCE: &str = "1000";
 
 /// The `max_valence` parameter, checked to be a whole number ≥ 3.
-pub fn max_valence(params: &Params) -> Result<usize> {
+pub(crate) fn max_valence(params: &Params) -> Result<usize> {
     let max = params.number("max_valence")?;
     if max.fract() != 0.0 || max < 3.0 || max > u32::MAX as f64 {
         return Err(Error::BadParam {
@@ -164,7 +164,7 @@ pub fn max_valence(params: &Params) -> Result<usize> {
 /// n/2 + 1 mode blocks of at most 2R rows, kept while the surface is built, and their
 /// factorisation (about (2R)³ floating-point operations each, at a measured ~1 GFLOP/s of the
 /// plain Gauss–Jordan code), plus the O(n² R) transforms of the hole itself.
-pub fn valence_cost(n: usize, k: usize) -> (f64, f64) {
+pub(crate) fn valence_cost(n: usize, k: usize) -> (f64, f64) {
     let degree = 2 * box_spline::Family::for_order(k).degree();
     let r = adapt::Adaptation::conditions_per_sector(k, degree) as f64;
     let modes = (n / 2 + 1) as f64;

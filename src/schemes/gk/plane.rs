@@ -32,7 +32,7 @@ use crate::schemes::gk::box_spline::{ControlSite, GridTriangle, grid_distance};
 use crate::schemes::gk::sector::{SectorPoint, classify, sector_patch};
 
 /// The ring triangles of a sector chart, in the order `x_{n+3s−2}, x_{n+3s−1}, x_{n+3s}`.
-pub const RING_TRIANGLES: [GridTriangle; 3] = [
+pub(crate) const RING_TRIANGLES: [GridTriangle; 3] = [
     GridTriangle {
         i: 1,
         j: 0,
@@ -51,7 +51,7 @@ pub const RING_TRIANGLES: [GridTriangle; 3] = [
 ];
 
 /// The planar net vertex of a sector point (before coalescing).
-pub fn planar_vertex(point: SectorPoint, n: usize) -> DVec2 {
+pub(crate) fn planar_vertex(point: SectorPoint, n: usize) -> DVec2 {
     match point {
         SectorPoint::Centre => DVec2::ZERO,
         SectorPoint::Net { ring, sector, t } => {
@@ -95,7 +95,7 @@ fn planar_site(site: ControlSite, n: usize, k: usize) -> Option<DVec3> {
 
 /// One sector of the plane parametrization: the inner patch and the three ring patches.
 #[derive(Clone, Debug)]
-pub struct PlaneSector {
+pub(crate) struct PlaneSector {
     /// `x_s` over `Δ(0,0)` (corners v, w_s, w_{s+1}).
     pub inner: TriangleBezier,
     /// The ring patches over [`RING_TRIANGLES`].
@@ -104,7 +104,7 @@ pub struct PlaneSector {
 
 /// The plane parametrization of sector 0 for valence `n` and order `k`; the other sectors
 /// are its rotations by `2πs/n` ([`rotate`]).
-pub fn plane_sector(n: usize, k: usize) -> PlaneSector {
+pub(crate) fn plane_sector(n: usize, k: usize) -> PlaneSector {
     let patch = |t| {
         sector_patch(k, t, |site| planar_site(site, n, k))
             .expect("the ring patches' subnets reach only coalesced points opposite the sector")
@@ -120,13 +120,13 @@ pub fn plane_sector(n: usize, k: usize) -> PlaneSector {
 /// The polynomial of the ring patch over `∇(1,0)` (corners (1,0), (2,1), (1,1)) written over
 /// the inner triangle `Δ(0,0)`, whose corners (0,0), (1,0), (1,1) have the barycentric
 /// coordinates (1, −1, 1), (1, 0, 0), (0, 0, 1) there (blossoming, Farin CAGD §17.8).
-pub fn continue_into_inner(ring_a: &TriangleBezier) -> TriangleBezier {
+pub(crate) fn continue_into_inner(ring_a: &TriangleBezier) -> TriangleBezier {
     ring_a.subdivide([DVec3::new(1.0, -1.0, 1.0), DVec3::X, DVec3::Z])
 }
 
 /// Replaces rows `k+1..=d` (counted from the edge opposite corner 0) by row k shrunk towards
 /// the origin (see the module doc).
-pub fn shrink_free_rows(patch: &TriangleBezier, k: usize) -> TriangleBezier {
+pub(crate) fn shrink_free_rows(patch: &TriangleBezier, k: usize) -> TriangleBezier {
     let d = patch.degree();
     let row_k = |tau: f64| {
         // Row k: points (k, d−k−l, l), l = 0..=d−k, at parameter l/(d−k).
@@ -151,7 +151,7 @@ pub fn shrink_free_rows(patch: &TriangleBezier, k: usize) -> TriangleBezier {
 }
 
 /// A planar patch rotated about the origin by `angle`.
-pub fn rotate(patch: &TriangleBezier, angle: f64) -> TriangleBezier {
+pub(crate) fn rotate(patch: &TriangleBezier, angle: f64) -> TriangleBezier {
     let m = DMat2::from_angle(angle);
     patch.map_points(|p| {
         let q = m * DVec2::new(p.x, p.y);

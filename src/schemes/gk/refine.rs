@@ -26,11 +26,11 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 
 /// Most refinement levels tried before the mesh is refused (4⁵ = 1024 faces per input face).
-pub const MAX_LEVELS: usize = 5;
+pub(crate) const MAX_LEVELS: usize = 5;
 
 /// A refined control net with the input face each of its faces comes from.
 #[derive(Clone, Debug)]
-pub struct RefinedNet {
+pub(crate) struct RefinedNet {
     /// The refined mesh (vertices keep the numbering of the refinement).
     pub mesh: Mesh,
     /// For each refined face, the input face containing it.
@@ -98,7 +98,7 @@ fn loop_step(mesh: &Mesh, origin: &[u32], domain: &[[DVec3; 3]]) -> RefinedParts
 
 /// The smallest graph distance between two distinct irregular vertices, with one of the two
 /// (`None` if there are fewer than two).
-pub fn irregular_separation(mesh: &Mesh) -> Option<(usize, u32)> {
+pub(crate) fn irregular_separation(mesh: &Mesh) -> Option<(usize, u32)> {
     let n = mesh.vertex_count();
     let mut dist = vec![usize::MAX; n];
     let mut source = vec![u32::MAX; n];
@@ -134,7 +134,7 @@ pub fn irregular_separation(mesh: &Mesh) -> Option<(usize, u32)> {
 /// Errors: an irregular vertex still closer than that to another after [`MAX_LEVELS`] steps
 /// cannot happen for a valid closed mesh (distances double each step), but a refined net that
 /// fails validation is reported with the input vertex count it came from.
-pub fn prepare(mesh: &Mesh, k: usize) -> Result<RefinedNet> {
+pub(crate) fn prepare(mesh: &Mesh, k: usize) -> Result<RefinedNet> {
     let whole = crate::surface::WHOLE_FACE;
     let mut net = RefinedNet {
         mesh: mesh.clone(),

@@ -19,7 +19,7 @@ use crate::schemes::gk::sector::coalesced_rings;
 
 /// Chart radius of a patch's subnet: `k/2` for box splines, `(k+1)/2` for half-box splines
 /// (the corners of the triangles that reach within `(k−1)/2` of the patch).
-pub fn subnet_radius(k: usize) -> i32 {
+pub(crate) fn subnet_radius(k: usize) -> i32 {
     match Family::for_order(k) {
         Family::Box { m } => m as i32 - 1,
         Family::HalfBox { m } => m as i32 - 1,
@@ -41,7 +41,7 @@ pub fn subnet_radius(k: usize) -> i32 {
 /// read, leaves the surface ring without a planar counterpart: on the deformed icosahedron at
 /// k = 3, `max |q ∘ x − r|` over the ring's Bézier points was 62% of q's quadratic
 /// coefficients times the ring radius squared, against 3% for the primal coalescing).
-pub struct ControlNet<'a> {
+pub(crate) struct ControlNet<'a> {
     mesh: &'a Mesh,
     /// Control points at the vertices (even k), and the corners the dual points average.
     positions: Vec<DVec3>,
@@ -54,7 +54,7 @@ pub struct ControlNet<'a> {
 impl<'a> ControlNet<'a> {
     /// The control net of `mesh` for smoothness order `k`, each multiple vertex at its
     /// irregular vertex.
-    pub fn new(mesh: &'a Mesh, k: usize) -> Self {
+    pub(crate) fn new(mesh: &'a Mesh, k: usize) -> Self {
         let multiple = (0..mesh.vertex_count() as u32)
             .filter(|&v| mesh.valence(v) != 6)
             .map(|v| (v, mesh.positions()[v as usize]))
@@ -63,7 +63,7 @@ impl<'a> ControlNet<'a> {
     }
 
     /// The control net with the coalesced rings of each irregular vertex at `multiple[v]`.
-    pub fn with_multiples(mesh: &'a Mesh, k: usize, multiple: HashMap<u32, DVec3>) -> Self {
+    pub(crate) fn with_multiples(mesh: &'a Mesh, k: usize, multiple: HashMap<u32, DVec3>) -> Self {
         let mut positions = mesh.positions().to_vec();
         let mut irregular: Vec<u32> = multiple.keys().copied().collect();
         irregular.sort_unstable();
@@ -88,22 +88,17 @@ impl<'a> ControlNet<'a> {
     }
 
     /// The control point at vertex `v` (even k).
-    pub fn vertex(&self, v: u32) -> DVec3 {
+    pub(crate) fn vertex(&self, v: u32) -> DVec3 {
         self.positions[v as usize]
     }
 
-    /// The control point at face `f` (odd k).
-    pub fn face(&self, f: u32) -> DVec3 {
-        self.centroids[f as usize]
-    }
-
     /// The multiple vertex of irregular vertex `v`.
-    pub fn multiple(&self, v: u32) -> Option<DVec3> {
+    pub(crate) fn multiple(&self, v: u32) -> Option<DVec3> {
         self.multiple.get(&v).copied()
     }
 
     /// The control point at `site` of `chart`, if the chart holds it.
-    pub fn value(&self, chart: &Chart, site: ControlSite) -> Option<DVec3> {
+    pub(crate) fn value(&self, chart: &Chart, site: ControlSite) -> Option<DVec3> {
         match site {
             ControlSite::Vertex(p) => chart.get(&p).map(|&v| self.positions[v as usize]),
             ControlSite::Face(f) => {
@@ -116,7 +111,7 @@ impl<'a> ControlNet<'a> {
 }
 
 /// The dual point of a triangle with these corner control points: its centroid.
-pub fn dual_point(corners: [DVec3; 3]) -> DVec3 {
+pub(crate) fn dual_point(corners: [DVec3; 3]) -> DVec3 {
     (corners[0] + corners[1] + corners[2]) / 3.0
 }
 
@@ -146,7 +141,7 @@ fn distances(mesh: &Mesh, sources: &[u32], depth: usize) -> (Vec<u32>, Vec<usize
 }
 
 /// The patch of every face of `mesh` (`None` where the subnet is irregular), in face order.
-pub fn regular_patches(net: &ControlNet, k: usize) -> Vec<Option<TriangleBezier>> {
+pub(crate) fn regular_patches(net: &ControlNet, k: usize) -> Vec<Option<TriangleBezier>> {
     let stencil = PatchStencil::reference(k, true);
     let mesh = net.mesh;
     let radius = subnet_radius(k);

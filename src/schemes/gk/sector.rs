@@ -22,7 +22,7 @@ use crate::schemes::gk::chart::{RING_DIRECTIONS, face_of};
 
 /// What a lattice point of a sector chart stands for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum SectorPoint {
+pub(crate) enum SectorPoint {
     /// The irregular vertex itself or a point of wedge 3 (must coalesce with it).
     Centre,
     /// The net vertex on ring `ring ≥ 1`, in sector `sector`, at position `t < ring`.
@@ -37,7 +37,7 @@ pub enum SectorPoint {
 }
 
 /// Where the lattice point `p` of the chart of sector `sector` lies in a valence-`n` net.
-pub fn classify(p: [i32; 2], sector: usize, n: usize) -> SectorPoint {
+pub(crate) fn classify(p: [i32; 2], sector: usize, n: usize) -> SectorPoint {
     if p == [0, 0] {
         return SectorPoint::Centre;
     }
@@ -64,7 +64,7 @@ pub fn classify(p: [i32; 2], sector: usize, n: usize) -> SectorPoint {
 
 /// The net vertices of rings `1..=radius` around `v`: `[sector][ring − 1][t]`.
 #[derive(Clone, Debug)]
-pub struct Rings {
+pub(crate) struct Rings {
     /// The irregular vertex.
     pub centre: u32,
     /// Mesh vertex per sector, ring and position.
@@ -74,7 +74,7 @@ pub struct Rings {
 impl Rings {
     /// Walks each sector of `v` out to ring `radius` (every vertex except `v` must have
     /// valence 6 there); `None` if the walk meets an irregular vertex or runs into itself.
-    pub fn around(mesh: &Mesh, v: u32, radius: usize) -> Option<Rings> {
+    pub(crate) fn around(mesh: &Mesh, v: u32, radius: usize) -> Option<Rings> {
         let ring = mesh.one_ring(v);
         let n = ring.len();
         let vertices = ring
@@ -133,7 +133,7 @@ impl Rings {
     }
 
     /// The vertex for a classified point (None for [`SectorPoint::Centre`]).
-    pub fn vertex(&self, point: SectorPoint) -> Option<u32> {
+    pub(crate) fn vertex(&self, point: SectorPoint) -> Option<u32> {
         match point {
             SectorPoint::Centre => Some(self.centre),
             SectorPoint::Net { ring, sector, t } => self
@@ -146,7 +146,7 @@ impl Rings {
     }
 
     /// The mesh face of the lattice triangle with corners `corners` in the chart of `sector`.
-    pub fn face(&self, mesh: &Mesh, sector: usize, corners: [[i32; 2]; 3]) -> Option<u32> {
+    pub(crate) fn face(&self, mesh: &Mesh, sector: usize, corners: [[i32; 2]; 3]) -> Option<u32> {
         let n = self.vertices.len();
         let [x, y, z] = corners.map(|c| self.vertex(classify(c, sector, n)));
         face_of(mesh, x?, y?, z?)
@@ -157,7 +157,7 @@ impl Rings {
 /// lattice triangle (half-box splines), already resolved to "the multiple vertex" where the
 /// construction coalesces it [UP §2, §3].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SectorSite {
+pub(crate) enum SectorSite {
     /// Coalesced with the irregular vertex (the multiple vertex).
     Multiple,
     /// The net vertex at this point.
@@ -171,7 +171,7 @@ pub enum SectorSite {
 /// Number of vertex rings of the triangle net that coalesce with the irregular vertex:
 /// `k/2 − 1` for box splines [UP §2], `(k−1)/2` for half-box splines, whose dual points are
 /// then the centroids of the coalesced triangle net [UP §3, §4].
-pub fn coalesced_rings(k: usize) -> usize {
+pub(crate) fn coalesced_rings(k: usize) -> usize {
     if k.is_multiple_of(2) {
         k / 2 - 1
     } else {
@@ -183,7 +183,7 @@ pub fn coalesced_rings(k: usize) -> usize {
 /// `sector`) is read for smoothness order `k` around a vertex of valence `n`. `None` if the
 /// point lies opposite the sector but outside the coalesced rings (the chart would name it
 /// differently from its neighbours; never the case for the stencils of rings 1 and 2).
-pub fn resolve(site: ControlSite, sector: usize, n: usize, k: usize) -> Option<SectorSite> {
+pub(crate) fn resolve(site: ControlSite, sector: usize, n: usize, k: usize) -> Option<SectorSite> {
     let coalesced = coalesced_rings(k);
     let ring_of = |p: [i32; 2]| grid_distance(p, [0, 0]) as usize;
     match site {
@@ -206,7 +206,7 @@ pub fn resolve(site: ControlSite, sector: usize, n: usize, k: usize) -> Option<S
 
 /// The Bézier net of the patch over lattice triangle `triangle` of a sector chart, reading the
 /// control point at each chart site through `value` (`None` if a site cannot be read).
-pub fn sector_patch(
+pub(crate) fn sector_patch(
     k: usize,
     triangle: GridTriangle,
     mut value: impl FnMut(ControlSite) -> Option<DVec3>,

@@ -37,7 +37,7 @@ use crate::schemes::vertex_rings::{
 /// from [`Fan::ring_step`], so that `Ψ` is linear to the neighbour's `Ψ(0)`), boundary
 /// vertices by [`boundary_half_edges`], vertices cut into sectors by
 /// [`super::crease::sector_half_edges`].
-pub fn open_half_edge_table(
+pub(crate) fn open_half_edge_table(
     mesh: &Mesh,
     sectors: &MeshSectors,
     rule: &ShapeRule,
@@ -85,7 +85,7 @@ fn boundary_shape(
 
 /// Fills `out[j]` with the data of edge `v → p_j` at the boundary vertex of `fan` (see the
 /// module doc): the same quantities as [`super::vertex::half_edges`] computes at an interior vertex.
-pub fn boundary_half_edges(fan: &Fan, rule: &ShapeRule, out: &mut [HalfEdgeData]) {
+pub(crate) fn boundary_half_edges(fan: &Fan, rule: &ShapeRule, out: &mut [HalfEdgeData]) {
     let (v, ring) = (fan.position, fan.ring);
     let n = ring.len();
     let theta = fan.step;

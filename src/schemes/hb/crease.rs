@@ -27,7 +27,7 @@ use crate::schemes::vertex_rings::{Fan, Sector, open_fan_cross_data, open_loop_p
 
 /// `b0, b1, b2` of the boundary curve leaving `v` along a sharp (or boundary) edge towards
 /// `p`, with the vertex point `b0` and the tangent `t` (see the module doc).
-pub fn crease_curve(b0: DVec3, v: DVec3, p: DVec3, t: DVec3) -> [DVec3; 3] {
+pub(crate) fn crease_curve(b0: DVec3, v: DVec3, p: DVec3, t: DVec3) -> [DVec3; 3] {
     let d = 0.5 * (v + p);
     [b0, b0 + t / 6.0, b0 + t / 4.0 + (d - b0) / 6.0]
 }
@@ -35,7 +35,7 @@ pub fn crease_curve(b0: DVec3, v: DVec3, p: DVec3, t: DVec3) -> [DVec3; 3] {
 /// Fills `out[j]` with the data of edge `v → p_j` at the vertex of `fan`, cut into `sectors`
 /// (see the module doc); `rule` gives α, a fixed β (which scales the tangents: `3β r¹`, 1 for
 /// `auto`) and γ of the inner edges.
-pub fn sector_half_edges(
+pub(crate) fn sector_half_edges(
     fan: &Fan,
     sectors: &[Sector],
     rule: &ShapeRule,

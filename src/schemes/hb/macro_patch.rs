@@ -27,14 +27,14 @@ use glam::DVec3;
 use crate::bezier::triangle::index;
 
 /// Number of control points of a quintic triangle.
-pub const QUINTIC: usize = 21;
+pub(crate) const QUINTIC: usize = 21;
 
 /// The quintic control nets of the four pieces (corner pieces 0, 1, 2, then the middle).
-pub type MacroNets = [[DVec3; QUINTIC]; 4];
+pub(crate) type MacroNets = [[DVec3; QUINTIC]; 4];
 
 /// Everything about one half of a macro edge, `X → m_XY`, in the orientation of `X`.
 #[derive(Clone, Copy, Debug)]
-pub struct HalfEdgeCurve {
+pub(crate) struct HalfEdgeCurve {
     /// Cubic boundary piece `b0..b3` on `[0, ½]` (b3 is the edge midpoint, eq. 16).
     pub b: [DVec3; 4],
     /// Quadratic piece `v0, v1, v2` of the cross-boundary function `V` on `[0, ½]` (eq. 27).
@@ -47,7 +47,7 @@ pub struct HalfEdgeCurve {
 
 /// How the six free control points of a macro-patch are chosen (`--param free=…`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FreeRule {
+pub(crate) enum FreeRule {
     /// Minimise the thin-plate energy `∫ |S_xx|² + 2|S_xy|² + |S_yy|²` of the macro-patch over an
     /// equilateral domain (HB00 §9, colour plate). Affine invariant; one constant 6 × 84 linear map.
     Energy,
@@ -57,7 +57,7 @@ pub enum FreeRule {
 }
 
 /// The face-barycentric corners of the four pieces (see the module doc).
-pub fn piece_domains() -> [[DVec3; 3]; 4] {
+pub(crate) fn piece_domains() -> [[DVec3; 3]; 4] {
     let a = crate::surface::WHOLE_FACE;
     let m = |k: usize, l: usize| 0.5 * (a[k] + a[l]);
     [
@@ -71,6 +71,7 @@ pub fn piece_domains() -> [[DVec3; 3]; 4] {
 /// How far the two computations of the points shared by a corner piece's two inner rows
 /// disagree: the twist b(3,1,1) from either edge, and b(4,0,1), b(4,1,0) from the cross
 /// derivative versus the boundary curve (eq. 19). Zero up to rounding when (II_T) and (19) hold.
+#[cfg(test)]
 pub fn corner_mismatch(to_y: &HalfEdgeCurve, to_z: &HalfEdgeCurve) -> f64 {
     let (edge_y, edge_z) = (
         elevate_cubic_to_quintic(to_y.b),
@@ -142,7 +143,10 @@ fn elevate_cubic_to_quintic(b: [DVec3; 4]) -> [DVec3; 6] {
 
 /// Builds the four quintic nets of a macro-patch. `corners[k] = (X→Y, X→Z)` for face corner
 /// `X = a_k`, `Y = a_{k+1}`, `Z = a_{k+2}`.
-pub fn macro_patch(corners: &[(HalfEdgeCurve, HalfEdgeCurve); 3], free: FreeRule) -> MacroNets {
+pub(crate) fn macro_patch(
+    corners: &[(HalfEdgeCurve, HalfEdgeCurve); 3],
+    free: FreeRule,
+) -> MacroNets {
     let mut nets = [[DVec3::ZERO; QUINTIC]; 4];
     for (k, (to_y, to_z)) in corners.iter().enumerate() {
         corner_rows(&mut nets[k], to_y, to_z);

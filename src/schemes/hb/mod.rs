@@ -60,7 +60,7 @@ use macro_patch::{FreeRule, HalfEdgeCurve, macro_patch, piece_domains};
 use vertex::{HalfEdgeData, PlaneRule, ShapeRule};
 
 /// Registry entry.
-pub const SPEC: SchemeSpec = SchemeSpec {
+pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     name: "hb",
     summary: "Hahmann-Bonneau 2000: quintic G1 interpolant, 4 Bezier triangles per face (HB00)",
     params: &[
@@ -263,6 +263,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
 
 /// Largest disagreement between the two ways of computing the points two edges share at a
 /// corner piece (twist compatibility, eq. 19), over all face corners; for tests and diagnostics.
+#[cfg(test)]
 pub fn max_corner_mismatch(mesh: &Mesh, params: &Params) -> Result<f64> {
     let (shape, _) = shape_params(params)?;
     let table = half_edge_table(mesh, &shape)?;

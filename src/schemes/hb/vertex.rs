@@ -24,7 +24,7 @@ use crate::schemes::vertex_rings::{HB_SWERVE, RingFourier, front_facing_plane, s
 
 /// The shape parameters of HB00: α (eq. 9), β (eq. 12), γ0, γ1, γ2 (eq. 15, γ0+γ1+γ2 = 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShapeParams {
+pub(crate) struct ShapeParams {
     /// α: 1 interpolates the mesh vertices, other values pull `b0` towards the ring centroid.
     pub alpha: f64,
     /// β: magnitude of the boundary-curve tangents (eq. 12).
@@ -37,7 +37,7 @@ pub struct ShapeParams {
 /// vertex* ("for each vertex a set of three free shape parameters β, γ1, γ2 is available").
 /// `None` means: chosen for the vertex from its one-ring by [`adaptive_shape`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShapeRule {
+pub(crate) struct ShapeRule {
     /// α of eq. 9, the same at every vertex.
     pub alpha: f64,
     /// β of eq. 12, or `None` for the per-vertex choice of [`adaptive_shape`].
@@ -50,7 +50,7 @@ pub struct ShapeRule {
 
 /// The tangent plane of the surface at a mesh vertex.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PlaneRule {
+pub(crate) enum PlaneRule {
     /// eq. 12: the plane of the ring's first Fourier sums `C`, `S`.
     Fourier,
     /// The plane normal to Max's vertex normal `Σ e_i × e_{i+1} / (|e_i|² |e_{i+1}|²)`
@@ -62,7 +62,7 @@ pub enum PlaneRule {
 
 impl PlaneRule {
     /// The first Fourier sums of `ring` whose plane is this rule's tangent plane at `v`.
-    pub fn ring_fourier(self, v: DVec3, ring: &[DVec3]) -> RingFourier {
+    pub(crate) fn ring_fourier(self, v: DVec3, ring: &[DVec3]) -> RingFourier {
         let fourier = RingFourier::new(ring);
         match self {
             PlaneRule::Fourier => fourier,
@@ -77,7 +77,7 @@ impl PlaneRule {
 /// Max's vertex normal at `v` with the closed one-ring `ring` (see [`PlaneRule::Max`]); `None`
 /// when the weighted sum vanishes or is not finite. The edges are divided by the longest first,
 /// so that the fourth powers neither overflow nor underflow at extreme scales.
-pub fn max_normal(v: DVec3, ring: &[DVec3]) -> Option<DVec3> {
+pub(crate) fn max_normal(v: DVec3, ring: &[DVec3]) -> Option<DVec3> {
     let n = ring.len();
     let scale = ring.iter().map(|p| (*p - v).length()).fold(0.0, f64::max);
     if !(scale > 0.0 && scale.is_finite()) {
@@ -98,7 +98,7 @@ impl ShapeRule {
     /// face on the "+" side of the edge, `ring_step_minus[i]` of the face on the "−" side.
     /// The two differ only on the sharp edge of a dart whose far end is cut into sectors;
     /// there the "−" side gets its own `V'(0)` ([`HalfEdgeData::minus`]).
-    pub fn half_edges(
+    pub(crate) fn half_edges(
         &self,
         v: DVec3,
         ring: &[DVec3],
@@ -125,7 +125,7 @@ impl ShapeRule {
 
     /// The parameters of the vertex `v` with one-ring `ring` and its first Fourier sums
     /// `fourier` (in the vertex's tangent plane).
-    pub fn at_vertex(&self, v: DVec3, ring: &[DVec3], fourier: &RingFourier) -> ShapeParams {
+    pub(crate) fn at_vertex(&self, v: DVec3, ring: &[DVec3], fourier: &RingFourier) -> ShapeParams {
         match (self.beta, self.gamma) {
             (Some(beta), Some(gamma)) => ShapeParams {
                 alpha: self.alpha,
@@ -150,12 +150,12 @@ const PLANAR_FALLBACK: f64 = 1e-16;
 /// The per-vertex β is kept in this range: 1/3 (linear precision) to 1/2 covers the arcs of
 /// rings up to a quarter circle; beyond, a ring is too coarse for a circle to be a guide, and
 /// longer tangents lower the regularity of the macro-patches.
-pub const BETA_RANGE: [f64; 2] = [0.25, 0.5];
+pub(crate) const BETA_RANGE: [f64; 2] = [0.25, 0.5];
 
 /// The per-vertex γ2 is kept in this range: 0 (the tangent line) to twice its value 1/8 on a
 /// regular ring of a sphere. The fit divides by the ring's heights over the tangent plane, which
 /// can nearly cancel at a saddle.
-pub const GAMMA2_RANGE: [f64; 2] = [0.0, 0.25];
+pub(crate) const GAMMA2_RANGE: [f64; 2] = [0.0, 0.25];
 
 /// Per-vertex shape parameters chosen from the one-ring so that the boundary curves leaving `v`
 /// start like the circles the mesh implies [HB00 §6: β, γ1, γ2 free per vertex]:
@@ -181,7 +181,7 @@ pub const GAMMA2_RANGE: [f64; 2] = [0.0, 0.25];
 ///   of uniform speed), and γ0 = 1 − γ1 − γ2.
 ///
 /// With `beta = Some(β)`, β is kept and only the γ are chosen.
-pub fn adaptive_shape(
+pub(crate) fn adaptive_shape(
     v: DVec3,
     ring: &[DVec3],
     fourier: &RingFourier,
@@ -284,7 +284,7 @@ fn arc_length(chord: DVec3, normal: DVec3) -> f64 {
 
 /// The curve and cross-boundary data of one directed edge `v → p_i` that `v` determines alone.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct HalfEdgeData {
+pub(crate) struct HalfEdgeData {
     /// `b0, b1, b2` of the cubic boundary piece on `[0, ½]` (eqs. 10, 13, 15).
     pub b: [DVec3; 3],
     /// `v⁰ = V_i(0)` (eq. 23).
@@ -304,7 +304,7 @@ pub struct HalfEdgeData {
 
 /// The cross-boundary data of one side of a directed edge ([`HalfEdgeData`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CrossSide {
+pub(crate) struct CrossSide {
     /// `V(0)`.
     pub v0: DVec3,
     /// `v¹`.
@@ -317,7 +317,7 @@ pub struct CrossSide {
 
 impl HalfEdgeData {
     /// The cross-boundary data of the face on the "−" side (`minus`) or the "+" side.
-    pub fn side(&self, minus: bool) -> CrossSide {
+    pub(crate) fn side(&self, minus: bool) -> CrossSide {
         match (minus, self.minus) {
             (true, Some(side)) => side,
             _ => CrossSide {
@@ -333,7 +333,7 @@ impl HalfEdgeData {
 /// Fills `out[i]` with the data of edge `v → ring[i]` for every neighbour (eqs. 9–23).
 /// `ring_step[i]` is the angle step at `ring[i]`, `2π` over its order (it enters `Ψ'_i(0)`,
 /// eq. 22).
-pub fn half_edges(
+pub(crate) fn half_edges(
     v: DVec3,
     ring: &[DVec3],
     ring_step: &[f64],

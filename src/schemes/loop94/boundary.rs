@@ -22,7 +22,7 @@ use crate::schemes::vertex_rings::{
 };
 
 /// The per-vertex pass of Loop's scheme on a mesh that may be open.
-pub fn open_table(mesh: &Mesh, shape: &LoopShape) -> HalfEdgeTable<LoopHalfEdge> {
+pub(crate) fn open_table(mesh: &Mesh, shape: &LoopShape) -> HalfEdgeTable<LoopHalfEdge> {
     HalfEdgeTable::build_open(mesh, &MeshSectors::plain(mesh), |fan, out| {
         if fan.boundary {
             boundary_half_edges(fan, shape, out);
@@ -33,7 +33,7 @@ pub fn open_table(mesh: &Mesh, shape: &LoopShape) -> HalfEdgeTable<LoopHalfEdge>
 }
 
 /// Fills `out[j]` with the data of edge `v → p_j` at the boundary vertex of `fan` (module doc).
-pub fn boundary_half_edges(fan: &Fan, shape: &LoopShape, out: &mut [LoopHalfEdge]) {
+pub(crate) fn boundary_half_edges(fan: &Fan, shape: &LoopShape, out: &mut [LoopHalfEdge]) {
     let (v, ring) = (fan.position, fan.ring);
     let n = ring.len();
     let theta = fan.step;

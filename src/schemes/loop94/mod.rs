@@ -38,7 +38,7 @@ use patch::{edge_curves, sextic};
 use vertex::{LoopHalfEdge, LoopShape, half_edges};
 
 /// Registry entry.
-pub const SPEC: SchemeSpec = SchemeSpec {
+pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     name: "loop94",
     summary: "Loop 1994: sextic G1 spline, one Bezier triangle per face (HB00 sec. 3)",
     params: &[
@@ -145,6 +145,7 @@ fn short(beta: f64) -> String {
 
 /// Largest disagreement of the twist points computed from either edge, and of Loop's middle
 /// boundary point `f²` computed from either end, over all faces (for tests and diagnostics).
+#[cfg(test)]
 pub fn max_consistency_defect(mesh: &Mesh, params: &Params) -> Result<f64> {
     let table = table(mesh, &shape(params)?);
     Ok(mesh

@@ -18,7 +18,7 @@ use crate::bezier::{CurveBezier, TriangleBezier};
 use crate::linalg::{Matrix, invert, multiply, transpose};
 
 /// Degree of Loop's patches.
-pub const DEGREE: usize = 6;
+pub(crate) const DEGREE: usize = 6;
 
 /// Index in a sextic of the point with weight `w[r]` at corner `(k + r) % 3`.
 fn rot(k: usize, w: [usize; 3]) -> usize {
@@ -31,7 +31,7 @@ fn rot(k: usize, w: [usize; 3]) -> usize {
 
 /// The boundary curve of edge `X → Y` (quartic, eq. 2) and the cross-boundary derivative
 /// towards the third corner of the face on its left (quintic, eq. 3), from the data of both ends.
-pub fn edge_curves(here: &LoopHalfEdge, there: &LoopHalfEdge) -> (CurveBezier, CurveBezier) {
+pub(crate) fn edge_curves(here: &LoopHalfEdge, there: &LoopHalfEdge) -> (CurveBezier, CurveBezier) {
     let boundary = CurveBezier::new(vec![
         here.f[0], here.f[1], here.f[2], there.f[1], there.f[0],
     ]);
@@ -53,7 +53,7 @@ pub fn edge_curves(here: &LoopHalfEdge, there: &LoopHalfEdge) -> (CurveBezier, C
 }
 
 /// The sextic of a face from the three edges `a_k → a_{k+1}` (boundary, cross derivative).
-pub fn sextic(edges: &[(CurveBezier, CurveBezier); 3]) -> TriangleBezier {
+pub(crate) fn sextic(edges: &[(CurveBezier, CurveBezier); 3]) -> TriangleBezier {
     let mut points = vec![DVec3::ZERO; point_count(DEGREE)];
     let mut twist_sum = [DVec3::ZERO; 3];
     for (k, (boundary, cross)) in edges.iter().enumerate() {
@@ -87,6 +87,7 @@ pub fn sextic(edges: &[(CurveBezier, CurveBezier); 3]) -> TriangleBezier {
 }
 
 /// Disagreement of the two values of each twist point, for tests and diagnostics.
+#[cfg(test)]
 pub fn twist_mismatch(edges: &[(CurveBezier, CurveBezier); 3]) -> f64 {
     let first_row = |k: usize, m: usize| {
         let (boundary, cross) = &edges[k];

@@ -21,7 +21,7 @@ use crate::schemes::vertex_rings::{phi0, psi0};
 
 /// Loop's shape parameters α and β (eq. 2).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LoopShape {
+pub(crate) struct LoopShape {
     /// α: 1 interpolates the vertices, smaller values approximate (pull `f⁰` to the centroid).
     pub alpha: f64,
     /// β: tangent magnitude.
@@ -30,7 +30,7 @@ pub struct LoopShape {
 
 /// Data of the directed edge `p → p_i` that `p` determines alone.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LoopHalfEdge {
+pub(crate) struct LoopHalfEdge {
     /// `f⁰, f¹, f²` of the quartic boundary curve (eq. 2); `f²` is symmetric in both ends.
     pub f: [DVec3; 3],
     /// `v⁰ = V_i(0)`, `v¹` of the cubic `V_i` (eq. 4).
@@ -45,7 +45,7 @@ pub struct LoopHalfEdge {
 }
 
 /// Fills `out[i]` with the data of edge `p → ring[i]` (eqs. 1–4).
-pub fn half_edges(
+pub(crate) fn half_edges(
     p: DVec3,
     ring: &[DVec3],
     ring_valence: &[usize],

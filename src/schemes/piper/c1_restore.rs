@@ -31,7 +31,7 @@ use crate::schemes::piper::cubic_net::Quartic;
 /// Resets M, N, O of the three quartic pieces of one face (piece `k` over
 /// [`crate::schemes::piper::cubic_net::piece_domain`]`(k)`) so that they join C¹, and writes
 /// every inner-edge point into both pieces that share it, bit for bit.
-pub fn restore_c1(pieces: &mut [Quartic; 3]) {
+pub(crate) fn restore_c1(pieces: &mut [Quartic; 3]) {
     let at = |i: usize, j: usize| index(4, i, j);
     let previous = |k: usize| (k + 2) % 3;
     // Edge a_k → c: j = 0 in piece k (p(4−l, 0, l)), i = 0 in piece k−1 (p(0, 4−l, l)).

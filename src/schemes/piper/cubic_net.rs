@@ -12,15 +12,15 @@ use crate::bezier::hermite2d::tangent_length;
 use crate::bezier::triangle::index;
 
 /// A cubic control net (10 points).
-pub type Cubic = [DVec3; 10];
+pub(crate) type Cubic = [DVec3; 10];
 /// A quartic control net (15 points).
-pub type Quartic = [DVec3; 15];
+pub(crate) type Quartic = [DVec3; 15];
 
 /// How far the boundary control point next to a vertex sits along the projected edge
 /// (`--param scaling=…`). `b210 = b300 + s (q − b300)` with `q` the other end of the edge
 /// projected into the tangent plane at `b300` [Piper87 §3.8 step 1].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EdgeScaling {
+pub(crate) enum EdgeScaling {
     /// Farin's 2-D rule [Piper87 eqs. 3–4] in the plane of the chord and the projected edge:
     /// the point projects onto the chord at its first third when the angle between chord and
     /// tangent plane is at most 60°, else the leg is ⅔ of the chord. Invariant under
@@ -52,7 +52,7 @@ pub enum EdgeScaling {
 /// to its vertex: then the two points of an edge can touch at the chord's midpoint but never
 /// cross. Only [`EdgeScaling::Thesis`] can reach the cap (when `‖q − b300‖` is more than
 /// 1.5 units); the other rules stay within the first third (`Farin`) or 4/9 (`Relative`).
-pub fn edge_point(
+pub(crate) fn edge_point(
     vertex: DVec3,
     normal: DVec3,
     other: DVec3,
@@ -86,7 +86,7 @@ pub fn edge_point(
 ///
 /// On error returns the corner `(from, to)` (indices 0..3 into the face) whose normal lies
 /// along the edge.
-pub fn candidate_net(
+pub(crate) fn candidate_net(
     p: [DVec3; 3],
     n: [DVec3; 3],
     scaling: EdgeScaling,
@@ -122,7 +122,7 @@ pub fn candidate_net(
 /// `k`, face corner `k+1` and the centroid. The piece's edge 0 is the face's edge `k`
 /// (`faces[f][k] → faces[f][k+1]`, the edge [`crate::mesh::Mesh::neighbor`] numbers `k`);
 /// its edge 1 runs from corner `k+1` to the centroid, its edge 2 from the centroid to corner `k`.
-pub fn piece_domain(k: usize) -> [DVec3; 3] {
+pub(crate) fn piece_domain(k: usize) -> [DVec3; 3] {
     let unit = crate::surface::WHOLE_FACE;
     [unit[k], unit[(k + 1) % 3], DVec3::splat(1.0 / 3.0)]
 }
@@ -134,7 +134,7 @@ pub fn piece_domain(k: usize) -> [DVec3; 3] {
 /// the outer row of piece `k` is the face net's edge `k` itself (subdivision leaves a
 /// boundary curve's control points unchanged), the edge from corner `k` to the centroid is
 /// copied from piece `k` into piece `k−1`, and the centroid point is the net's value there.
-pub fn split_at_centroid(net: &Cubic) -> [Cubic; 3] {
+pub(crate) fn split_at_centroid(net: &Cubic) -> [Cubic; 3] {
     let patch = TriangleBezier::new(3, net.to_vec());
     let mut pieces = [[DVec3::ZERO; 10]; 3];
     for (k, piece) in pieces.iter_mut().enumerate() {
@@ -173,7 +173,7 @@ pub fn split_at_centroid(net: &Cubic) -> [Cubic; 3] {
 ///
 /// Returns the centres unchanged when a centre lies on the edge line or the two planes'
 /// normals cancel (a fold); step 5 makes the join G¹ regardless.
-pub fn coplanar_centres(
+pub(crate) fn coplanar_centres(
     s1: DVec3,
     s2: DVec3,
     centre_p: DVec3,
@@ -200,7 +200,7 @@ pub fn coplanar_centres(
 }
 
 /// Step 4: a cubic sub-net as a quartic [Piper87 §3.6, §3.8 step 4].
-pub fn elevate(net: &Cubic) -> Quartic {
+pub(crate) fn elevate(net: &Cubic) -> Quartic {
     let elevated = TriangleBezier::new(3, net.to_vec()).elevate();
     let mut out = [DVec3::ZERO; 15];
     out.copy_from_slice(elevated.points());

@@ -34,11 +34,11 @@ use glam::{DMat3, DVec3};
 
 /// Below this `‖(Δe, Δg)‖` (the weights are dimensionless, of order one) the weights at the two
 /// ends count as equal and the thesis's two-row system is solved.
-pub const DEPENDENT_ROWS: f64 = 1e-12;
+pub(crate) const DEPENDENT_ROWS: f64 = 1e-12;
 
 /// The control points of the two pieces at one shared edge, in face P's direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EdgeNet {
+pub(crate) struct EdgeNet {
     /// `S0 … S4`: the common boundary curve.
     pub s: [DVec3; 5],
     /// `R0 … R3`: P's next row.
@@ -49,7 +49,7 @@ pub struct EdgeNet {
 
 /// Weights `(e, f, g, h)` of [Piper87 eq. 19] at one end of the edge.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EndWeights {
+pub(crate) struct EndWeights {
     /// Weight of `I` (the blend of `S0..3`).
     pub e: f64,
     /// Weight of `J` (the blend of `S1..4`).
@@ -81,7 +81,7 @@ fn plane_weights(vertex: DVec3, along: DVec3, r: DVec3, t: DVec3) -> Option<(f64
 /// the vertex), so the thesis drops one coordinate and solves 4×4; here the two remaining
 /// unknowns are solved in the plane by least squares, which needs no choice of coordinate.
 /// `None` at an end where `R` and `T` are in line with the edge.
-pub fn end_weights(net: &EdgeNet) -> (Option<EndWeights>, Option<EndWeights>) {
+pub(crate) fn end_weights(net: &EdgeNet) -> (Option<EndWeights>, Option<EndWeights>) {
     let (s, r, t) = (&net.s, &net.r, &net.t);
     // C0 = e1 S0 + f1 S1 + g1 R0 + h1 T0 with e1 = −1 − f1.
     let at_s0 = plane_weights(s[0], s[1], r[0], t[0]).map(|(f, g)| EndWeights {
@@ -102,7 +102,7 @@ pub fn end_weights(net: &EdgeNet) -> (Option<EndWeights>, Option<EndWeights>) {
 
 /// The new `R1, T1, R2, T2, S2`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EdgeSolution {
+pub(crate) struct EdgeSolution {
     /// `R1, R2`: P's row.
     pub r: [DVec3; 2],
     /// `T1, T2`: Q's row.
@@ -119,7 +119,7 @@ pub struct EdgeSolution {
 ///
 /// The equations are affine (each row's weights sum to the same on both sides), so they are
 /// solved relative to the edge's midpoint, which keeps the numbers small.
-pub fn solve_edge(net: &EdgeNet, w1: EndWeights, w2: EndWeights) -> EdgeSolution {
+pub(crate) fn solve_edge(net: &EdgeNet, w1: EndWeights, w2: EndWeights) -> EdgeSolution {
     let origin = 0.5 * (net.s[0] + net.s[4]);
     let s = net.s.map(|p| p - origin);
     let r = net.r.map(|p| p - origin);

@@ -61,7 +61,7 @@ use cubic_net::{Cubic, EdgeScaling, Quartic};
 use g1_solve::EdgeNet;
 
 /// Registry entry.
-pub const SPEC: SchemeSpec = SchemeSpec {
+pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     name: "piper",
     summary: "Piper 1987: Clough-Tocher split, 3 quartic Bezier triangles per face, G1 (Piper87)",
     params: &[
