@@ -348,3 +348,71 @@ fn test_items_are_skipped_and_nothing_else() {
     assert_eq!(firsts, ["surface", "bezier", "mesh", "geom"], "{kept}");
     assert!(kept.contains("fn tail") && !kept.contains("HashMap") && !kept.contains("probe"));
 }
+
+/// The lines of `code` where `#[cfg(test)]` gates something other than a module (a field, a
+/// function, a method, a `use`): 1-based, with the start of what it gates. Further attributes
+/// after the gate and a visibility before `mod` are allowed; `code` has no comments.
+fn gates_on_non_modules(code: &str) -> Vec<(usize, String)> {
+    const GATE: &str = "#[cfg(test)]";
+    let mut found = Vec::new();
+    let mut from = 0;
+    while let Some(at) = code[from..].find(GATE) {
+        let start = from + at;
+        from = start + GATE.len();
+        let mut rest = code[from..].trim_start();
+        while rest.starts_with("#[") {
+            rest = rest
+                .find(']')
+                .map_or("", |end| rest[end + 1..].trim_start());
+        }
+        let item = rest;
+        for visibility in ["pub(crate) ", "pub(super) ", "pub "] {
+            rest = rest.strip_prefix(visibility).unwrap_or(rest);
+        }
+        if !rest.starts_with("mod ") {
+            let rest = item;
+            let line = code[..start].matches('\n').count() + 1;
+            let gated = rest.lines().next().unwrap_or("").trim().to_string();
+            found.push((line, gated));
+        }
+    }
+    found
+}
+
+/// Test-only code lives in test modules: in `src/`, `#[cfg(test)]` gates `mod` items only, so
+/// no struct changes shape under test and no production file holds test-only functions.
+#[test]
+fn only_modules_are_gated_by_cfg_test() {
+    let mut files = Vec::new();
+    rust_files(&src(), &mut files);
+    files.sort();
+    let mut offenders = Vec::new();
+    for file in &files {
+        let text = std::fs::read_to_string(file).expect("read source");
+        for (line, gated) in gates_on_non_modules(&without_comments(&text)) {
+            let name = file.strip_prefix(src()).unwrap_or(file).display();
+            offenders.push(format!("src/{name}:{line}: {gated}"));
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "#[cfg(test)] on items other than modules (move them into the test module):\n{}",
+        offenders.join("\n")
+    );
+}
+
+/// The check sees a gated field, function and method, and lets gated modules through.
+#[test]
+fn gates_on_non_modules_are_found() {
+    let code = "struct Hole {\n    #[cfg(test)]\n    ring: Vec<A>,\n}\n\
+        impl Hole {\n    #[cfg(test)]\n    pub fn eval(&self) {}\n}\n\
+        #[cfg(test)]\n#[allow(dead_code)]\nfn probe() {}\n\
+        #[cfg(test)]\nmod tests {}\n\
+        #[cfg(test)]\npub(crate) mod test_support;\n\
+        #[cfg(test)]\n#[path = \"x.rs\"]\nmod other;\n";
+    let found = gates_on_non_modules(code);
+    let lines: Vec<usize> = found.iter().map(|(l, _)| *l).collect();
+    assert_eq!(lines, [2, 6, 9], "{found:?}");
+    assert_eq!(found[0].1, "ring: Vec<A>,");
+    assert_eq!(found[1].1, "pub fn eval(&self) {}");
+}

@@ -87,27 +87,6 @@ pub(crate) fn thin_plate_matrix(d: usize, corners: [DVec2; 3]) -> Matrix {
     q
 }
 
-/// The values of the degree-`d` Bernstein polynomials at the domain points `m/d`: row `i`
-/// holds `B^d_α(m_i/d)` over the multi-indices α, both in storage order. Its inverse maps values
-/// at the domain points to the interpolating Bézier net.
-#[cfg(test)]
-pub fn domain_point_collocation(d: usize) -> Matrix {
-    let idx = multi_indices(d);
-    idx.iter()
-        .map(|at| {
-            let l = at.map(|x| x as f64 / d as f64);
-            idx.iter()
-                .map(|m| {
-                    factorial(d) / (factorial(m[0]) * factorial(m[1]) * factorial(m[2]))
-                        * l[0].powi(m[0] as i32)
-                        * l[1].powi(m[1] as i32)
-                        * l[2].powi(m[2] as i32)
-                })
-                .collect()
-        })
-        .collect()
-}
-
 /// Degree elevation `d → d+1` as a matrix: row β of the result holds the weights of the degree-d
 /// points in point β of the elevated patch, `b'_β = Σ_k (β_k/(d+1)) b_{β−e_k}`.
 pub(crate) fn elevation_matrix(d: usize) -> Vec<Vec<f64>> {
@@ -134,6 +113,7 @@ pub(crate) fn elevation_matrix(d: usize) -> Vec<Vec<f64>> {
 mod tests {
     use super::*;
     use crate::bezier::TriangleBezier;
+    use crate::bezier::test_support::domain_point_collocation;
     use glam::DVec3;
 
     /// The Gram matrix integrates products exactly: its total is the triangle's area

@@ -20,4 +20,4 @@ pub use curve::CurveBezier;
 pub use triangle::TriangleBezier;
 
 #[cfg(test)]
-mod test_support;
+pub(crate) mod test_support;

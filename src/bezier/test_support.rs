@@ -4,7 +4,9 @@
 
 use glam::DVec3;
 
+use super::gram::multi_indices;
 use super::{CurveBezier, TriangleBezier};
+use crate::linalg::Matrix;
 
 /// `n! / (n − a)! · x^(n−a)`: the `a`-th derivative of `x^n` (zero for `a > n`).
 pub(crate) fn power_derivative(x: f64, n: usize, a: usize) -> f64 {
@@ -69,4 +71,27 @@ pub(crate) fn scale_of(points: &[DVec3]) -> f64 {
 /// Largest coordinate difference of `a` and `b`, relative to `scale`.
 pub(crate) fn rel_err(a: DVec3, b: DVec3, scale: f64) -> f64 {
     (a - b).abs().max_element() / scale
+}
+
+/// The values of the degree-`d` Bernstein polynomials at the domain points `m/d`: row `i`
+/// holds `B^d_α(m_i/d)` over the multi-indices α, both in storage order. Its inverse maps values
+/// at the domain points to the interpolating Bézier net.
+pub(crate) fn domain_point_collocation(d: usize) -> Matrix {
+    let idx = multi_indices(d);
+    idx.iter()
+        .map(|at| {
+            let l = at.map(|x| x as f64 / d as f64);
+            idx.iter()
+                .map(|m| {
+                    super::gram::factorial(d)
+                        / (super::gram::factorial(m[0])
+                            * super::gram::factorial(m[1])
+                            * super::gram::factorial(m[2]))
+                        * l[0].powi(m[0] as i32)
+                        * l[1].powi(m[1] as i32)
+                        * l[2].powi(m[2] as i32)
+                })
+                .collect()
+        })
+        .collect()
 }

@@ -65,12 +65,6 @@ impl Taylor {
         Taylor(c)
     }
 
-    /// Coefficient of `x^i y^j`.
-    #[cfg(test)]
-    pub fn coefficient(&self, i: usize, j: usize) -> f64 {
-        self.0[term(i, j)]
-    }
-
     /// `1/g` by the geometric series: `g = g₀(1 + h)`, `1/g = (1/g₀) Σ (−h)^k`, exact to the
     /// truncation order since `h` has no constant term.
     fn recip(self) -> Taylor {
@@ -173,6 +167,11 @@ pub(crate) fn add_product(acc: &mut [DVec3; TERMS], f: &Taylor, d: &[DVec3; TERM
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Coefficient of `x^i y^j` of `t`.
+    fn coefficient(t: &Taylor, i: usize, j: usize) -> f64 {
+        t.0[term(i, j)]
+    }
     use crate::blend::scalar_jet::ScalarJet;
 
     /// The Taylor arithmetic agrees with the exact second-order jet on a quotient with
@@ -192,12 +191,12 @@ mod tests {
             u.powi(3) * v / (ScalarJet::constant(1.0) + u * u + v)
         };
         let pairs = [
-            (f_t.coefficient(0, 0), f_j.v),
-            (f_t.coefficient(1, 0), f_j.du),
-            (f_t.coefficient(0, 1), f_j.dv),
-            (2.0 * f_t.coefficient(2, 0), f_j.duu),
-            (f_t.coefficient(1, 1), f_j.duv),
-            (2.0 * f_t.coefficient(0, 2), f_j.dvv),
+            (coefficient(&f_t, 0, 0), f_j.v),
+            (coefficient(&f_t, 1, 0), f_j.du),
+            (coefficient(&f_t, 0, 1), f_j.dv),
+            (2.0 * coefficient(&f_t, 2, 0), f_j.duu),
+            (coefficient(&f_t, 1, 1), f_j.duv),
+            (2.0 * coefficient(&f_t, 0, 2), f_j.dvv),
         ];
         for (t, j) in pairs {
             assert!((t - j).abs() <= 1e-14 * j.abs().max(1.0), "{t} vs {j}");

@@ -1057,28 +1057,34 @@ pub fn precise_measure(
     precise_point(nets, uvs, joint.a.edge as usize, diag)
 }
 
-/// Per order m: (difference, scale, floor) of the height coefficients at fraction `s`.
+/// What the tests of other modules read of a joint's measurement.
 #[cfg(test)]
-pub(crate) fn diagnose(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> Vec<[f64; 3]> {
-    let floor = rounding_floor(surface, joint, s);
-    let (_, point) = exact_point(surface, joint, s, MAX_ORDER);
-    let Some(mut point) = point else {
-        return Vec::new();
-    };
-    (1..=point.limit)
-        .map(|m| {
-            let [ha, hb] = point.heights_at(m);
-            let (diff, mag) = order_difference(ha, hb, m);
-            [diff, mag.max(diag.powi(1 - m as i32)), floor[m]]
-        })
-        .collect()
+pub(crate) mod test_support {
+    use super::*;
+
+    /// Per order m: (difference, scale, floor) of the height coefficients at fraction `s`.
+    pub(crate) fn diagnose(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> Vec<[f64; 3]> {
+        let floor = rounding_floor(surface, joint, s);
+        let (_, point) = exact_point(surface, joint, s, MAX_ORDER);
+        let Some(mut point) = point else {
+            return Vec::new();
+        };
+        (1..=point.limit)
+            .map(|m| {
+                let [ha, hb] = point.heights_at(m);
+                let (diff, mag) = order_difference(ha, hb, m);
+                [diff, mag.max(diag.powi(1 - m as i32)), floor[m]]
+            })
+            .collect()
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::bezier::TriangleBezier;
-    use crate::bezier::gram::{domain_point_collocation, multi_indices};
+    use crate::bezier::gram::multi_indices;
+    use crate::bezier::test_support::domain_point_collocation;
     use crate::linalg::invert;
     use crate::surface::{Patch, PatchEdge, PatchGeometry};
     use glam::DVec2;
@@ -1386,7 +1392,7 @@ mod tests {
         let side_a = PreciseNet::from_net(surface.patches[0].as_bezier().expect("net"));
         let side_b = PreciseNet::from_net(&folded);
         for s in ORDER_SAMPLES {
-            let heights = diagnose(&surface, &joint, s, diag);
+            let heights = test_support::diagnose(&surface, &joint, s, diag);
             assert!(
                 heights.iter().all(|[d, scale, _]| *d <= 1e-14 * scale),
                 "{heights:?}"

@@ -743,15 +743,6 @@ fn cosine_hemisphere(n: DVec3, r1: f64, r2: f64) -> DVec3 {
     (a * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - r2).max(0.0).sqrt()).normalize()
 }
 
-/// A direction uniform on the unit sphere.
-#[cfg(test)]
-fn uniform_sphere(r1: f64, r2: f64) -> DVec3 {
-    let z = 1.0 - 2.0 * r1;
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = TAU * r2;
-    DVec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
 fn smoothstep(a: f64, b: f64, x: f64) -> f64 {
     let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)
@@ -760,6 +751,14 @@ fn smoothstep(a: f64, b: f64, x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A direction uniform on the unit sphere.
+    fn uniform_sphere(r1: f64, r2: f64) -> DVec3 {
+        let z = 1.0 - 2.0 * r1;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = TAU * r2;
+        DVec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
     use crate::render::sampler::uniform;
 
     /// A small map with one bright texel, a gradient and a black row.

@@ -223,13 +223,6 @@ pub(crate) fn projected_net<const D: usize>(
     (q, magnitude)
 }
 
-/// A bound on the second derivative of a Bézier triangle in any unit `(u, v)` direction over
-/// its domain: [`second_derivative_bounds`] with no normal direction singled out.
-#[cfg(test)]
-pub fn second_derivative_bound(net: &TriangleBezier) -> f64 {
-    second_derivative_bounds(net, DVec3::ZERO)[0]
-}
-
 /// Bounds `[tangential, normal]` on the second derivative of a Bézier triangle in any unit
 /// `(u, v)` direction over its domain, split against the unit vector `normal`: the part
 /// perpendicular to `normal` and the component along it. For a ray at angle θ to `normal`, the
@@ -273,6 +266,12 @@ pub(crate) fn second_derivative_bounds(net: &TriangleBezier, normal: DVec3) -> [
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A bound on the second derivative of a Bézier triangle in any unit `(u, v)` direction over
+    /// its domain: [`second_derivative_bounds`] with no normal direction singled out.
+    fn second_derivative_bound(net: &TriangleBezier) -> f64 {
+        second_derivative_bounds(net, DVec3::ZERO)[0]
+    }
     use crate::surface::PatchGeometry;
 
     /// Runs the generic check `$f::<D>()` for every degree given a power form, 1..=6.

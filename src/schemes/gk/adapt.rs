@@ -634,7 +634,7 @@ pub(crate) mod tests {
     #[test]
     fn the_system_is_block_circulant_over_the_sectors() {
         for k in 1..=4 {
-            let degree = 2 * crate::schemes::gk::plane::degree(k);
+            let degree = 2 * crate::schemes::gk::box_spline::Family::for_order(k).degree();
             for n in 3..=9 {
                 let a = Adaptation::layout(n, k, degree).unwrap();
                 let r = a.per_sector;

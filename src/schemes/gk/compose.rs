@@ -29,12 +29,6 @@ fn monomials(p: DVec2) -> [f64; 6] {
 }
 
 impl Quadratic {
-    /// `q(p)`.
-    #[cfg(test)]
-    pub fn eval(&self, p: DVec2) -> DVec3 {
-        monomials(p).iter().zip(&self.0).map(|(m, c)| *m * *c).sum()
-    }
-
     /// The least-squares fit of `samples` (planar point, target point); `None` if the planar
     /// points do not determine a quadratic (they lie on a conic).
     pub(crate) fn fit(samples: &[(DVec2, DVec3)]) -> Option<Quadratic> {
@@ -55,53 +49,6 @@ impl Quadratic {
         });
         let c = least_squares(rows, 7)?;
         Some((Quadratic(std::array::from_fn(|i| c[i])), c[6]))
-    }
-
-    /// [`Quadratic::compose`] in double-double: `q ∘ x` with q's coefficients and x's points
-    /// taken as exact, every product and sum of the composition rounded to ~1e-32 only (the
-    /// f64 composition rounds each control point to f64). For the high-precision tests of
-    /// the inner joints.
-    #[cfg(test)]
-    pub fn compose_precise(&self, x: &TriangleBezier) -> crate::metrics::continuity::PreciseNet {
-        use crate::metrics::double_double::{DoubleDouble, Real};
-        let dd = DoubleDouble::from_f64;
-        let d = x.degree();
-        let xs: Vec<f64> = x.points().iter().map(|p| p.x).collect();
-        let ys: Vec<f64> = x.points().iter().map(|p| p.y).collect();
-        let c = self.0.map(|c| c.to_array().map(dd));
-        let combine = |terms: &[(usize, f64)]| -> [DoubleDouble; 3] {
-            std::array::from_fn(|axis| {
-                terms
-                    .iter()
-                    .fold(DoubleDouble::ZERO, |sum, &(i, w)| sum + c[i][axis] * dd(w))
-            })
-        };
-        let linear: Vec<_> = xs
-            .iter()
-            .zip(&ys)
-            .map(|(&a, &b)| {
-                let [s0, s1, s2] = [combine(&[(0, 1.0)]), combine(&[(1, a)]), combine(&[(2, b)])];
-                std::array::from_fn(|axis| s0[axis] + s1[axis] + s2[axis])
-            })
-            .collect();
-        let mixed: Vec<_> = xs
-            .iter()
-            .zip(&ys)
-            .map(|(&a, &b)| combine(&[(3, a), (4, b)]))
-            .collect();
-        let square: Vec<_> = ys.iter().map(|&b| combine(&[(5, b)])).collect();
-        let ones = vec![1.0; xs.len()];
-        let mut net = precise_product(&ones, &linear, d, d);
-        for (sum, (a, b)) in net.iter_mut().zip(
-            precise_product(&xs, &mixed, d, d)
-                .into_iter()
-                .zip(precise_product(&ys, &square, d, d)),
-        ) {
-            for axis in 0..3 {
-                sum[axis] += a[axis] + b[axis];
-            }
-        }
-        crate::metrics::continuity::PreciseNet::new(2 * d, net)
     }
 
     /// `q ∘ x` for a planar patch `x` (its z coordinates are ignored): a patch of degree 2d.
@@ -177,46 +124,14 @@ pub(crate) fn product(a: &[f64], b: &[DVec3], d1: usize, d2: usize) -> Vec<DVec3
     out
 }
 
-/// [`product`] in double-double, the weights exact ratios of integers.
-#[cfg(test)]
-fn precise_product(
-    a: &[f64],
-    b: &[[crate::metrics::double_double::DoubleDouble; 3]],
-    d1: usize,
-    d2: usize,
-) -> Vec<[crate::metrics::double_double::DoubleDouble; 3]> {
-    use crate::metrics::double_double::{DoubleDouble, Real};
-    let dd = DoubleDouble::from_f64;
-    let d = d1 + d2;
-    // Multinomials up to degree 2d = 14 (k = 4) are integers far below 2^53: exact in f64.
-    let multinomial = |n: usize, m: &[usize; 3]| {
-        factorial(n) / (factorial(m[0]) * factorial(m[1]) * factorial(m[2]))
-    };
-    let mut out = vec![[DoubleDouble::ZERO; 3]; (d + 1) * (d + 2) / 2];
-    let low_b = multi_indices(d2);
-    for alpha in multi_indices(d1) {
-        let a_alpha = a[index(d1, alpha[0], alpha[1])];
-        if a_alpha == 0.0 {
-            continue;
-        }
-        for beta in &low_b {
-            let gamma = [alpha[0] + beta[0], alpha[1] + beta[1], alpha[2] + beta[2]];
-            let w =
-                dd(multinomial(d1, &alpha) * multinomial(d2, beta)) / dd(multinomial(d, &gamma));
-            let w = w * dd(a_alpha);
-            let p = b[index(d2, beta[0], beta[1])];
-            let slot = &mut out[index(d, gamma[0], gamma[1])];
-            for axis in 0..3 {
-                slot[axis] += w * p[axis];
-            }
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `q(p)`.
+    fn eval(q: &Quadratic, p: DVec2) -> DVec3 {
+        monomials(p).iter().zip(&q.0).map(|(m, c)| *m * *c).sum()
+    }
 
     /// `q ∘ x` evaluated as a net equals q evaluated at x, and the fit reproduces a quadratic.
     #[test]
@@ -243,7 +158,7 @@ mod tests {
             for b in 0..=6 - a {
                 let w = DVec3::new((6 - a - b) as f64, a as f64, b as f64) / 6.0;
                 let plane = x.eval(w);
-                let expected = q.eval(DVec2::new(plane.x, plane.y));
+                let expected = eval(&q, DVec2::new(plane.x, plane.y));
                 assert!((p.eval(w) - expected).length() < 1e-13);
                 samples.push((DVec2::new(plane.x, plane.y), expected));
             }

@@ -41,19 +41,11 @@ pub(crate) struct HolePatch {
     pub patch: TriangleBezier,
 }
 
-/// Everything the filling of one hole computed: the patches and, for the tests, the surface
-/// ring they were built from.
+/// Everything the filling of one hole computed: its patches.
 #[derive(Clone, Debug)]
 pub(crate) struct Filling {
     /// The 4n patches: per sector the inner patch, then the three ring patches.
     pub patches: Vec<HolePatch>,
-    /// The surface ring `r`, per sector and ring triangle (degree d).
-    #[cfg(test)]
-    pub ring: Vec<[TriangleBezier; 3]>,
-    /// Per sector, the quadratic q and the planar patch `x_s` (rotated into place) of the
-    /// inner patch `q ∘ x_s`: what the high-precision tests compose in double-double.
-    #[cfg(test)]
-    pub inner: Vec<(Quadratic, TriangleBezier)>,
 }
 
 /// Rings of the net the charts of ring-2 patches reach.
@@ -157,9 +149,6 @@ pub(crate) fn placed_multiple(
 struct Prepared {
     rings: Rings,
     planar: PlaneSector,
-    /// The surface ring `r`, per sector and ring triangle (degree d).
-    #[cfg(test)]
-    ring: Vec<[TriangleBezier; 3]>,
     q: Quadratic,
     /// `r` elevated to degree 2d, `3s + τ` order.
     elevated: Vec<TriangleBezier>,
@@ -198,8 +187,6 @@ fn prepare_hole(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<P
     Ok(Prepared {
         rings,
         planar,
-        #[cfg(test)]
-        ring,
         q,
         elevated,
         differences,
@@ -249,15 +236,7 @@ pub(crate) fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Resul
             });
         }
     }
-    Ok(Filling {
-        patches,
-        #[cfg(test)]
-        ring: prepared.ring,
-        #[cfg(test)]
-        inner: (0..n)
-            .map(|s| (*q, rotate(&planar.inner, sector_angle(s, n))))
-            .collect(),
-    })
+    Ok(Filling { patches })
 }
 
 /// Barycentric sample points of a ring patch for the fits (a grid of step 1/6).
@@ -299,6 +278,43 @@ pub(crate) fn in_face_order(
     })
 }
 
+/// What the filling of one hole starts from, for the tests of other modules.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::*;
+
+    /// The surface ring `r` of irregular vertex `v`, per sector and ring triangle (degree d).
+    pub(crate) fn surface_ring_of(
+        mesh: &Mesh,
+        control: &ControlNet,
+        k: usize,
+        v: u32,
+    ) -> Vec<[TriangleBezier; 3]> {
+        let (rings, _, _) = charts(mesh, k, v).expect("the charts of a prepared net");
+        let multiple = control.multiple(v).expect("a multiple vertex");
+        surface_ring(mesh, &rings, control, k, multiple).expect("a readable ring")
+    }
+
+    /// Per sector, the quadratic q and the planar patch `x_s` (rotated into place) of the
+    /// inner patch `q ∘ x_s` of the hole of `v`: what the high-precision tests compose in
+    /// double-double.
+    pub(crate) fn inner_of(
+        mesh: &Mesh,
+        control: &ControlNet,
+        k: usize,
+        v: u32,
+    ) -> Vec<(Quadratic, TriangleBezier)> {
+        let n = mesh.valence(v);
+        let prepared = prepare_hole(mesh, control, k, v).expect("a prepared hole");
+        (0..n)
+            .map(|s| {
+                let inner = rotate(&prepared.planar.inner, sector_angle(s, n));
+                (prepared.q, inner)
+            })
+            .collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -318,7 +334,7 @@ mod tests {
                 let m = &net.mesh;
                 let control = ControlNet::new(m, k);
                 let regular = regular_patches(&control, k);
-                let d = crate::schemes::gk::plane::degree(k);
+                let d = crate::schemes::gk::box_spline::Family::for_order(k).degree();
                 for v in (0..m.vertex_count() as u32).filter(|&v| m.valence(v) != 6) {
                     let n = m.valence(v);
                     let filling = fill(m, &control, k, v).expect("prepared nets fill");
@@ -328,7 +344,8 @@ mod tests {
                     faces.dedup();
                     assert_eq!(faces.len(), 4 * n);
                     assert!(filling.patches.iter().all(|p| p.patch.degree() == 2 * d));
-                    for (s, sector) in filling.ring.iter().enumerate() {
+                    let ring = test_support::surface_ring_of(m, &control, k, v);
+                    for (s, sector) in ring.iter().enumerate() {
                         for (tau, ring_patch) in sector.iter().enumerate() {
                             let hp = &filling.patches[4 * s + 1 + tau];
                             let face = m.faces()[hp.face as usize];

@@ -500,7 +500,7 @@ mod inner_joint_resolution {
                     continue;
                 }
                 for &s in &continuity::ORDER_SAMPLES {
-                    let terms = continuity::diagnose(&surface, j, s, diag);
+                    let terms = continuity::test_support::diagnose(&surface, j, s, diag);
                     let m = continuity::measure_at(&surface, j, s, diag);
                     samples += 1;
                     for (w, [diff, scale, floor]) in worst.iter_mut().zip(&terms) {
@@ -557,6 +557,92 @@ mod inner_joint_resolution {
 #[cfg(test)]
 mod inner_joint_precision {
     use super::*;
+
+    use crate::bezier::gram::{factorial, multi_indices};
+    use crate::bezier::triangle::index;
+    use crate::schemes::gk::compose::Quadratic;
+
+    /// [`Quadratic::compose`](compose::Quadratic::compose) in double-double: `q ∘ x` with q's coefficients and x's points
+    /// taken as exact, every product and sum of the composition rounded to ~1e-32 only (the
+    /// f64 composition rounds each control point to f64). For the high-precision tests of
+    /// the inner joints.
+    fn compose_precise(q: &Quadratic, x: &TriangleBezier) -> PreciseNet {
+        use crate::metrics::double_double::{DoubleDouble, Real};
+        let dd = DoubleDouble::from_f64;
+        let d = x.degree();
+        let xs: Vec<f64> = x.points().iter().map(|p| p.x).collect();
+        let ys: Vec<f64> = x.points().iter().map(|p| p.y).collect();
+        let c = q.0.map(|c| c.to_array().map(dd));
+        let combine = |terms: &[(usize, f64)]| -> [DoubleDouble; 3] {
+            std::array::from_fn(|axis| {
+                terms
+                    .iter()
+                    .fold(DoubleDouble::ZERO, |sum, &(i, w)| sum + c[i][axis] * dd(w))
+            })
+        };
+        let linear: Vec<_> = xs
+            .iter()
+            .zip(&ys)
+            .map(|(&a, &b)| {
+                let [s0, s1, s2] = [combine(&[(0, 1.0)]), combine(&[(1, a)]), combine(&[(2, b)])];
+                std::array::from_fn(|axis| s0[axis] + s1[axis] + s2[axis])
+            })
+            .collect();
+        let mixed: Vec<_> = xs
+            .iter()
+            .zip(&ys)
+            .map(|(&a, &b)| combine(&[(3, a), (4, b)]))
+            .collect();
+        let square: Vec<_> = ys.iter().map(|&b| combine(&[(5, b)])).collect();
+        let ones = vec![1.0; xs.len()];
+        let mut net = precise_product(&ones, &linear, d, d);
+        for (sum, (a, b)) in net.iter_mut().zip(
+            precise_product(&xs, &mixed, d, d)
+                .into_iter()
+                .zip(precise_product(&ys, &square, d, d)),
+        ) {
+            for axis in 0..3 {
+                sum[axis] += a[axis] + b[axis];
+            }
+        }
+        PreciseNet::new(2 * d, net)
+    }
+
+    /// [`compose::product`] in double-double, the weights exact ratios of integers.
+    fn precise_product(
+        a: &[f64],
+        b: &[[crate::metrics::double_double::DoubleDouble; 3]],
+        d1: usize,
+        d2: usize,
+    ) -> Vec<[crate::metrics::double_double::DoubleDouble; 3]> {
+        use crate::metrics::double_double::{DoubleDouble, Real};
+        let dd = DoubleDouble::from_f64;
+        let d = d1 + d2;
+        // Multinomials up to degree 2d = 14 (k = 4) are integers far below 2^53: exact in f64.
+        let multinomial = |n: usize, m: &[usize; 3]| {
+            factorial(n) / (factorial(m[0]) * factorial(m[1]) * factorial(m[2]))
+        };
+        let mut out = vec![[DoubleDouble::ZERO; 3]; (d + 1) * (d + 2) / 2];
+        let low_b = multi_indices(d2);
+        for alpha in multi_indices(d1) {
+            let a_alpha = a[index(d1, alpha[0], alpha[1])];
+            if a_alpha == 0.0 {
+                continue;
+            }
+            for beta in &low_b {
+                let gamma = [alpha[0] + beta[0], alpha[1] + beta[1], alpha[2] + beta[2]];
+                let w = dd(multinomial(d1, &alpha) * multinomial(d2, beta))
+                    / dd(multinomial(d, &gamma));
+                let w = w * dd(a_alpha);
+                let p = b[index(d2, beta[0], beta[1])];
+                let slot = &mut out[index(d, gamma[0], gamma[1])];
+                for axis in 0..3 {
+                    slot[axis] += w * p[axis];
+                }
+            }
+        }
+        out
+    }
     use crate::bezier::triangle::point_count;
     use crate::metrics::continuity::{self, MAX_ORDER, PreciseNet};
     use crate::testing::{closed_test_meshes, params};
@@ -590,11 +676,12 @@ mod inner_joint_precision {
                 continue;
             }
             let filling = hole::fill(&net.mesh, &control, k, v).unwrap();
-            for (s, (q, x)) in filling.inner.iter().enumerate() {
+            let inner = hole::test_support::inner_of(&net.mesh, &control, k, v);
+            for (s, (q, x)) in inner.iter().enumerate() {
                 let hp = &filling.patches[4 * s];
                 assert_eq!(hp.piece, 1);
                 let f = hp.face as usize;
-                let composed = q.compose_precise(x);
+                let composed = compose_precise(q, x);
                 out[f] = Some(in_face_order_precise(
                     net.mesh.faces()[f],
                     hp.corners,

@@ -159,12 +159,6 @@ pub(crate) fn rotate(patch: &TriangleBezier, angle: f64) -> TriangleBezier {
     })
 }
 
-/// Polynomial degree of the planar patches for order `k`.
-#[cfg(test)]
-pub fn degree(k: usize) -> usize {
-    crate::schemes::gk::box_spline::Family::for_order(k).degree()
-}
-
 #[cfg(test)]
 mod tests {
     use std::f64::consts::PI;

@@ -182,24 +182,23 @@ fn min_norm_correction(rows: &[([f64; 5], DVec3)], y: &[DVec3; 5]) -> [DVec3; 5]
     })
 }
 
-/// `C0 … C4` of [Piper87 eq. 20] written out, for checking a solved edge.
-#[cfg(test)]
-pub fn bernstein_conditions(net: &EdgeNet, w1: EndWeights, w2: EndWeights) -> [DVec3; 5] {
-    let (s, r, t) = (&net.s, &net.r, &net.t);
-    let first = |i: usize| w1.e * s[i] + w1.f * s[i + 1] + w1.g * r[i] + w1.h * t[i];
-    let second = |i: usize| w2.e * s[i] + w2.f * s[i + 1] + w2.g * r[i] + w2.h * t[i];
-    [
-        first(0),
-        (3.0 * first(1) + second(0)) / 4.0,
-        (first(2) + second(1)) / 2.0,
-        (first(3) + 3.0 * second(2)) / 4.0,
-        second(3),
-    ]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `C0 … C4` of [Piper87 eq. 20] written out, for checking a solved edge.
+    fn bernstein_conditions(net: &EdgeNet, w1: EndWeights, w2: EndWeights) -> [DVec3; 5] {
+        let (s, r, t) = (&net.s, &net.r, &net.t);
+        let first = |i: usize| w1.e * s[i] + w1.f * s[i + 1] + w1.g * r[i] + w1.h * t[i];
+        let second = |i: usize| w2.e * s[i] + w2.f * s[i + 1] + w2.g * r[i] + w2.h * t[i];
+        [
+            first(0),
+            (3.0 * first(1) + second(0)) / 4.0,
+            (first(2) + second(1)) / 2.0,
+            (first(3) + 3.0 * second(2)) / 4.0,
+            second(3),
+        ]
+    }
 
     /// A random-looking edge net with the vertex-plane structure step 5 relies on: S1, R0, T0
     /// in a plane through S0, S3, R3, T3 in a plane through S4, P's row on one side.
