@@ -3,7 +3,14 @@
 
 /// The modules a library user may name; everything else is reached through the re-exports.
 const PUBLIC_MODULES: [&str; 8] = [
-    "export", "mesh", "metrics", "render", "schemes", "surface", "testing", "tolerance",
+    "export",
+    "mesh",
+    "metrics",
+    "render",
+    "schemes",
+    "surface",
+    "testing",
+    "tolerance",
 ];
 
 #[test]
@@ -19,8 +26,13 @@ fn lib_declares_only_the_allowed_public_modules() {
         .iter()
         .filter(|m| !PUBLIC_MODULES.contains(m) && **m != "cli")
         .collect();
-    assert!(unexpected.is_empty(), "public modules not in the facade: {unexpected:?}");
-    for m in ["app", "report", "bezier", "blend", "geom", "progress", "text"] {
+    assert!(
+        unexpected.is_empty(),
+        "public modules not in the facade: {unexpected:?}"
+    );
+    for m in [
+        "app", "report", "bezier", "blend", "geom", "progress", "text",
+    ] {
         assert!(
             lib.lines().any(|l| l.trim() == format!("mod {m};")),
             "module {m} is not private in src/lib.rs"

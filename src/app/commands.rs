@@ -11,8 +11,8 @@ use super::Output;
 use crate::error::{Error, Result};
 use crate::export::Format;
 use crate::mesh::LoadOptions;
-use crate::report::compare::{Thresholds, TimingCheck};
 use crate::render::theme::Theme;
+use crate::report::compare::{Thresholds, TimingCheck};
 use crate::report::shard::Shard;
 
 /// The mesh a command builds a surface on, and the scheme with its parameters.

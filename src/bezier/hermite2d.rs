@@ -17,12 +17,6 @@
 //! is a polynomial, so cutting it at `t = ½` gives two cubics that describe the same points and
 //! join C¹ [Piper87 §2, after Schwartz].
 
-#[cfg(test)]
-use glam::DVec2;
-
-#[cfg(test)]
-use crate::error::{Error, Result};
-
 /// `cos 60°`: below it Farin's rule switches to the fixed length `⅔‖Δp‖`.
 const COS_SIXTY_DEGREES: f64 = 0.5;
 
@@ -40,113 +34,126 @@ pub(crate) fn tangent_length(chord_length: f64, cos_theta: f64) -> f64 {
     }
 }
 
-/// One cubic segment of a Hermite curve in the plane, `C(t) = Σ b_i B³_i(t)`, `t ∈ [0, 1]`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Test-only items: used by the unit tests of this and other modules, compiled only for them.
 #[cfg(test)]
-pub struct CubicSegment2d {
-    /// The Bézier points `p_i, t1, t2, p_{i+1}`.
-    pub points: [DVec2; 4],
-}
+pub(crate) mod test_support {
+    use super::*;
 
-#[cfg(test)]
-impl CubicSegment2d {
-    /// The segment from `p0` with unit tangent `v0` to `p1` with unit tangent `v1`
-    /// [Piper87 eqs. 1, 3, 4]. The caller guarantees `p0 ≠ p1` and unit tangents
-    /// ([`hermite_curve`] checks user data).
-    pub fn new(p0: DVec2, v0: DVec2, p1: DVec2, v1: DVec2) -> Self {
-        let chord = p1 - p0;
-        let length = chord.length();
-        let alpha = tangent_length(length, v0.dot(chord) / length);
-        let beta = tangent_length(length, v1.dot(chord) / length);
-        CubicSegment2d {
-            points: [p0, p0 + alpha * v0, p1 - beta * v1, p1],
-        }
+    use glam::DVec2;
+
+    use crate::error::{Error, Result};
+
+    /// One cubic segment of a Hermite curve in the plane, `C(t) = Σ b_i B³_i(t)`, `t ∈ [0, 1]`.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub(crate) struct CubicSegment2d {
+        /// The Bézier points `p_i, t1, t2, p_{i+1}`.
+        pub points: [DVec2; 4],
     }
 
-    /// Point at `t` by the de Casteljau algorithm [Piper87 eq. 5].
-    pub fn eval(&self, t: f64) -> DVec2 {
-        let mut net = self.points;
-        for m in (1..=3).rev() {
-            for i in 0..m {
-                net[i] = net[i].lerp(net[i + 1], t);
+    impl CubicSegment2d {
+        /// The segment from `p0` with unit tangent `v0` to `p1` with unit tangent `v1`
+        /// [Piper87 eqs. 1, 3, 4]. The caller guarantees `p0 ≠ p1` and unit tangents
+        /// ([`hermite_curve`] checks user data).
+        pub fn new(p0: DVec2, v0: DVec2, p1: DVec2, v1: DVec2) -> Self {
+            let chord = p1 - p0;
+            let length = chord.length();
+            let alpha = tangent_length(length, v0.dot(chord) / length);
+            let beta = tangent_length(length, v1.dot(chord) / length);
+            CubicSegment2d {
+                points: [p0, p0 + alpha * v0, p1 - beta * v1, p1],
             }
         }
-        net[0]
-    }
 
-    /// Derivative `C'(t) = 3 Σ (b_{i+1} − b_i) B²_i(t)`.
-    pub fn derivative(&self, t: f64) -> DVec2 {
-        let b = self.points;
-        let (d0, d1, d2) = (b[1] - b[0], b[2] - b[1], b[3] - b[2]);
-        let s = 1.0 - t;
-        3.0 * (s * s * d0 + 2.0 * s * t * d1 + t * t * d2)
-    }
-
-    /// The two halves at `t` (the outer edges of the de Casteljau scheme), each over `[0, 1]`:
-    /// the first reparametrises the segment by `t·u`, the second by `t + (1 − t)u`
-    /// [Piper87 §2, after Schwartz].
-    pub fn split(&self, t: f64) -> (CubicSegment2d, CubicSegment2d) {
-        let b = self.points;
-        let level1 = [b[0].lerp(b[1], t), b[1].lerp(b[2], t), b[2].lerp(b[3], t)];
-        let level2 = [level1[0].lerp(level1[1], t), level1[1].lerp(level1[2], t)];
-        let on_curve = level2[0].lerp(level2[1], t);
-        (
-            CubicSegment2d {
-                points: [b[0], level1[0], level2[0], on_curve],
-            },
-            CubicSegment2d {
-                points: [on_curve, level2[1], level1[2], b[3]],
-            },
-        )
-    }
-}
-
-/// Farin's C¹ cubic Hermite curve through `points` with the tangent directions `tangents`
-/// (one per point, any non-zero length: each is normalised, as the scheme assumes unit
-/// tangents): one [`CubicSegment2d`] per pair of consecutive points [Piper87 §2].
-///
-/// Errors ([`Error::HermiteData`], naming the point): fewer than two points, a different
-/// number of tangents, a non-finite coordinate, two consecutive points that coincide, a zero
-/// tangent — the two constraints of [Piper87 §2].
-#[cfg(test)]
-pub fn hermite_curve(points: &[DVec2], tangents: &[DVec2]) -> Result<Vec<CubicSegment2d>> {
-    let bad = |point: usize, reason: &str| Error::HermiteData {
-        point,
-        reason: reason.to_string(),
-    };
-    if points.len() < 2 {
-        return Err(bad(points.len(), "a curve needs at least two points"));
-    }
-    if tangents.len() != points.len() {
-        return Err(bad(
-            tangents.len().min(points.len()),
-            "there must be exactly one tangent per point",
-        ));
-    }
-    let mut unit = Vec::with_capacity(tangents.len());
-    for (i, (p, v)) in points.iter().zip(tangents).enumerate() {
-        if !p.is_finite() || !v.is_finite() {
-            return Err(bad(i, "non-finite coordinate"));
+        /// Point at `t` by the de Casteljau algorithm [Piper87 eq. 5].
+        pub fn eval(&self, t: f64) -> DVec2 {
+            let mut net = self.points;
+            for m in (1..=3).rev() {
+                for i in 0..m {
+                    net[i] = net[i].lerp(net[i + 1], t);
+                }
+            }
+            net[0]
         }
-        let length = v.length();
-        if length == 0.0 || !length.is_finite() {
-            return Err(bad(i, "the tangent is the zero vector"));
+
+        /// Derivative `C'(t) = 3 Σ (b_{i+1} − b_i) B²_i(t)`.
+        pub fn derivative(&self, t: f64) -> DVec2 {
+            let b = self.points;
+            let (d0, d1, d2) = (b[1] - b[0], b[2] - b[1], b[3] - b[2]);
+            let s = 1.0 - t;
+            3.0 * (s * s * d0 + 2.0 * s * t * d1 + t * t * d2)
         }
-        unit.push(*v / length);
-    }
-    for (i, pair) in points.windows(2).enumerate() {
-        if (pair[1] - pair[0]).length() == 0.0 {
-            return Err(bad(i + 1, "coincides with the point before it"));
+
+        /// The two halves at `t` (the outer edges of the de Casteljau scheme), each over `[0, 1]`:
+        /// the first reparametrises the segment by `t·u`, the second by `t + (1 − t)u`
+        /// [Piper87 §2, after Schwartz].
+        pub fn split(&self, t: f64) -> (CubicSegment2d, CubicSegment2d) {
+            let b = self.points;
+            let level1 = [b[0].lerp(b[1], t), b[1].lerp(b[2], t), b[2].lerp(b[3], t)];
+            let level2 = [level1[0].lerp(level1[1], t), level1[1].lerp(level1[2], t)];
+            let on_curve = level2[0].lerp(level2[1], t);
+            (
+                CubicSegment2d {
+                    points: [b[0], level1[0], level2[0], on_curve],
+                },
+                CubicSegment2d {
+                    points: [on_curve, level2[1], level1[2], b[3]],
+                },
+            )
         }
     }
-    Ok((0..points.len() - 1)
-        .map(|i| CubicSegment2d::new(points[i], unit[i], points[i + 1], unit[i + 1]))
-        .collect())
+
+    /// Farin's C¹ cubic Hermite curve through `points` with the tangent directions `tangents`
+    /// (one per point, any non-zero length: each is normalised, as the scheme assumes unit
+    /// tangents): one [`CubicSegment2d`] per pair of consecutive points [Piper87 §2].
+    ///
+    /// Errors ([`Error::HermiteData`], naming the point): fewer than two points, a different
+    /// number of tangents, a non-finite coordinate, two consecutive points that coincide, a zero
+    /// tangent — the two constraints of [Piper87 §2].
+    pub(crate) fn hermite_curve(
+        points: &[DVec2],
+        tangents: &[DVec2],
+    ) -> Result<Vec<CubicSegment2d>> {
+        let bad = |point: usize, reason: &str| Error::HermiteData {
+            point,
+            reason: reason.to_string(),
+        };
+        if points.len() < 2 {
+            return Err(bad(points.len(), "a curve needs at least two points"));
+        }
+        if tangents.len() != points.len() {
+            return Err(bad(
+                tangents.len().min(points.len()),
+                "there must be exactly one tangent per point",
+            ));
+        }
+        let mut unit = Vec::with_capacity(tangents.len());
+        for (i, (p, v)) in points.iter().zip(tangents).enumerate() {
+            if !p.is_finite() || !v.is_finite() {
+                return Err(bad(i, "non-finite coordinate"));
+            }
+            let length = v.length();
+            if length == 0.0 || !length.is_finite() {
+                return Err(bad(i, "the tangent is the zero vector"));
+            }
+            unit.push(*v / length);
+        }
+        for (i, pair) in points.windows(2).enumerate() {
+            if (pair[1] - pair[0]).length() == 0.0 {
+                return Err(bad(i + 1, "coincides with the point before it"));
+            }
+        }
+        Ok((0..points.len() - 1)
+            .map(|i| CubicSegment2d::new(points[i], unit[i], points[i + 1], unit[i + 1]))
+            .collect())
+    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::test_support::*;
     use super::*;
+    use crate::error::Error;
+    use glam::DVec2;
 
     fn close(a: DVec2, b: DVec2, scale: f64) -> bool {
         (a - b).length() <= 1e-12 * scale

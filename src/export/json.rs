@@ -19,10 +19,6 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use crate::bezier::TriangleBezier;
-#[cfg(test)]
-use crate::bezier::triangle::point_count;
-#[cfg(test)]
-use crate::blend::BlendPatch;
 use crate::blend::WeightFamily;
 use crate::error::{Error, Result};
 use crate::surface::{PatchGeometry, Surface};
@@ -57,34 +53,7 @@ pub(crate) struct PatchRecord {
     pub points: Vec<[f64; 3]>,
 }
 
-impl PatchRecord {
-    /// How many nets the record holds: one, or three for a blend.
-    #[cfg(test)]
-    fn nets(&self) -> usize {
-        if self.kind.is_some() { 3 } else { 1 }
-    }
-
-    /// The patch geometry the record describes (checked by [`PatchFile::parse`]).
-    #[cfg(test)]
-    pub fn geometry(&self) -> PatchGeometry {
-        let n = point_count(self.degree);
-        let net = |k: usize| {
-            let points = self.points[k * n..(k + 1) * n].iter().map(|&p| p.into());
-            TriangleBezier::new(self.degree, points.collect())
-        };
-        match (self.weights.as_deref(), self.t) {
-            (Some(family), Some(t)) if self.kind.is_some() => {
-                let family = if family == "nielson" {
-                    WeightFamily::Nielson { power: t }
-                } else {
-                    WeightFamily::FangMann { t }
-                };
-                PatchGeometry::Blend(Box::new(BlendPatch::new(family, [net(0), net(1), net(2)])))
-            }
-            _ => PatchGeometry::Bezier(net(0)),
-        }
-    }
-}
+impl PatchRecord {}
 
 fn record(face: u32, piece: u8, geometry: &PatchGeometry) -> PatchRecord {
     let xyz = |b: &TriangleBezier| b.points().iter().map(|p| p.to_array()).collect::<Vec<_>>();
@@ -147,52 +116,6 @@ impl PatchFile {
             patches,
         })
     }
-
-    /// Parses and checks a patch file: format name, version, and for every patch the number
-    /// of points its degree needs and finite coordinates (errors name the patch).
-    #[cfg(test)]
-    pub fn parse(text: &str) -> Result<PatchFile> {
-        let file: PatchFile =
-            serde_json::from_str(text).map_err(|e| Error::Invalid(format!("patch JSON: {e}")))?;
-        if file.format != FORMAT_NAME || file.version != FORMAT_VERSION {
-            return Err(Error::Invalid(format!(
-                "patch JSON: format '{}' version {} (expected '{FORMAT_NAME}' version \
-                 {FORMAT_VERSION})",
-                file.format, file.version
-            )));
-        }
-        for (index, record) in file.patches.iter().enumerate() {
-            if let Some(kind) = record.kind.as_deref() {
-                let known = matches!(record.weights.as_deref(), Some("nielson" | "fang-mann"));
-                if kind != BLEND_KIND || !known || record.t.is_none() {
-                    return Err(Error::Invalid(format!(
-                        "patch JSON: patch {index} has kind '{kind}' without known weights \
-                         and t (expected kind '{BLEND_KIND}', weights nielson or fang-mann)"
-                    )));
-                }
-            }
-            let expected = record.nets() * point_count(record.degree);
-            if record.points.len() != expected {
-                return Err(Error::Invalid(format!(
-                    "patch JSON: patch {index} has degree {} but {} points (expected {expected})",
-                    record.degree,
-                    record.points.len(),
-                )));
-            }
-            if record.points.iter().flatten().any(|x| !x.is_finite()) {
-                return Err(Error::Invalid(format!(
-                    "patch JSON: patch {index} has a non-finite coordinate"
-                )));
-            }
-        }
-        Ok(file)
-    }
-
-    /// The geometry of every record (checked by [`PatchFile::parse`]).
-    #[cfg(test)]
-    pub fn geometries(&self) -> Vec<PatchGeometry> {
-        self.patches.iter().map(PatchRecord::geometry).collect()
-    }
 }
 
 /// The patch JSON text of `surface`.
@@ -201,9 +124,94 @@ pub fn to_json(surface: &Surface) -> Result<String> {
     serde_json::to_string(&file).map_err(|e| Error::Invalid(format!("patch JSON: {e}")))
 }
 
+/// Test-only items: used by the unit tests of this and other modules, compiled only for them.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::*;
+    use crate::bezier::triangle::point_count;
+    use crate::blend::BlendPatch;
+
+    impl PatchRecord {
+        /// How many nets the record holds: one, or three for a blend.
+        fn nets(&self) -> usize {
+            if self.kind.is_some() { 3 } else { 1 }
+        }
+
+        /// The patch geometry the record describes (checked by [`PatchFile::parse`]).
+        pub(crate) fn geometry(&self) -> PatchGeometry {
+            let n = point_count(self.degree);
+            let net = |k: usize| {
+                let points = self.points[k * n..(k + 1) * n].iter().map(|&p| p.into());
+                TriangleBezier::new(self.degree, points.collect())
+            };
+            match (self.weights.as_deref(), self.t) {
+                (Some(family), Some(t)) if self.kind.is_some() => {
+                    let family = if family == "nielson" {
+                        WeightFamily::Nielson { power: t }
+                    } else {
+                        WeightFamily::FangMann { t }
+                    };
+                    PatchGeometry::Blend(Box::new(BlendPatch::new(
+                        family,
+                        [net(0), net(1), net(2)],
+                    )))
+                }
+                _ => PatchGeometry::Bezier(net(0)),
+            }
+        }
+    }
+
+    impl PatchFile {
+        /// Parses and checks a patch file: format name, version, and for every patch the number
+        /// of points its degree needs and finite coordinates (errors name the patch).
+        pub(crate) fn parse(text: &str) -> Result<PatchFile> {
+            let file: PatchFile = serde_json::from_str(text)
+                .map_err(|e| Error::Invalid(format!("patch JSON: {e}")))?;
+            if file.format != FORMAT_NAME || file.version != FORMAT_VERSION {
+                return Err(Error::Invalid(format!(
+                    "patch JSON: format '{}' version {} (expected '{FORMAT_NAME}' version \
+                     {FORMAT_VERSION})",
+                    file.format, file.version
+                )));
+            }
+            for (index, record) in file.patches.iter().enumerate() {
+                if let Some(kind) = record.kind.as_deref() {
+                    let known = matches!(record.weights.as_deref(), Some("nielson" | "fang-mann"));
+                    if kind != BLEND_KIND || !known || record.t.is_none() {
+                        return Err(Error::Invalid(format!(
+                            "patch JSON: patch {index} has kind '{kind}' without known weights \
+                             and t (expected kind '{BLEND_KIND}', weights nielson or fang-mann)"
+                        )));
+                    }
+                }
+                let expected = record.nets() * point_count(record.degree);
+                if record.points.len() != expected {
+                    return Err(Error::Invalid(format!(
+                        "patch JSON: patch {index} has degree {} but {} points (expected {expected})",
+                        record.degree,
+                        record.points.len(),
+                    )));
+                }
+                if record.points.iter().flatten().any(|x| !x.is_finite()) {
+                    return Err(Error::Invalid(format!(
+                        "patch JSON: patch {index} has a non-finite coordinate"
+                    )));
+                }
+            }
+            Ok(file)
+        }
+
+        /// The geometry of every record (checked by [`PatchFile::parse`]).
+        pub(crate) fn geometries(&self) -> Vec<PatchGeometry> {
+            self.patches.iter().map(PatchRecord::geometry).collect()
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::blend::BlendPatch;
     use crate::surface::{Patch, PatchGeometry};
     use glam::DVec3;
 

@@ -56,13 +56,6 @@ pub(crate) fn min_cosine(n: DVec3, faces: &[DVec3]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// The unit `estimate` made front-facing for the unit normals `faces` of the faces around its
-/// vertex (see the module documentation).
-#[cfg(test)]
-pub fn front_facing(estimate: DVec3, faces: &[DVec3]) -> FrontFacing {
-    front_facing_by(estimate, faces, FRONT_MARGIN)
-}
-
 /// [`front_facing`] with the margin `wanted` (in `[MIN_FRONT_MARGIN, 1)`) in place of
 /// [`FRONT_MARGIN`]: the estimate is kept if `n · n_f ≥ wanted` for every face, else moved to
 /// the closest direction keeping `wanted`, or the largest decade below it down to
@@ -212,8 +205,21 @@ pub(crate) fn front_facing_normals_by(
     result
 }
 
+/// Test-only items: used by the unit tests of this and other modules, compiled only for them.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::*;
+
+    /// The unit `estimate` made front-facing for the unit normals `faces` of the faces around its
+    /// vertex (see the module documentation).
+    pub(crate) fn front_facing(estimate: DVec3, faces: &[DVec3]) -> FrontFacing {
+        front_facing_by(estimate, faces, FRONT_MARGIN)
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    use super::test_support::*;
     use super::*;
     use crate::mesh::generate;
     use crate::testing::Rng;

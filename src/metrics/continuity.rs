@@ -33,10 +33,11 @@
 //! that size is still seen. An order with a larger floor cannot be resolved in f64: the measure
 //! stops below it ([`Measured::unresolved`]) rather than claim it.
 //!
-//! High precision: [`precise_measure`] makes the same comparison in double-double
-//! ([`crate::metrics::double_double`]; the series arithmetic is generic over the scalar) on
-//! nets with double-double points ([`PreciseNet`]) — stored f64 nets read exactly, or nets a
-//! construction computed in double-double — with the tolerance [`precise_tolerance`]. At the
+//! High precision (compiled for the tests): `test_support::precise_measure` makes the same
+//! comparison in double-double (`metrics::double_double`; the series arithmetic is generic
+//! over the scalar) on nets with double-double points (`PreciseNet`) — stored f64 nets read
+//! exactly, or nets a
+//! construction computed in double-double — with the tolerance `precise_tolerance`. At the
 //! inner joints of gk k = 4, where the f64 measure stops unresolved at order 4, it finds the
 //! same order-4 differences of the stored nets as the f64 measure (to two digits): the f64
 //! measure reads the stored surface correctly, and what leaves order 4 undetermined is the
@@ -56,18 +57,42 @@
 //! derivatives at four points and the second at one.
 
 use std::cell::OnceCell;
+use std::fmt::Debug;
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
 use glam::{DVec2, DVec3};
 
 use crate::bezier::TriangleBezier;
-#[cfg(test)]
-use crate::bezier::triangle::de_casteljau_rows;
 use crate::bezier::triangle::{de_casteljau_step, point_count};
-#[cfg(test)]
-use crate::metrics::double_double::DoubleDouble;
-use crate::metrics::double_double::Real;
 use crate::surface::{Joint, Patch, Surface, UV_CORNERS, edge_uv};
 use crate::tolerance::G0_GAP_REL;
+
+/// The scalar of the continuity measure's series arithmetic: f64, or double-double for the
+/// high-precision measure of the tests (`metrics::double_double`).
+pub(crate) trait Real:
+    Copy
+    + Debug
+    + PartialEq
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+{
+    /// Zero.
+    const ZERO: Self;
+    /// The nearest f64 (for a double-double: its high part).
+    fn to_f64(self) -> f64;
+}
+
+impl Real for f64 {
+    const ZERO: f64 = 0.0;
+    fn to_f64(self) -> f64 {
+        self
+    }
+}
 
 /// Highest order compared (a joint that agrees to this order is reported as this order).
 pub(crate) const MAX_ORDER: usize = 5;
@@ -83,7 +108,7 @@ pub(crate) fn tolerance(m: usize) -> f64 {
 
 /// A bivariate power series truncated at total order [`MAX_ORDER`]; coefficient of `x^i y^j`
 /// at [`term`]`(i, j)` (by total order, then i descending — the order of `Patch::partials`).
-/// The scalar is f64, or [`DoubleDouble`] for the high-precision measure.
+/// The scalar is f64, or a double-double for the high-precision measure of the tests.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Series<T = f64>([T; TERMS]);
 
@@ -646,28 +671,6 @@ impl<'a> Floor<'a> {
     }
 }
 
-/// The rounding floor of the height coefficients of `joint` at fraction `s`, per order: how
-/// far they move when every stored control point of the two patches moves by one ulp of the
-/// largest coordinate (deterministic pseudo-random directions), times `FLOOR_SAFETY`. High
-/// derivatives of small, high-degree patches far from the origin are this uncertain in f64
-/// whatever the measure does (`d!/(d−m)!` times the m-th differences of points known to
-/// `ε |b|`, divided by the speed to the m-th power). Zero for patch kinds without a control
-/// net.
-#[cfg(test)]
-pub fn rounding_floor(surface: &Surface, joint: &Joint, s: f64) -> [f64; MAX_ORDER + 1] {
-    let mut floor = [0.0; MAX_ORDER + 1];
-    let nets = perturbed_nets(surface, joint);
-    let (_, exact) = exact_point(surface, joint, s, MAX_ORDER);
-    let (Some(mut exact), Some(_)) = (exact, &nets) else {
-        return floor;
-    };
-    let mut estimate = Floor::new(&nets, exact.uvs, joint.a.edge as usize, MAX_ORDER);
-    for (m, f) in floor.iter_mut().enumerate().skip(1) {
-        *f = estimate.at(m, &mut exact);
-    }
-    floor
-}
-
 /// The unperturbed sides of `joint` at fraction `s`, partials evaluated up to `order`: the
 /// distance between them, and the joint point (`None` where a side is singular).
 fn exact_point<'a>(
@@ -696,19 +699,6 @@ pub(crate) struct Measured {
     /// [`RESOLVABLE`] of the coefficients) rather than found to differ; always `false` at
     /// [`MAX_ORDER`] and for a gap or a singular side.
     pub unresolved: bool,
-}
-
-/// [`order_at`] with the reason it stopped.
-#[cfg(test)]
-pub fn measure_at(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> Measured {
-    measure_with_floor(
-        surface,
-        joint,
-        s,
-        diag,
-        Some(&OnceCell::new()),
-        Goal::Reason,
-    )
 }
 
 /// What the measure at one point has to establish.
@@ -796,271 +786,297 @@ pub fn joint_order(surface: &Surface, joint: &Joint, diag: f64) -> i32 {
     })
 }
 
-/// A triangular Bézier net with double-double control points (`b(i,j,k)` at
-/// [`crate::bezier::triangle::index`]`(d, i, j)`, as in [`TriangleBezier`]): a stored f64 net
-/// read exactly, or a net constructed in double-double, for [`precise_measure`].
-#[derive(Clone, Debug, PartialEq)]
-#[cfg(test)]
-pub struct PreciseNet {
-    degree: usize,
-    points: Vec<[DoubleDouble; 3]>,
-}
-
-#[cfg(test)]
-impl PreciseNet {
-    /// The net of degree `degree` with control points `points`; panics unless there are
-    /// `(d+1)(d+2)/2` of them.
-    pub fn new(degree: usize, points: Vec<[DoubleDouble; 3]>) -> Self {
-        assert_eq!(points.len(), point_count(degree), "degree-{degree} net");
-        PreciseNet { degree, points }
-    }
-
-    /// The f64 net `net`, exactly.
-    pub fn from_net(net: &TriangleBezier) -> Self {
-        let points = net
-            .points()
-            .iter()
-            .map(|p| p.to_array().map(DoubleDouble::from_f64))
-            .collect();
-        PreciseNet::new(net.degree(), points)
-    }
-
-    /// The net rounded to f64.
-    pub fn to_net(&self) -> TriangleBezier {
-        let points = self
-            .points
-            .iter()
-            .map(|p| DVec3::from_array(p.map(DoubleDouble::to_f64)))
-            .collect();
-        TriangleBezier::new(self.degree, points)
-    }
-
-    /// The degree.
-    pub fn degree(&self) -> usize {
-        self.degree
-    }
-
-    /// Control point `b(i,j,k)` (`k = d − i − j`).
-    pub fn point(&self, i: usize, j: usize) -> [DoubleDouble; 3] {
-        self.points[crate::bezier::triangle::index(self.degree, i, j)]
-    }
-
-    /// Moves control point `b(i,j,k)` by `delta`.
-    pub fn displace(&mut self, i: usize, j: usize, delta: DVec3) {
-        let p = &mut self.points[crate::bezier::triangle::index(self.degree, i, j)];
-        for (c, d) in p.iter_mut().zip(delta.to_array()) {
-            *c += DoubleDouble::from_f64(d);
-        }
-    }
-}
-
-/// One de Casteljau step in double-double, as [`de_casteljau_step`] (same layout, in place).
-#[cfg(test)]
-fn precise_step(net: &mut [[DoubleDouble; 3]], m: usize, w: [DoubleDouble; 3]) {
-    de_casteljau_rows(net, m, |t, b_j, b_k| {
-        let old = *t;
-        *t = std::array::from_fn(|c| w[0] * old[c] + w[1] * b_j[c] + w[2] * b_k[c]);
-    });
-}
-
-/// The partial derivatives of orders `0..=MAX_ORDER` of `net` at `uv` in double-double, by
-/// the blossom steps of [`bezier_partials`].
-#[cfg(test)]
-fn precise_partials(net: &PreciseNet, uv: DVec2) -> [[DoubleDouble; 3]; TERMS] {
-    let dd = DoubleDouble::from_f64;
-    let d = net.degree;
-    let x = [dd(1.0) - dd(uv.x) - dd(uv.y), dd(uv.x), dd(uv.y)];
-    let du = [dd(-1.0), dd(1.0), dd(0.0)];
-    let dv = [dd(-1.0), dd(0.0), dd(1.0)];
-    let mut out = [[DoubleDouble::ZERO; 3]; TERMS];
-    let mut along_u = net.points.clone();
-    for i in 0..=MAX_ORDER.min(d) {
-        if i > 0 {
-            precise_step(&mut along_u, d - i + 1, du);
-        }
-        let mut along_uv = along_u[..point_count(d - i)].to_vec();
-        for j in 0..=(MAX_ORDER - i).min(d - i) {
-            if j > 0 {
-                precise_step(&mut along_uv, d - i - j + 1, dv);
-            }
-            let m = i + j;
-            let rest = d - m;
-            let mut at_point = along_uv[..point_count(rest)].to_vec();
-            for degree in (1..=rest).rev() {
-                precise_step(&mut at_point, degree, x);
-            }
-            let falling: f64 = (d + 1 - m..=d).map(|k| k as f64).product();
-            out[term(i, j)] = at_point[0].map(|c| c * dd(falling));
-        }
-    }
-    out
-}
-
-/// [`frame_series`] in double-double for all orders (the frame's f64 vectors taken as exact).
-#[cfg(test)]
-fn precise_frame_series(
-    partials: &[[DoubleDouble; 3]; TERMS],
-    frame: [DVec3; 3],
-) -> [Series<DoubleDouble>; 3] {
-    let dd = DoubleDouble::from_f64;
-    let factorial = |n: usize| (1..=n).map(|k| k as f64).product::<f64>();
-    std::array::from_fn(|axis| {
-        let f = frame[axis];
-        let mut s = Series::ZERO;
-        for m in 1..=MAX_ORDER {
-            for i in 0..=m {
-                let p = partials[term(i, m - i)];
-                let along = p[0] * dd(f.x) + p[1] * dd(f.y) + p[2] * dd(f.z);
-                s.0[term(i, m - i)] = along / dd(factorial(i) * factorial(m - i));
-            }
-        }
-        s
-    })
-}
-
-/// The relative tolerance of order m in [`PreciseMeasure::order`]: `1e-14 · 10^m` (1e-10 at
-/// order 4), growing one decade per order as [`tolerance`] does. Double-double arithmetic
-/// rounds at ~1e-32; what sets the tolerance is the input of a construction in double-double:
-/// its f64 data (for the gk inner patches, the rotated planar patches `x_s`, whose shared
-/// edges differ by an ulp) place the two sides' points ~1e-16 apart, which moves the
-/// height coefficients of small patches by up to ~1e-13 of their scale (measured: at most
-/// 4e-13, at order 5). A construction error of 1e-6 of a patch's size shows as 1e-5 or more.
-#[cfg(test)]
-pub fn precise_tolerance(m: usize) -> f64 {
-    1e-14 * 10f64.powi(m as i32)
-}
-
-/// One order of the high-precision comparison: the largest difference of the two sides'
-/// order-m height coefficients and their scale (as in the f64 measure: the larger magnitude
-/// of the coefficients, or `L^{1−m}`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg(test)]
-pub struct PreciseTerm {
-    /// `max |h_A,ij − h_B,ij|` over `i + j = m`.
-    pub difference: f64,
-    /// The scale the difference is relative to.
-    pub scale: f64,
-}
-
-/// The two sides of a joint point compared in double-double: the height functions of
-/// [`measure_at`] from double-double partial derivatives and series arithmetic, to
-/// [`MAX_ORDER`]. The frame is side A's, computed in f64 and then taken as exact: both sides
-/// are read in the same (orthonormal to ~1e-16) frame, so their height functions agree
-/// exactly where the surfaces do. Rounding in double-double is ~1e-32 relative, so what the
-/// comparison sees is the nets' own defect: for stored f64 nets, that of the stored surface
-/// (its points taken as exact); for nets constructed in double-double, that of the
-/// construction.
-#[derive(Clone, Debug, PartialEq)]
-#[cfg(test)]
-pub struct PreciseMeasure {
-    /// `|S_A − S_B|` at the point.
-    pub gap: f64,
-    /// True if side B's normal points against side A's (a fold: order 0 at most).
-    pub folded: bool,
-    /// Orders 1..=[`MAX_ORDER`] (index m − 1).
-    pub terms: Vec<PreciseTerm>,
-}
-
-#[cfg(test)]
-impl PreciseMeasure {
-    /// The order the sides agree to: −1 for a gap above [`G0_GAP_REL`]` L`, else the largest m such
-    /// that every order up to m differs by at most [`precise_tolerance`]`(m)` of its scale.
-    pub fn order(&self, diag: f64) -> i32 {
-        self.order_within(diag, precise_tolerance)
-    }
-
-    /// [`PreciseMeasure::order`] with the relative tolerance `tolerance(m)` of order m (e.g.
-    /// the f64 measure's [`tolerance`], to read stored f64 nets exactly against it).
-    pub fn order_within(&self, diag: f64, tolerance: impl Fn(usize) -> f64) -> i32 {
-        if self.gap > G0_GAP_REL * diag {
-            return -1;
-        }
-        if self.folded {
-            return 0;
-        }
-        self.terms
-            .iter()
-            .zip(1..)
-            .take_while(|(t, m)| t.difference <= tolerance(*m) * t.scale)
-            .count() as i32
-    }
-
-    /// The largest `difference / scale` of order `m`.
-    pub fn relative(&self, m: usize) -> f64 {
-        let t = self.terms[m - 1];
-        t.difference / t.scale
-    }
-}
-
-/// The sides `nets` at domain points `uvs` (side A on edge `edge_a`) compared in
-/// double-double; `None` where a side is singular.
-#[cfg(test)]
-fn precise_point(
-    nets: [&PreciseNet; 2],
-    uvs: [DVec2; 2],
-    edge_a: usize,
-    diag: f64,
-) -> Option<PreciseMeasure> {
-    let partials = [0, 1].map(|side| precise_partials(nets[side], uvs[side]));
-    let rounded = |p: [DoubleDouble; 3]| DVec3::from_array(p.map(DoubleDouble::to_f64));
-    let (du, dv) = (rounded(partials[0][1]), rounded(partials[0][2]));
-    let w = UV_CORNERS[(edge_a + 1) % 3] - UV_CORNERS[edge_a];
-    let e1 = (du * w.x + dv * w.y).try_normalize()?;
-    let n = du.cross(dv).try_normalize()?;
-    let frame = [e1, n.cross(e1), n];
-    let folded = rounded(partials[1][1])
-        .cross(rounded(partials[1][2]))
-        .dot(n)
-        <= 0.0;
-    let gap = DVec3::from_array(std::array::from_fn(|c| {
-        (partials[0][0][c] - partials[1][0][c]).to_f64()
-    }))
-    .length();
-    let [ha, hb] = partials.map(|p| {
-        let mut h = HeightSeries::new(&precise_frame_series(&p, frame), MAX_ORDER)?;
-        h.advance_to(MAX_ORDER);
-        Some(h.height)
-    });
-    let (ha, hb) = (ha?, hb?);
-    let terms = (1..=MAX_ORDER)
-        .map(|m| {
-            let (mut diff, mut mag) = (0.0_f64, 0.0_f64);
-            for i in 0..=m {
-                let k = term(i, m - i);
-                diff = diff.max((ha.0[k] - hb.0[k]).abs().to_f64());
-                mag = mag.max(ha.0[k].abs().to_f64()).max(hb.0[k].abs().to_f64());
-            }
-            PreciseTerm {
-                difference: diff,
-                scale: mag.max(diag.powi(1 - m as i32)),
-            }
-        })
-        .collect();
-    Some(PreciseMeasure { gap, folded, terms })
-}
-
-/// The order measure of [`measure_at`] in double-double on the nets `nets` of the two sides
-/// of `joint` (side A's first) at fraction `s`; `diag` is the length scale L. `None` where a
-/// side is singular.
-#[cfg(test)]
-pub fn precise_measure(
-    nets: [&PreciseNet; 2],
-    joint: &Joint,
-    s: f64,
-    diag: f64,
-) -> Option<PreciseMeasure> {
-    let sb = if joint.reversed { 1.0 - s } else { s };
-    let uvs = [
-        edge_uv(joint.a.edge as usize, s),
-        edge_uv(joint.b.edge as usize, sb),
-    ];
-    precise_point(nets, uvs, joint.a.edge as usize, diag)
-}
-
 /// What the tests of other modules read of a joint's measurement.
 #[cfg(test)]
 pub(crate) mod test_support {
     use super::*;
+
+    use crate::bezier::triangle::de_casteljau_rows;
+
+    use crate::metrics::double_double::DoubleDouble;
+
+    /// The rounding floor of the height coefficients of `joint` at fraction `s`, per order: how
+    /// far they move when every stored control point of the two patches moves by one ulp of the
+    /// largest coordinate (deterministic pseudo-random directions), times `FLOOR_SAFETY`. High
+    /// derivatives of small, high-degree patches far from the origin are this uncertain in f64
+    /// whatever the measure does (`d!/(d−m)!` times the m-th differences of points known to
+    /// `ε |b|`, divided by the speed to the m-th power). Zero for patch kinds without a control
+    /// net.
+    pub(crate) fn rounding_floor(surface: &Surface, joint: &Joint, s: f64) -> [f64; MAX_ORDER + 1] {
+        let mut floor = [0.0; MAX_ORDER + 1];
+        let nets = perturbed_nets(surface, joint);
+        let (_, exact) = exact_point(surface, joint, s, MAX_ORDER);
+        let (Some(mut exact), Some(_)) = (exact, &nets) else {
+            return floor;
+        };
+        let mut estimate = Floor::new(&nets, exact.uvs, joint.a.edge as usize, MAX_ORDER);
+        for (m, f) in floor.iter_mut().enumerate().skip(1) {
+            *f = estimate.at(m, &mut exact);
+        }
+        floor
+    }
+
+    /// [`order_at`] with the reason it stopped.
+    pub(crate) fn measure_at(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> Measured {
+        measure_with_floor(
+            surface,
+            joint,
+            s,
+            diag,
+            Some(&OnceCell::new()),
+            Goal::Reason,
+        )
+    }
+
+    /// A triangular Bézier net with double-double control points (`b(i,j,k)` at
+    /// [`crate::bezier::triangle::index`]`(d, i, j)`, as in [`TriangleBezier`]): a stored f64 net
+    /// read exactly, or a net constructed in double-double, for [`precise_measure`].
+    #[derive(Clone, Debug, PartialEq)]
+    pub(crate) struct PreciseNet {
+        degree: usize,
+        points: Vec<[DoubleDouble; 3]>,
+    }
+
+    impl PreciseNet {
+        /// The net of degree `degree` with control points `points`; panics unless there are
+        /// `(d+1)(d+2)/2` of them.
+        pub fn new(degree: usize, points: Vec<[DoubleDouble; 3]>) -> Self {
+            assert_eq!(points.len(), point_count(degree), "degree-{degree} net");
+            PreciseNet { degree, points }
+        }
+
+        /// The f64 net `net`, exactly.
+        pub fn from_net(net: &TriangleBezier) -> Self {
+            let points = net
+                .points()
+                .iter()
+                .map(|p| p.to_array().map(DoubleDouble::from_f64))
+                .collect();
+            PreciseNet::new(net.degree(), points)
+        }
+
+        /// The net rounded to f64.
+        pub fn to_net(&self) -> TriangleBezier {
+            let points = self
+                .points
+                .iter()
+                .map(|p| DVec3::from_array(p.map(DoubleDouble::to_f64)))
+                .collect();
+            TriangleBezier::new(self.degree, points)
+        }
+
+        /// The degree.
+        pub fn degree(&self) -> usize {
+            self.degree
+        }
+
+        /// Control point `b(i,j,k)` (`k = d − i − j`).
+        pub fn point(&self, i: usize, j: usize) -> [DoubleDouble; 3] {
+            self.points[crate::bezier::triangle::index(self.degree, i, j)]
+        }
+
+        /// Moves control point `b(i,j,k)` by `delta`.
+        pub fn displace(&mut self, i: usize, j: usize, delta: DVec3) {
+            let p = &mut self.points[crate::bezier::triangle::index(self.degree, i, j)];
+            for (c, d) in p.iter_mut().zip(delta.to_array()) {
+                *c += DoubleDouble::from_f64(d);
+            }
+        }
+    }
+
+    /// One de Casteljau step in double-double, as [`de_casteljau_step`] (same layout, in place).
+    fn precise_step(net: &mut [[DoubleDouble; 3]], m: usize, w: [DoubleDouble; 3]) {
+        de_casteljau_rows(net, m, |t, b_j, b_k| {
+            let old = *t;
+            *t = std::array::from_fn(|c| w[0] * old[c] + w[1] * b_j[c] + w[2] * b_k[c]);
+        });
+    }
+
+    /// The partial derivatives of orders `0..=MAX_ORDER` of `net` at `uv` in double-double, by
+    /// the blossom steps of [`bezier_partials`].
+    fn precise_partials(net: &PreciseNet, uv: DVec2) -> [[DoubleDouble; 3]; TERMS] {
+        let dd = DoubleDouble::from_f64;
+        let d = net.degree;
+        let x = [dd(1.0) - dd(uv.x) - dd(uv.y), dd(uv.x), dd(uv.y)];
+        let du = [dd(-1.0), dd(1.0), dd(0.0)];
+        let dv = [dd(-1.0), dd(0.0), dd(1.0)];
+        let mut out = [[DoubleDouble::ZERO; 3]; TERMS];
+        let mut along_u = net.points.clone();
+        for i in 0..=MAX_ORDER.min(d) {
+            if i > 0 {
+                precise_step(&mut along_u, d - i + 1, du);
+            }
+            let mut along_uv = along_u[..point_count(d - i)].to_vec();
+            for j in 0..=(MAX_ORDER - i).min(d - i) {
+                if j > 0 {
+                    precise_step(&mut along_uv, d - i - j + 1, dv);
+                }
+                let m = i + j;
+                let rest = d - m;
+                let mut at_point = along_uv[..point_count(rest)].to_vec();
+                for degree in (1..=rest).rev() {
+                    precise_step(&mut at_point, degree, x);
+                }
+                let falling: f64 = (d + 1 - m..=d).map(|k| k as f64).product();
+                out[term(i, j)] = at_point[0].map(|c| c * dd(falling));
+            }
+        }
+        out
+    }
+
+    /// [`frame_series`] in double-double for all orders (the frame's f64 vectors taken as exact).
+    fn precise_frame_series(
+        partials: &[[DoubleDouble; 3]; TERMS],
+        frame: [DVec3; 3],
+    ) -> [Series<DoubleDouble>; 3] {
+        let dd = DoubleDouble::from_f64;
+        let factorial = |n: usize| (1..=n).map(|k| k as f64).product::<f64>();
+        std::array::from_fn(|axis| {
+            let f = frame[axis];
+            let mut s = Series::ZERO;
+            for m in 1..=MAX_ORDER {
+                for i in 0..=m {
+                    let p = partials[term(i, m - i)];
+                    let along = p[0] * dd(f.x) + p[1] * dd(f.y) + p[2] * dd(f.z);
+                    s.0[term(i, m - i)] = along / dd(factorial(i) * factorial(m - i));
+                }
+            }
+            s
+        })
+    }
+
+    /// The relative tolerance of order m in [`PreciseMeasure::order`]: `1e-14 · 10^m` (1e-10 at
+    /// order 4), growing one decade per order as [`tolerance`] does. Double-double arithmetic
+    /// rounds at ~1e-32; what sets the tolerance is the input of a construction in double-double:
+    /// its f64 data (for the gk inner patches, the rotated planar patches `x_s`, whose shared
+    /// edges differ by an ulp) place the two sides' points ~1e-16 apart, which moves the
+    /// height coefficients of small patches by up to ~1e-13 of their scale (measured: at most
+    /// 4e-13, at order 5). A construction error of 1e-6 of a patch's size shows as 1e-5 or more.
+    pub(crate) fn precise_tolerance(m: usize) -> f64 {
+        1e-14 * 10f64.powi(m as i32)
+    }
+
+    /// One order of the high-precision comparison: the largest difference of the two sides'
+    /// order-m height coefficients and their scale (as in the f64 measure: the larger magnitude
+    /// of the coefficients, or `L^{1−m}`).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub(crate) struct PreciseTerm {
+        /// `max |h_A,ij − h_B,ij|` over `i + j = m`.
+        pub difference: f64,
+        /// The scale the difference is relative to.
+        pub scale: f64,
+    }
+
+    /// The two sides of a joint point compared in double-double: the height functions of
+    /// [`measure_at`] from double-double partial derivatives and series arithmetic, to
+    /// [`MAX_ORDER`]. The frame is side A's, computed in f64 and then taken as exact: both sides
+    /// are read in the same (orthonormal to ~1e-16) frame, so their height functions agree
+    /// exactly where the surfaces do. Rounding in double-double is ~1e-32 relative, so what the
+    /// comparison sees is the nets' own defect: for stored f64 nets, that of the stored surface
+    /// (its points taken as exact); for nets constructed in double-double, that of the
+    /// construction.
+    #[derive(Clone, Debug, PartialEq)]
+    pub(crate) struct PreciseMeasure {
+        /// `|S_A − S_B|` at the point.
+        pub gap: f64,
+        /// True if side B's normal points against side A's (a fold: order 0 at most).
+        pub folded: bool,
+        /// Orders 1..=[`MAX_ORDER`] (index m − 1).
+        pub terms: Vec<PreciseTerm>,
+    }
+
+    impl PreciseMeasure {
+        /// The order the sides agree to: −1 for a gap above [`G0_GAP_REL`]` L`, else the largest m such
+        /// that every order up to m differs by at most [`precise_tolerance`]`(m)` of its scale.
+        pub fn order(&self, diag: f64) -> i32 {
+            self.order_within(diag, precise_tolerance)
+        }
+
+        /// [`PreciseMeasure::order`] with the relative tolerance `tolerance(m)` of order m (e.g.
+        /// the f64 measure's [`tolerance`], to read stored f64 nets exactly against it).
+        pub fn order_within(&self, diag: f64, tolerance: impl Fn(usize) -> f64) -> i32 {
+            if self.gap > G0_GAP_REL * diag {
+                return -1;
+            }
+            if self.folded {
+                return 0;
+            }
+            self.terms
+                .iter()
+                .zip(1..)
+                .take_while(|(t, m)| t.difference <= tolerance(*m) * t.scale)
+                .count() as i32
+        }
+
+        /// The largest `difference / scale` of order `m`.
+        pub fn relative(&self, m: usize) -> f64 {
+            let t = self.terms[m - 1];
+            t.difference / t.scale
+        }
+    }
+
+    /// The sides `nets` at domain points `uvs` (side A on edge `edge_a`) compared in
+    /// double-double; `None` where a side is singular.
+    fn precise_point(
+        nets: [&PreciseNet; 2],
+        uvs: [DVec2; 2],
+        edge_a: usize,
+        diag: f64,
+    ) -> Option<PreciseMeasure> {
+        let partials = [0, 1].map(|side| precise_partials(nets[side], uvs[side]));
+        let rounded = |p: [DoubleDouble; 3]| DVec3::from_array(p.map(DoubleDouble::to_f64));
+        let (du, dv) = (rounded(partials[0][1]), rounded(partials[0][2]));
+        let w = UV_CORNERS[(edge_a + 1) % 3] - UV_CORNERS[edge_a];
+        let e1 = (du * w.x + dv * w.y).try_normalize()?;
+        let n = du.cross(dv).try_normalize()?;
+        let frame = [e1, n.cross(e1), n];
+        let folded = rounded(partials[1][1])
+            .cross(rounded(partials[1][2]))
+            .dot(n)
+            <= 0.0;
+        let gap = DVec3::from_array(std::array::from_fn(|c| {
+            (partials[0][0][c] - partials[1][0][c]).to_f64()
+        }))
+        .length();
+        let [ha, hb] = partials.map(|p| {
+            let mut h = HeightSeries::new(&precise_frame_series(&p, frame), MAX_ORDER)?;
+            h.advance_to(MAX_ORDER);
+            Some(h.height)
+        });
+        let (ha, hb) = (ha?, hb?);
+        let terms = (1..=MAX_ORDER)
+            .map(|m| {
+                let (mut diff, mut mag) = (0.0_f64, 0.0_f64);
+                for i in 0..=m {
+                    let k = term(i, m - i);
+                    diff = diff.max((ha.0[k] - hb.0[k]).abs().to_f64());
+                    mag = mag.max(ha.0[k].abs().to_f64()).max(hb.0[k].abs().to_f64());
+                }
+                PreciseTerm {
+                    difference: diff,
+                    scale: mag.max(diag.powi(1 - m as i32)),
+                }
+            })
+            .collect();
+        Some(PreciseMeasure { gap, folded, terms })
+    }
+
+    /// The order measure of [`measure_at`] in double-double on the nets `nets` of the two sides
+    /// of `joint` (side A's first) at fraction `s`; `diag` is the length scale L. `None` where a
+    /// side is singular.
+    pub(crate) fn precise_measure(
+        nets: [&PreciseNet; 2],
+        joint: &Joint,
+        s: f64,
+        diag: f64,
+    ) -> Option<PreciseMeasure> {
+        let sb = if joint.reversed { 1.0 - s } else { s };
+        let uvs = [
+            edge_uv(joint.a.edge as usize, s),
+            edge_uv(joint.b.edge as usize, sb),
+        ];
+        precise_point(nets, uvs, joint.a.edge as usize, diag)
+    }
 
     /// Per order m: (difference, scale, floor) of the height coefficients at fraction `s`.
     pub(crate) fn diagnose(surface: &Surface, joint: &Joint, s: f64, diag: f64) -> Vec<[f64; 3]> {
@@ -1081,6 +1097,7 @@ pub(crate) mod test_support {
 
 #[cfg(test)]
 mod tests {
+    use super::test_support::*;
     use super::*;
     use crate::bezier::TriangleBezier;
     use crate::bezier::gram::multi_indices;

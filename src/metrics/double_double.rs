@@ -1,7 +1,8 @@
 //! Double-double numbers: an unevaluated sum `hi + lo` of two f64 with `|lo| ≤ ulp(hi)/2`,
 //! about 106 bits of significand, for the high-precision measure of a joint's order
-//! ([`crate::metrics::continuity`]), and [`Real`], the scalar the measure's series arithmetic
-//! is generic over (f64 or [`DoubleDouble`]).
+//! ([`crate::metrics::continuity`], whose series arithmetic is generic over its `Real`
+//! scalar: f64, or [`DoubleDouble`]). Compiled for the tests only: the measure in double-double
+//! is how the tests check the f64 measure.
 //!
 //! Hand-written rather than a crate: the measure needs `+ − × ÷` and comparisons only, which
 //! are a few error-free transformations (`two_sum`, and `two_prod` by a fused multiply-add,
@@ -13,61 +14,19 @@
 //! basic building blocks of double-word arithmetic" (ACM TOMS 44(2), 2017): relative errors
 //! below `3u²`, `5u²` (FMA product: `4u²`) and `15u²` with `u = 2⁻⁵³`.
 
-use std::fmt::Debug;
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
-/// The scalar of the continuity measure's series arithmetic: f64, or [`DoubleDouble`] for the
-/// high-precision measure.
-pub(crate) trait Real:
-    Copy
-    + Debug
-    + PartialEq
-    + PartialOrd
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<Output = Self>
-    + Div<Output = Self>
-    + Neg<Output = Self>
-    + AddAssign
-{
-    /// Zero.
-    const ZERO: Self;
-    /// The number `x` (exact).
-    #[cfg(test)]
-    fn from_f64(x: f64) -> Self;
-    /// The nearest f64 (for a double-double: its high part).
-    fn to_f64(self) -> f64;
-    /// The absolute value.
-    #[cfg(test)]
-    fn abs(self) -> Self;
-}
-
-impl Real for f64 {
-    const ZERO: f64 = 0.0;
-    #[cfg(test)]
-    fn from_f64(x: f64) -> f64 {
-        x
-    }
-    fn to_f64(self) -> f64 {
-        self
-    }
-    #[cfg(test)]
-    fn abs(self) -> f64 {
-        f64::abs(self)
-    }
-}
+use crate::metrics::continuity::Real;
 
 /// `hi + lo`, normalised (`hi` is `hi + lo` rounded to f64). Derived comparisons are those
 /// of the value: the high parts decide unless equal, then the low parts.
 #[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
-#[cfg(test)]
 pub struct DoubleDouble {
     hi: f64,
     lo: f64,
 }
 
 /// `a + b = s + e` exactly, `s = fl(a + b)` (Knuth's TwoSum, any order of magnitudes).
-#[cfg(test)]
 fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let b_virtual = s - a;
@@ -76,21 +35,32 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
 }
 
 /// `a + b = s + e` exactly when `|a| ≥ |b|` or `a = 0` (Dekker's Fast2Sum).
-#[cfg(test)]
 fn fast_two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     (s, b - (s - a))
 }
 
 /// `a · b = p + e` exactly (barring underflow), by a fused multiply-add.
-#[cfg(test)]
 fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
     (p, a.mul_add(b, -p))
 }
 
-#[cfg(test)]
 impl DoubleDouble {
+    /// The number `x` (exact).
+    pub fn from_f64(x: f64) -> Self {
+        DoubleDouble { hi: x, lo: 0.0 }
+    }
+
+    /// The absolute value.
+    pub fn abs(self) -> Self {
+        if self.hi < 0.0 || (self.hi == 0.0 && self.lo < 0.0) {
+            -self
+        } else {
+            self
+        }
+    }
+
     /// The pair `hi + lo`, normalised.
     pub fn new(hi: f64, lo: f64) -> Self {
         let (hi, lo) = two_sum(hi, lo);
@@ -106,25 +76,13 @@ impl DoubleDouble {
     }
 }
 
-#[cfg(test)]
 impl Real for DoubleDouble {
     const ZERO: DoubleDouble = DoubleDouble { hi: 0.0, lo: 0.0 };
-    fn from_f64(x: f64) -> Self {
-        DoubleDouble { hi: x, lo: 0.0 }
-    }
     fn to_f64(self) -> f64 {
         self.hi
     }
-    fn abs(self) -> Self {
-        if self.hi < 0.0 || (self.hi == 0.0 && self.lo < 0.0) {
-            -self
-        } else {
-            self
-        }
-    }
 }
 
-#[cfg(test)]
 impl Neg for DoubleDouble {
     type Output = DoubleDouble;
     fn neg(self) -> DoubleDouble {
@@ -135,7 +93,6 @@ impl Neg for DoubleDouble {
     }
 }
 
-#[cfg(test)]
 impl Add for DoubleDouble {
     type Output = DoubleDouble;
     /// AccurateDWPlusDW (relative error below `3u² + 13u³`).
@@ -148,14 +105,12 @@ impl Add for DoubleDouble {
     }
 }
 
-#[cfg(test)]
 impl AddAssign for DoubleDouble {
     fn add_assign(&mut self, y: DoubleDouble) {
         *self = *self + y;
     }
 }
 
-#[cfg(test)]
 impl Sub for DoubleDouble {
     type Output = DoubleDouble;
     fn sub(self, y: DoubleDouble) -> DoubleDouble {
@@ -163,7 +118,6 @@ impl Sub for DoubleDouble {
     }
 }
 
-#[cfg(test)]
 impl Mul for DoubleDouble {
     type Output = DoubleDouble;
     /// DWTimesDW3 with fused multiply-adds (relative error below `4u²`).
@@ -177,7 +131,6 @@ impl Mul for DoubleDouble {
     }
 }
 
-#[cfg(test)]
 impl Div for DoubleDouble {
     type Output = DoubleDouble;
     /// DWDivDW2 (relative error below `15u² + 56u³`).
@@ -193,7 +146,6 @@ impl Div for DoubleDouble {
     }
 }
 
-#[cfg(test)]
 mod tests {
     use super::*;
 

@@ -14,8 +14,6 @@ use glam::DVec3;
 use crate::geom::Jet;
 use crate::surface::{Joint, Surface, edge_uv};
 
-#[cfg(test)]
-use crate::surface::JOINT_SAMPLES;
 pub(crate) use crate::surface::joint_fractions;
 
 /// The angle between two (not necessarily unit) normals, `atan2(|n0 × n1|, n0 · n1)`:
@@ -147,6 +145,7 @@ fn relative_jump(x0: f64, x1: f64, floor: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::surface::JOINT_SAMPLES;
 
     #[test]
     fn fractions_are_increasing_and_symmetric() {

@@ -16,6 +16,7 @@
 //! (including the mean) is bit-for-bit the same for any thread count.
 
 pub(crate) mod continuity;
+#[cfg(test)]
 pub(crate) mod double_double;
 pub(crate) mod energy;
 pub(crate) mod joints;

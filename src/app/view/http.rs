@@ -122,12 +122,6 @@ impl HttpServer {
             .map_err(|e| Error::Invalid(format!("the listening address: {e}")))
     }
 
-    /// Connections open now.
-    #[cfg(test)]
-    pub fn open_connections(&self) -> usize {
-        self.open.load(Ordering::SeqCst)
-    }
-
     /// Accepts connections until the listener fails, answering each connection's one request
     /// with `handler` on a thread of its own (at most [`Limits::connections`] at once).
     pub(crate) fn serve<H>(&self, handler: Arc<H>)
@@ -337,6 +331,19 @@ fn write_response(mut stream: &TcpStream, response: &Response) -> std::io::Resul
     stream.write_all(head.as_bytes())?;
     stream.write_all(&response.body)?;
     stream.flush()
+}
+
+/// Test-only items: used by the unit tests of this and other modules, compiled only for them.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::*;
+
+    impl HttpServer {
+        /// Connections open now.
+        pub(crate) fn open_connections(&self) -> usize {
+            self.open.load(Ordering::SeqCst)
+        }
+    }
 }
 
 #[cfg(test)]

@@ -365,9 +365,12 @@ mod tests {
                     surface.patches[j.b.patch as usize].piece,
                 ) == (1, 1);
                 let surface = &surface;
-                continuity::ORDER_SAMPLES
-                    .iter()
-                    .map(move |&s| (inner, continuity::measure_at(surface, j, s, diag)))
+                continuity::ORDER_SAMPLES.iter().map(move |&s| {
+                    (
+                        inner,
+                        continuity::test_support::measure_at(surface, j, s, diag),
+                    )
+                })
             })
             .collect();
         let (mut lattice_order, mut inner_order) = (i32::MAX, i32::MAX);
@@ -474,7 +477,7 @@ mod inner_joint_resolution {
     /// and genus2), the order-4 difference of the height coefficients is within the rounding
     /// floor (so it is no construction error the measure could see) and the floor itself is
     /// above what the measure may claim; the figures per order are printed. The stored nets
-    /// measured in double-double ([`continuity::precise_measure`], their points taken as
+    /// measured in double-double ([`continuity::test_support::precise_measure`], their points taken as
     /// exact) differ there by as much as in f64 and also within the floor: the f64 measure
     /// reads the stored surface correctly, and it is the f64 rounding of the stored control
     /// points (not the arithmetic of the measure) that leaves order 4 undetermined. (The
@@ -501,7 +504,7 @@ mod inner_joint_resolution {
                 }
                 for &s in &continuity::ORDER_SAMPLES {
                     let terms = continuity::test_support::diagnose(&surface, j, s, diag);
-                    let m = continuity::measure_at(&surface, j, s, diag);
+                    let m = continuity::test_support::measure_at(&surface, j, s, diag);
                     samples += 1;
                     for (w, [diff, scale, floor]) in worst.iter_mut().zip(&terms) {
                         w[0] = w[0].max(diff / scale);
@@ -522,12 +525,17 @@ mod inner_joint_resolution {
                         assert!(m.unresolved, "{name}: a resolved difference");
                         assert!(diff <= floor, "{name}: difference above the floor");
                         let nets = [j.a.patch, j.b.patch].map(|p| {
-                            continuity::PreciseNet::from_net(
+                            continuity::test_support::PreciseNet::from_net(
                                 surface.patches[p as usize].as_bezier().unwrap(),
                             )
                         });
-                        let exact = continuity::precise_measure([&nets[0], &nets[1]], j, s, diag)
-                            .expect("regular");
+                        let exact = continuity::test_support::precise_measure(
+                            [&nets[0], &nets[1]],
+                            j,
+                            s,
+                            diag,
+                        )
+                        .expect("regular");
                         let exact_diff = exact.terms[m.order as usize].difference;
                         eprintln!(
                             "{name} s = {s}: the stored nets in double-double: difference {:.1e} of \
@@ -567,7 +575,8 @@ mod inner_joint_precision {
     /// f64 composition rounds each control point to f64). For the high-precision tests of
     /// the inner joints.
     fn compose_precise(q: &Quadratic, x: &TriangleBezier) -> PreciseNet {
-        use crate::metrics::double_double::{DoubleDouble, Real};
+        use crate::metrics::continuity::Real;
+        use crate::metrics::double_double::DoubleDouble;
         let dd = DoubleDouble::from_f64;
         let d = x.degree();
         let xs: Vec<f64> = x.points().iter().map(|p| p.x).collect();
@@ -615,7 +624,8 @@ mod inner_joint_precision {
         d1: usize,
         d2: usize,
     ) -> Vec<[crate::metrics::double_double::DoubleDouble; 3]> {
-        use crate::metrics::double_double::{DoubleDouble, Real};
+        use crate::metrics::continuity::Real;
+        use crate::metrics::double_double::DoubleDouble;
         let dd = DoubleDouble::from_f64;
         let d = d1 + d2;
         // Multinomials up to degree 2d = 14 (k = 4) are integers far below 2^53: exact in f64.
@@ -644,7 +654,8 @@ mod inner_joint_precision {
         out
     }
     use crate::bezier::triangle::point_count;
-    use crate::metrics::continuity::{self, MAX_ORDER, PreciseNet};
+    use crate::metrics::continuity::test_support::PreciseNet;
+    use crate::metrics::continuity::{self, MAX_ORDER};
     use crate::testing::{closed_test_meshes, params};
 
     /// [`hole::in_face_order`] for a double-double net.
@@ -694,7 +705,7 @@ mod inner_joint_precision {
 
     /// The inner joints settled in double-double, for k = 1..4 on mixed-valence and genus2:
     /// the inner patches `q ∘ x_s` composed in double-double (they round to the built
-    /// surface's f64 nets) and measured by [`continuity::precise_measure`] agree to every
+    /// surface's f64 nets) and measured by [`continuity::test_support::precise_measure`] agree to every
     /// measured order at every inner-joint sample (G^5 ≥ G^k), the order-m differences tiny
     /// against their scale. A deliberately broken construction — on side A of every inner
     /// joint, the control point in the middle of row 4 from the shared edge moved by 1e-6 of
@@ -718,7 +729,7 @@ mod inner_joint_precision {
     /// The same at k = 4 for two holes of valence 200 (the apexes of a 200-gonal bipyramid),
     /// where the f64 measure stops below G^4 at every inner-joint sample: G^4 at every sample
     /// in double-double (order-4 differences ≤ 1e-13 of the scale). Order 5 is not claimed:
-    /// its differences reach 2.5e-9 of the scale there, above [`continuity::precise_tolerance`]
+    /// its differences reach 2.5e-9 of the scale there, above [`continuity::test_support::precise_tolerance`]
     /// — the sectors are thin, and the inputs of the double-double composition are f64.
     #[test]
     fn inner_joints_of_valence_200_agree_in_double_double() {
@@ -776,18 +787,21 @@ mod inner_joint_precision {
                 [a, b].map(|p| PreciseNet::from_net(surface.patches[p].as_bezier().unwrap()));
             for &s in &continuity::ORDER_SAMPLES {
                 samples += 1;
-                let m = continuity::precise_measure([pa, pb], j, s, diag).expect("regular");
+                let m = continuity::test_support::precise_measure([pa, pb], j, s, diag)
+                    .expect("regular");
                 lowest = lowest.min(m.order(diag));
                 for (w, order) in worst.iter_mut().zip(1..) {
                     *w = w.max(m.relative(order));
                 }
-                let m = continuity::precise_measure([&stored[0], &stored[1]], j, s, diag)
-                    .expect("regular");
+                let m =
+                    continuity::test_support::precise_measure([&stored[0], &stored[1]], j, s, diag)
+                        .expect("regular");
                 lowest_stored = lowest_stored.min(m.order_within(diag, continuity::tolerance));
                 for (w, order) in worst_stored.iter_mut().zip(1..) {
                     *w = w.max(m.relative(order));
                 }
-                let m = continuity::precise_measure([&broken, pb], j, s, diag).expect("regular");
+                let m = continuity::test_support::precise_measure([&broken, pb], j, s, diag)
+                    .expect("regular");
                 broken_highest = broken_highest.max(m.order(diag));
                 broken_least_jump = broken_least_jump.min(m.relative(4));
             }

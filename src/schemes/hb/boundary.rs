@@ -131,7 +131,8 @@ mod tests {
 
     use crate::mesh::{Mesh, generate};
     use crate::metrics::Metrics;
-    use crate::schemes::hb::{SPEC, build, max_corner_mismatch};
+    use crate::schemes::hb::test_support::max_corner_mismatch;
+    use crate::schemes::hb::{SPEC, build};
     use crate::schemes::{Params, SchemeSpec};
     use crate::testing::{
         JointFigures, assert_g1_joints, max_smoothness_defect_inside_faces, mesh, open_test_meshes,

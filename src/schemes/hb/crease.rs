@@ -133,7 +133,8 @@ mod tests {
     use super::crease_curve;
     use crate::mesh::{LoadOptions, Mesh};
     use crate::metrics::Metrics;
-    use crate::schemes::hb::{SPEC, build, max_corner_mismatch};
+    use crate::schemes::hb::test_support::max_corner_mismatch;
+    use crate::schemes::hb::{SPEC, build};
     use crate::testing::{
         JointFigures, assert_g1_joints, closed_test_meshes, max_smoothness_defect_inside_faces,
         open_test_meshes, params,

@@ -68,22 +68,6 @@ pub(crate) fn piece_domains() -> [[DVec3; 3]; 4] {
     ]
 }
 
-/// How far the two computations of the points shared by a corner piece's two inner rows
-/// disagree: the twist b(3,1,1) from either edge, and b(4,0,1), b(4,1,0) from the cross
-/// derivative versus the boundary curve (eq. 19). Zero up to rounding when (II_T) and (19) hold.
-#[cfg(test)]
-pub fn corner_mismatch(to_y: &HalfEdgeCurve, to_z: &HalfEdgeCurve) -> f64 {
-    let (edge_y, edge_z) = (
-        elevate_cubic_to_quintic(to_y.b),
-        elevate_cubic_to_quintic(to_z.b),
-    );
-    let (cross_y, cross_z) = (cross_derivative(to_y, 1.0), cross_derivative(to_z, -1.0));
-    let twist = (edge_y[1] + cross_y[1] / 10.0) - (edge_z[1] + cross_z[1] / 10.0);
-    let b401 = (edge_y[0] + cross_y[0] / 10.0) - edge_z[1];
-    let b410 = (edge_z[0] + cross_z[0] / 10.0) - edge_y[1];
-    twist.length().max(b401.length()).max(b410.length())
-}
-
 /// Index of `b(i,j,k)` of a quintic.
 fn q(i: usize, j: usize) -> usize {
     index(5, i, j)
@@ -273,6 +257,27 @@ pub(super) fn free_point_columns() -> [[f64; 4 * QUINTIC]; 6] {
         complete(&mut nets, t, d);
         std::array::from_fn(|i| nets[i / QUINTIC][i % QUINTIC].x)
     })
+}
+
+/// Test-only items: used by the unit tests of this and other modules, compiled only for them.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::*;
+
+    /// How far the two computations of the points shared by a corner piece's two inner rows
+    /// disagree: the twist b(3,1,1) from either edge, and b(4,0,1), b(4,1,0) from the cross
+    /// derivative versus the boundary curve (eq. 19). Zero up to rounding when (II_T) and (19) hold.
+    pub(crate) fn corner_mismatch(to_y: &HalfEdgeCurve, to_z: &HalfEdgeCurve) -> f64 {
+        let (edge_y, edge_z) = (
+            elevate_cubic_to_quintic(to_y.b),
+            elevate_cubic_to_quintic(to_z.b),
+        );
+        let (cross_y, cross_z) = (cross_derivative(to_y, 1.0), cross_derivative(to_z, -1.0));
+        let twist = (edge_y[1] + cross_y[1] / 10.0) - (edge_z[1] + cross_z[1] / 10.0);
+        let b401 = (edge_y[0] + cross_y[0] / 10.0) - edge_z[1];
+        let b410 = (edge_z[0] + cross_z[0] / 10.0) - edge_y[1];
+        twist.length().max(b401.length()).max(b410.length())
+    }
 }
 
 #[cfg(test)]

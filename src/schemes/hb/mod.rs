@@ -261,20 +261,25 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     Ok(surface)
 }
 
-/// Largest disagreement between the two ways of computing the points two edges share at a
-/// corner piece (twist compatibility, eq. 19), over all face corners; for tests and diagnostics.
-#[cfg(test)]
-pub fn max_corner_mismatch(mesh: &Mesh, params: &Params) -> Result<f64> {
-    let (shape, _) = shape_params(params)?;
-    let table = half_edge_table(mesh, &shape)?;
-    Ok(mesh
-        .faces()
-        .iter()
-        .enumerate()
-        .flat_map(|(f, face)| face_corner_curves(&table, *face, f))
-        .map(|(to_y, to_z)| macro_patch::corner_mismatch(&to_y, &to_z))
-        .fold(0.0, f64::max))
-}
-
 #[cfg(test)]
 mod tests;
+
+/// Test-only items: used by the unit tests of this and other modules, compiled only for them.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::*;
+
+    /// Largest disagreement between the two ways of computing the points two edges share at a
+    /// corner piece (twist compatibility, eq. 19), over all face corners; for tests and diagnostics.
+    pub(crate) fn max_corner_mismatch(mesh: &Mesh, params: &Params) -> Result<f64> {
+        let (shape, _) = shape_params(params)?;
+        let table = half_edge_table(mesh, &shape)?;
+        Ok(mesh
+            .faces()
+            .iter()
+            .enumerate()
+            .flat_map(|(f, face)| face_corner_curves(&table, *face, f))
+            .map(|(to_y, to_z)| macro_patch::test_support::corner_mismatch(&to_y, &to_z))
+            .fold(0.0, f64::max))
+    }
+}

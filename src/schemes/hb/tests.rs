@@ -2,6 +2,7 @@
 //! G0 and tangent-plane continuity between faces (G¹) and inside faces (C¹), twist
 //! compatibility, affine invariance and locality.
 
+use crate::schemes::hb::test_support::max_corner_mismatch;
 use glam::{DMat3, DVec3};
 
 use super::*;

@@ -76,7 +76,8 @@ mod tests {
     use crate::mesh::{Mesh, generate};
     use crate::metrics::Metrics;
     use crate::schemes::Params;
-    use crate::schemes::loop94::{SPEC, build, max_consistency_defect};
+    use crate::schemes::loop94::test_support::max_consistency_defect;
+    use crate::schemes::loop94::{SPEC, build};
     use crate::testing::{mesh, open_test_meshes, params};
 
     /// G¹ across every interior edge, vertices interpolated, twists and `f²` consistent.

@@ -143,29 +143,35 @@ fn short(beta: f64) -> String {
     }
 }
 
-/// Largest disagreement of the twist points computed from either edge, and of Loop's middle
-/// boundary point `f²` computed from either end, over all faces (for tests and diagnostics).
+/// Test-only items: used by the unit tests of this and other modules, compiled only for them.
 #[cfg(test)]
-pub fn max_consistency_defect(mesh: &Mesh, params: &Params) -> Result<f64> {
-    let table = table(mesh, &shape(params)?);
-    Ok(mesh
-        .faces()
-        .iter()
-        .enumerate()
-        .map(|(f, face)| {
-            let twist = patch::twist_mismatch(&face_edges(&table, *face, f));
-            let f2 = table
-                .corner_edges(*face, f)
-                .iter()
-                .map(|[xy, yx, _, _]| (table.get(*xy).f[2] - table.get(*yx).f[2]).length())
-                .fold(0.0, f64::max);
-            twist.max(f2)
-        })
-        .fold(0.0, f64::max))
+pub(crate) mod test_support {
+    use super::*;
+
+    /// Largest disagreement of the twist points computed from either edge, and of Loop's middle
+    /// boundary point `f²` computed from either end, over all faces (for tests and diagnostics).
+    pub(crate) fn max_consistency_defect(mesh: &Mesh, params: &Params) -> Result<f64> {
+        let table = table(mesh, &shape(params)?);
+        Ok(mesh
+            .faces()
+            .iter()
+            .enumerate()
+            .map(|(f, face)| {
+                let twist = patch::test_support::twist_mismatch(&face_edges(&table, *face, f));
+                let f2 = table
+                    .corner_edges(*face, f)
+                    .iter()
+                    .map(|[xy, yx, _, _]| (table.get(*xy).f[2] - table.get(*yx).f[2]).length())
+                    .fold(0.0, f64::max);
+                twist.max(f2)
+            })
+            .fold(0.0, f64::max))
+    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::test_support::*;
     use super::*;
     use crate::metrics::Metrics;
     use crate::testing::{Rng, closed_test_meshes, params};

@@ -86,19 +86,6 @@ pub(crate) fn sextic(edges: &[(CurveBezier, CurveBezier); 3]) -> TriangleBezier 
     TriangleBezier::new(DEGREE, points)
 }
 
-/// Disagreement of the two values of each twist point, for tests and diagnostics.
-#[cfg(test)]
-pub fn twist_mismatch(edges: &[(CurveBezier, CurveBezier); 3]) -> f64 {
-    let first_row = |k: usize, m: usize| {
-        let (boundary, cross) = &edges[k];
-        let boundary = boundary.elevate().elevate();
-        boundary.points()[m] + cross.points()[m] / DEGREE as f64
-    };
-    (0..3)
-        .map(|k| (first_row(k, 1) - first_row((k + 2) % 3, 4)).length())
-        .fold(0.0, f64::max)
-}
-
 /// `b(2,2,2) = Σ w_a b_a` (w at the centre itself is 0): the minimiser of the degree-6 part.
 fn quintic_precision_weights() -> &'static [f64] {
     static WEIGHTS: OnceLock<Vec<f64>> = OnceLock::new();
@@ -123,6 +110,24 @@ fn quintic_precision_weights() -> &'static [f64] {
             .map(|a| if a == c { 0.0 } else { -m[c][a] / m[c][c] })
             .collect()
     })
+}
+
+/// Test-only items: used by the unit tests of this and other modules, compiled only for them.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::*;
+
+    /// Disagreement of the two values of each twist point, for tests and diagnostics.
+    pub(crate) fn twist_mismatch(edges: &[(CurveBezier, CurveBezier); 3]) -> f64 {
+        let first_row = |k: usize, m: usize| {
+            let (boundary, cross) = &edges[k];
+            let boundary = boundary.elevate().elevate();
+            boundary.points()[m] + cross.points()[m] / DEGREE as f64
+        };
+        (0..3)
+            .map(|k| (first_row(k, 1) - first_row((k + 2) % 3, 4)).length())
+            .fold(0.0, f64::max)
+    }
 }
 
 #[cfg(test)]
