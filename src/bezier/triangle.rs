@@ -10,7 +10,7 @@
 //!
 //! Every algorithm works on a control net stored in the module order (see [`index`]) and is
 //! built from one in-place kernel, `de_casteljau_step`, which lowers a net of degree `m` to
-//! degree `m − 1` at one barycentric argument. For degree ≤ [`MAX_STACK_DEGREE`] the working net
+//! degree `m − 1` at one barycentric argument. For degree ≤ 8 the working net
 //! lives in a fixed-size stack array, so [`TriangleBezier::eval`], [`TriangleBezier::jet`] and
 //! [`TriangleBezier::blossom`] do not allocate.
 
@@ -73,7 +73,7 @@ pub(crate) fn de_casteljau_rows<T>(
 }
 
 /// Runs `f` on a mutable copy of `points`, held in a stack array when the net has degree
-/// ≤ [`MAX_STACK_DEGREE`] (so the hot evaluation paths never allocate), on the heap above.
+/// ≤ 8 (so the hot evaluation paths never allocate), on the heap above.
 #[inline(always)]
 fn with_working_net<R>(points: &[DVec3], f: impl FnOnce(&mut [DVec3]) -> R) -> R {
     #[inline(always)]
@@ -301,7 +301,7 @@ mod tests {
     use crate::testing::Rng;
 
     /// Degrees the property tests run over: 1..=7 as specified, plus 0 and the heap path above
-    /// [`MAX_STACK_DEGREE`].
+    /// 8.
     const DEGREES: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 11];
 
     /// Parameters inside the domain and slightly outside (extrapolation must be right too).

@@ -30,7 +30,7 @@ pub(crate) const FRONT_MARGIN: f64 = 1e-3;
 /// regular, and far above the rounding of unit normals (1e-16).
 pub(crate) const MIN_FRONT_MARGIN: f64 = 1e-7;
 
-/// What [`front_facing`] did with a vertex's estimate.
+/// What `test_support::front_facing` did with a vertex's estimate.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum FrontFacing {
     /// The estimate is front-facing by [`FRONT_MARGIN`]: kept.
@@ -56,7 +56,7 @@ pub(crate) fn min_cosine(n: DVec3, faces: &[DVec3]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// [`front_facing`] with the margin `wanted` (in `[MIN_FRONT_MARGIN, 1)`) in place of
+/// `test_support::front_facing` with the margin `wanted` (in `[MIN_FRONT_MARGIN, 1)`) in place of
 /// [`FRONT_MARGIN`]: the estimate is kept if `n · n_f ≥ wanted` for every face, else moved to
 /// the closest direction keeping `wanted`, or the largest decade below it down to
 /// [`MIN_FRONT_MARGIN`] that the one-ring admits.

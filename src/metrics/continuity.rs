@@ -27,7 +27,7 @@
 //! coefficients of small, high-degree patches far from the origin are uncertain by
 //! `~ d!/(d−m)! · 2^m · ε|b| / speed^m` — at order 4 of the degree-14 G^4 spline patches a few
 //! 1e-3 relative, beyond the tolerance above. Where an order fails the tolerance, the measure
-//! estimates this floor ([`rounding_floor`]: the spread of the coefficients under one-ulp
+//! estimates this floor (`test_support::rounding_floor`: the spread of the coefficients under one-ulp
 //! perturbations of both nets, times 10) and accepts the order if the sides differ by less
 //! than the floor while the floor is below [`RESOLVABLE`] (10%) of the coefficients — a jump of
 //! that size is still seen. An order with a larger floor cannot be resolved in f64: the measure
@@ -573,7 +573,7 @@ struct Evaluated<'a> {
 /// rounding floor exceeds it cannot be resolved in f64 and is not claimed.
 pub(crate) const RESOLVABLE: f64 = 0.1;
 
-/// Perturbed evaluations behind [`rounding_floor`].
+/// Perturbed evaluations behind `test_support::rounding_floor`.
 const FLOOR_TRIALS: usize = 4;
 
 /// Factor between the spread of [`FLOOR_TRIALS`] one-ulp perturbations and the floor: the
@@ -712,7 +712,7 @@ enum Goal {
     OrderUpTo(i32),
 }
 
-/// [`measure_at`] towards `goal`, with the rounding floor consulted if `nets` is given: the
+/// `test_support::measure_at` towards `goal`, with the rounding floor consulted if `nets` is given: the
 /// perturbed nets of the joint are drawn into it on first use (a joint's points share them).
 fn measure_with_floor(
     surface: &Surface,
@@ -968,7 +968,7 @@ pub(crate) mod test_support {
     }
 
     /// The two sides of a joint point compared in double-double: the height functions of
-    /// [`measure_at`] from double-double partial derivatives and series arithmetic, to
+    /// `test_support::measure_at` from double-double partial derivatives and series arithmetic, to
     /// [`MAX_ORDER`]. The frame is side A's, computed in f64 and then taken as exact: both sides
     /// are read in the same (orthonormal to ~1e-16) frame, so their height functions agree
     /// exactly where the surfaces do. Rounding in double-double is ~1e-32 relative, so what the
@@ -1061,7 +1061,7 @@ pub(crate) mod test_support {
         Some(PreciseMeasure { gap, folded, terms })
     }
 
-    /// The order measure of [`measure_at`] in double-double on the nets `nets` of the two sides
+    /// The order measure of `test_support::measure_at` in double-double on the nets `nets` of the two sides
     /// of `joint` (side A's first) at fraction `s`; `diag` is the length scale L. `None` where a
     /// side is singular.
     pub(crate) fn precise_measure(

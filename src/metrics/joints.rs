@@ -2,7 +2,7 @@
 //! domain points and compared — position gap (G0), normal angle (G1), Gaussian and mean
 //! curvature (G2 indicators).
 //!
-//! Sample placement: [`JOINT_SAMPLES`] points at fractions `s = i/16` for `i = 1..15` plus
+//! Sample placement: [`JOINT_SAMPLES`](crate::surface::JOINT_SAMPLES) points at fractions `s = i/16` for `i = 1..15` plus
 //! `s = 1/1024` and `s = 1 − 1/1024` near (not at) the two ends. The ends themselves are left
 //! out because a corner where several patches meet is where a parametrisation may be singular
 //! (`Su × Sv = 0`), and there the normal is undefined rather than discontinuous. All fractions

@@ -131,12 +131,12 @@ pub struct Metrics {
     /// Patches with at least one such sample.
     pub folded_patches: usize,
     /// Mesh vertices where the mesh is curved but the surface has a flat point (both principal
-    /// curvatures ~0; see [`vertex_curvature`]).
+    /// curvatures ~0; see [`vertex_curvature()`]).
     pub vertex_flat_points: usize,
     /// Mesh vertices where the mesh is curved (those the vertex figures are measured at).
     pub vertex_curved: usize,
     /// Smallest ratio `|H| / |H_mesh|` of the surface's mean curvature at a mesh vertex to the
-    /// mesh's discrete one ([`vertex_curvature`]; 1 on a sphere reproduced exactly).
+    /// mesh's discrete one ([`vertex_curvature()`]; 1 on a sphere reproduced exactly).
     pub vertex_mean_curvature_ratio_min: Option<f64>,
     /// Largest ratio `|H| / |H_mesh|`.
     pub vertex_mean_curvature_ratio_max: Option<f64>,

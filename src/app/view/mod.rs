@@ -5,7 +5,7 @@
 //!
 //! One render path: the page sends its settings as the keys of a scene file
 //! ([`scene`]); the server parses them with the scene-file parser into a
-//! [`RenderJob`](crate::render::RenderJob) and renders it with
+//! [`RenderJob`] and renders it with
 //! [`RenderJob::render_with`](crate::render::RenderJob::render_with) on the tracer the job
 //! built once ([`RenderJob::tracer`](crate::render::RenderJob::tracer)); "save" writes exactly
 //! those keys,
