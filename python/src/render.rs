@@ -11,12 +11,12 @@ use std::sync::atomic::Ordering;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyIterator, PyTuple};
-use smoothlab::render::{Camera, Projection};
 use smoothlab::render::Frame;
+use smoothlab::render::RenderStats;
 use smoothlab::render::output::{
     self, EXR_CHANNELS, EXR_ID_CHANNELS, ExrCompression, OutputMeta, OutputOptions,
 };
-use smoothlab::render::RenderStats;
+use smoothlab::render::{Camera, Projection};
 
 use crate::convert;
 use crate::detached::{self, OnInterrupt};
