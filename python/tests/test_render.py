@@ -135,6 +135,10 @@ def test_keyboard_interrupt_stops_a_render_and_leaves_no_file(tmp_path):
     big = dict(mode="shaded", size=(640, 480), spp=64)
     # A small render first, so that the timing below is the render's alone.
     smoothlab.render(surface, size=(16, 16))
+    # Python answers SIGINT with KeyboardInterrupt only when it started with SIGINT at its
+    # default; a process started in the background of a script inherits it ignored. The
+    # handler a terminal user has is installed for this test alone.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     started = time.monotonic()
     timer.start()
@@ -143,6 +147,7 @@ def test_keyboard_interrupt_stops_a_render_and_leaves_no_file(tmp_path):
             smoothlab.render(surface, output=tmp_path / "interrupted", **big)
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, previous)
     interrupted_after = time.monotonic() - started
     assert sorted(os.listdir(tmp_path)) == [], "no image and no temporary file"
     # The interrupt ended the render early: a whole one takes far longer than this.
