@@ -36,6 +36,7 @@ mod polygon;
 pub(crate) mod repair;
 mod sharp;
 mod topology;
+mod unfold;
 mod validate;
 mod weld;
 

@@ -1,7 +1,7 @@
 //! The repairs loading makes to what other tools write: what each one is, how it is counted and
 //! reported, and the topological repairs themselves (degenerate faces collapsed or removed,
 //! non-manifold edges and vertices split, non-orientable surfaces cut open, orientation made
-//! consistent and outward).
+//! consistent and outward; folded one-rings are unfolded in [`super::unfold`]).
 //!
 //! Every repair is one [`Repair`] in [`super::LoadReport::repairs`]: its kind, how many
 //! elements it touched and the first of them in the input's own numbering (the face as the
@@ -40,6 +40,9 @@ pub enum RepairKind {
     /// repeated copies): the orientation flood fill reached both faces of the edge and needs
     /// them to run it the same way, so they no longer share it; it becomes two boundary edges.
     NonOrientableEdgeCut,
+    /// Edges of one-rings that fold over themselves flipped (the edge replaced by the other
+    /// diagonal of its two faces) where that unfolds the ring ([`super::unfold`]).
+    FoldedRingEdgeFlipped,
     /// Faces flipped to agree with the orientation of their connected component.
     FacesReoriented,
     /// Connected components turned inside out as a whole, so that they face outward.
@@ -123,6 +126,11 @@ impl Repair {
             RepairKind::NonOrientableEdgeCut => format!(
                 "cut open {n} edges where the surface is not orientable (their two faces no \
                  longer share them: each becomes two boundary edges)"
+            ),
+            RepairKind::FoldedRingEdgeFlipped => format!(
+                "flipped {n} edges of one-rings whose faces fold over themselves (each replaced \
+                 by the other diagonal of its two faces, so that one normal sees the whole ring \
+                 from the front; no vertex moves)"
             ),
             RepairKind::FacesReoriented => {
                 format!("re-oriented {n} faces for a consistent orientation of their component")

@@ -11,6 +11,7 @@ use super::repair::{
 };
 use super::sharp;
 use super::topology::{NO_TWIN, Topology};
+use super::unfold;
 use super::weld::{check_weld_tolerance, weld};
 use super::{LoadOptions, LoadReport, Mesh};
 use crate::error::{Error, Result};
@@ -350,6 +351,14 @@ pub(super) fn assemble(
         normals::per_vertex_from_corners(corner_normals, &faces, positions.len(), &|v| {
             names.welded(v)
         });
+    let twin = unfold_folded_rings(
+        &mut faces,
+        twin,
+        &orientation.flip,
+        &positions,
+        &names,
+        &mut repairs,
+    )?;
     let flipped = orientation_flips(
         &faces,
         &twin,
@@ -778,6 +787,42 @@ fn orientation_flips(
         )?;
     }
     Ok(flipped)
+}
+
+/// Unfolds the one-rings that fold over themselves where flipping an edge does
+/// ([`unfold::unfold_rings`]), recording the flips as a repair. Works on the faces as the
+/// component-consistency flips `flip` orient them (whether a ring folds does not depend on
+/// which way its component faces), and returns them as written again, so that the outward
+/// decision that follows sees the unfolded surface.
+fn unfold_folded_rings(
+    faces: &mut [[u32; 3]],
+    twin: Vec<u32>,
+    flip: &[bool],
+    positions: &[DVec3],
+    names: &VertexNames,
+    repairs: &mut Repairs,
+) -> Result<Vec<u32>> {
+    let mut twin = apply_flips(faces, twin, flip);
+    let flips = unfold::unfold_rings(positions, faces, &mut twin);
+    if let Some(first) = flips.first() {
+        let [a, b] = first.removed;
+        let [c, d] = first.added;
+        repairs.record(
+            RepairKind::FoldedRingEdgeFlipped,
+            flips.len(),
+            Element::Edge(names.welded(a), names.welded(b)),
+            format!(
+                "the faces around vertex {} fold over themselves (no normal sees them all from \
+                 the front side); the edge is replaced by the other diagonal of its two faces, \
+                 ({}, {})",
+                names.welded(first.vertex),
+                names.welded(c),
+                names.welded(d)
+            ),
+        )?;
+    }
+    // Swapping two corners is its own inverse, and so is the renumbering of the twins.
+    Ok(apply_flips(faces, twin, flip))
 }
 
 /// Flips the chosen faces by swapping their last two corners and renumbers the twins: a face
@@ -1315,6 +1360,61 @@ mod tests {
             let message = strict_refusal((positions, faces), &format!("edge ({a}, {b})"));
             assert!(message.contains("not orientable"), "{message}");
         }
+    }
+
+    /// A closed mesh whose top is a dart cut along the wrong diagonal (face (0, 1, 2) lies
+    /// over face (1, 0, 3), facing the other way): the rings of vertices 0 and 1 fold.
+    fn folded_dart() -> generate::Triangles {
+        let positions = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.3, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(1.0, 0.5, -1.0),
+        ];
+        let faces = vec![
+            [0, 1, 2],
+            [1, 0, 3],
+            [3, 0, 4],
+            [1, 3, 4],
+            [2, 1, 4],
+            [0, 2, 4],
+        ];
+        (positions, faces)
+    }
+
+    #[test]
+    fn a_folded_ring_is_unfolded_by_an_edge_flip_and_refused_when_strict() {
+        let (mesh, report) = load(folded_dart()).unwrap();
+        let listed = repairs(&report);
+        assert!(
+            listed.contains(&(RepairKind::FoldedRingEdgeFlipped, 1, Element::Edge(0, 1))),
+            "{:?}",
+            report.warnings
+        );
+        assert!(
+            report.warnings.iter().any(|w| w.contains(
+                "the faces around vertex 0 fold over themselves (no normal sees them all from \
+                 the front side); the edge is replaced by the other diagonal of its two faces, \
+                 (2, 3)"
+            )),
+            "{:?}",
+            report.warnings
+        );
+        assert!(mesh.is_closed());
+        assert!(volume(&mesh) > 0.0, "outward after the flip");
+        let flat_top = |f: &[u32; 3]| f.iter().all(|&v| v < 4);
+        let mut top: Vec<[u32; 3]> = mesh.faces().iter().copied().filter(flat_top).collect();
+        for f in &mut top {
+            f.sort_unstable();
+        }
+        top.sort_unstable();
+        assert_eq!(
+            top,
+            vec![[0, 2, 3], [1, 2, 3]],
+            "the top is cut along (2, 3)"
+        );
+        strict_refusal(folded_dart(), "edge (0, 1)");
     }
 
     #[test]
