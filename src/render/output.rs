@@ -55,10 +55,7 @@ impl ExrCompression {
             "zip" => ExrCompression::Zip,
             "piz" => ExrCompression::Piz,
             _ => {
-                return Err(Error::Invalid(format!(
-                    "unknown EXR compression '{name}' (known: {})",
-                    Self::NAMES.join(", ")
-                )));
+                return Err(Error::unknown_name("EXR compression", name, &Self::NAMES));
             }
         })
     }

@@ -8,7 +8,7 @@
 
 use glam::DVec3;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 
 /// The colour scheme of images and figure sheets.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -32,10 +32,12 @@ impl Theme {
         match name {
             "dark" => Ok(Theme::Dark),
             "paper" => Ok(Theme::Paper),
-            _ => Err(Error::Invalid(format!(
-                "{key}: unknown theme '{name}' (known: {})",
-                Self::NAMES.join(", ")
-            ))),
+            _ => Err(Error::config(
+                key,
+                Problem::Refused {
+                    reason: Error::unknown_name("theme", name, &Self::NAMES).to_string(),
+                },
+            )),
         }
     }
 
