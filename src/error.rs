@@ -581,6 +581,20 @@ impl Error {
     }
 }
 
+/// The names of `choices` (name, help), in order: the `NAMES` of a type whose values have
+/// names (a theme, an EXR compression) from its `CHOICES`.
+pub(crate) const fn names<const N: usize>(
+    choices: [(&'static str, &'static str); N],
+) -> [&'static str; N] {
+    let mut out = [""; N];
+    let mut k = 0;
+    while k < N {
+        out[k] = choices[k].0;
+        k += 1;
+    }
+    out
+}
+
 /// The library's result type.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 

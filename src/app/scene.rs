@@ -571,17 +571,9 @@ impl SceneFile {
 
     /// The boundary overlay.
     pub fn overlay(&self) -> Result<Overlay> {
-        let mut o = Overlay::default();
-        match keys::one_of(
-            "render.overlay",
-            self.render.overlay.as_deref().unwrap_or("none"),
-            &["none", "faces", "patches", "both"],
-        )? {
-            "faces" => o.face_edges = true,
-            "patches" => o.patch_edges = true,
-            "both" => (o.face_edges, o.patch_edges) = (true, true),
-            _ => {}
-        }
+        let name = self.render.overlay.as_deref().unwrap_or("none");
+        keys::one_of("render.overlay", name, &Overlay::NAMES)?;
+        let mut o = Overlay::by_name(name).unwrap_or_default();
         if let Some(w) = self.render.line_width {
             o.width_px = positive("render.line_width", w)?;
         }

@@ -23,8 +23,18 @@ pub enum Theme {
 }
 
 impl Theme {
+    /// The themes' names in scenes, figure specs and on the command line, each with what
+    /// `render --help` says of it.
+    pub const CHOICES: [(&'static str, &'static str); 2] = [
+        ("dark", "Dark background, light legend text."),
+        (
+            "paper",
+            "White background, dark legend text; the curvature map's zero is grey (cool–warm).",
+        ),
+    ];
+
     /// Names accepted in scenes, figure specs and on the command line.
-    pub const NAMES: [&'static str; 2] = ["dark", "paper"];
+    pub const NAMES: [&'static str; 2] = crate::error::names(Self::CHOICES);
 
     /// The theme called `name`; an unknown name is an error naming `key` (the scene or spec
     /// key, or the flag, it was given as).
