@@ -311,9 +311,226 @@ pub enum Error {
         /// How to get below the limit or raise it.
         remedy: String,
     },
-    /// A scene file or command-line option is invalid.
+    /// A configuration key — of a scene file, a figure spec, a mode's section, the viewer's
+    /// page, a command-line option — has a value it does not take.
+    #[error("{}", .problem.message(.key))]
+    Config {
+        /// The key as the user wrote it, with its section (`zebra.stripes`), and the flag
+        /// setting it where there is one (`render.sweep (--sweep)`).
+        key: String,
+        /// What is wrong with its value.
+        problem: Problem,
+    },
+    /// A name is not one of a fixed set (a render mode, a curvature quantity, an EXR
+    /// compression).
+    #[error("unknown {what} '{name}' (known: {known})")]
+    UnknownName {
+        /// What the name names (`render mode`).
+        what: &'static str,
+        /// The name given.
+        name: String,
+        /// The known names, comma separated.
+        known: String,
+    },
+    /// An error found in a named place (a file, an entry of a figure spec): the place, then
+    /// the error.
+    #[error("{place}: {error}")]
+    In {
+        /// Where (`scene.toml`, `modes[2] (zebra)`).
+        place: String,
+        /// What went wrong there.
+        error: Box<Error>,
+    },
+    /// Anything else that is refused: a damaged record or part file, a failed encoding, an
+    /// operation that cannot be done.
     #[error("{0}")]
     Invalid(String),
+}
+
+/// What is wrong with the value of a configuration key ([`Error::Config`]). Values are kept as
+/// the text the message shows.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Problem {
+    /// The key is not one the section takes: `SECTION: unknown field `KEY`, expected one of
+    /// …` (`section` is None for the top level).
+    UnknownKey {
+        /// The section it was found in.
+        section: Option<String>,
+        /// The keys the section takes, each quoted as `` `name` ``.
+        known: Vec<String>,
+    },
+    /// The value has the wrong type: `KEY = VALUE is not EXPECTED`.
+    WrongType {
+        /// The value as written.
+        value: String,
+        /// What the key takes, with its article (`a number`).
+        expected: String,
+    },
+    /// An array has the wrong length: `KEY = VALUE: invalid length N, expected M elements`.
+    WrongLength {
+        /// The value as written.
+        value: String,
+        /// Its length.
+        len: usize,
+        /// The length the key takes.
+        expected: usize,
+    },
+    /// An element of an array has the wrong type: `KEY element VALUE is not EXPECTED`.
+    WrongElement {
+        /// The element as written.
+        element: String,
+        /// What the elements are (`a number`).
+        expected: &'static str,
+    },
+    /// `KEY = VALUE must be a positive number`.
+    NotPositive {
+        /// The value.
+        value: String,
+    },
+    /// `KEY = VALUE must be in RANGE` (`[1e-3, 1e0]`, `1..=360`).
+    OutOfRange {
+        /// The value.
+        value: String,
+        /// The range, as written in the message.
+        range: String,
+    },
+    /// `KEY = VALUE must lie in [0, 1]`.
+    NotFraction {
+        /// The value.
+        value: String,
+    },
+    /// `KEY = VALUE must be at least MIN`.
+    BelowMinimum {
+        /// The value.
+        value: String,
+        /// The smallest value taken.
+        min: String,
+    },
+    /// `KEY = VALUE must be finite`.
+    NotFinite {
+        /// The value.
+        value: String,
+    },
+    /// `KEY = VALUE must be non-zero`.
+    Zero {
+        /// The value.
+        value: String,
+    },
+    /// `KEY = VALUE must be non-negative linear RGB`.
+    NotColour {
+        /// The value.
+        value: String,
+    },
+    /// `KEY 'VALUE' is not one of A, B, C`.
+    NotOneOf {
+        /// The value.
+        value: String,
+        /// The values taken.
+        known: Vec<String>,
+    },
+    /// `KEY = VALUE is neither A nor B`: the value is none of the forms the key takes.
+    Neither {
+        /// The value as the message shows it, with what precedes it (`= thick2`, `'up'`).
+        value: String,
+        /// The forms taken, as the message lists them (`thin, medium nor …`).
+        forms: String,
+    },
+    /// `KEY and OTHER both set: give one`.
+    Conflict {
+        /// The other key.
+        other: String,
+    },
+    /// `KEY and OTHER exclude each other`.
+    Excludes {
+        /// The other key.
+        other: String,
+    },
+    /// `KEY[ = VALUE] needs NEEDED`: the key takes effect only with another.
+    Needs {
+        /// The value, when the message shows it.
+        value: Option<String>,
+        /// What it needs.
+        needed: String,
+    },
+    /// `KEY VALUE must be REQUIREMENT`: a requirement of its own.
+    Must {
+        /// The value as the message shows it, with what precedes it (`= 3`, `[1.0, -1.0]`),
+        /// or empty.
+        value: String,
+        /// What it must be (`be non-negative`, `not be parallel to highlight.plane_normal`).
+        requirement: String,
+    },
+    /// `KEY: REASON`: the value was refused by a check that gives its own reason.
+    Refused {
+        /// Why.
+        reason: String,
+    },
+    /// `KEY TEXT`: a sentence of its own about the key.
+    Other {
+        /// What follows the key.
+        text: String,
+    },
+}
+
+impl Problem {
+    /// The message of `key` having this problem, as the user sees it.
+    pub fn message(&self, key: &str) -> String {
+        match self {
+            Problem::UnknownKey { section, known } => {
+                let place = section
+                    .as_ref()
+                    .map(|s| format!("{s}: "))
+                    .unwrap_or_default();
+                if known.is_empty() {
+                    format!("{place}unknown field `{key}`: the section takes no keys")
+                } else {
+                    format!(
+                        "{place}unknown field `{key}`, expected one of {}",
+                        known.join(", ")
+                    )
+                }
+            }
+            Problem::WrongType { value, expected } => format!("{key} = {value} is not {expected}"),
+            Problem::WrongLength {
+                value,
+                len,
+                expected,
+            } => format!("{key} = {value}: invalid length {len}, expected {expected} elements"),
+            Problem::WrongElement { element, expected } => {
+                format!("{key} element {element} is not {expected}")
+            }
+            Problem::NotPositive { value } => format!("{key} = {value} must be a positive number"),
+            Problem::OutOfRange { value, range } => format!("{key} = {value} must be in {range}"),
+            Problem::NotFraction { value } => format!("{key} = {value} must lie in [0, 1]"),
+            Problem::BelowMinimum { value, min } => {
+                format!("{key} = {value} must be at least {min}")
+            }
+            Problem::NotFinite { value } => format!("{key} = {value} must be finite"),
+            Problem::Zero { value } => format!("{key} = {value} must be non-zero"),
+            Problem::NotColour { value } => {
+                format!("{key} = {value} must be non-negative linear RGB")
+            }
+            Problem::NotOneOf { value, known } => {
+                format!("{key} '{value}' is not one of {}", known.join(", "))
+            }
+            Problem::Neither { value, forms } => format!("{key} {value} is neither {forms}"),
+            Problem::Conflict { other } => format!("{key} and {other} both set: give one"),
+            Problem::Excludes { other } => format!("{key} and {other} exclude each other"),
+            Problem::Needs { value, needed } => match value {
+                Some(value) => format!("{key} = {value} needs {needed}"),
+                None => format!("{key} needs {needed}"),
+            },
+            Problem::Must { value, requirement } => {
+                if value.is_empty() {
+                    format!("{key} must {requirement}")
+                } else {
+                    format!("{key} {value} must {requirement}")
+                }
+            }
+            Problem::Refused { reason } => format!("{key}: {reason}"),
+            Problem::Other { text } => format!("{key} {text}"),
+        }
+    }
 }
 
 impl Error {
@@ -364,10 +581,49 @@ impl Error {
     }
 }
 
+/// The names of `choices` (name, help), in order: the `NAMES` of a type whose values have
+/// names (a theme, an EXR compression) from its `CHOICES`.
+pub(crate) const fn names<const N: usize>(
+    choices: [(&'static str, &'static str); N],
+) -> [&'static str; N] {
+    let mut out = [""; N];
+    let mut k = 0;
+    while k < N {
+        out[k] = choices[k].0;
+        k += 1;
+    }
+    out
+}
+
 /// The library's result type.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 impl Error {
+    /// The error of `key` having `problem` ([`Error::Config`]).
+    pub fn config(key: impl Into<String>, problem: Problem) -> Self {
+        Error::Config {
+            key: key.into(),
+            problem,
+        }
+    }
+
+    /// The error of `name` not being one of the `known` names of `what` ([`Error::UnknownName`]).
+    pub fn unknown_name(what: &'static str, name: &str, known: &[&str]) -> Self {
+        Error::UnknownName {
+            what,
+            name: name.to_string(),
+            known: known.join(", "),
+        }
+    }
+
+    /// This error found in `place` ([`Error::In`]).
+    pub fn within(self, place: impl Into<String>) -> Self {
+        Error::In {
+            place: place.into(),
+            error: Box::new(self),
+        }
+    }
+
     /// Wraps an I/O error with the file it concerns.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io {

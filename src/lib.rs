@@ -47,7 +47,7 @@ mod text;
 pub mod tolerance;
 
 pub use bezier::{CurveBezier, TriangleBezier};
-pub use error::{Error, Result};
+pub use error::{Error, Problem, Result};
 pub use geom::Aabb;
 pub use mesh::{LoadOptions, LoadReport, Mesh};
 pub use metrics::Metrics;

@@ -100,7 +100,7 @@ fn no_code_outside_render_modes_names_a_mode() {
                 // A mode's parameter type may be defined outside (the path tracer's
                 // `ShadedParams` in render/shaded.rs); only its own file names it.
                 // A type named like its variant (`Normals`) is common as a word elsewhere
-                // (`OverlayArg::Patches`): only its path through the modes counts.
+                // (`Overlay::NAMES` holds `patches`): only its path through the modes counts.
                 let defines = text.contains(&format!("pub struct {ty}"));
                 let type_named = if ty == variant {
                     names(code, &format!("modes::{ty}"))

@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, ValueEnum};
+use clap::Args;
 
 use super::Output;
 use crate::error::{Error, Result};
@@ -92,27 +92,6 @@ pub fn metrics_command(args: &MetricsArgs, line: &mut dyn FnMut(&str)) -> Result
     Ok(output)
 }
 
-/// The `--format` of `export`.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum FormatArg {
-    /// smoothlab-patches JSON.
-    Json,
-    /// BezierView type-3 records.
-    Bv,
-    /// Tessellated OBJ with exact normals, welded along patch edges.
-    Obj,
-}
-
-impl From<FormatArg> for Format {
-    fn from(f: FormatArg) -> Format {
-        match f {
-            FormatArg::Json => Format::Json,
-            FormatArg::Bv => Format::BezierView,
-            FormatArg::Obj => Format::Obj,
-        }
-    }
-}
-
 /// `smoothlab export MESH --scheme S -o FILE [--format F] [--tess N]`.
 #[derive(Args, Clone, Debug)]
 pub struct ExportArgs {
@@ -120,8 +99,8 @@ pub struct ExportArgs {
     /// The mesh and the scheme.
     pub input: SchemeOnMesh,
     /// Output format (default: from the extension of -o: .json, .bv or .obj).
-    #[arg(long, value_enum)]
-    pub format: Option<FormatArg>,
+    #[arg(long, value_parser = super::render::choice_parser(&Format::CHOICES))]
+    pub format: Option<String>,
     /// Output file.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: PathBuf,
@@ -138,8 +117,8 @@ pub struct ExportArgs {
 
 /// `smoothlab export`.
 pub fn export_command(args: &ExportArgs) -> Result<Output> {
-    let format = match args.format {
-        Some(format) => format.into(),
+    let format = match &args.format {
+        Some(name) => Format::parse(name)?,
         None => Format::from_path(&args.output)?,
     };
     super::run_export(

@@ -9,15 +9,30 @@ use crate::app::{parse_crease_angle, parse_weld_tolerance};
 use crate::error::{Error, Result};
 use crate::files::{check_distinct, check_writable, utf8_path};
 use crate::mesh::Mesh;
-use crate::render::modes::{DEFAULT_MODE, Flag, MODE_FLAGS, MODE_HELP};
-use crate::render::output::{OutputMeta, OutputOptions, prepare_outputs, write_outputs_with};
+use crate::render::modes::{DEFAULT_MODE, Flag, MODE_FLAGS, MODE_HELP, Overlay};
+use crate::render::output::{
+    ExrCompression, OutputMeta, OutputOptions, prepare_outputs, write_outputs_with,
+};
 use crate::render::stats::RenderStats;
+use crate::render::theme::Theme;
 use crate::schemes;
 
 /// The values of `--mode`: every registered mode, with its help.
 pub(crate) fn mode_value_parser() -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(
         MODE_HELP
+            .iter()
+            .map(|(name, help)| clap::builder::PossibleValue::new(*name).help(clap_help(help))),
+    )
+}
+
+/// The values of an option taking one of `choices` (name, the help `--help` shows), as the
+/// name: the domain type's list (`Theme::CHOICES`) is the only one.
+pub(crate) fn choice_parser(
+    choices: &'static [(&'static str, &'static str)],
+) -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(
+        choices
             .iter()
             .map(|(name, help)| clap::builder::PossibleValue::new(*name).help(clap_help(help))),
     )
@@ -180,78 +195,6 @@ impl clap::Args for ModeFlags {
     }
 }
 
-/// Boundary overlays (`--overlay`).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum OverlayArg {
-    /// No lines.
-    None,
-    /// Lines along mesh-face boundaries.
-    Faces,
-    /// Lines along every patch boundary.
-    Patches,
-    /// Both.
-    Both,
-}
-
-impl OverlayArg {
-    /// The overlay's name in scenes.
-    pub fn name(self) -> &'static str {
-        match self {
-            OverlayArg::None => "none",
-            OverlayArg::Faces => "faces",
-            OverlayArg::Patches => "patches",
-            OverlayArg::Both => "both",
-        }
-    }
-}
-
-/// EXR compressions (`--exr-compression`), all lossless.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ExrCompressionArg {
-    /// Uncompressed.
-    None,
-    /// Run-length (fast).
-    Rle,
-    /// zlib per scan line.
-    Zips,
-    /// zlib per 16 scan lines.
-    Zip,
-    /// Wavelet + Huffman.
-    Piz,
-}
-
-impl ExrCompressionArg {
-    /// The compression's name in scenes.
-    pub fn name(self) -> &'static str {
-        match self {
-            ExrCompressionArg::None => "none",
-            ExrCompressionArg::Rle => "rle",
-            ExrCompressionArg::Zips => "zips",
-            ExrCompressionArg::Zip => "zip",
-            ExrCompressionArg::Piz => "piz",
-        }
-    }
-}
-
-/// `--theme` values.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ThemeArg {
-    /// Dark background, light legend text.
-    Dark,
-    /// White background, dark legend text; the curvature map's zero is grey (cool–warm).
-    Paper,
-}
-
-impl ThemeArg {
-    /// The theme's name in scenes.
-    pub fn name(self) -> &'static str {
-        match self {
-            ThemeArg::Dark => "dark",
-            ThemeArg::Paper => "paper",
-        }
-    }
-}
-
 /// `smoothlab render SCENE.toml | MESH.obj [options]` — every option overrides the scene.
 #[derive(clap::Args, Clone, Debug, Default)]
 pub struct RenderArgs {
@@ -307,8 +250,8 @@ pub struct RenderArgs {
     )]
     pub tessellate: Option<u32>,
     /// Boundary overlay [default: none].
-    #[arg(long, value_enum)]
-    pub overlay: Option<OverlayArg>,
+    #[arg(long, value_parser = choice_parser(&Overlay::CHOICES))]
+    pub overlay: Option<String>,
     /// Sample seed [default: 0].
     #[arg(long, allow_negative_numbers = true)]
     pub seed: Option<u64>,
@@ -339,11 +282,11 @@ pub struct RenderArgs {
     #[arg(long)]
     pub no_exr: bool,
     /// EXR compression [default: rle] (scene: `render.exr_compression`).
-    #[arg(long, value_enum)]
-    pub exr_compression: Option<ExrCompressionArg>,
+    #[arg(long, value_parser = choice_parser(&ExrCompression::CHOICES))]
+    pub exr_compression: Option<String>,
     /// Colours around the image [default: dark] (scene: `render.theme`).
-    #[arg(long, value_enum)]
-    pub theme: Option<ThemeArg>,
+    #[arg(long, value_parser = choice_parser(&Theme::CHOICES))]
+    pub theme: Option<String>,
     /// The modes' own flags (`--zebra-stripes`, `--curvature-range`, …; see each mode's
     /// [`crate::render::modes::ModeKind::FLAGS`]).
     #[command(flatten)]
@@ -464,17 +407,17 @@ pub(crate) fn scene_of(args: &RenderArgs) -> Result<SceneFile> {
     if args.tessellate.is_some() {
         r.tessellate = args.tessellate;
     }
-    if let Some(o) = args.overlay {
-        r.overlay = Some(o.name().to_string());
+    if let Some(o) = &args.overlay {
+        r.overlay = Some(o.clone());
     }
     if args.no_exr {
         r.exr = Some(false);
     }
-    if let Some(c) = args.exr_compression {
-        r.exr_compression = Some(c.name().to_string());
+    if let Some(c) = &args.exr_compression {
+        r.exr_compression = Some(c.clone());
     }
-    if let Some(t) = args.theme {
-        r.theme = Some(t.name().to_string());
+    if let Some(t) = &args.theme {
+        r.theme = Some(t.clone());
     }
     if args.seed.is_some() {
         r.seed = args.seed;

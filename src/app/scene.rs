@@ -61,7 +61,7 @@ use serde::Deserialize;
 
 use crate::app::toml_input::{self, exact};
 use crate::app::turntable::Animation;
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::mesh::{LoadOptions, check_crease_angle, check_weld_tolerance};
 use crate::render::bvh::SubdivisionCriterion;
 use crate::render::curves::CurveOverlay;
@@ -70,7 +70,7 @@ use crate::render::job::{
     CameraSpec, DEFAULT_FOV, DEFAULT_MAX_LEAVES, Geometry, MAX_SIDE, RenderJob, check_size,
     check_spp,
 };
-use crate::render::modes::keys::direction;
+use crate::render::modes::keys::{self, direction, in_count_range, in_range, positive};
 use crate::render::modes::{DEFAULT_MODE, Key, MODE_KEYS, MODE_NAMES, Mode, Overlay};
 use crate::render::output::ExrCompression;
 use crate::render::theme::Theme;
@@ -231,12 +231,7 @@ impl BvhSection {
             c.max_cone_deg = in_range("bvh.cone_deg", a, CONE_DEG_RANGE)?;
         }
         if let Some(d) = self.max_depth {
-            if d > MAX_DEPTH_LIMIT {
-                return Err(Error::Invalid(format!(
-                    "bvh.max_depth = {d} must be in 0..={MAX_DEPTH_LIMIT}"
-                )));
-            }
-            c.max_depth = d;
+            c.max_depth = in_count_range("bvh.max_depth", d, 0, MAX_DEPTH_LIMIT)?;
         }
         Ok(c)
     }
@@ -244,8 +239,12 @@ impl BvhSection {
     /// The largest number of BVH leaves `max_leaves` allows (at least 1).
     pub fn max_leaves(&self) -> Result<u64> {
         match self.max_leaves {
-            Some(0) => Err(Error::Invalid(
-                "bvh.max_leaves = 0 must be at least 1".to_string(),
+            Some(0) => Err(Error::config(
+                "bvh.max_leaves",
+                Problem::BelowMinimum {
+                    value: "0".into(),
+                    min: "1".into(),
+                },
             )),
             Some(n) => Ok(n),
             None => Ok(DEFAULT_MAX_LEAVES),
@@ -287,11 +286,11 @@ impl SceneFile {
         let figure_spec_or = |e: Error| {
             if toml_input::has_top_level_key(&text, &["schemes", "modes"]) {
                 Error::Invalid(format!(
-                    "{}: this is a figure spec ([[schemes]], [[modes]]), not a scene file: \
-                     run `smoothlab figure {}`",
-                    path.display(),
+                    "this is a figure spec ([[schemes]], [[modes]]), not a scene file: run \
+                     `smoothlab figure {}`",
                     path.display()
                 ))
+                .within(path.display().to_string())
             } else {
                 e
             }
@@ -311,7 +310,7 @@ impl SceneFile {
         }
         scene
             .check_sections()
-            .map_err(|e| figure_spec_or(Error::Invalid(format!("{}: {e}", path.display()))))?;
+            .map_err(|e| figure_spec_or(e.within(path.display().to_string())))?;
         scene.files_beside(dir);
         Ok(scene)
     }
@@ -333,15 +332,13 @@ impl SceneFile {
                     .chain(MODE_NAMES)
                     .map(|k| format!("`{k}`"))
                     .collect();
-                return Err(Error::Invalid(format!(
-                    "unknown field `{name}`, expected one of {}",
-                    known.join(", ")
-                )));
+                return Err(keys::unknown_key(None, name, known));
             }
             let Some(section) = value.as_table() else {
-                return Err(Error::Invalid(format!(
-                    "{name} = {value} is not a section [{name}]"
-                )));
+                return Err(Error::config(
+                    name,
+                    keys::wrong_type(value, &format!("a section [{name}]")),
+                ));
             };
             // Every mode's section is checked for unknown keys, whether or not its mode is
             // the one rendered: a misspelt key is an error, not silently ignored.
@@ -410,13 +407,13 @@ impl SceneFile {
         let mut options = LoadOptions::default();
         if let Some(tolerance) = self.weld_tolerance {
             options.weld_tolerance = check_weld_tolerance(tolerance)
-                .map_err(|e| Error::Invalid(format!("weld_tolerance: {e}")))?;
+                .map_err(|reason| Error::config("weld_tolerance", Problem::Refused { reason }))?;
         }
         if let Some(degrees) = self.crease_angle {
-            options.crease_angle = Some(
-                check_crease_angle(degrees)
-                    .map_err(|e| Error::Invalid(format!("crease_angle: {e}")))?,
-            );
+            options.crease_angle =
+                Some(check_crease_angle(degrees).map_err(|reason| {
+                    Error::config("crease_angle", Problem::Refused { reason })
+                })?);
         }
         if let Some(strict) = self.strict {
             options.strict = strict;
@@ -464,9 +461,13 @@ impl SceneFile {
         };
         if let Some(bg) = r.background {
             if bg.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
-                return Err(Error::Invalid(format!(
-                    "render.background {bg:?} must be non-negative"
-                )));
+                return Err(Error::config(
+                    "render.background",
+                    Problem::Must {
+                        value: format!("{bg:?}"),
+                        requirement: "be non-negative".into(),
+                    },
+                ));
             }
             settings.background = DVec3::from_array(bg);
         }
@@ -500,9 +501,14 @@ impl SceneFile {
         }
         match &self.render.exr_compression {
             None => Ok(Some(ExrCompression::default())),
-            Some(name) => ExrCompression::by_name(name)
-                .map(Some)
-                .map_err(|e| Error::Invalid(format!("render.exr_compression: {e}"))),
+            Some(name) => ExrCompression::by_name(name).map(Some).map_err(|e| {
+                Error::config(
+                    "render.exr_compression",
+                    Problem::Refused {
+                        reason: e.to_string(),
+                    },
+                )
+            }),
         }
     }
 
@@ -516,25 +522,36 @@ impl SceneFile {
             .map(|a| direction("render.turntable_axis (--turntable-axis)", a))
             .transpose()?;
         match (r.turntable, r.sweep) {
-            (Some(_), Some(_)) => Err(Error::Invalid(
-                "render.turntable (--turntable) and render.sweep (--sweep) exclude each other"
-                    .into(),
+            (Some(_), Some(_)) => Err(Error::config(
+                "render.turntable (--turntable)",
+                Problem::Excludes {
+                    other: "render.sweep (--sweep)".into(),
+                },
             )),
             (Some(n), None) => Ok(Some(Animation::Turntable {
                 frames: Animation::check_frames("render.turntable (--turntable)", n)?,
                 axis,
             })),
-            (None, sweep) if axis.is_some() => Err(Error::Invalid(format!(
-                "render.turntable_axis (--turntable-axis) needs render.turntable (--turntable){}",
-                if sweep.is_some() { ", not a sweep" } else { "" }
-            ))),
+            (None, sweep) if axis.is_some() => Err(Error::config(
+                "render.turntable_axis (--turntable-axis)",
+                Problem::Needs {
+                    value: None,
+                    needed: format!(
+                        "render.turntable (--turntable){}",
+                        if sweep.is_some() { ", not a sweep" } else { "" }
+                    ),
+                },
+            )),
             (None, Some(n)) => {
                 let frames = Animation::check_frames("render.sweep (--sweep)", n)?;
                 let mode = r.mode.as_deref().unwrap_or(DEFAULT_MODE);
                 if !Mode::by_name(mode)?.sweeps() {
-                    return Err(Error::Invalid(format!(
-                        "render.sweep (--sweep) moves a mode's stripes; mode '{mode}' has none"
-                    )));
+                    return Err(Error::config(
+                        "render.sweep (--sweep)",
+                        Problem::Other {
+                            text: format!("moves a mode's stripes; mode '{mode}' has none"),
+                        },
+                    ));
                 }
                 Ok(Some(Animation::Sweep { frames }))
             }
@@ -554,18 +571,9 @@ impl SceneFile {
 
     /// The boundary overlay.
     pub fn overlay(&self) -> Result<Overlay> {
-        let mut o = Overlay::default();
-        match self.render.overlay.as_deref().unwrap_or("none") {
-            "none" => {}
-            "faces" => o.face_edges = true,
-            "patches" => o.patch_edges = true,
-            "both" => (o.face_edges, o.patch_edges) = (true, true),
-            other => {
-                return Err(Error::Invalid(format!(
-                    "render.overlay '{other}' is not one of none, faces, patches, both"
-                )));
-            }
-        }
+        let name = self.render.overlay.as_deref().unwrap_or("none");
+        keys::one_of("render.overlay", name, &Overlay::NAMES)?;
+        let mut o = Overlay::by_name(name).unwrap_or_default();
         if let Some(w) = self.render.line_width {
             o.width_px = positive("render.line_width", w)?;
         }
@@ -585,8 +593,12 @@ impl SceneFile {
             c.radius_rel = positive("render.curve_radius", radius)?;
         }
         if !r.surface.unwrap_or(true) && !c.enabled() {
-            return Err(Error::Invalid(
-                "render.surface = false needs render.curves or render.control_polygons".into(),
+            return Err(Error::config(
+                "render.surface",
+                Problem::Needs {
+                    value: Some("false".into()),
+                    needed: "render.curves or render.control_polygons".into(),
+                },
             ));
         }
         Ok(c)
@@ -596,21 +608,6 @@ impl SceneFile {
     pub fn mode(&self) -> Result<Mode> {
         let name = self.render.mode.as_deref().unwrap_or(DEFAULT_MODE);
         Mode::configured(name, &self.mode_section(name))
-    }
-}
-
-/// `x` when positive and finite; else an error naming `name`.
-fn positive(name: &str, x: f64) -> Result<f64> {
-    crate::render::modes::keys::positive(name, x)
-}
-
-fn in_range(name: &str, x: f64, (lo, hi): (f64, f64)) -> Result<f64> {
-    if (lo..=hi).contains(&x) {
-        Ok(x)
-    } else {
-        Err(Error::Invalid(format!(
-            "{name} = {x:e} must be in [{lo:e}, {hi:e}]"
-        )))
     }
 }
 

@@ -71,13 +71,7 @@ impl Animation {
 
     /// Checks a frame count given by `key` (the scene key and its flag).
     pub fn check_frames(key: &str, frames: u32) -> Result<u32> {
-        if (1..=MAX_FRAMES).contains(&frames) {
-            Ok(frames)
-        } else {
-            Err(Error::Invalid(format!(
-                "{key} = {frames} must be in 1..={MAX_FRAMES}"
-            )))
-        }
+        crate::render::modes::keys::in_count_range(key, frames, 1, MAX_FRAMES)
     }
 }
 

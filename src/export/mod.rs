@@ -27,6 +27,16 @@ pub enum Format {
 }
 
 impl Format {
+    /// The formats' names for `export --format`, each with what `export --help` says of it.
+    pub const CHOICES: [(&'static str, &'static str); 3] = [
+        ("json", "smoothlab-patches JSON."),
+        ("bv", "BezierView type-3 records."),
+        (
+            "obj",
+            "Tessellated OBJ with exact normals, welded along patch edges.",
+        ),
+    ];
+
     /// The format a file name asks for by its extension (`.json`, `.bv`, `.obj`, any case), for
     /// `export -o FILE` without `--format`; an error naming the file otherwise.
     pub fn from_path(path: &std::path::Path) -> Result<Format> {
@@ -52,9 +62,11 @@ impl Format {
             "json" => Ok(Format::Json),
             "bv" => Ok(Format::BezierView),
             "obj" => Ok(Format::Obj),
-            _ => Err(Error::Invalid(format!(
-                "unknown export format '{name}' (known: json, bv, obj)"
-            ))),
+            _ => Err(Error::unknown_name(
+                "export format",
+                name,
+                &crate::error::names(Self::CHOICES),
+            )),
         }
     }
 }

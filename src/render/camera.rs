@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::geom::Aabb;
 use crate::render::intersect::Ray64;
 
@@ -63,10 +63,13 @@ fn check_fov(fov_deg: f64) -> Result<()> {
     if (MIN_FOV_DEG..180.0).contains(&fov_deg) {
         Ok(())
     } else {
-        Err(Error::Invalid(format!(
-            "field of view {}° must be at least {MIN_FOV_DEG}° and below 180°",
-            short(fov_deg)
-        )))
+        Err(Error::config(
+            "field of view",
+            Problem::Must {
+                value: format!("{}°", short(fov_deg)),
+                requirement: format!("be at least {MIN_FOV_DEG}° and below 180°"),
+            },
+        ))
     }
 }
 
@@ -128,26 +131,42 @@ impl Camera {
     /// however far apart or large.
     pub fn look_at(eye: DVec3, target: DVec3, up: DVec3, projection: Projection) -> Result<Camera> {
         if !eye.is_finite() || !target.is_finite() || !up.is_finite() {
-            return Err(Error::Invalid(
-                "camera eye, target and up must be finite".into(),
+            return Err(Error::config(
+                "camera eye, target and up",
+                Problem::Must {
+                    value: String::new(),
+                    requirement: "be finite".into(),
+                },
             ));
         }
         let forward = unit_direction(eye, target).ok_or_else(|| {
-            Error::Invalid(format!("camera eye {eye} and target {target} coincide"))
+            Error::config(
+                "camera eye",
+                Problem::Other {
+                    text: format!("{eye} and target {target} coincide"),
+                },
+            )
         })?;
         let right = unit(up)
             .and_then(|up| unit(forward.cross(up)))
             .ok_or_else(|| {
-                Error::Invalid(format!(
-                    "camera up {up} is zero or parallel to the view direction {forward}"
-                ))
+                Error::config(
+                    "camera up",
+                    Problem::Other {
+                        text: format!("{up} is zero or parallel to the view direction {forward}"),
+                    },
+                )
             })?;
         match projection {
             Projection::Perspective { fov_deg } => check_fov(fov_deg)?,
             Projection::Orthographic { height } if !(height > 0.0 && height.is_finite()) => {
-                return Err(Error::Invalid(format!(
-                    "orthographic view height {height} must be positive"
-                )));
+                return Err(Error::config(
+                    "orthographic view height",
+                    Problem::Must {
+                        value: height.to_string(),
+                        requirement: "be positive".into(),
+                    },
+                ));
             }
             _ => {}
         }
@@ -436,13 +455,23 @@ impl Camera {
     /// and its distance, the projection and the tilt against the axis are kept. An angle of 0
     /// gives the camera itself; a zero or non-finite axis or angle is an error.
     pub fn orbit(&self, axis: DVec3, angle: f64) -> Result<Camera> {
-        let axis = unit(axis)
-            .filter(|a| a.is_finite())
-            .ok_or_else(|| Error::Invalid(format!("orbit axis {axis} must be non-zero")))?;
+        let axis = unit(axis).filter(|a| a.is_finite()).ok_or_else(|| {
+            Error::config(
+                "orbit axis",
+                Problem::Must {
+                    value: axis.to_string(),
+                    requirement: "be non-zero".into(),
+                },
+            )
+        })?;
         if !angle.is_finite() {
-            return Err(Error::Invalid(format!(
-                "orbit angle {angle} must be finite"
-            )));
+            return Err(Error::config(
+                "orbit angle",
+                Problem::Must {
+                    value: angle.to_string(),
+                    requirement: "be finite".into(),
+                },
+            ));
         }
         if angle == 0.0 {
             return Ok(*self);

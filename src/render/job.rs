@@ -7,7 +7,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::bezier::TriangleBezier;
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::geom::Aabb;
 use crate::mesh::Mesh;
 use crate::render::bvh::SubdivisionCriterion;
@@ -493,9 +493,13 @@ pub(crate) fn mode_for_mesh(mode: &Mode, mesh: &Mesh) -> Mode {
 /// Refuses an image of `width` × `height` outside `1..=max_side` per side, naming `what`.
 pub(crate) fn check_size(what: &str, width: u32, height: u32, max_side: u32) -> Result<()> {
     if width == 0 || height == 0 || width > max_side || height > max_side {
-        return Err(Error::Invalid(format!(
-            "{what} {width}x{height} must be between 1 and {max_side} per side"
-        )));
+        return Err(Error::config(
+            what,
+            Problem::Must {
+                value: format!("{width}x{height}"),
+                requirement: format!("be between 1 and {max_side} per side"),
+            },
+        ));
     }
     Ok(())
 }
@@ -503,7 +507,13 @@ pub(crate) fn check_size(what: &str, width: u32, height: u32, max_side: u32) -> 
 /// Refuses samples per pixel outside `1..=max`, naming `what`.
 pub(crate) fn check_spp(what: &str, spp: u32, max: u32) -> Result<()> {
     if spp == 0 || spp > max {
-        return Err(Error::Invalid(format!("{what} {spp} must be in 1..={max}")));
+        return Err(Error::config(
+            what,
+            Problem::Must {
+                value: spp.to_string(),
+                requirement: format!("be in 1..={max}"),
+            },
+        ));
     }
     Ok(())
 }

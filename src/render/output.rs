@@ -43,8 +43,18 @@ pub enum ExrCompression {
 }
 
 impl ExrCompression {
+    /// The compressions' names in scenes and on the command line, each with what
+    /// `render --help` says of it.
+    pub const CHOICES: [(&'static str, &'static str); 5] = [
+        ("none", "Uncompressed."),
+        ("rle", "Run-length (fast)."),
+        ("zips", "zlib per scan line."),
+        ("zip", "zlib per 16 scan lines."),
+        ("piz", "Wavelet + Huffman."),
+    ];
+
     /// Names accepted in scenes and on the command line.
-    pub const NAMES: [&'static str; 5] = ["none", "rle", "zips", "zip", "piz"];
+    pub const NAMES: [&'static str; 5] = crate::error::names(Self::CHOICES);
 
     /// The compression called `name`.
     pub fn by_name(name: &str) -> Result<ExrCompression> {
@@ -55,10 +65,7 @@ impl ExrCompression {
             "zip" => ExrCompression::Zip,
             "piz" => ExrCompression::Piz,
             _ => {
-                return Err(Error::Invalid(format!(
-                    "unknown EXR compression '{name}' (known: {})",
-                    Self::NAMES.join(", ")
-                )));
+                return Err(Error::unknown_name("EXR compression", name, &Self::NAMES));
             }
         })
     }

@@ -8,7 +8,7 @@
 
 use glam::DVec3;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 
 /// The colour scheme of images and figure sheets.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -23,8 +23,18 @@ pub enum Theme {
 }
 
 impl Theme {
+    /// The themes' names in scenes, figure specs and on the command line, each with what
+    /// `render --help` says of it.
+    pub const CHOICES: [(&'static str, &'static str); 2] = [
+        ("dark", "Dark background, light legend text."),
+        (
+            "paper",
+            "White background, dark legend text; the curvature map's zero is grey (cool–warm).",
+        ),
+    ];
+
     /// Names accepted in scenes, figure specs and on the command line.
-    pub const NAMES: [&'static str; 2] = ["dark", "paper"];
+    pub const NAMES: [&'static str; 2] = crate::error::names(Self::CHOICES);
 
     /// The theme called `name`; an unknown name is an error naming `key` (the scene or spec
     /// key, or the flag, it was given as).
@@ -32,10 +42,12 @@ impl Theme {
         match name {
             "dark" => Ok(Theme::Dark),
             "paper" => Ok(Theme::Paper),
-            _ => Err(Error::Invalid(format!(
-                "{key}: unknown theme '{name}' (known: {})",
-                Self::NAMES.join(", ")
-            ))),
+            _ => Err(Error::config(
+                key,
+                Problem::Refused {
+                    reason: Error::unknown_name("theme", name, &Self::NAMES).to_string(),
+                },
+            )),
         }
     }
 

@@ -44,7 +44,7 @@ use crate::app::figure::{
 };
 use crate::app::scene::{BvhSection, CameraSection, file_beside};
 use crate::app::toml_input::{self, exact};
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::files::{check_distinct, check_writable, create_folder, write_atomic};
 use crate::mesh::generate::{SCENES, SHARP_SCENES};
 use crate::mesh::{LoadOptions, Mesh, check_crease_angle};
@@ -54,6 +54,7 @@ use crate::render::job::DEFAULT_FOV;
 use crate::render::job::{
     DEFAULT_CELL_SIZE, DEFAULT_SPP, MAX_CELL_SIDE, MAX_CELL_SPP, check_size, check_spp,
 };
+use crate::render::modes::keys::{one_of, positive};
 use crate::render::modes::{Mode, keys_of};
 use crate::render::output::{
     check_output_name, output_stem, with_suffix, write_exr, write_rgb_png,
@@ -166,11 +167,11 @@ impl FigureSpec {
             toml_input::parse(&text, &path.display().to_string()).map_err(|e| {
                 if toml_input::has_top_level_key(&text, &["scheme", "render"]) {
                     Error::Invalid(format!(
-                        "{}: this is a scene file ([scheme], [render]), not a figure spec: run \
+                        "this is a scene file ([scheme], [render]), not a figure spec: run \
                          `smoothlab render {}`",
-                        path.display(),
                         path.display()
                     ))
+                    .within(path.display().to_string())
                 } else {
                     e
                 }
@@ -180,7 +181,7 @@ impl FigureSpec {
             spec.output = dir.join(&spec.output);
         }
         check_output_name(&spec.output)
-            .map_err(|e| Error::Invalid(format!("{}: output: {e}", path.display())))?;
+            .map_err(|e| e.within(format!("{}: output", path.display())))?;
         for mode in &mut spec.modes {
             for key in keys_of(&mode.name) {
                 if let Some(toml::Value::String(file)) = mode.params.get_mut(key.name) {
@@ -208,10 +209,10 @@ impl FigureSpec {
             ..Default::default()
         };
         if let Some(degrees) = self.crease_angle {
-            options.crease_angle = Some(
-                check_crease_angle(degrees)
-                    .map_err(|e| Error::Invalid(format!("crease_angle: {e}")))?,
-            );
+            options.crease_angle =
+                Some(check_crease_angle(degrees).map_err(|reason| {
+                    Error::config("crease_angle", Problem::Refused { reason })
+                })?);
         }
         match (
             SCENES
@@ -275,13 +276,15 @@ impl FigureSpec {
     /// The mode of entry `k` with its parameters, checked through the scene-file sections.
     fn figure_mode(&self, k: usize) -> Result<FigureMode> {
         let entry = &self.modes[k];
-        let context = |e: Error| Error::Invalid(format!("modes[{k}] ({}): {e}", entry.name));
+        let context = |e: Error| e.within(format!("modes[{k}] ({})", entry.name));
         let mut mode = Mode::by_name(&entry.name).map_err(context)?;
         if keys_of(&entry.name).is_empty() && !entry.params.is_empty() {
-            return Err(context(Error::Invalid(format!(
-                "mode '{}' takes no params",
-                entry.name
-            ))));
+            return Err(context(Error::config(
+                format!("mode '{}'", entry.name),
+                Problem::Other {
+                    text: "takes no params".into(),
+                },
+            )));
         }
         mode.configure(&entry.params).map_err(context)?;
         let mut curves = CurveOverlay {
@@ -291,29 +294,29 @@ impl FigureSpec {
             ..CurveOverlay::default()
         };
         if let Some(r) = entry.curve_radius {
-            if !(r > 0.0 && r.is_finite()) {
-                return Err(context(Error::Invalid(format!(
-                    "curve_radius = {r} must be a positive number"
-                ))));
-            }
-            curves.radius_rel = r;
+            curves.radius_rel = positive("curve_radius", r).map_err(context)?;
         }
         let surface = entry.surface.unwrap_or(true);
         if !surface && !curves.enabled() {
-            return Err(context(Error::Invalid(
-                "surface = false needs curves or control_polygons".into(),
+            return Err(context(Error::config(
+                "surface",
+                Problem::Needs {
+                    value: Some("false".into()),
+                    needed: "curves or control_polygons".into(),
+                },
             )));
         }
-        let view = match entry.view.as_deref().unwrap_or("common") {
+        let view = match one_of(
+            "view",
+            entry.view.as_deref().unwrap_or("common"),
+            &["common", "edge-side"],
+        )
+        .map_err(context)?
+        {
             "common" => View::Common,
-            "edge-side" => View::EdgeSide {
+            _ => View::EdgeSide {
                 edge: entry.curve_edge.unwrap_or(0),
             },
-            other => {
-                return Err(context(Error::Invalid(format!(
-                    "view '{other}' is not one of common, edge-side"
-                ))));
-            }
         };
         Ok(FigureMode {
             label: entry.label.clone().unwrap_or_else(|| entry.name.clone()),
@@ -340,7 +343,7 @@ impl FigureSpec {
                 .map(|(n, v)| (n.clone(), param_text(v)))
                 .collect();
             let surface = schemes::build(&entry.name, &mesh, &params)
-                .map_err(|e| Error::Invalid(format!("schemes[{k}] ({}): {e}", entry.name)))?;
+                .map_err(|e| e.within(format!("schemes[{k}] ({})", entry.name)))?;
             let label = entry.label.clone().unwrap_or_else(|| {
                 let mut l = entry.name.clone();
                 for (n, v) in &params {
@@ -357,19 +360,21 @@ impl FigureSpec {
         check_size("figure spec: size", size[0], size[1], MAX_CELL_SIDE)?;
         let spp = self.spp.unwrap_or(DEFAULT_SPP);
         check_spp("figure spec: spp", spp, MAX_CELL_SPP)?;
-        let geometry = self
-            .bvh
-            .geometry()
-            .map_err(|e| Error::Invalid(format!("figure spec: {e}")))?;
+        let geometry = self.bvh.geometry().map_err(|e| e.within("figure spec"))?;
         let curvature = match &self.curvature_range {
             None => CurvatureChoice::Common,
             Some(toml::Value::String(s)) if s == "auto" => CurvatureChoice::Common,
             Some(toml::Value::Float(x)) if *x > 0.0 && x.is_finite() => CurvatureChoice::Fixed(*x),
             Some(toml::Value::Integer(x)) if *x > 0 => CurvatureChoice::Fixed(*x as f64),
             Some(other) => {
-                return Err(Error::Invalid(format!(
-                    "figure spec: curvature_range {other} is neither \"auto\" nor a positive number"
-                )));
+                return Err(Error::config(
+                    "curvature_range",
+                    Problem::Neither {
+                        value: other.to_string(),
+                        forms: "\"auto\" nor a positive number".into(),
+                    },
+                )
+                .within("figure spec"));
             }
         };
         let theme = match &self.theme {
@@ -519,7 +524,7 @@ pub(crate) fn run_figure_spec(path: &Path, theme: Option<Theme>) -> Result<Figur
     let dir = path.parent().unwrap_or(Path::new(""));
     let job = spec
         .job(dir)
-        .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
+        .map_err(|e| e.within(path.display().to_string()))?;
     let figure = render_figure(&job)?;
     write_rgb_png(&figure.sheet, &png)?;
     write_atomic(&svg, figure.svg.as_bytes())?;

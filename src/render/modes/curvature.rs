@@ -7,11 +7,11 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::geom::Curvature;
 use crate::render::interaction::ShadingPoint;
 use crate::render::intersect::IntersectCounters;
-use crate::render::modes::keys::{self, Flag, Key, Keys};
+use crate::render::modes::keys::{self, Flag, Key, Keys, refused};
 use crate::render::modes::{Footprint, ModeKind, Setup, palette};
 use crate::render::stats::RenderStats;
 use crate::render::theme::{Legend, LegendStyle, Theme};
@@ -46,10 +46,7 @@ impl CurvatureQuantity {
             "k1" => CurvatureQuantity::K1,
             "k2" => CurvatureQuantity::K2,
             _ => {
-                return Err(crate::Error::Invalid(format!(
-                    "unknown curvature quantity '{name}' (known: {})",
-                    Self::NAMES.join(", ")
-                )));
+                return Err(Error::unknown_name("curvature quantity", name, Self::NAMES));
             }
         })
     }
@@ -131,10 +128,11 @@ impl CurvatureSign {
         match name {
             "convex" => Ok(CurvatureSign::Convex),
             "normal" => Ok(CurvatureSign::Normal),
-            _ => Err(crate::Error::Invalid(format!(
-                "unknown curvature sign convention '{name}' (known: {})",
-                Self::NAMES.join(", ")
-            ))),
+            _ => Err(Error::unknown_name(
+                "curvature sign convention",
+                name,
+                Self::NAMES,
+            )),
         }
     }
 
@@ -171,10 +169,11 @@ impl CurvatureMap {
             "diverging" => Ok(CurvatureMap::Diverging),
             "coolwarm" => Ok(CurvatureMap::CoolWarm),
             "sequential" => Ok(CurvatureMap::Sequential),
-            _ => Err(crate::Error::Invalid(format!(
-                "unknown curvature colour map '{name}' (known: {})",
-                Self::NAMES.join(", ")
-            ))),
+            _ => Err(Error::unknown_name(
+                "curvature colour map",
+                name,
+                Self::NAMES,
+            )),
         }
     }
 }
@@ -566,9 +565,12 @@ impl ModeKind for CurvatureParams {
         let percentile = match keys.number("percentile")? {
             Some(x) if (0.0..=100.0).contains(&x) => x,
             Some(x) => {
-                return Err(Error::Invalid(format!(
-                    "curvature.percentile {x} is not in [0, 100]"
-                )));
+                return Err(keys.error(
+                    "percentile",
+                    Problem::Other {
+                        text: format!("{x} is not in [0, 100]"),
+                    },
+                ));
             }
             None => 95.0,
         };
@@ -582,23 +584,23 @@ impl ModeKind for CurvatureParams {
                 CurvatureRange::Fixed(keys::positive("curvature.range", *x as f64)?)
             }
             Some(other) => {
-                return Err(Error::Invalid(format!(
-                    "curvature.range {other} is neither \"auto\" nor a number"
-                )));
+                return Err(keys.error(
+                    "range",
+                    Problem::Neither {
+                        value: other.to_string(),
+                        forms: "\"auto\" nor a number".into(),
+                    },
+                ));
             }
         };
         if let Some(l) = keys.flag("legend")? {
             self.legend = l;
         }
         if let Some(m) = keys.text("map")? {
-            self.map = Some(
-                CurvatureMap::by_name(m)
-                    .map_err(|e| Error::Invalid(format!("curvature.map: {e}")))?,
-            );
+            self.map = Some(CurvatureMap::by_name(m).map_err(|e| refused(keys, "map", &e))?);
         }
         if let Some(sign) = keys.text("sign")? {
-            self.sign = CurvatureSign::by_name(sign)
-                .map_err(|e| Error::Invalid(format!("curvature.sign: {e}")))?;
+            self.sign = CurvatureSign::by_name(sign).map_err(|e| refused(keys, "sign", &e))?;
         }
         Ok(())
     }

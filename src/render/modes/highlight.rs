@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use crate::error::{Error, Result};
+use crate::error::{Problem, Result};
 use crate::render::interaction::ShadingPoint;
 use crate::render::modes::keys::{self, Flag, Key, Keys};
 use crate::render::modes::stripes::{
@@ -170,8 +170,12 @@ impl ModeKind for HighlightParams {
             self.duty = d;
         }
         if self.plane_normal.cross(self.direction).length() < 1e-9 {
-            return Err(Error::Invalid(
-                "highlight.direction must not be parallel to highlight.plane_normal".into(),
+            return Err(keys.error(
+                "direction",
+                Problem::Must {
+                    value: String::new(),
+                    requirement: "not be parallel to highlight.plane_normal".into(),
+                },
             ));
         }
         Ok(())

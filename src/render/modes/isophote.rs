@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use crate::error::{Error, Result};
+use crate::error::{Problem, Result};
 use crate::render::interaction::ShadingPoint;
 use crate::render::modes::ModeKind;
 use crate::render::modes::keys::{self, Flag, Key, Keys};
@@ -101,15 +101,25 @@ impl ModeKind for IsophoteParams {
         }
         if let Some(b) = keys.count("bands")? {
             if b == 0 {
-                return Err(Error::Invalid("isophote.bands must be at least 1".into()));
+                return Err(keys.error(
+                    "bands",
+                    Problem::Must {
+                        value: String::new(),
+                        requirement: "be at least 1".into(),
+                    },
+                ));
             }
             self.bands = b;
         }
         if let Some(step) = keys.number("step_deg")? {
             if !(step > 0.0 && step <= 90.0) {
-                return Err(Error::Invalid(format!(
-                    "isophote.step_deg = {step} must be in (0, 90]"
-                )));
+                return Err(keys.error(
+                    "step_deg",
+                    Problem::OutOfRange {
+                        value: step.to_string(),
+                        range: "(0, 90]".into(),
+                    },
+                ));
             }
             self.step_deg = Some(step);
         }

@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 
 /// One scene key of a mode: its name in the mode's section and what it sets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -219,14 +219,7 @@ impl<'a> Keys<'a> {
             .find(|k| !known.iter().any(|key| key.name == k.as_str()))
         {
             let names: Vec<String> = known.iter().map(|k| format!("`{}`", k.name)).collect();
-            return Err(Error::Invalid(if names.is_empty() {
-                format!("{section}: unknown field `{unknown}`: the section takes no keys")
-            } else {
-                format!(
-                    "{section}: unknown field `{unknown}`, expected one of {}",
-                    names.join(", ")
-                )
-            }));
+            return Err(unknown_key(Some(section), unknown, names));
         }
         Ok(Keys { section, table })
     }
@@ -234,6 +227,11 @@ impl<'a> Keys<'a> {
     /// `section.key`, as errors name it.
     pub fn name(&self, key: &str) -> String {
         format!("{}.{key}", self.section)
+    }
+
+    /// The error of `key` having `problem`.
+    pub fn error(&self, key: &str, problem: Problem) -> Error {
+        Error::config(self.name(key), problem)
     }
 
     /// The raw value of `key`, if set.
@@ -249,11 +247,12 @@ impl<'a> Keys<'a> {
     /// Refuses `a` and `b` both set.
     pub fn one_of(&self, a: &str, b: &str) -> Result<()> {
         if self.has(a) && self.has(b) {
-            return Err(Error::Invalid(format!(
-                "{} and {} both set: give one",
-                self.name(a),
-                self.name(b)
-            )));
+            return Err(self.error(
+                a,
+                Problem::Conflict {
+                    other: self.name(b),
+                },
+            ));
         }
         Ok(())
     }
@@ -267,10 +266,7 @@ impl<'a> Keys<'a> {
         match v {
             toml::Value::Float(x) => Ok(*x),
             toml::Value::Integer(x) => Ok(*x as f64),
-            other => Err(Error::Invalid(format!(
-                "{} = {other} is not a number",
-                self.name(key)
-            ))),
+            other => Err(self.error(key, wrong_type(other, "a number"))),
         }
     }
 
@@ -279,16 +275,12 @@ impl<'a> Keys<'a> {
         self.value(key)
             .map(|v| match v {
                 toml::Value::Integer(x) => u32::try_from(*x).map_err(|_| {
-                    Error::Invalid(format!(
-                        "{} = {x} is not a whole number in [0, {}]",
-                        self.name(key),
-                        u32::MAX
-                    ))
+                    self.error(
+                        key,
+                        wrong_type(x, &format!("a whole number in [0, {}]", u32::MAX)),
+                    )
                 }),
-                other => Err(Error::Invalid(format!(
-                    "{} = {other} is not a whole number",
-                    self.name(key)
-                ))),
+                other => Err(self.error(key, wrong_type(other, "a whole number"))),
             })
             .transpose()
     }
@@ -298,10 +290,7 @@ impl<'a> Keys<'a> {
         self.value(key)
             .map(|v| match v {
                 toml::Value::Boolean(b) => Ok(*b),
-                other => Err(Error::Invalid(format!(
-                    "{} = {other} is not true or false",
-                    self.name(key)
-                ))),
+                other => Err(self.error(key, wrong_type(other, "true or false"))),
             })
             .transpose()
     }
@@ -311,10 +300,7 @@ impl<'a> Keys<'a> {
         self.value(key)
             .map(|v| match v {
                 toml::Value::String(s) => Ok(s.as_str()),
-                other => Err(Error::Invalid(format!(
-                    "{} = {other} is not a string",
-                    self.name(key)
-                ))),
+                other => Err(self.error(key, wrong_type(other, "a string"))),
             })
             .transpose()
     }
@@ -327,17 +313,17 @@ impl<'a> Keys<'a> {
     /// `v`, the value of `key`, as an array of exactly three numbers.
     pub fn as_triple(&self, key: &str, v: &toml::Value) -> Result<[f64; 3]> {
         let toml::Value::Array(items) = v else {
-            return Err(Error::Invalid(format!(
-                "{} = {v} is not an array [x, y, z]",
-                self.name(key)
-            )));
+            return Err(self.error(key, wrong_type(v, "an array [x, y, z]")));
         };
         if items.len() != 3 {
-            return Err(Error::Invalid(format!(
-                "{} = {v}: invalid length {}, expected 3 elements",
-                self.name(key),
-                items.len()
-            )));
+            return Err(self.error(
+                key,
+                Problem::WrongLength {
+                    value: v.to_string(),
+                    len: items.len(),
+                    expected: 3,
+                },
+            ));
         }
         let mut out = [0.0; 3];
         for (slot, item) in out.iter_mut().zip(items) {
@@ -345,10 +331,13 @@ impl<'a> Keys<'a> {
                 toml::Value::Float(x) => *x,
                 toml::Value::Integer(x) => *x as f64,
                 other => {
-                    return Err(Error::Invalid(format!(
-                        "{} element {other} is not a number",
-                        self.name(key)
-                    )));
+                    return Err(self.error(
+                        key,
+                        Problem::WrongElement {
+                            element: other.to_string(),
+                            expected: "a number",
+                        },
+                    ));
                 }
             };
         }
@@ -365,32 +354,14 @@ impl<'a> Keys<'a> {
     /// A number in `[0, 1]`.
     pub fn fraction(&self, key: &str) -> Result<Option<f64>> {
         self.number(key)?
-            .map(|x| {
-                if (0.0..=1.0).contains(&x) {
-                    Ok(x)
-                } else {
-                    Err(Error::Invalid(format!(
-                        "{} = {x} must lie in [0, 1]",
-                        self.name(key)
-                    )))
-                }
-            })
+            .map(|x| fraction(&self.name(key), x))
             .transpose()
     }
 
     /// Non-negative finite linear RGB.
     pub fn colour(&self, key: &str) -> Result<Option<DVec3>> {
         self.triple(key)?
-            .map(|c| {
-                if c.iter().all(|x| x.is_finite() && *x >= 0.0) {
-                    Ok(DVec3::from_array(c))
-                } else {
-                    Err(Error::Invalid(format!(
-                        "{} = {c:?} must be non-negative linear RGB",
-                        self.name(key)
-                    )))
-                }
-            })
+            .map(|c| colour(&self.name(key), c))
             .transpose()
     }
 
@@ -409,14 +380,124 @@ impl<'a> Keys<'a> {
     }
 }
 
+/// The error of key `key` not being one of `known` (each quoted as `` `name` ``) of `section`
+/// (None: the top level).
+pub fn unknown_key(section: Option<&str>, key: &str, known: Vec<String>) -> Error {
+    Error::config(
+        key,
+        Problem::UnknownKey {
+            section: section.map(str::to_string),
+            known,
+        },
+    )
+}
+
+/// The error of `key` of `keys` refused by a check that gave `reason`.
+pub fn refused(keys: &Keys<'_>, key: &str, reason: &Error) -> Error {
+    keys.error(
+        key,
+        Problem::Refused {
+            reason: reason.to_string(),
+        },
+    )
+}
+
+/// The problem of `value` not being `expected` (`a number`).
+pub fn wrong_type(value: &dyn std::fmt::Display, expected: &str) -> Problem {
+    Problem::WrongType {
+        value: value.to_string(),
+        expected: expected.to_string(),
+    }
+}
+
 /// `x` when positive and finite; else an error naming `name`.
 pub fn positive(name: &str, x: f64) -> Result<f64> {
     if x > 0.0 && x.is_finite() {
         Ok(x)
     } else {
-        Err(Error::Invalid(format!(
-            "{name} = {x} must be a positive number"
-        )))
+        Err(Error::config(
+            name,
+            Problem::NotPositive {
+                value: x.to_string(),
+            },
+        ))
+    }
+}
+
+/// `x` when in `[0, 1]`; else an error naming `name`.
+pub fn fraction(name: &str, x: f64) -> Result<f64> {
+    if (0.0..=1.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err(Error::config(
+            name,
+            Problem::NotFraction {
+                value: x.to_string(),
+            },
+        ))
+    }
+}
+
+/// `x` when in `[lo, hi]`; else an error naming `name`, the value and the bounds in
+/// scientific notation (`1e-3`).
+pub fn in_range(name: &str, x: f64, (lo, hi): (f64, f64)) -> Result<f64> {
+    if (lo..=hi).contains(&x) {
+        Ok(x)
+    } else {
+        Err(Error::config(
+            name,
+            Problem::OutOfRange {
+                value: format!("{x:e}"),
+                range: format!("[{lo:e}, {hi:e}]"),
+            },
+        ))
+    }
+}
+
+/// `n` when in `lo..=hi`; else an error naming `name` and the range as `lo..=hi`.
+pub fn in_count_range<T: PartialOrd + std::fmt::Display>(
+    name: &str,
+    n: T,
+    lo: T,
+    hi: T,
+) -> Result<T> {
+    if lo <= n && n <= hi {
+        Ok(n)
+    } else {
+        Err(Error::config(
+            name,
+            Problem::OutOfRange {
+                value: n.to_string(),
+                range: format!("{lo}..={hi}"),
+            },
+        ))
+    }
+}
+
+/// `value` when it is one of `known`; else an error naming `name` and the known values.
+pub fn one_of<'k>(name: &str, value: &str, known: &[&'k str]) -> Result<&'k str> {
+    known.iter().copied().find(|k| *k == value).ok_or_else(|| {
+        Error::config(
+            name,
+            Problem::NotOneOf {
+                value: value.to_string(),
+                known: known.iter().map(|k| k.to_string()).collect(),
+            },
+        )
+    })
+}
+
+/// `c` when finite and non-negative (linear RGB); else an error naming `name`.
+pub fn colour(name: &str, c: [f64; 3]) -> Result<DVec3> {
+    if c.iter().all(|x| x.is_finite() && *x >= 0.0) {
+        Ok(DVec3::from_array(c))
+    } else {
+        Err(Error::config(
+            name,
+            Problem::NotColour {
+                value: format!("{c:?}"),
+            },
+        ))
     }
 }
 
@@ -426,7 +507,12 @@ fn finite_point(name: &str, p: [f64; 3]) -> Result<DVec3> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(Error::Invalid(format!("{name} = {p:?} must be finite")))
+        Err(Error::config(
+            name,
+            Problem::NotFinite {
+                value: format!("{p:?}"),
+            },
+        ))
     }
 }
 
@@ -436,7 +522,12 @@ pub fn direction(name: &str, p: [f64; 3]) -> Result<DVec3> {
     if v.length() > 0.0 {
         Ok(v.normalize())
     } else {
-        Err(Error::Invalid(format!("{name} = {p:?} must be non-zero")))
+        Err(Error::config(
+            name,
+            Problem::Zero {
+                value: format!("{p:?}"),
+            },
+        ))
     }
 }
 

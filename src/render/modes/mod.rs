@@ -215,10 +215,7 @@ macro_rules! modes {
                 $(if name == <$ty as ModeKind>::NAME {
                     return Ok(Mode::$variant(<$ty>::default()));
                 })*
-                Err(crate::Error::Invalid(format!(
-                    "unknown render mode '{name}' (known: {})",
-                    MODE_NAMES.join(", ")
-                )))
+                Err(crate::Error::unknown_name("render mode", name, MODE_NAMES))
             }
 
             /// The mode's name.

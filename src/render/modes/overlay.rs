@@ -29,6 +29,34 @@ impl Default for Overlay {
 }
 
 impl Overlay {
+    /// The overlays' names in scenes (`render.overlay`) and on the command line
+    /// (`--overlay`), each with what `render --help` says of it.
+    pub const CHOICES: [(&'static str, &'static str); 4] = [
+        ("none", "No lines."),
+        ("faces", "Lines along mesh-face boundaries."),
+        ("patches", "Lines along every patch boundary."),
+        ("both", "Both."),
+    ];
+
+    /// The names of [`Overlay::CHOICES`].
+    pub const NAMES: [&'static str; 4] = crate::error::names(Self::CHOICES);
+
+    /// The overlay called `name` (one of [`Overlay::NAMES`]) at the default width.
+    pub fn by_name(name: &str) -> Option<Overlay> {
+        let (face_edges, patch_edges) = match name {
+            "none" => (false, false),
+            "faces" => (true, false),
+            "patches" => (false, true),
+            "both" => (true, true),
+            _ => return None,
+        };
+        Some(Overlay {
+            face_edges,
+            patch_edges,
+            ..Overlay::default()
+        })
+    }
+
     /// True if this overlay draws anything.
     pub fn enabled(&self) -> bool {
         self.patch_edges || self.face_edges

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use crate::error::{Error, Result};
+use crate::error::{Problem, Result};
 use crate::render::environment::{Environment, LatLongMap};
 use crate::render::interaction::ShadingPoint;
 use crate::render::modes::{Footprint, Key, Keys, ModeKind, Sample};
@@ -46,9 +46,13 @@ impl ModeKind for ShadedParams {
     fn configure(&mut self, keys: &Keys<'_>) -> Result<()> {
         if let Some(c) = keys.triple("base_colour")? {
             if c.iter().any(|x| !(0.0..=1.0).contains(x)) {
-                return Err(Error::Invalid(format!(
-                    "shaded.base_colour {c:?} must lie in [0, 1]"
-                )));
+                return Err(keys.error(
+                    "base_colour",
+                    Problem::Must {
+                        value: format!("{c:?}"),
+                        requirement: "lie in [0, 1]".into(),
+                    },
+                ));
             }
             self.base_colour = DVec3::from_array(c);
         }

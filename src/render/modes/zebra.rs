@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::render::interaction::ShadingPoint;
 use crate::render::modes::keys::{self, Flag, Key, Keys};
 use crate::render::modes::stripes::{
@@ -57,9 +57,13 @@ impl ZebraAxis {
             [Some(x), Some(y), Some(z)] if DVec3::new(*x, *y, *z).length() > 0.0 => {
                 Ok(ZebraAxis::World(DVec3::new(*x, *y, *z).normalize()))
             }
-            _ => Err(crate::Error::Invalid(format!(
-                "zebra axis '{text}' is neither view, view-horizontal nor a non-zero X,Y,Z"
-            ))),
+            _ => Err(Error::config(
+                "zebra axis",
+                Problem::Neither {
+                    value: format!("'{text}'"),
+                    forms: "view, view-horizontal nor a non-zero X,Y,Z".into(),
+                },
+            )),
         }
     }
 }
@@ -177,9 +181,13 @@ pub fn zebra_width_deg(text: &str) -> Result<f64> {
         "thick" => Ok(45.0),
         other => match other.parse::<f64>() {
             Ok(x) if x > 0.0 && x <= 360.0 => Ok(x),
-            _ => Err(Error::Invalid(format!(
-                "zebra.width = {text} is neither thin, medium, thick nor degrees in (0, 360]"
-            ))),
+            _ => Err(Error::config(
+                "zebra.width",
+                Problem::Neither {
+                    value: format!("= {text}"),
+                    forms: "thin, medium, thick nor degrees in (0, 360]".into(),
+                },
+            )),
         },
     }
 }
@@ -286,9 +294,13 @@ impl ModeKind for ZebraParams {
                 self.axis = ZebraAxis::World(keys::direction("zebra.axis", a)?);
             }
             Some(other) => {
-                return Err(Error::Invalid(format!(
-                    "zebra.axis = {other} is neither \"view\", \"view-horizontal\" nor [x, y, z]"
-                )));
+                return Err(keys.error(
+                    "axis",
+                    Problem::Neither {
+                        value: format!("= {other}"),
+                        forms: "\"view\", \"view-horizontal\" nor [x, y, z]".into(),
+                    },
+                ));
             }
         }
         keys.one_of("stripes", "width")?;
