@@ -892,7 +892,8 @@ impl Shortfall {
         let shrank = |here: f64, before: f64| {
             here.is_finite() && (!before.is_finite() || here <= Stall::RATIO * before)
         };
-        let fails = |here: f64, limit: f64| !(here <= limit);
+        // NaN fails.
+        let fails = |here: f64, limit: f64| here.is_nan() || here > limit;
         let narrowed = (fails(self.flatness, criterion.flatness)
             && shrank(self.flatness, parent.flatness))
             || (fails(self.cone_deg, criterion.max_cone_deg)
