@@ -111,6 +111,12 @@ pub struct Leaf {
     /// δ, split against the corner plane's normal ([`second_derivative_bounds`] of a Bézier
     /// sub-net, [`sampled_second_bounds`] of a blend); infinite when unknown.
     pub second_bound: [f32; 2],
+    /// Levels the in-leaf search goes deeper than
+    /// [`NewtonSettings::fallback_depth`](crate::render::intersect::NewtonSettings): a piece
+    /// whose splits stopped narrowing it became a leaf above [`SubdivisionCriterion::max_depth`]
+    /// ([`Stall`]), and searching it this much deeper reaches sub-triangles as small as those of
+    /// a leaf at that depth. 0 for every other leaf.
+    pub extra_search: u8,
 }
 
 impl Leaf {
@@ -189,6 +195,7 @@ impl Leaf {
             power: 0,
             degree: 0,
             second_bound: [f32::INFINITY; 2],
+            extra_search: 0,
         }
     }
 
@@ -706,8 +713,9 @@ pub(crate) fn build_params() -> BvhBuildParams {
     params
 }
 
-/// Leaves of one patch into `out`: recursive 4-split of the control net until [`is_leaf`],
-/// each with its box and its power-form coefficients.
+/// Leaves of one patch into `out`: recursive 4-split of the control net until [`is_leaf`]
+/// and the tilt pass, or the piece stalls ([`Stall`]), each with its box and its power-form
+/// coefficients.
 fn subdivide_patch(
     out: &mut Pieces,
     patch: u32,
@@ -715,21 +723,42 @@ fn subdivide_patch(
     criterion: &SubdivisionCriterion,
     padding: f64,
 ) {
-    let mut stack = vec![(UV_CORNERS, net.clone(), 0u32)];
-    while let Some((tri, piece, depth)) = stack.pop() {
+    // Each piece with its parent's shortfall (None for the whole patch) and how many splits in
+    // a row have not narrowed it.
+    let mut stack = vec![(UV_CORNERS, net.clone(), 0u32, None::<Shortfall>, 0u32)];
+    while let Some((tri, piece, depth, parent, stalls)) = stack.pop() {
         let d = piece.degree();
         let corners = [piece.point(d, 0), piece.point(0, d), piece.point(0, 0)];
         // Against the corners as the leaf stores them: the plane its rays are measured from.
-        let piece_tilt = || tilt(corners.map(|p| p.as_vec3().as_dvec3()), &piece);
+        let stored = corners.map(|p| p.as_vec3().as_dvec3());
+        let piece_tilt = || tilt(stored, &piece);
         let mut known_tilt = None;
-        let done = depth >= criterion.max_depth
-            || (depth >= criterion.min_depth
-                && is_leaf(&piece, criterion)
-                && *known_tilt.insert(piece_tilt()) <= criterion.max_tilt);
-        if done {
+        let passes = depth >= criterion.min_depth
+            && depth < criterion.max_depth
+            && is_leaf(&piece, criterion)
+            && *known_tilt.insert(piece_tilt()) <= criterion.max_tilt;
+        let mut shortfall = None;
+        let mut stalls = stalls;
+        let mut stalled = false;
+        if !passes && depth < criterion.max_depth {
+            let here = Shortfall::of(&piece, stored);
+            if let Some(parent) = parent {
+                stalls = if here.stalled_from(&parent, criterion) {
+                    stalls + 1
+                } else {
+                    0
+                };
+                stalled = depth >= criterion.min_depth && stalls >= Stall::SPLITS;
+            }
+            shortfall = Some(here);
+        }
+        if passes || stalled || depth >= criterion.max_depth {
             let mut leaf = Leaf::new(patch, tri, corners, &[&piece]);
             leaf.tilt = f32_up(known_tilt.unwrap_or_else(piece_tilt));
             leaf.second_bound = second_derivative_bounds(&piece, leaf.normal()).map(f32_up);
+            if stalled {
+                leaf.extra_search = (criterion.max_depth - depth).min(u32::from(u8::MAX)) as u8;
+            }
             if (1..=MAX_POWER_DEGREE).contains(&d) {
                 // Its power form is made after the BVH, in traversal order ([`power_forms`]).
                 leaf.degree = d as u8;
@@ -740,8 +769,138 @@ fn subdivide_patch(
         let child_tris = split4(tri);
         // Pushed in reverse so that leaves come out in child order (deterministic layout).
         for c in (0..4).rev() {
-            stack.push((child_tris[c], piece.subdivide(CHILD_CORNERS[c]), depth + 1));
+            stack.push((
+                child_tris[c],
+                piece.subdivide(CHILD_CORNERS[c]),
+                depth + 1,
+                shortfall,
+                stalls,
+            ));
         }
+    }
+}
+
+/// When splitting a Bézier piece has stopped helping: the piece folds over and the split did
+/// not narrow it.
+///
+/// The criterion's measures ([`Shortfall`]) shrink in proportion to a piece's size where the
+/// patch is regular: a split about halves them. Along a fold of the surface (it doubles back:
+/// its normal turns through 180° across a curve of the domain, as over the folded faces of a
+/// scan) every piece across the curve holds both normals, its control net's normal cone stays
+/// above 90° however small it gets, and splitting it only makes more pieces along the curve,
+/// down to [`SubdivisionCriterion::max_depth`]. So a piece that fails the criterion, whose
+/// control net turns over (a net normal at [`Stall::FOLD_CONE_DEG`] or more from its corner
+/// plane's normal, or no corner plane at all) and none of whose failing measures shrank to
+/// [`Stall::RATIO`] of its parent's, for [`Stall::SPLITS`] splits in a row, becomes a leaf as it
+/// is, searched as deep as a leaf at `max_depth` ([`Leaf::extra_search`]). A leaf is correct at
+/// any size (its bounds come from its own control net, and Newton plus the in-leaf search find
+/// its roots); only its speed depends on the criterion.
+///
+/// A regular surface never turns over within a piece that small, so where the criterion is
+/// met today the leaves are the same (the 3.7k-face bunny and the shipped scenes: bit-identical
+/// images). Pieces that are merely distorted (the tilt's stretch above one) are not stopped:
+/// their measures do shrink, only slowly, and stopping them changed the leaves of clean meshes.
+pub(crate) struct Stall;
+
+impl Stall {
+    /// A split narrows a measure when the child's is at most this fraction of the parent's
+    /// (about one half where the patch is regular).
+    pub(crate) const RATIO: f64 = 0.8;
+    /// Splits in a row that narrow no failing measure of a folded piece before it stops.
+    pub(crate) const SPLITS: u32 = 1;
+    /// A control-net normal this far (degrees) from the corner plane's normal: the net turns
+    /// over.
+    pub(crate) const FOLD_CONE_DEG: f64 = 90.0;
+}
+
+/// The measures of [`SubdivisionCriterion`] of one Bézier piece, against its corner plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Shortfall {
+    /// Largest distance of a control point from the corner plane, relative to the net's size;
+    /// NaN when the corner triangle is degenerate.
+    pub flatness: f64,
+    /// Largest angle (degrees) between a control-net triangle normal and the plane's normal;
+    /// NaN when the corner triangle is degenerate.
+    pub cone_deg: f64,
+    /// The [`tilt`] against the stored corners.
+    pub tilt: f64,
+    /// The tilt's stretch `K` with its rounding allowance ([`tilt_parts`]), uncapped: the
+    /// tilt says nothing (is 1) from `K = 1` on, and `K` still shows whether a split narrowed
+    /// it. NaN when the corner triangle is degenerate.
+    pub stretch: f64,
+}
+
+impl Shortfall {
+    /// The measures of `net`, whose corners as a leaf stores them are `stored`.
+    pub(crate) fn of(net: &TriangleBezier, stored: [DVec3; 3]) -> Shortfall {
+        let d = net.degree();
+        let p0 = net.point(d, 0);
+        let plane = (net.point(0, d) - p0).cross(net.point(0, 0) - p0);
+        let size = net.control_bounds().diagonal();
+        let plane_len = plane.length();
+        let tilt = tilt(stored, net);
+        let stretch = tilt_parts(stored, net).map_or(f64::NAN, |(_, k, r)| k + r);
+        if !(plane_len > crate::tolerance::DIVISION_GUARD && size > 0.0) {
+            return Shortfall {
+                flatness: f64::NAN,
+                cone_deg: f64::NAN,
+                tilt,
+                stretch,
+            };
+        }
+        let normal = plane / plane_len;
+        let flatness = net
+            .points()
+            .iter()
+            .map(|&b| (b - p0).dot(normal).abs())
+            .fold(0.0, f64::max)
+            / size;
+        let mut cos = 1.0_f64;
+        for i in 0..d {
+            for j in 0..d - i {
+                let a = net.point(i + 1, j);
+                let n = (net.point(i, j + 1) - a).cross(net.point(i, j) - a);
+                let len = n.length();
+                // As in [`is_leaf`]: collapsed control points carry no direction.
+                if len > 1e-12 * size * size {
+                    cos = cos.min(n.dot(normal) / len);
+                }
+            }
+        }
+        Shortfall {
+            flatness,
+            cone_deg: cos.clamp(-1.0, 1.0).acos().to_degrees(),
+            tilt,
+            stretch,
+        }
+    }
+
+    /// True when this piece, a child of a piece with measures `parent`, turns over
+    /// ([`Stall::FOLD_CONE_DEG`], or has no corner plane) and no measure that fails
+    /// `criterion` here shrank to [`Stall::RATIO`] of the parent's (for the tilt, neither it
+    /// nor its stretch). A measure that is NaN here never shrank; one that was NaN in the
+    /// parent did.
+    pub(crate) fn stalled_from(
+        &self,
+        parent: &Shortfall,
+        criterion: &SubdivisionCriterion,
+    ) -> bool {
+        let folded = self.cone_deg >= Stall::FOLD_CONE_DEG || self.flatness.is_nan();
+        if !folded {
+            return false;
+        }
+        let shrank = |here: f64, before: f64| {
+            here.is_finite() && (!before.is_finite() || here <= Stall::RATIO * before)
+        };
+        // NaN fails.
+        let fails = |here: f64, limit: f64| here.is_nan() || here > limit;
+        let narrowed = (fails(self.flatness, criterion.flatness)
+            && shrank(self.flatness, parent.flatness))
+            || (fails(self.cone_deg, criterion.max_cone_deg)
+                && shrank(self.cone_deg, parent.cone_deg))
+            || (fails(self.tilt, criterion.max_tilt)
+                && (shrank(self.tilt, parent.tilt) || shrank(self.stretch, parent.stretch)));
+        !narrowed
     }
 }
 
@@ -840,12 +999,27 @@ pub(crate) fn affine_radius(corners: [DVec3; 3], nets: &[&TriangleBezier]) -> f6
 /// makes an angle of tangent at most `H / (1 − K)` with the plane, and a ray at a larger angle
 /// is parallel to no chord: it meets the piece at most once.
 pub(crate) fn tilt(corners: [DVec3; 3], net: &TriangleBezier) -> f64 {
+    let Some((slope, stretch, rounding)) = tilt_parts(corners, net) else {
+        return 1.0;
+    };
+    let tangent = (slope + rounding) / (1.0 - stretch - rounding) * (1.0 + 1e-6);
+    if tangent.is_nan() || tangent < 0.0 || stretch + rounding >= 1.0 {
+        1.0
+    } else {
+        tangent.min(1.0)
+    }
+}
+
+/// The parts of [`tilt`]'s bound: the steepest slope `H` of the derivative net over the corner
+/// plane, its in-plane stretch `K` and the rounding allowance added to both; None when the
+/// corner triangle is degenerate.
+pub(crate) fn tilt_parts(corners: [DVec3; 3], net: &TriangleBezier) -> Option<(f64, f64, f64)> {
     let (e1, e2) = (corners[1] - corners[0], corners[2] - corners[0]);
     let normal = e1.cross(e2).normalize_or_zero();
     let d = net.degree();
     let x = e1.normalize_or_zero();
     if d == 0 || normal == DVec3::ZERO || x == DVec3::ZERO {
-        return 1.0;
+        return None;
     }
     let y = normal.cross(x);
     let flat = |v: DVec3| DVec2::new(v.dot(x), v.dot(y));
@@ -853,7 +1027,7 @@ pub(crate) fn tilt(corners: [DVec3; 3], net: &TriangleBezier) -> f64 {
     let (m1, m2) = (flat(e1), flat(e2));
     let det = m1.perp_dot(m2);
     if !det.is_normal() {
-        return 1.0;
+        return None;
     }
     // Rows of M⁻¹: M⁻¹ = [[m2.y, −m2.x], [−m1.y, m1.x]] / det.
     let inv_rows = [DVec2::new(m2.y, -m2.x) / det, DVec2::new(-m1.y, m1.x) / det];
@@ -889,12 +1063,7 @@ pub(crate) fn tilt(corners: [DVec3; 3], net: &TriangleBezier) -> f64 {
         .fold(0.0, f64::max);
     let sigma = smallest_singular_value(e1, e2);
     let rounding = 64.0 * scale * f64::EPSILON * magnitude / sigma;
-    let tangent = (slope + rounding) / (1.0 - stretch - rounding) * (1.0 + 1e-6);
-    if tangent.is_nan() || tangent < 0.0 || stretch + rounding >= 1.0 {
-        1.0
-    } else {
-        tangent.min(1.0)
-    }
+    Some((slope, stretch, rounding))
 }
 
 /// The smallest singular value of the 3×2 matrix `[a b]`: `|a × b| / σ_max`, with `σ_max²` the
@@ -1086,6 +1255,104 @@ mod tests {
         assert!(
             bound >= steepest && bound <= steepest * (1.0 + 1e-5),
             "tilt {bound} against the steepest slope {steepest}"
+        );
+    }
+
+    /// The leaves of one Bézier patch under `criterion`.
+    fn leaves_of(net: &TriangleBezier, criterion: &SubdivisionCriterion) -> Vec<Leaf> {
+        let mut pieces = Pieces::default();
+        subdivide_patch(&mut pieces, 0, net, criterion, 0.0);
+        pieces.leaves
+    }
+
+    /// Twice the area of the leaves' domain triangles (1 when they tile the patch's domain).
+    fn doubled_area(leaves: &[Leaf]) -> f64 {
+        leaves
+            .iter()
+            .map(|l| {
+                let t = l.tri();
+                (t[1] - t[0]).perp_dot(t[2] - t[0])
+            })
+            .sum()
+    }
+
+    /// A quadratic net that folds over in its own plane: along the edge from the first corner
+    /// to the second, `x = 4s − 3s²` runs out to 4/3 and back to 1, so the surface doubles back
+    /// across a curve of the domain and every piece across that curve holds normals `+z` and
+    /// `−z`. Without the stall rule each of them is split to `max_depth`; with it the pieces
+    /// across the fold stop as soon as a split no longer narrows them, and are searched deeper
+    /// instead.
+    #[test]
+    fn a_fold_stops_splitting_with_a_bounded_piece_count() {
+        let net = TriangleBezier::new(
+            2,
+            vec![
+                DVec3::new(0.0, 0.0, 0.0), // b(2,0,0): corner 0
+                DVec3::new(2.0, 0.0, 0.0), // b(1,1,0)
+                DVec3::new(0.0, 0.5, 0.0), // b(1,0,1)
+                DVec3::new(1.0, 0.0, 0.0), // b(0,2,0): corner 1
+                DVec3::new(0.5, 0.5, 0.0), // b(0,1,1)
+                DVec3::new(0.0, 1.0, 0.0), // b(0,0,2): corner 2
+            ],
+        );
+        let criterion = SubdivisionCriterion::default();
+        let root = Shortfall::of(&net, [net.point(2, 0), net.point(0, 2), net.point(0, 0)]);
+        assert!(root.cone_deg > 170.0, "the net turns over: {root:?}");
+        let leaves = leaves_of(&net, &criterion);
+        assert_eq!(doubled_area(&leaves), 1.0, "the leaves tile the domain");
+        let stalled: Vec<&Leaf> = leaves.iter().filter(|l| l.extra_search > 0).collect();
+        assert!(!stalled.is_empty(), "the pieces across the fold stall");
+        for leaf in &stalled {
+            // Area of a leaf at depth k is 4^-k of the domain: its extra search reaches depth 7.
+            let t = leaf.tri();
+            let depth = (1.0 / (t[1] - t[0]).perp_dot(t[2] - t[0])).log(4.0).round() as u32;
+            assert_eq!(u32::from(leaf.extra_search), criterion.max_depth - depth);
+        }
+        // Along the fold a depth-7 split makes hundreds of pieces.
+        assert!(
+            leaves.len() <= 100,
+            "{} leaves ({} stalled)",
+            leaves.len(),
+            stalled.len()
+        );
+        // A deeper criterion changes nothing across the fold: the pieces already stopped.
+        let deeper = SubdivisionCriterion {
+            max_depth: 12,
+            ..criterion
+        };
+        assert!(leaves_of(&net, &deeper).len() <= 2 * leaves.len());
+    }
+
+    /// A regular curved patch (a paraboloid cap, normals within 60° of each other) never
+    /// stalls: its measures halve with every split, and its leaves all meet the criterion.
+    #[test]
+    fn a_regular_patch_never_stalls() {
+        let d = 4;
+        let net = TriangleBezier::from_fn(d, |_, j, k| {
+            let (s, t) = (j as f64 / d as f64, k as f64 / d as f64);
+            DVec3::new(s + 0.3 * t, t, 0.0)
+        });
+        // Lift the control points onto the paraboloid's blossom approximately: a bump.
+        let bumped = TriangleBezier::new(
+            d,
+            net.points()
+                .iter()
+                .map(|p| DVec3::new(p.x, p.y, -0.8 * (p.x * p.x + p.y * p.y)))
+                .collect(),
+        );
+        let criterion = SubdivisionCriterion::default();
+        let leaves = leaves_of(&bumped, &criterion);
+        assert!(
+            leaves.len() > 4,
+            "the bump is split ({} leaves)",
+            leaves.len()
+        );
+        assert_eq!(doubled_area(&leaves), 1.0);
+        assert!(leaves.iter().all(|l| l.extra_search == 0));
+        assert!(
+            leaves
+                .iter()
+                .all(|l| f64::from(l.tilt) <= criterion.max_tilt)
         );
     }
 

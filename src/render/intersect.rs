@@ -452,13 +452,19 @@ impl<'s> Tracer<'s> {
         // origin or beyond the closest hit so far), or a grazing ray that may meet the leaf
         // again closer: search the whole leaf for its roots.
         let mut best = first;
+        // A leaf that stopped splitting early is searched as deep as a leaf at the criterion's
+        // depth would be.
+        let settings = NewtonSettings {
+            fallback_depth: self.newton.fallback_depth + u32::from(leaf.extra_search),
+            ..self.newton
+        };
         let undecided = search(
             &eval,
             bounds,
             start,
             query.planes,
             self.tolerance,
-            &self.newton,
+            &settings,
             exclude,
             known,
             |st, p| {

@@ -393,9 +393,11 @@ const FOLD_MU_MIN: f64 = 0.05;
 /// Relative slack above `μ = ¼` still taken as a fold (the model's higher-order terms).
 const FOLD_MU_SLACK: f64 = 0.1;
 
-/// Deepest search level [`search`] goes to, whatever [`NewtonSettings::fallback_depth`] says:
-/// 4^-12 of the piece is far below any root tolerance.
-pub(crate) const SEARCH_DEPTH_CAP: u32 = 12;
+/// Deepest search level [`search`] goes to, whatever [`NewtonSettings::fallback_depth`] says
+/// (plus a leaf's [`Leaf::extra_search`](crate::render::bvh::Leaf)): 4^-16 of the piece is far
+/// below any root tolerance, and lets a leaf that stopped splitting at depth 1 of its patch be
+/// searched as deep as one at the default depth 7.
+pub(crate) const SEARCH_DEPTH_CAP: u32 = 16;
 
 /// The search of a piece whose Newton run was undecided: the unit triangle is split into four
 /// recursively (`depth` levels); a sub-triangle Δ is excluded when the residual's Taylor bound
