@@ -282,6 +282,7 @@ mod tests {
 
     use super::unfold_rings;
     use crate::mesh::front_facing::front_facing_normals;
+    use crate::mesh::generate::bad::test_support::folded_dart;
     use crate::mesh::topology::NO_TWIN;
 
     /// Twins of a consistently oriented manifold triangle list.
@@ -322,21 +323,10 @@ mod tests {
         flips
     }
 
-    /// A dart in the plane `z = 0` (`c` inside the triangle `a, d, b`) cut along `ab`: the
-    /// face `(a, b, c)` lies over `(b, a, d)` facing the other way, so the rings of `a` and
-    /// `b` fold. The diagonal `cd` lies inside the dart.
-    fn dart() -> Vec<DVec3> {
-        vec![
-            DVec3::new(0.0, 0.0, 0.0),
-            DVec3::new(2.0, 0.0, 0.0),
-            DVec3::new(1.0, 0.3, 0.0),
-            DVec3::new(1.0, 1.0, 0.0),
-        ]
-    }
-
     #[test]
     fn a_folded_pair_of_faces_is_flipped_to_the_other_diagonal() {
-        let positions = dart();
+        // The dart alone: its two top faces.
+        let (positions, _) = folded_dart();
         let mut faces = vec![[0, 1, 2], [1, 0, 3]];
         assert_eq!(folded(&positions, &faces), vec![0, 1]);
         let flips = unfold(&positions, &mut faces);
@@ -346,19 +336,9 @@ mod tests {
         assert!(folded(&positions, &faces).is_empty());
     }
 
-    /// The dart closed by an apex below it: a closed manifold whose top folds.
     #[test]
     fn a_closed_mesh_stays_closed_and_manifold_and_unfolds() {
-        let mut positions = dart();
-        positions.push(DVec3::new(1.0, 0.5, -1.0));
-        let mut faces = vec![
-            [0, 1, 2],
-            [1, 0, 3],
-            [3, 0, 4],
-            [1, 3, 4],
-            [2, 1, 4],
-            [0, 2, 4],
-        ];
+        let (positions, mut faces) = folded_dart();
         assert!(!folded(&positions, &faces).is_empty());
         let flips = unfold(&positions, &mut faces);
         assert_eq!(flips.len(), 1);
@@ -395,7 +375,7 @@ mod tests {
     /// other diagonal is taken already) is left as it is.
     #[test]
     fn a_fold_no_flip_undoes_is_left_alone() {
-        let positions = dart();
+        let (positions, _) = folded_dart();
         // The dart cut along ab, plus a face on c and d that joins them already.
         let mut faces = vec![[0, 1, 2], [1, 0, 3], [3, 2, 1]];
         let written = faces.clone();

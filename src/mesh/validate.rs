@@ -1362,30 +1362,9 @@ mod tests {
         }
     }
 
-    /// A closed mesh whose top is a dart cut along the wrong diagonal (face (0, 1, 2) lies
-    /// over face (1, 0, 3), facing the other way): the rings of vertices 0 and 1 fold.
-    fn folded_dart() -> generate::Triangles {
-        let positions = vec![
-            DVec3::new(0.0, 0.0, 0.0),
-            DVec3::new(2.0, 0.0, 0.0),
-            DVec3::new(1.0, 0.3, 0.0),
-            DVec3::new(1.0, 1.0, 0.0),
-            DVec3::new(1.0, 0.5, -1.0),
-        ];
-        let faces = vec![
-            [0, 1, 2],
-            [1, 0, 3],
-            [3, 0, 4],
-            [1, 3, 4],
-            [2, 1, 4],
-            [0, 2, 4],
-        ];
-        (positions, faces)
-    }
-
     #[test]
     fn a_folded_ring_is_unfolded_by_an_edge_flip_and_refused_when_strict() {
-        let (mesh, report) = load(folded_dart()).unwrap();
+        let (mesh, report) = load(bad::test_support::folded_dart()).unwrap();
         let listed = repairs(&report);
         assert!(
             listed.contains(&(RepairKind::FoldedRingEdgeFlipped, 1, Element::Edge(0, 1))),
@@ -1414,7 +1393,7 @@ mod tests {
             vec![[0, 2, 3], [1, 2, 3]],
             "the top is cut along (2, 3)"
         );
-        strict_refusal(folded_dart(), "edge (0, 1)");
+        strict_refusal(bad::test_support::folded_dart(), "edge (0, 1)");
     }
 
     #[test]

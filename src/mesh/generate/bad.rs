@@ -208,3 +208,35 @@ pub fn seamed_cylinder(columns: u32, rows: u32) -> Triangles {
     }
     (positions, faces)
 }
+
+/// Test-only meshes: used by the unit tests of the loader, compiled only for them.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use glam::DVec3;
+
+    use crate::mesh::generate::Triangles;
+
+    /// A closed mesh whose top is a dart in the plane `z = 0` (vertex 2 inside the triangle of
+    /// vertices 0, 3, 1) cut along the wrong diagonal: face (0, 1, 2) lies over face (1, 0, 3)
+    /// facing the other way, so the one-rings of vertices 0 and 1 fold over themselves; the other
+    /// diagonal (2, 3) lies inside the dart. Vertex 4 is the apex below that closes it. Loading
+    /// flips the edge (`RepairKind::FoldedRingEdgeFlipped`).
+    pub(crate) fn folded_dart() -> Triangles {
+        let positions = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.3, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(1.0, 0.5, -1.0),
+        ];
+        let faces = vec![
+            [0, 1, 2],
+            [1, 0, 3],
+            [3, 0, 4],
+            [1, 3, 4],
+            [2, 1, 4],
+            [0, 2, 4],
+        ];
+        (positions, faces)
+    }
+}
