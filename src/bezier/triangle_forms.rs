@@ -11,6 +11,9 @@ use crate::bezier::CurveBezier;
 use crate::bezier::triangle::{TriangleBezier, de_casteljau_step, index, point_count};
 use crate::geom::Aabb;
 
+/// Nets of up to this many control points (degree 8) are subdivided on stack buffers.
+const STACK_POINTS: usize = point_count(8);
+
 impl TriangleBezier {
     /// The same surface over the sub-triangle with barycentric corners `corners` (each a
     /// barycentric point of this patch's domain): the result's corner `b(d,0,0)` is at
@@ -22,32 +25,49 @@ impl TriangleBezier {
     /// For corners inside the domain every step is a convex combination (stable); outside it
     /// is extrapolation and loses accuracy with the distance.
     pub fn subdivide(&self, corners: [DVec3; 3]) -> TriangleBezier {
+        let count = point_count(self.degree());
+        let mut points = vec![DVec3::ZERO; count];
+        if count <= STACK_POINTS {
+            let mut after_c0 = [DVec3::ZERO; STACK_POINTS];
+            let mut after_c1 = [DVec3::ZERO; STACK_POINTS];
+            let mut after_c2 = [DVec3::ZERO; STACK_POINTS];
+            self.blossom_net(corners, [&mut after_c0, &mut after_c1, &mut after_c2], &mut points);
+        } else {
+            let mut buffers = [(); 3].map(|_| vec![DVec3::ZERO; count]);
+            let [a, b, c] = &mut buffers;
+            self.blossom_net(corners, [a, b, c], &mut points);
+        }
+        TriangleBezier::new(self.degree(), points)
+    }
+
+    /// The net of [`TriangleBezier::subdivide`] into `points`, with three working nets
+    /// (`scratch`, each at least as long as the net): the net after the steps at `c0`, then
+    /// at `c1`, then at `c2`.
+    fn blossom_net(
+        &self,
+        [c0, c1, c2]: [DVec3; 3],
+        [after_c0, after_c1, after_c2]: [&mut [DVec3]; 3],
+        points: &mut [DVec3],
+    ) {
         let d = self.degree();
-        let [c0, c1, c2] = corners;
-        let mut points = vec![DVec3::ZERO; point_count(d)];
-        let mut after_c0 = self.points().to_vec();
-        let mut after_c1 = Vec::with_capacity(point_count(d));
-        let mut after_c2 = Vec::with_capacity(point_count(d));
+        after_c0[..point_count(d)].copy_from_slice(self.points());
         for i in 0..=d {
             if i > 0 {
-                de_casteljau_step(&mut after_c0, d - i + 1, c0);
+                de_casteljau_step(after_c0, d - i + 1, c0);
             }
-            after_c1.clear();
-            after_c1.extend_from_slice(&after_c0[..point_count(d - i)]);
+            after_c1[..point_count(d - i)].copy_from_slice(&after_c0[..point_count(d - i)]);
             for j in 0..=d - i {
                 if j > 0 {
-                    de_casteljau_step(&mut after_c1, d - i - j + 1, c1);
+                    de_casteljau_step(after_c1, d - i - j + 1, c1);
                 }
                 let k = d - i - j;
-                after_c2.clear();
-                after_c2.extend_from_slice(&after_c1[..point_count(k)]);
+                after_c2[..point_count(k)].copy_from_slice(&after_c1[..point_count(k)]);
                 for m in (1..=k).rev() {
-                    de_casteljau_step(&mut after_c2, m, c2);
+                    de_casteljau_step(after_c2, m, c2);
                 }
                 points[index(d, i, j)] = after_c2[0];
             }
         }
-        TriangleBezier::new(d, points)
     }
 
     /// The same surface as a patch of degree d+1 [Piper87 §3.6]:
