@@ -622,6 +622,11 @@ const POWER_CHUNK: usize = 1024;
 /// The power forms of `leaves` (in their order; each leaf's [`Leaf::power`] is set to the
 /// start of its run), made in parallel straight into one array: each leaf's sub-net is
 /// rebuilt from its patch in `frame` by the same splits as [`subdivide_patch`], bit for bit.
+///
+/// Within a work item the leaves are visited by patch and in depth-first order of their
+/// [`SplitPath`]s, keeping the pieces of the path walked last: a leaf splits only from where
+/// its path leaves the previous one, so each piece is made about once per work item instead
+/// of once per leaf below it.
 fn power_forms(surface: &Surface, frame: UnitFrame, leaves: &mut [Leaf]) -> Vec<DVec3> {
     let size = |leaf: &Leaf| {
         if leaf.degree > 0 {
@@ -644,40 +649,88 @@ fn power_forms(surface: &Surface, frame: UnitFrame, leaves: &mut [Leaf]) -> Vec<
         rest = tail;
     }
     work.into_par_iter().for_each(|(chunk, out)| {
-        let mut at = 0;
-        for leaf in chunk.iter().filter(|leaf| leaf.degree > 0) {
-            let PatchGeometry::Bezier(net) = &surface.patches[leaf.patch as usize].geometry else {
+        let base = chunk.iter().find(|leaf| leaf.degree > 0).map_or(0, |l| l.power);
+        let mut visits: Vec<(u32, SplitPath, &Leaf)> = chunk
+            .iter()
+            .filter(|leaf| leaf.degree > 0)
+            .map(|leaf| (leaf.patch, SplitPath::to(leaf.tri()), leaf))
+            .collect();
+        visits.sort_unstable_by_key(|&(patch, path, _)| (patch, path));
+        // pieces[k]: the piece after the first k splits of `walked`, a path of `patch`.
+        let mut pieces: Vec<TriangleBezier> = Vec::with_capacity(SplitPath::MAX_SPLITS + 1);
+        let mut walked = (u32::MAX, SplitPath::WHOLE);
+        for (patch, path, leaf) in visits {
+            let PatchGeometry::Bezier(net) = &surface.patches[patch as usize].geometry else {
                 continue;
             };
-            let piece = leaf_piece(net.map_points(|p| frame.map(p)), leaf.tri());
-            let form = power_coefficients(&piece);
+            if walked.0 != patch {
+                pieces.clear();
+                pieces.push(net.map_points(|p| frame.map(p)));
+                walked = (patch, SplitPath::WHOLE);
+            }
+            pieces.truncate(walked.1.common_prefix(path) + 1);
+            for level in pieces.len() - 1..path.len() {
+                let piece = pieces[level].subdivide(CHILD_CORNERS[path.child(level)]);
+                pieces.push(piece);
+            }
+            walked.1 = path;
+            let form = power_coefficients(&pieces[path.len()]);
+            let at = (leaf.power - base) as usize;
             out[at..at + form.len()].copy_from_slice(&form);
-            at += form.len();
         }
     });
     power
 }
 
-/// The sub-net of `net` over the sub-triangle `target` of its domain, a piece of repeated
-/// [`split4`]s: the splits are retraced from the whole domain (the child holding `target`'s
-/// centroid at each level), each by the same [`TriangleBezier::subdivide`] as the subdivision.
-fn leaf_piece(net: TriangleBezier, target: [DVec2; 3]) -> TriangleBezier {
-    let centroid = (target[0] + target[1] + target[2]) / 3.0;
-    let (mut tri, mut piece) = (UV_CORNERS, net);
-    // A leaf is at most 23 splits deep (its corners are stored in f32).
-    for _ in 0..24 {
-        if tri == target {
-            break;
+/// The [`split4`] children taken from the whole domain down to a leaf's sub-triangle, as
+/// base-4 digits from the most significant end of a `u64`, so that paths sort depth-first
+/// (a path before the paths that extend it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct SplitPath {
+    digits: u64,
+    len: u8,
+}
+
+impl SplitPath {
+    /// A leaf is at most this many splits deep (its corners are stored in f32).
+    const MAX_SPLITS: usize = 24;
+    /// The path of the whole domain.
+    const WHOLE: SplitPath = SplitPath { digits: 0, len: 0 };
+
+    /// The path to the sub-triangle `target`: at each level the child holding its centroid,
+    /// until the sub-triangle is reached (or no child holds the centroid, or
+    /// [`SplitPath::MAX_SPLITS`] splits).
+    fn to(target: [DVec2; 3]) -> SplitPath {
+        let centroid = (target[0] + target[1] + target[2]) / 3.0;
+        let (mut tri, mut path) = (UV_CORNERS, SplitPath::WHOLE);
+        while path.len() < Self::MAX_SPLITS && tri != target {
+            let children = split4(tri);
+            let Some(c) =
+                (0..4).find(|&c| barycentric_in(children[c], centroid).min_element() > 0.0)
+            else {
+                break;
+            };
+            path.digits |= (c as u64) << (62 - 2 * path.len());
+            path.len += 1;
+            tri = children[c];
         }
-        let children = split4(tri);
-        let Some(c) = (0..4).find(|&c| barycentric_in(children[c], centroid).min_element() > 0.0)
-        else {
-            break;
-        };
-        piece = piece.subdivide(CHILD_CORNERS[c]);
-        tri = children[c];
+        path
     }
-    piece
+
+    fn len(self) -> usize {
+        usize::from(self.len)
+    }
+
+    /// The child taken at split `level` (0 first).
+    fn child(self, level: usize) -> usize {
+        ((self.digits >> (62 - 2 * level)) & 3) as usize
+    }
+
+    /// How many first splits the two paths share.
+    fn common_prefix(self, other: SplitPath) -> usize {
+        let shared = ((self.digits ^ other.digits).leading_zeros() / 2) as usize;
+        shared.min(self.len()).min(other.len())
+    }
 }
 
 /// Rearranges `data`, blocks of `block` items, in place so that block `i` becomes the old
@@ -1354,6 +1407,59 @@ mod tests {
                 .iter()
                 .all(|l| f64::from(l.tilt) <= criterion.max_tilt)
         );
+    }
+
+    /// Every leaf's power form, made by the shared-prefix walk of [`power_forms`], is bit for
+    /// bit the form of its piece retraced alone from the whole patch, and its [`SplitPath`]
+    /// leads to its sub-triangle.
+    #[test]
+    fn power_forms_equal_each_leaf_retraced_alone() {
+        let surface = crate::testing::surfaces::octahedron_sphere(5, 3.0, 1);
+        let frame = UnitFrame {
+            centre: DVec3::new(0.25, -0.5, 1.0),
+            scale: 0.5,
+        };
+        let criterion = SubdivisionCriterion {
+            flatness: 0.002,
+            ..SubdivisionCriterion::default()
+        };
+        let bvh = PatchBvh::build_in(&surface, frame, &criterion).expect("bvh");
+        let mut deepest = 0;
+        for leaf in bvh.leaves.iter().filter(|leaf| leaf.degree > 0) {
+            let PatchGeometry::Bezier(net) = &surface.patches[leaf.patch as usize].geometry else {
+                panic!("octahedron patches are Bézier nets");
+            };
+            let path = SplitPath::to(leaf.tri());
+            let (mut tri, mut piece) = (UV_CORNERS, net.map_points(|p| frame.map(p)));
+            for level in 0..path.len() {
+                tri = split4(tri)[path.child(level)];
+                piece = piece.subdivide(CHILD_CORNERS[path.child(level)]);
+            }
+            assert_eq!(tri, leaf.tri(), "the path of leaf {leaf:?}");
+            let form = power_coefficients(&piece);
+            let at = leaf.power as usize;
+            assert_eq!(&bvh.power[at..at + form.len()], form.as_slice(), "leaf {leaf:?}");
+            deepest = deepest.max(path.len());
+        }
+        assert!(deepest >= 3, "the leaves should be several splits deep, got {deepest}");
+    }
+
+    #[test]
+    fn split_paths_sort_depth_first_and_share_prefixes() {
+        let root = SplitPath::WHOLE;
+        let down = |path: SplitPath, c: u64| SplitPath {
+            digits: path.digits | (c << (62 - 2 * path.len())),
+            len: path.len + 1,
+        };
+        let (a, a0, a3, b) = (down(root, 1), down(down(root, 1), 0), down(down(root, 1), 3), down(root, 2));
+        let mut paths = vec![b, a3, a0, a, root];
+        paths.sort();
+        assert_eq!(paths, vec![root, a, a0, a3, b]);
+        assert_eq!(a0.common_prefix(a3), 1);
+        assert_eq!(a0.common_prefix(a), 1);
+        assert_eq!(a.common_prefix(b), 0);
+        assert_eq!(a3.common_prefix(a3), 2);
+        assert_eq!((a3.child(0), a3.child(1)), (1, 3));
     }
 
     #[test]
