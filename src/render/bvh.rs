@@ -649,7 +649,10 @@ fn power_forms(surface: &Surface, frame: UnitFrame, leaves: &mut [Leaf]) -> Vec<
         rest = tail;
     }
     work.into_par_iter().for_each(|(chunk, out)| {
-        let base = chunk.iter().find(|leaf| leaf.degree > 0).map_or(0, |l| l.power);
+        let base = chunk
+            .iter()
+            .find(|leaf| leaf.degree > 0)
+            .map_or(0, |l| l.power);
         let mut visits: Vec<(u32, SplitPath, &Leaf)> = chunk
             .iter()
             .filter(|leaf| leaf.degree > 0)
@@ -1438,10 +1441,17 @@ mod tests {
             assert_eq!(tri, leaf.tri(), "the path of leaf {leaf:?}");
             let form = power_coefficients(&piece);
             let at = leaf.power as usize;
-            assert_eq!(&bvh.power[at..at + form.len()], form.as_slice(), "leaf {leaf:?}");
+            assert_eq!(
+                &bvh.power[at..at + form.len()],
+                form.as_slice(),
+                "leaf {leaf:?}"
+            );
             deepest = deepest.max(path.len());
         }
-        assert!(deepest >= 3, "the leaves should be several splits deep, got {deepest}");
+        assert!(
+            deepest >= 3,
+            "the leaves should be several splits deep, got {deepest}"
+        );
     }
 
     #[test]
@@ -1451,7 +1461,12 @@ mod tests {
             digits: path.digits | (c << (62 - 2 * path.len())),
             len: path.len + 1,
         };
-        let (a, a0, a3, b) = (down(root, 1), down(down(root, 1), 0), down(down(root, 1), 3), down(root, 2));
+        let (a, a0, a3, b) = (
+            down(root, 1),
+            down(down(root, 1), 0),
+            down(down(root, 1), 3),
+            down(root, 2),
+        );
         let mut paths = vec![b, a3, a0, a, root];
         paths.sort();
         assert_eq!(paths, vec![root, a, a0, a3, b]);
