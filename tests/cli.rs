@@ -558,6 +558,26 @@ fn export_to_an_unwritable_path_names_it() {
     assert_fails_naming(&out, &["tet.obj: is not a folder"]);
 }
 
+/// Export errors name a patch's face as the file numbers its faces: here the file's face 0
+/// repeats a corner and is removed on loading, so the surface's first patch lies on the
+/// file's face 1.
+#[test]
+fn export_errors_name_the_face_the_file_wrote() {
+    let dir = scratch("export-face-numbers");
+    let mesh = write(&dir, "tet.obj", &TETRAHEDRON.replace("f 1 2 3", "f 1 1 2\nf 1 2 3"));
+    let target = dir.join("out.bv");
+    let out = smoothlab(&[
+        "export",
+        mesh.to_str().expect("utf-8"),
+        "--scheme",
+        "nielson",
+        "-o",
+        target.to_str().expect("utf-8"),
+    ]);
+    assert_fails_naming(&out, &["patch 0 (face 1, piece 0) is not polynomial"]);
+    assert!(!target.exists(), "nothing is written on an error");
+}
+
 /// `export` takes its format from `-o`'s extension when `--format` is not given, and every
 /// command creates a missing output folder as `render -o` does.
 #[test]

@@ -485,7 +485,8 @@ impl Surface {
         }
         let built = Arc::clone(&self.built);
         detached::run(py, OnInterrupt::Join, move |_| {
-            smoothlab::export::write(&built.user, format, tess, &path)
+            let input_face = |t: u32| built.mesh.input_face(t);
+            smoothlab::export::write(&built.user, format, tess, &input_face, &path)
         })?
         .map_err(to_py)
     }

@@ -419,14 +419,17 @@ pub(crate) fn run_export(
     tess: usize,
     raw_params: &[String],
 ) -> Result<Output> {
-    let (_, surface, warnings) =
+    let (mesh, surface, warnings) =
         build_on_file(mesh_path, load, scheme, raw_params, ("-o", out_path))?;
     let writing = crate::progress::spinner(format!(
         "writing {} patches to {}",
         surface.patches.len(),
         out_path.display()
     ));
-    write_atomic(out_path, export::export(&surface, format, tess)?.as_bytes())?;
+    write_atomic(
+        out_path,
+        export::export(&surface, format, tess, &|t| mesh.input_face(t))?.as_bytes(),
+    )?;
     writing.finish_and_clear();
     Ok(Output {
         stdout: format!(

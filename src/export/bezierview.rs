@@ -37,14 +37,16 @@ pub(crate) fn bezierview_order(b: &TriangleBezier) -> impl Iterator<Item = glam:
     (0..=d).flat_map(move |k| (0..=d - k).map(move |j| b.point(d - j - k, j)))
 }
 
-/// The `.bv` text of `surface`. Fails on a patch with no Bézier form, naming it.
-pub(crate) fn to_bv(surface: &Surface) -> Result<String> {
+/// The `.bv` text of `surface`. Fails on a patch with no Bézier form, naming it and its face
+/// as `input_face` numbers it.
+pub(crate) fn to_bv(surface: &Surface, input_face: &dyn Fn(u32) -> usize) -> Result<String> {
     let mut out = String::new();
     for (index, patch) in surface.patches.iter().enumerate() {
         let bezier = patch.as_bezier().ok_or_else(|| {
             Error::Invalid(format!(
                 "patch {index} (face {}, piece {}) is not polynomial; .bv needs Bézier patches",
-                patch.face, patch.piece
+                input_face(patch.face),
+                patch.piece
             ))
         })?;
         // Writing into a String cannot fail.
@@ -102,7 +104,7 @@ mod tests {
             params: vec![],
             patches: vec![patch(labelled_cubic()), patch(linear)],
         };
-        let text = to_bv(&surface).expect("polynomial patches");
+        let text = to_bv(&surface, &|t| t as usize).expect("polynomial patches");
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 1 + 10 + 1 + 3);
         assert_eq!(lines[0], "3 3");

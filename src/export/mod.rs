@@ -74,13 +74,20 @@ impl Format {
 /// The text of `surface` in `format`; `tess` is the number of subdivisions per patch edge
 /// for [`Format::Obj`] and is ignored otherwise.
 ///
-/// A surface with a NaN or infinite control point is refused, naming the patch.
-pub fn export(surface: &Surface, format: Format, tess: usize) -> Result<String> {
+/// A surface with a NaN or infinite control point is refused, naming the patch and its face
+/// as `input_face` numbers it (the input's own face numbering,
+/// [`crate::mesh::Mesh::input_face`]; `&|face| face as usize` for a surface's own numbering).
+pub fn export(
+    surface: &Surface,
+    format: Format,
+    tess: usize,
+    input_face: &dyn Fn(u32) -> usize,
+) -> Result<String> {
     if let Some(index) = surface.first_non_finite_patch() {
         return Err(Error::NonFiniteResult {
             what: format!(
                 "a control point of patch {index} (face {})",
-                surface.patches[index].face
+                input_face(surface.patches[index].face)
             ),
             value: surface.patches[index]
                 .control_points()
@@ -91,18 +98,24 @@ pub fn export(surface: &Surface, format: Format, tess: usize) -> Result<String> 
     }
     match format {
         Format::Json => json::to_json(surface),
-        Format::BezierView => bezierview::to_bv(surface),
-        Format::Obj => obj::to_obj(surface, tess),
+        Format::BezierView => bezierview::to_bv(surface, input_face),
+        Format::Obj => obj::to_obj(surface, tess, input_face),
     }
 }
 
 /// Writes [`export`]'s text of `surface` in `format` to `path` as `smoothlab export` writes
 /// it: the path checked first ([`check_writable`](crate::files::check_writable)), the file
 /// written atomically ([`write_atomic`](crate::files::write_atomic): a complete file or the
-/// old one, never a part).
-pub fn write(surface: &Surface, format: Format, tess: usize, path: &std::path::Path) -> Result<()> {
+/// old one, never a part); errors name faces as `input_face` numbers them.
+pub fn write(
+    surface: &Surface,
+    format: Format,
+    tess: usize,
+    input_face: &dyn Fn(u32) -> usize,
+    path: &std::path::Path,
+) -> Result<()> {
     crate::files::check_writable(path)?;
-    crate::files::write_atomic(path, export(surface, format, tess)?.as_bytes())
+    crate::files::write_atomic(path, export(surface, format, tess, input_face)?.as_bytes())
 }
 
 #[cfg(test)]

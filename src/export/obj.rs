@@ -59,8 +59,13 @@ pub(crate) fn estimated_bytes(patches: usize, tess: usize) -> f64 {
 /// The OBJ text of `surface` tessellated with `1 ≤ tess ≤` [`MAX_TESS`] subdivisions per
 /// patch edge. The size of the text is estimated first and refused when it exceeds the
 /// available memory ([`crate::budget::check_memory`]); a position or normal that is not
-/// finite, or a patch without a normal, is an error naming the patch.
-pub(crate) fn to_obj(surface: &Surface, tess: usize) -> Result<String> {
+/// finite, or a patch without a normal, is an error naming the patch and its face as
+/// `input_face` numbers it.
+pub(crate) fn to_obj(
+    surface: &Surface,
+    tess: usize,
+    input_face: &dyn Fn(u32) -> usize,
+) -> Result<String> {
     if !(1..=MAX_TESS).contains(&tess) {
         return Err(Error::Invalid(format!(
             "--tess {tess} must be in 1..={MAX_TESS} (subdivisions per patch edge)"
@@ -91,7 +96,9 @@ pub(crate) fn to_obj(surface: &Surface, tess: usize) -> Result<String> {
                     return Err(Error::NonFiniteResult {
                         what: format!(
                             "the normal of patch {index} (face {}) at (u, v) = ({}, {})",
-                            patch.face, uv.x, uv.y
+                            input_face(patch.face),
+                            uv.x,
+                            uv.y
                         ),
                         value: if p.is_finite() {
                             n.length()
@@ -246,7 +253,7 @@ mod tests {
     fn vertices_normals_and_faces_agree_with_the_patch() {
         let surface = quadratic_surface();
         let tess = 4;
-        let text = to_obj(&surface, tess).expect("tessellates");
+        let text = to_obj(&surface, tess, &|t| t as usize).expect("tessellates");
         let parse = |prefix: &str| -> Vec<DVec3> {
             text.lines()
                 .filter_map(|l| l.strip_prefix(prefix))
@@ -338,15 +345,26 @@ mod tests {
     fn patches_share_the_vertices_of_their_common_edge() {
         let tess = 5;
         let grid = grid_vertex_count(tess);
-        let flat = to_obj(&two_triangles(DVec3::new(1.0, 1.0, 0.0), 0.0), tess).unwrap();
+        let flat = to_obj(&two_triangles(DVec3::new(1.0, 1.0, 0.0), 0.0), tess, &|t| {
+            t as usize
+        })
+        .unwrap();
         assert_eq!(count(&flat, "v "), 2 * grid - (tess + 1));
         assert_eq!(count(&flat, "vn "), 2 * grid - (tess + 1));
         assert_eq!(count(&flat, "f "), 2 * tess * tess);
-        let kink = to_obj(&two_triangles(DVec3::new(1.0, 1.0, 0.5), 0.0), tess).unwrap();
+        let kink = to_obj(&two_triangles(DVec3::new(1.0, 1.0, 0.5), 0.0), tess, &|t| {
+            t as usize
+        })
+        .unwrap();
         assert_eq!(count(&kink, "v "), 2 * grid - (tess + 1));
         assert_eq!(count(&kink, "vn "), 2 * grid);
         // 1e-6 of the diagonal: a thousand times the G0 contract.
-        let open = to_obj(&two_triangles(DVec3::new(1.0, 1.0, 0.0), 1.5e-6), tess).unwrap();
+        let open = to_obj(
+            &two_triangles(DVec3::new(1.0, 1.0, 0.0), 1.5e-6),
+            tess,
+            &|t| t as usize,
+        )
+        .unwrap();
         assert_eq!(count(&open, "v "), 2 * grid);
         assert!(flat.contains(&format!("{} vertices", 2 * grid - (tess + 1))));
         assert!(flat.contains("0 triangles dropped"));
@@ -354,7 +372,7 @@ mod tests {
 
     #[test]
     fn zero_subdivisions_is_an_error() {
-        let err = to_obj(&quadratic_surface(), 0).expect_err("tess 0");
+        let err = to_obj(&quadratic_surface(), 0, &|t| t as usize).expect_err("tess 0");
         assert!(err.to_string().contains("--tess"), "{err}");
     }
 }

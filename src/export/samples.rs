@@ -59,11 +59,12 @@ fn patch_uv(patch: &Patch, target: DVec3) -> Option<(f64, f64)> {
     (lambda.min_element() >= -DOMAIN_ZERO).then_some((lambda.y, lambda.z))
 }
 
-/// The point and normal of `face`'s patches at the face-barycentric point `target`.
+/// The point and normal of a face's `patches` at the face-barycentric point `target`; errors
+/// name the face as the input numbers it (`input_face`).
 fn sample_face(
     surface: &Surface,
     patches: &[usize],
-    face: u32,
+    input_face: usize,
     target: DVec3,
 ) -> Result<SamplePoint> {
     let (patch, (u, v)) = patches
@@ -71,7 +72,7 @@ fn sample_face(
         .find_map(|&p| patch_uv(&surface.patches[p], target).map(|uv| (p, uv)))
         .ok_or_else(|| {
             Error::Invalid(format!(
-                "scheme '{}': no patch of face {face} covers barycentric point {target}",
+                "scheme '{}': no patch of face {input_face} covers barycentric point {target}",
                 surface.scheme
             ))
         })?;
@@ -103,7 +104,10 @@ pub(crate) fn edge_samples(surface: &Surface, mesh: &Mesh) -> Result<SampleFile>
             let (a, b) = (at(edge.a), at(edge.b));
             joint_fractions()
                 .iter()
-                .map(|&s| sample_face(surface, &by_face[f as usize], f, (1.0 - s) * a + s * b))
+                .map(|&s| {
+                    let target = (1.0 - s) * a + s * b;
+                    sample_face(surface, &by_face[f as usize], mesh.input_face(f), target)
+                })
                 .collect()
         };
         edges.push(EdgeSamples {

@@ -210,7 +210,7 @@ pub fn check_surface(surface: &Surface, mesh: &Mesh, user: &[(String, String)]) 
             },
             reason: format!(
                 "patch {patch} (face {}) {what}",
-                surface.patches[patch].face
+                mesh.input_face(surface.patches[patch].face)
             ),
         }
     };
