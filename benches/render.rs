@@ -1,6 +1,7 @@
 //! Renderer throughput (a few minutes in total; the job group is the longest):
 //! - BVH build over subdivided patch bounds, in patches per second, for an `hb` torus of
-//!   15 360 quintic patches;
+//!   15 360 quintic patches and for the scanned bunny's 4000 (`scenes/bunny.obj`: irregular
+//!   rings, many more leaves per patch);
 //! - primary-ray throughput (closest hit, one thread) on that surface, and on the scanned bunny
 //!   seen close up (`primary_rays/exact_hb_bunny_view_256`);
 //! - exact patches against the tessellated path at the level whose largest normal error is
@@ -50,7 +51,19 @@ fn bvh_build(c: &mut Criterion) {
     group.bench_function("hb_torus_15k_patches", |b| {
         b.iter(|| PatchBvh::build(black_box(&surface), &SubdivisionCriterion::default()))
     });
+    let bunny = scanned_bunny_hb();
+    group.throughput(Throughput::Elements(bunny.patches.len() as u64));
+    group.bench_function("hb_scanned_bunny_4k_patches", |b| {
+        b.iter(|| PatchBvh::build(black_box(&bunny), &SubdivisionCriterion::default()))
+    });
     group.finish();
+}
+
+/// The hb surface of the scanned bunny (`scenes/bunny.obj`, 1000 faces, 4000 patches).
+fn scanned_bunny_hb() -> Surface {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bunny.obj");
+    let (mesh, _) = Mesh::load(&path).expect("scenes/bunny.obj");
+    smoothlab::schemes::build("hb", &mesh, &[]).expect("hb on the bunny")
 }
 
 /// The unit icosphere of 81,920 faces (`generate::analytic::sphere(6)`).
@@ -112,9 +125,7 @@ fn primary_rays(c: &mut Criterion) {
 /// --up 0,0,1 --fov 40`: 256² rays through the pixel centres, one thread.
 fn bunny_view(c: &mut Criterion) {
     use smoothlab::render::{Camera, Projection};
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bunny.obj");
-    let (mesh, _) = Mesh::load(&path).expect("scenes/bunny.obj");
-    let surface = smoothlab::schemes::build("hb", &mesh, &[]).expect("hb on the bunny");
+    let surface = scanned_bunny_hb();
     let camera = Camera::look_at(
         glam::DVec3::new(0.0, 4.0, 12.0),
         glam::DVec3::new(0.0, 3.5, 0.0),

@@ -564,7 +564,11 @@ fn export_to_an_unwritable_path_names_it() {
 #[test]
 fn export_errors_name_the_face_the_file_wrote() {
     let dir = scratch("export-face-numbers");
-    let mesh = write(&dir, "tet.obj", &TETRAHEDRON.replace("f 1 2 3", "f 1 1 2\nf 1 2 3"));
+    let mesh = write(
+        &dir,
+        "tet.obj",
+        &TETRAHEDRON.replace("f 1 2 3", "f 1 1 2\nf 1 2 3"),
+    );
     let target = dir.join("out.bv");
     let out = smoothlab(&[
         "export",

@@ -219,20 +219,6 @@ pub const TIMING_KEYS: [&str; 3] = [
     "construct_ms_spread_rel",
 ];
 
-/// Measures every registered scheme on every benchmark mesh it accepts.
-pub fn run() -> Result<Report> {
-    run_with_progress(&|_, _, _| {})
-}
-
-/// [`run`], calling `progress(done, total, "mesh / scheme")` before each record is measured
-/// and `progress(total, total, "")` at the end.
-pub fn run_with_progress(progress: &dyn Fn(usize, usize, &str)) -> Result<Report> {
-    let work = benchmark_work(&default_variants())?;
-    let all: Vec<usize> = (0..work.items.len()).collect();
-    let measured = measure_items(&work, &all, None, progress)?;
-    Ok(Report::stamped(measured.records))
-}
-
 /// Every registered scheme with its default parameters, in registry order.
 pub fn default_variants() -> Vec<batch::Variant> {
     SCHEMES
@@ -624,7 +610,8 @@ pub fn write(out_dir: &Path) -> Result<Report> {
     write_with_progress(out_dir, &|_, _, _| {})
 }
 
-/// [`write()`], reporting progress as [`run_with_progress`] does.
+/// [`write()`], calling `progress(done, total, "mesh / scheme")` before each record is
+/// measured and `progress(total, total, "")` at the end.
 pub fn write_with_progress(
     out_dir: &Path,
     progress: &dyn Fn(usize, usize, &str),

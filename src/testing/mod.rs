@@ -28,7 +28,10 @@ pub mod app {
 /// The benchmark report and results page (`smoothlab report`), for the tests that check
 /// what it writes.
 pub mod report {
-    pub use crate::report::*;
+    pub use crate::report::{
+        Report, TIMING_KEYS, TIMING_RUNS, analytic, benchmark_meshes, history, page, plots,
+        provenance, read, schemes_covered, summary_line, trends, write,
+    };
 }
 
 /// The renderer's internals that tests and benchmarks drive directly: the BVH, the tessellated
