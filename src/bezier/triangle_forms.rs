@@ -31,7 +31,11 @@ impl TriangleBezier {
             let mut after_c0 = [DVec3::ZERO; STACK_POINTS];
             let mut after_c1 = [DVec3::ZERO; STACK_POINTS];
             let mut after_c2 = [DVec3::ZERO; STACK_POINTS];
-            self.blossom_net(corners, [&mut after_c0, &mut after_c1, &mut after_c2], &mut points);
+            self.blossom_net(
+                corners,
+                [&mut after_c0, &mut after_c1, &mut after_c2],
+                &mut points,
+            );
         } else {
             let mut buffers = [(); 3].map(|_| vec![DVec3::ZERO; count]);
             let [a, b, c] = &mut buffers;
