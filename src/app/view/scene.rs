@@ -112,10 +112,13 @@ impl BaseScene {
             table
         };
         if !table.contains_key("mesh") {
-            return Err(Error::Invalid(format!(
-                "{}: no mesh given",
-                input.display()
-            )));
+            return Err(Error::config(
+                "mesh",
+                Problem::Stated {
+                    message: "no mesh given".into(),
+                },
+            )
+            .within(input.display().to_string()));
         }
         if let Some(toml::Value::Table(render)) = table.get_mut("render") {
             for key in [
