@@ -491,7 +491,7 @@ mod tests {
         assert_eq!(
             err.to_string(),
             format!(
-                "{}: figure spec: curvature_range = -1 is neither \"auto\" nor a positive number",
+                "{}: figure spec: curvature_range -1 is neither \"auto\" nor a positive number",
                 path.display()
             )
         );
