@@ -470,6 +470,12 @@ pub enum Problem {
         /// What follows the key.
         text: String,
     },
+    /// `MESSAGE`: a sentence of its own that names the key in its own words, not first
+    /// (`the view cannot set the scene key 'render.output'`).
+    Stated {
+        /// The whole message.
+        message: String,
+    },
 }
 
 impl Problem {
@@ -529,6 +535,7 @@ impl Problem {
             }
             Problem::Refused { reason } => format!("{key}: {reason}"),
             Problem::Other { text } => format!("{key} {text}"),
+            Problem::Stated { message } => message.clone(),
         }
     }
 }
@@ -630,5 +637,227 @@ impl Error {
             path: path.into(),
             source,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The message of `key` having `problem`, through [`Error::Config`]'s Display.
+    fn shown(key: &str, problem: Problem) -> String {
+        Error::config(key, problem).to_string()
+    }
+
+    /// The wording of every problem, as the user reads it.
+    #[test]
+    fn problem_wording() {
+        let s = String::from;
+        assert_eq!(
+            shown(
+                "strpes",
+                Problem::UnknownKey {
+                    section: Some(s("zebra")),
+                    known: vec![s("`stripes`"), s("`duty`")],
+                }
+            ),
+            "zebra: unknown field `strpes`, expected one of `stripes`, `duty`"
+        );
+        assert_eq!(
+            shown(
+                "x",
+                Problem::UnknownKey {
+                    section: None,
+                    known: vec![],
+                }
+            ),
+            "unknown field `x`: the section takes no keys"
+        );
+        assert_eq!(
+            shown(
+                "zebra.duty",
+                Problem::WrongType {
+                    value: s("\"a\""),
+                    expected: s("a number"),
+                }
+            ),
+            "zebra.duty = \"a\" is not a number"
+        );
+        assert_eq!(
+            shown(
+                "camera.eye",
+                Problem::WrongLength {
+                    value: s("[1, 2]"),
+                    len: 2,
+                    expected: 3,
+                }
+            ),
+            "camera.eye = [1, 2]: invalid length 2, expected 3 elements"
+        );
+        assert_eq!(
+            shown(
+                "camera.eye",
+                Problem::WrongElement {
+                    element: s("\"a\""),
+                    expected: "a number",
+                }
+            ),
+            "camera.eye element \"a\" is not a number"
+        );
+        assert_eq!(
+            shown("--spp", Problem::NotPositive { value: s("0") }),
+            "--spp = 0 must be a positive number"
+        );
+        assert_eq!(
+            shown(
+                "zebra.stripes",
+                Problem::OutOfRange {
+                    value: s("0"),
+                    range: s("1..=360"),
+                }
+            ),
+            "zebra.stripes = 0 must be in 1..=360"
+        );
+        assert_eq!(
+            shown("zebra.duty", Problem::NotFraction { value: s("2") }),
+            "zebra.duty = 2 must lie in [0, 1]"
+        );
+        assert_eq!(
+            shown(
+                "bvh.max_leaves",
+                Problem::BelowMinimum {
+                    value: s("0"),
+                    min: s("1"),
+                }
+            ),
+            "bvh.max_leaves = 0 must be at least 1"
+        );
+        assert_eq!(
+            shown("render.line_width", Problem::NotFinite { value: s("inf") }),
+            "render.line_width = inf must be finite"
+        );
+        assert_eq!(
+            shown(
+                "highlight.plane_normal",
+                Problem::Zero {
+                    value: s("[0, 0, 0]")
+                }
+            ),
+            "highlight.plane_normal = [0, 0, 0] must be non-zero"
+        );
+        assert_eq!(
+            shown(
+                "render.background",
+                Problem::NotColour {
+                    value: s("[-1, 0, 0]")
+                }
+            ),
+            "render.background = [-1, 0, 0] must be non-negative linear RGB"
+        );
+        assert_eq!(
+            shown(
+                "render.overlay",
+                Problem::NotOneOf {
+                    value: s("thick"),
+                    known: vec![s("none"), s("edges")],
+                }
+            ),
+            "render.overlay 'thick' is not one of none, edges"
+        );
+        assert_eq!(
+            shown(
+                "render.line_width",
+                Problem::Neither {
+                    value: s("= thick2"),
+                    forms: s("thin, medium nor a number"),
+                }
+            ),
+            "render.line_width = thick2 is neither thin, medium nor a number"
+        );
+        assert_eq!(
+            shown(
+                "camera.fov",
+                Problem::Conflict {
+                    other: s("camera.ortho")
+                }
+            ),
+            "camera.fov and camera.ortho both set: give one"
+        );
+        assert_eq!(
+            shown(
+                "--turntable",
+                Problem::Excludes {
+                    other: s("--sweep")
+                }
+            ),
+            "--turntable and --sweep exclude each other"
+        );
+        assert_eq!(
+            shown(
+                "render.surface",
+                Problem::Needs {
+                    value: Some(s("false")),
+                    needed: s("render.curves"),
+                }
+            ),
+            "render.surface = false needs render.curves"
+        );
+        assert_eq!(
+            shown(
+                "--turntable-axis",
+                Problem::Needs {
+                    value: None,
+                    needed: s("--turntable"),
+                }
+            ),
+            "--turntable-axis needs --turntable"
+        );
+        assert_eq!(
+            shown(
+                "orbit angle",
+                Problem::Must {
+                    value: s("NaN"),
+                    requirement: s("be finite"),
+                }
+            ),
+            "orbit angle NaN must be finite"
+        );
+        assert_eq!(
+            shown(
+                "camera eye, target and up",
+                Problem::Must {
+                    value: String::new(),
+                    requirement: s("be finite"),
+                }
+            ),
+            "camera eye, target and up must be finite"
+        );
+        assert_eq!(
+            shown(
+                "crease_angle",
+                Problem::Refused {
+                    reason: s("too large")
+                }
+            ),
+            "crease_angle: too large"
+        );
+        assert_eq!(
+            shown(
+                "--bind",
+                Problem::Other {
+                    text: s("0.0.0.0: no")
+                }
+            ),
+            "--bind 0.0.0.0: no"
+        );
+        assert_eq!(
+            shown(
+                "render.output",
+                Problem::Stated {
+                    message: s("the view cannot set the scene key 'render.output'"),
+                }
+            ),
+            "the view cannot set the scene key 'render.output'"
+        );
     }
 }

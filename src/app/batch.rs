@@ -19,7 +19,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::mesh::{LoadOptions, MeshFormat};
 use crate::report::batch::{MeshSource, Variant, WorkItem, WorkList};
 use crate::schemes::{self, Params, SCHEMES};
@@ -49,7 +49,7 @@ pub(crate) fn variants(
     }
     let mut out: Vec<Variant> = Vec::new();
     for (origin, line) in lines {
-        for v in parse_sweep(&line).map_err(|e| Error::Invalid(format!("{origin}: {e}")))? {
+        for v in parse_sweep(&line).map_err(|e| e.within(origin.as_str()))? {
             if !out.contains(&v) {
                 out.push(v);
             }
@@ -75,14 +75,19 @@ pub(crate) fn with_defaults(mut variants: Vec<Variant>, raw: &[String]) -> Resul
                 .collect();
             known.sort_unstable();
             known.dedup();
-            return Err(Error::Invalid(format!(
-                "--param {name}: no scheme of the report has a parameter '{name}' (they have: {})",
-                if known.is_empty() {
-                    "none".to_string()
-                } else {
-                    known.join(", ")
-                }
-            )));
+            return Err(Error::config(
+                "--param",
+                Problem::Other {
+                    text: format!(
+                        "{name}: no scheme of the report has a parameter '{name}' (they have: {})",
+                        if known.is_empty() {
+                            "none".to_string()
+                        } else {
+                            known.join(", ")
+                        }
+                    ),
+                },
+            ));
         }
     }
     for v in &mut variants {
@@ -122,32 +127,41 @@ fn scheme_list(selection: &str) -> Result<Vec<Variant>> {
 pub(crate) fn parse_sweep(text: &str) -> Result<Vec<Variant>> {
     let mut parts = text.split(':');
     let scheme = schemes::find(parts.next().unwrap_or_default().trim())?;
+    let sweep_error = |reason: String| {
+        Error::config(
+            "sweep",
+            Problem::Other {
+                text: format!("'{text}': {reason}"),
+            },
+        )
+    };
     let mut axes: Vec<(String, Vec<String>)> = Vec::new();
     for part in parts {
         let (name, values) = part.split_once('=').ok_or_else(|| {
-            Error::Invalid(format!(
-                "sweep '{text}': '{part}' is not NAME=V1,V2,… (e.g. hb:beta=0.1,0.2)"
+            sweep_error(format!(
+                "'{part}' is not NAME=V1,V2,… (e.g. hb:beta=0.1,0.2)"
             ))
         })?;
         let name = name.trim().to_string();
         let values: Vec<String> = values.split(',').map(|v| v.trim().to_string()).collect();
         if name.is_empty() || values.iter().any(String::is_empty) {
-            return Err(Error::Invalid(format!(
-                "sweep '{text}': '{part}' has an empty name or value"
-            )));
+            return Err(sweep_error(format!("'{part}' has an empty name or value")));
         }
         if axes.iter().any(|(n, _)| *n == name) {
-            return Err(Error::Invalid(format!(
-                "sweep '{text}': parameter '{name}' is given twice"
-            )));
+            return Err(sweep_error(format!("parameter '{name}' is given twice")));
         }
         axes.push((name, values));
     }
     if axes.is_empty() {
-        return Err(Error::Invalid(format!(
-            "sweep '{text}' sweeps no parameter (e.g. {}:NAME=V1,V2)",
-            scheme.name
-        )));
+        return Err(Error::config(
+            "sweep",
+            Problem::Other {
+                text: format!(
+                    "'{text}' sweeps no parameter (e.g. {}:NAME=V1,V2)",
+                    scheme.name
+                ),
+            },
+        ));
     }
     let names: Vec<(String, String)> = axes
         .iter()
@@ -363,6 +377,51 @@ mod tests {
             let err = parse_sweep(bad).expect_err(bad);
             assert!(err.to_string().contains(says), "{bad}: {err}");
         }
+    }
+
+    /// Sweep syntax and `--param` errors are typed configuration errors, worded as before;
+    /// a sweep's origin is their place.
+    #[test]
+    fn sweep_and_param_errors_are_config_errors() {
+        let is_sweep = |err: &Error| matches!(err, Error::Config { key, problem: Problem::Other { .. } } if key == "sweep");
+        for (bad, says) in [
+            ("hb", "sweep 'hb' sweeps no parameter (e.g. hb:NAME=V1,V2)"),
+            (
+                "hb:beta",
+                "sweep 'hb:beta': 'beta' is not NAME=V1,V2,… (e.g. hb:beta=0.1,0.2)",
+            ),
+            (
+                "hb:beta=1,",
+                "sweep 'hb:beta=1,': 'beta=1,' has an empty name or value",
+            ),
+            (
+                "hb:beta=1:beta=2",
+                "sweep 'hb:beta=1:beta=2': parameter 'beta' is given twice",
+            ),
+        ] {
+            let err = parse_sweep(bad).expect_err(bad);
+            assert!(is_sweep(&err), "{bad}: {err:?}");
+            assert_eq!(err.to_string(), says);
+        }
+        let err = variants("all", &["hb".into()], &[]).expect_err("no parameter");
+        assert!(
+            matches!(err, Error::In { ref place, ref error } if place == "--sweep" && is_sweep(error)),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "--sweep: sweep 'hb' sweeps no parameter (e.g. hb:NAME=V1,V2)"
+        );
+        let err = with_defaults(vec![Variant::default_of("flat")], &["beta=1".into()])
+            .expect_err("flat has no beta");
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "--param"),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "--param beta: no scheme of the report has a parameter 'beta' (they have: none)"
+        );
     }
 
     #[test]

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use crate::app::scene::SceneFile;
 use crate::app::turntable;
 use crate::app::{parse_crease_angle, parse_weld_tolerance};
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::files::{check_distinct, check_writable, utf8_path};
 use crate::mesh::Mesh;
 use crate::render::modes::{DEFAULT_MODE, Flag, MODE_FLAGS, MODE_HELP, Overlay};
@@ -72,21 +72,38 @@ impl ModeFlags {
         let flag = mode_flags()
             .into_iter()
             .find(|f| f.long == long)
-            .ok_or_else(|| Error::Invalid(format!("no mode has the flag --{long}")))?;
+            .ok_or_else(|| {
+                Error::config(
+                    format!("--{long}"),
+                    Problem::Stated {
+                        message: format!("no mode has the flag --{long}"),
+                    },
+                )
+            })?;
         let value = match (flag.value, text) {
-            (Some(parse), Some(text)) => {
-                Some(parse(text).map_err(|e| Error::Invalid(format!("--{long} {text}: {e}")))?)
-            }
+            (Some(parse), Some(text)) => Some(parse(text).map_err(|e| {
+                Error::config(
+                    format!("--{long}"),
+                    Problem::Other {
+                        text: format!("{text}: {e}"),
+                    },
+                )
+            })?),
             (None, None) => None,
             _ => {
-                return Err(Error::Invalid(format!(
-                    "--{long} {} a value",
-                    if flag.value.is_some() {
-                        "takes"
-                    } else {
-                        "takes no"
-                    }
-                )));
+                return Err(Error::config(
+                    format!("--{long}"),
+                    Problem::Other {
+                        text: format!(
+                            "{} a value",
+                            if flag.value.is_some() {
+                                "takes"
+                            } else {
+                                "takes no"
+                            }
+                        ),
+                    },
+                ));
             }
         };
         self.given.push((flag.long, value));
@@ -112,9 +129,14 @@ impl ModeFlags {
                 } else {
                     (*other, *long)
                 };
-                return Err(Error::Invalid(format!(
-                    "--{a} and --{b} both given: they set the same parameter, give one, not both"
-                )));
+                return Err(Error::config(
+                    format!("--{a}"),
+                    Problem::Other {
+                        text: format!(
+                            "and --{b} both given: they set the same parameter, give one, not both"
+                        ),
+                    },
+                ));
             }
         }
         for (long, value) in &self.given {
@@ -459,10 +481,15 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     let scene = scene_of(args)?;
     let job = scene.job()?;
     let animation = scene.animation()?;
-    let mesh_path = scene
-        .mesh
-        .clone()
-        .ok_or_else(|| Error::Invalid(format!("{}: no mesh given", args.input.display())))?;
+    let mesh_path = scene.mesh.clone().ok_or_else(|| {
+        Error::config(
+            "mesh",
+            Problem::Stated {
+                message: "no mesh given".into(),
+            },
+        )
+        .within(args.input.display().to_string())
+    })?;
     let load_options = scene.load_options()?;
     let exr = scene.exr_compression()?;
     // The frame and its files are the largest allocation a small mesh makes: refused first.
@@ -472,11 +499,17 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
         crate::render::output::output_bytes_per_pixel(exr.is_some()),
     )?;
     let scheme = scene.scheme.name.clone().ok_or_else(|| {
-        Error::Invalid(format!(
-            "{}: no scheme given: pass --scheme NAME (one of {}) or set [scheme] name in a scene",
-            args.input.display(),
-            schemes::names().join(", ")
-        ))
+        Error::config(
+            "scheme.name (--scheme)",
+            Problem::Stated {
+                message: format!(
+                    "no scheme given: pass --scheme NAME (one of {}) or set [scheme] name in a \
+                     scene",
+                    schemes::names().join(", ")
+                ),
+            },
+        )
+        .within(args.input.display().to_string())
     })?;
     schemes::find(&scheme)?;
     let name = match scene.render.output.clone() {
@@ -493,9 +526,12 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
         }
     };
     if args.shard.is_some() && animation.is_none() {
-        return Err(Error::Invalid(
-            "--shard splits the frames of --turntable or --sweep; a single image is one piece"
-                .into(),
+        return Err(Error::config(
+            "--shard",
+            Problem::Other {
+                text: "splits the frames of --turntable or --sweep; a single image is one piece"
+                    .into(),
+            },
         ));
     }
     // Every output path is checked before the (possibly long) work.
@@ -691,6 +727,91 @@ mod tests {
         assert_eq!(
             scene.scheme_params(),
             vec![("normals".to_string(), "obj".to_string())]
+        );
+    }
+
+    /// The config error of `key` that `err` is, inside its place if it has one.
+    fn config_of(err: &Error) -> (&str, &Problem) {
+        match err {
+            Error::Config { key, problem } => (key, problem),
+            Error::In { error, .. } => config_of(error),
+            other => panic!("not a configuration error: {other:?}"),
+        }
+    }
+
+    /// Bad flag values, conflicting flags and flags without their animation are typed
+    /// configuration errors naming the flag, worded as before.
+    #[test]
+    fn flag_errors_are_config_errors() {
+        let err = ModeFlags::default()
+            .with("zebra-stripes", Some("many"))
+            .expect_err("not a number");
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "--zebra-stripes"),
+            "{err:?}"
+        );
+        assert!(
+            err.to_string().starts_with("--zebra-stripes many: "),
+            "{err}"
+        );
+        let err = ModeFlags::default()
+            .with("zebra-stripes", None)
+            .expect_err("takes a value");
+        assert!(matches!(
+            config_of(&err),
+            ("--zebra-stripes", Problem::Other { .. })
+        ));
+        assert_eq!(err.to_string(), "--zebra-stripes takes a value");
+        let err = ModeFlags::default()
+            .with("no-such-flag", None)
+            .expect_err("unknown");
+        assert!(matches!(
+            config_of(&err),
+            ("--no-such-flag", Problem::Stated { .. })
+        ));
+        assert_eq!(err.to_string(), "no mode has the flag --no-such-flag");
+        let err = ModeFlags::default()
+            .with("zebra-width", Some("thin"))
+            .and_then(|f| f.with("zebra-stripes", Some("8")))
+            .expect("flags")
+            .apply(&mut SceneFile::default())
+            .expect_err("one period");
+        assert!(matches!(
+            config_of(&err),
+            ("--zebra-stripes", Problem::Other { .. })
+        ));
+        assert_eq!(
+            err.to_string(),
+            "--zebra-stripes and --zebra-width both given: they set the same parameter, give \
+             one, not both"
+        );
+        let args = RenderArgs {
+            input: PathBuf::from("bunny.obj"),
+            ..RenderArgs::default()
+        };
+        let err = render_command(&args).expect_err("no scheme");
+        assert!(matches!(
+            config_of(&err),
+            ("scheme.name (--scheme)", Problem::Stated { .. })
+        ));
+        assert!(
+            err.to_string()
+                .starts_with("bunny.obj: no scheme given: pass --scheme NAME (one of "),
+            "{err}"
+        );
+        let err = render_command(&RenderArgs {
+            scheme: Some("flat".into()),
+            shard: Some(crate::report::shard::Shard { index: 0, count: 2 }),
+            ..args
+        })
+        .expect_err("one image");
+        assert!(matches!(
+            config_of(&err),
+            ("--shard", Problem::Other { .. })
+        ));
+        assert_eq!(
+            err.to_string(),
+            "--shard splits the frames of --turntable or --sweep; a single image is one piece"
         );
     }
 }

@@ -23,7 +23,7 @@ use glam::DVec3;
 use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, RgbaImage};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::files::{check_writable, create_folder, write_atomic};
 use crate::mesh::Mesh;
 use crate::render::camera::{Camera, Projection, unit};
@@ -119,10 +119,15 @@ pub(crate) fn frame_view(
                 .mode
                 .swept(f64::from(k) / f64::from(frames))
                 .ok_or_else(|| {
-                    Error::Invalid(format!(
-                        "a stripe sweep needs a mode with stripes to move, not '{}'",
-                        settings.mode.name()
-                    ))
+                    Error::config(
+                        "render.sweep (--sweep)",
+                        Problem::Stated {
+                            message: format!(
+                                "a stripe sweep needs a mode with stripes to move, not '{}'",
+                                settings.mode.name()
+                            ),
+                        },
+                    )
                 })?;
             Ok((
                 *camera,
@@ -458,6 +463,21 @@ struct Frames<'a> {
     wanted: &'a dyn Fn(u32) -> bool,
 }
 
+/// Refuses an image size an animated GIF cannot hold (at most 65535 pixels a side).
+fn check_gif_size(width: u32, height: u32) -> Result<()> {
+    if u16::try_from(width).is_err() || u16::try_from(height).is_err() {
+        return Err(Error::config(
+            "render.size (--size)",
+            Problem::Stated {
+                message: format!(
+                    "an animated GIF is at most 65535 pixels per side, not {width}x{height}"
+                ),
+            },
+        ));
+    }
+    Ok(())
+}
+
 /// [`render_animation_frames`] through one built tracer.
 fn render_frames(
     tracer: &JobTracer<'_>,
@@ -467,12 +487,7 @@ fn render_frames(
     mut settings: RenderSettings,
     out: &Frames,
 ) -> Result<RenderStats> {
-    if u16::try_from(settings.width).is_err() || u16::try_from(settings.height).is_err() {
-        return Err(Error::Invalid(format!(
-            "an animated GIF is at most 65535 pixels per side, not {}x{}",
-            settings.width, settings.height
-        )));
-    }
+    check_gif_size(settings.width, settings.height)?;
     let axis = turntable_axis(animation, job, camera);
     let bar = progress_bar(animation);
     let mut total = RenderStats::default();
@@ -566,6 +581,29 @@ mod tests {
         };
         let err = frame_view(&sweep, 1, &camera, DVec3::Y, &diffuse).expect_err("no stripes");
         assert!(err.to_string().contains("diffuse"), "{err}");
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "render.sweep (--sweep)"),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "a stripe sweep needs a mode with stripes to move, not 'diffuse'"
+        );
+    }
+
+    /// An animation's size must fit a GIF: a configuration error of `render.size`.
+    #[test]
+    fn gif_sides_are_limited() {
+        assert!(check_gif_size(65535, 1).is_ok());
+        let err = check_gif_size(65536, 10).expect_err("too wide");
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "render.size (--size)"),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "an animated GIF is at most 65535 pixels per side, not 65536x10"
+        );
     }
 
     #[test]

@@ -271,19 +271,34 @@ impl Camera {
         }
         check_fov(fov_deg)?;
         if !(aspect > 0.0 && aspect.is_finite()) {
-            return Err(Error::Invalid(format!(
-                "cannot frame with image aspect {aspect}"
-            )));
+            return Err(Error::config(
+                "image aspect",
+                Problem::Stated {
+                    message: format!("cannot frame with image aspect {aspect}"),
+                },
+            ));
         }
         let center = bounds.center();
-        let back = unit(from)
-            .ok_or_else(|| Error::Invalid("framing direction must be non-zero".into()))?;
+        let back = unit(from).ok_or_else(|| {
+            Error::config(
+                "framing direction",
+                Problem::Must {
+                    value: String::new(),
+                    requirement: "be non-zero".into(),
+                },
+            )
+        })?;
         let right = unit(up).and_then(|u| unit(u.cross(back))).ok_or_else(|| {
-            Error::Invalid(format!(
-                "camera up {up} is zero or parallel to the automatic view direction {}; give \
-                 --eye (and --target) to choose the view",
-                -back
-            ))
+            Error::config(
+                "camera up",
+                Problem::Other {
+                    text: format!(
+                        "{up} is zero or parallel to the automatic view direction {}; give \
+                         --eye (and --target) to choose the view",
+                        -back
+                    ),
+                },
+            )
         })?;
         let true_up = back.cross(right);
         let tan_v = (0.5 * fov_deg.to_radians()).tan() / FRAMING_MARGIN;
@@ -489,6 +504,42 @@ impl Camera {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Framing refuses a bad aspect, view direction or up as typed configuration errors,
+    /// worded as before.
+    #[test]
+    fn framing_errors_are_config_errors() {
+        let points = [DVec3::ZERO, DVec3::ONE];
+        let err = Camera::frame_points(points.as_slice(), Camera::DEFAULT_VIEW, 40.0, 0.0)
+            .expect_err("aspect");
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "image aspect"),
+            "{err:?}"
+        );
+        assert_eq!(err.to_string(), "cannot frame with image aspect 0");
+        let err =
+            Camera::frame_points(points.as_slice(), DVec3::ZERO, 40.0, 1.0).expect_err("direction");
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Must { .. } } if key == "framing direction"),
+            "{err:?}"
+        );
+        assert_eq!(err.to_string(), "framing direction must be non-zero");
+        let err = Camera::frame_points_with_up(points.as_slice(), DVec3::Y, DVec3::Y, 40.0, 1.0)
+            .expect_err("up");
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "camera up"),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "camera up {} is zero or parallel to the automatic view direction {}; give \
+                 --eye (and --target) to choose the view",
+                DVec3::Y,
+                -DVec3::Y
+            )
+        );
+    }
 
     #[test]
     fn an_orbit_keeps_distance_and_target_and_closes_after_a_turn() {

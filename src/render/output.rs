@@ -17,7 +17,7 @@
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::files::{check_writable, create_folder, ends_with_separator, utf8_path, write_atomic};
 use crate::render::camera::{Camera, Projection};
 use crate::render::film::Frame;
@@ -418,18 +418,28 @@ pub fn check_output_name(name: &Path) -> Result<()> {
         || stem.file_name().is_none()
         || meta.as_ref().is_some_and(std::fs::Metadata::is_dir)
     {
-        return Err(Error::Invalid(format!(
-            "output name {}: is a folder; give a file name stem such as {}",
-            name.display(),
-            stem.join("render").display()
-        )));
+        return Err(Error::config(
+            "output name",
+            Problem::Other {
+                text: format!(
+                    "{}: is a folder; give a file name stem such as {}",
+                    name.display(),
+                    stem.join("render").display()
+                ),
+            },
+        ));
     }
     if meta.is_some_and(|m| !m.is_file()) {
-        return Err(Error::Invalid(format!(
-            "output name {}: is not a regular file; give a file name stem (NAME writes \
-             NAME.png and NAME.exr)",
-            name.display()
-        )));
+        return Err(Error::config(
+            "output name",
+            Problem::Other {
+                text: format!(
+                    "{}: is not a regular file; give a file name stem (NAME writes NAME.png and \
+                     NAME.exr)",
+                    name.display()
+                ),
+            },
+        ));
     }
     Ok(())
 }
@@ -473,6 +483,32 @@ pub fn write_outputs_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An output name that is a folder or not a regular file is a configuration error of the
+    /// output name, worded as before.
+    #[test]
+    fn bad_output_names_are_config_errors() {
+        let is_name_error = |err: &Error| matches!(err, Error::Config { key, problem: Problem::Other { .. } } if key == "output name");
+        let err = check_output_name(Path::new("out/")).expect_err("folder");
+        assert!(is_name_error(&err), "{err:?}");
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "output name out/: is a folder; give a file name stem such as {}",
+                Path::new("out").join("render").display()
+            )
+        );
+        #[cfg(unix)]
+        {
+            let err = check_output_name(Path::new("/dev/null")).expect_err("device");
+            assert!(is_name_error(&err), "{err:?}");
+            assert_eq!(
+                err.to_string(),
+                "output name /dev/null: is not a regular file; give a file name stem (NAME \
+                 writes NAME.png and NAME.exr)"
+            );
+        }
+    }
 
     /// The remembered last value gives the bytes of encoding every value on its own.
     #[test]

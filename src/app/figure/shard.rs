@@ -158,7 +158,7 @@ pub(crate) fn run_figure_spec_shard(
     let dir = path.parent().unwrap_or(Path::new(""));
     let job = spec
         .job(dir)
-        .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
+        .map_err(|e| e.within(path.display().to_string()))?;
     let rendered = items_of(&cell_costs(&job), shard);
     let cell_file =
         |k: usize, ext: &str| stem.with_file_name(format!("{base}{}.{ext}", suffixes[k]));
@@ -383,6 +383,7 @@ pub(crate) fn merge_figure(parts: &[PathBuf], out: &Path) -> Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::Problem;
     use std::path::Path;
 
     fn job(spec: &str) -> FigureJob {
@@ -458,5 +459,41 @@ mod tests {
         assert_eq!(known, range);
         assert_eq!(curv[0].frame.rgb, whole[2].frame.rgb);
         assert!(render_cells(&job, &[6]).is_err());
+    }
+
+    /// A spec's configuration error keeps its type under the spec's path, worded as before.
+    #[test]
+    fn spec_errors_keep_their_type() {
+        let dir = std::env::temp_dir().join(format!("smoothlab-shard-spec-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("fig.toml");
+        let spec = format!(
+            "mesh = \"icosahedron\"\noutput = {:?}\ncurvature_range = -1\n[[schemes]]\n\
+             name = \"flat\"\n[[modes]]\nname = \"zebra\"\n",
+            dir.join("x")
+        );
+        std::fs::write(&path, spec).expect("spec");
+        let err = run_figure_spec_shard(&path, Shard { index: 0, count: 2 }, None)
+            .expect_err("bad curvature_range");
+        std::fs::remove_dir_all(&dir).ok();
+        let Error::In {
+            ref place,
+            ref error,
+        } = err
+        else {
+            panic!("{err:?}")
+        };
+        assert_eq!(place, &path.display().to_string());
+        assert!(
+            matches!(**error, Error::In { ref error, .. } if matches!(**error, Error::Config { ref key, problem: Problem::Neither { .. } } if key == "curvature_range")),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "{}: figure spec: curvature_range -1 is neither \"auto\" nor a positive number",
+                path.display()
+            )
+        );
     }
 }

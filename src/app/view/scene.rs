@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::app::scene::{SceneFile, file_beside};
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::render::RenderJob;
 use crate::render::modes::MODE_KEYS;
 
@@ -112,10 +112,13 @@ impl BaseScene {
             table
         };
         if !table.contains_key("mesh") {
-            return Err(Error::Invalid(format!(
-                "{}: no mesh given",
-                input.display()
-            )));
+            return Err(Error::config(
+                "mesh",
+                Problem::Stated {
+                    message: "no mesh given".into(),
+                },
+            )
+            .within(input.display().to_string()));
         }
         if let Some(toml::Value::Table(render)) = table.get_mut("render") {
             for key in [
@@ -179,7 +182,12 @@ impl BaseScene {
         let mut table = self.table.clone();
         for (name, keys) in sections {
             let allowed = page_keys(name).ok_or_else(|| {
-                Error::Invalid(format!("the view cannot set the scene section '{name}'"))
+                Error::config(
+                    name.as_str(),
+                    Problem::Stated {
+                        message: format!("the view cannot set the scene section '{name}'"),
+                    },
+                )
             })?;
             let serde_json::Value::Object(keys) = keys else {
                 return Err(Error::Invalid(format!(
@@ -192,9 +200,12 @@ impl BaseScene {
             };
             for (key, value) in keys {
                 if !allowed.contains(&key.as_str()) {
-                    return Err(Error::Invalid(format!(
-                        "the view cannot set the scene key '{name}.{key}'"
-                    )));
+                    return Err(Error::config(
+                        format!("{name}.{key}"),
+                        Problem::Stated {
+                            message: format!("the view cannot set the scene key '{name}.{key}'"),
+                        },
+                    ));
                 }
                 if value.is_null() {
                     section.remove(key);
@@ -210,14 +221,24 @@ impl BaseScene {
         let job = scene.job()?;
         let (w, h, spp) = (job.settings.width, job.settings.height, job.settings.spp);
         if w > MAX_VIEW_SIDE || h > MAX_VIEW_SIDE {
-            return Err(Error::Invalid(format!(
-                "render.size {w}x{h}: the view renders at most {MAX_VIEW_SIDE} pixels a side"
-            )));
+            return Err(Error::config(
+                "render.size",
+                Problem::Other {
+                    text: format!(
+                        "{w}x{h}: the view renders at most {MAX_VIEW_SIDE} pixels a side"
+                    ),
+                },
+            ));
         }
         if spp > MAX_VIEW_SPP {
-            return Err(Error::Invalid(format!(
-                "render.spp {spp}: the view renders at most {MAX_VIEW_SPP} samples per pixel"
-            )));
+            return Err(Error::config(
+                "render.spp",
+                Problem::Other {
+                    text: format!(
+                        "{spp}: the view renders at most {MAX_VIEW_SPP} samples per pixel"
+                    ),
+                },
+            ));
         }
         Ok((table, scene, job))
     }
@@ -305,5 +326,49 @@ mod tests {
                 .to_string();
             assert!(err.contains(fragment), "{settings}: {err}");
         }
+    }
+
+    /// The page's refusals are typed configuration errors naming the key, in the words the
+    /// page has always shown.
+    #[test]
+    fn refusals_are_config_errors() {
+        let refused =
+            |settings: serde_json::Value| base().with_page(&settings).expect_err("refused");
+        let err = refused(serde_json::json!({ "bvh": { "max_leaves": 1 } }));
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "bvh"),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "the view cannot set the scene section 'bvh'"
+        );
+        let err = refused(serde_json::json!({ "render": { "output": "/tmp/x" } }));
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "render.output"),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "the view cannot set the scene key 'render.output'"
+        );
+        let err = refused(serde_json::json!({ "render": { "size": [4096, 10] } }));
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "render.size"),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "render.size 4096x10: the view renders at most 2048 pixels a side"
+        );
+        let err = refused(serde_json::json!({ "render": { "spp": 1024 } }));
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "render.spp"),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "render.spp 1024: the view renders at most 256 samples per pixel"
+        );
     }
 }

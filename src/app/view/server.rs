@@ -33,7 +33,7 @@ use serde_json::json;
 
 use crate::app::view::http::{HttpServer, Limits, Method, Request, Response};
 use crate::app::view::session::{Session, Wanted};
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::render::output::{OutputMeta, OutputOptions, write_outputs_with};
 
 /// The embedded page.
@@ -131,6 +131,23 @@ fn refuse(status: u16, why: &str) -> Response {
     respond_json(status, &json!({ "error": why }))
 }
 
+/// Refuses the unspecified address for `--bind`: no request's Host header could name it.
+fn check_bind(addr: SocketAddr) -> Result<()> {
+    if addr.ip().is_unspecified() {
+        return Err(Error::config(
+            "--bind",
+            Problem::Other {
+                text: format!(
+                    "{}: give the address of one interface (every request's Host header must \
+                     name it), not the unspecified address",
+                    addr.ip()
+                ),
+            },
+        ));
+    }
+    Ok(())
+}
+
 impl ViewServer {
     /// Binds `addr` (port 0: any free port) for `session`; "save" writes into `out_dir`.
     pub(crate) fn bind(
@@ -138,13 +155,7 @@ impl ViewServer {
         session: Arc<Session>,
         out_dir: PathBuf,
     ) -> Result<ViewServer> {
-        if addr.ip().is_unspecified() {
-            return Err(Error::Invalid(format!(
-                "--bind {}: give the address of one interface (every request's Host header must \
-                 name it), not the unspecified address",
-                addr.ip()
-            )));
-        }
+        check_bind(addr)?;
         let http = HttpServer::bind(
             addr,
             Limits {
@@ -432,5 +443,23 @@ mod tests {
         assert_eq!(hosts_of(v6), ["[::1]:80", "localhost:80"]);
         let lan: SocketAddr = "192.168.1.5:9000".parse().expect("address");
         assert_eq!(hosts_of(lan), ["192.168.1.5:9000"]);
+    }
+
+    /// `--bind` with the unspecified address is a configuration error of `--bind`.
+    #[test]
+    fn the_unspecified_address_is_a_config_error() {
+        let any: SocketAddr = "0.0.0.0:8080".parse().expect("address");
+        let err = check_bind(any).expect_err("refused");
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "--bind"),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "--bind 0.0.0.0: give the address of one interface (every request's Host header must \
+             name it), not the unspecified address"
+        );
+        let local: SocketAddr = "127.0.0.1:8080".parse().expect("address");
+        assert!(check_bind(local).is_ok());
     }
 }

@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 
 use crate::app::scene::SceneFile;
 use crate::app::view::scene::BaseScene;
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::mesh::Mesh;
 use crate::render::Frame;
 use crate::render::interaction::ShadingPoint;
@@ -118,10 +118,16 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 /// The scheme name and parameters of a scene.
 pub(crate) fn scheme_of(scene: &SceneFile) -> Result<SchemeKey> {
     let name = scene.scheme.name.clone().ok_or_else(|| {
-        Error::Invalid(format!(
-            "no scheme given: pass --scheme NAME (one of {}) or set [scheme] name in the scene",
-            crate::schemes::names().join(", ")
-        ))
+        Error::config(
+            "scheme.name (--scheme)",
+            Problem::Stated {
+                message: format!(
+                    "no scheme given: pass --scheme NAME (one of {}) or set [scheme] name in the \
+                     scene",
+                    crate::schemes::names().join(", ")
+                ),
+            },
+        )
     })?;
     crate::schemes::find(&name)?;
     let mut params = scene.scheme_params();
@@ -360,5 +366,28 @@ impl Session {
             self.changed.notify_all();
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scene without a scheme is a configuration error of `scheme.name`, worded as before.
+    #[test]
+    fn no_scheme_is_a_config_error() {
+        let scene = SceneFile::parse("mesh = \"m.obj\"\n").expect("scene");
+        let err = scheme_of(&scene).expect_err("no scheme");
+        assert!(
+            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "scheme.name (--scheme)"),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "no scheme given: pass --scheme NAME (one of {}) or set [scheme] name in the scene",
+                crate::schemes::names().join(", ")
+            )
+        );
     }
 }
