@@ -25,7 +25,7 @@ use std::path::Path;
 pub use crate::files::clean_up_on_signals;
 pub(crate) use selection::{ALL_SCHEMES, SchemeRun, parse_params, select_schemes};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::export::{self, Format};
 use crate::files::{check_distinct, check_writable, write_atomic};
 use crate::mesh::{LoadOptions, Mesh};
@@ -564,8 +564,13 @@ pub(crate) fn run_report_with(args: &ReportArgs) -> Result<Output> {
     };
     if let Some(shard) = args.shard {
         if args.baseline.is_some() {
-            return Err(Error::Invalid(
-                "report --shard writes a partial report: give --baseline to merge instead".into(),
+            return Err(Error::config(
+                "--shard",
+                Problem::Stated {
+                    message: "report --shard writes a partial report: give --baseline to merge \
+                              instead"
+                        .into(),
+                },
             ));
         }
         let part = crate::report::partial::write_part(

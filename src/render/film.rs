@@ -239,10 +239,14 @@ pub(crate) fn render_cancellable<T: SurfaceTracer>(
     cancelled: &(dyn Fn() -> bool + Sync),
 ) -> crate::Result<Option<(Frame, RenderStats)>> {
     if settings.width == 0 || settings.height == 0 || settings.spp == 0 {
-        return Err(crate::Error::Invalid(format!(
+        let message = format!(
             "image size {}x{} and samples per pixel {} must be positive",
             settings.width, settings.height, settings.spp
-        )));
+        );
+        return Err(crate::Error::config(
+            "render.size",
+            crate::Problem::Stated { message },
+        ));
     }
     let (w, h) = (settings.width, settings.height);
     check_frame_memory(w, h, 0.0)?;

@@ -15,7 +15,7 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::build_cwbvh;
 use rayon::prelude::*;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::geom::{Aabb, Jet};
 use crate::render::bvh::{box_padding, build_params, outward_f32};
 use crate::render::interaction::ShadingPoint;
@@ -74,9 +74,8 @@ impl<'s> TessellatedTracer<'s> {
     pub fn new(surface: &'s Surface, n: u32) -> Result<TessellatedTracer<'s>> {
         let max = crate::budget::MAX_TESS;
         if n == 0 || n as usize > max {
-            return Err(Error::Invalid(format!(
-                "tessellation level {n} must be in 1..={max}"
-            )));
+            let message = format!("tessellation level {n} must be in 1..={max}");
+            return Err(Error::config("--tessellate", Problem::Stated { message }));
         }
         if surface.patches.is_empty() {
             return Err(Error::Invalid(format!(
@@ -332,6 +331,23 @@ impl TessellatedTracer<'_> {
 mod tests {
     use super::*;
     use crate::testing::surfaces::octahedron_sphere;
+
+    #[test]
+    fn a_level_out_of_range_is_a_config_error() {
+        let surface = octahedron_sphere(2, 1.0, 0);
+        let Err(err) = TessellatedTracer::new(&surface, 0) else {
+            panic!("level 0 accepted");
+        };
+        assert!(
+            matches!(&err, Error::Config { key, problem: Problem::Stated { .. } } if key == "--tessellate"),
+            "{err:?}"
+        );
+        let max = crate::budget::MAX_TESS;
+        assert_eq!(
+            err.to_string(),
+            format!("tessellation level 0 must be in 1..={max}")
+        );
+    }
 
     #[test]
     fn grid_indices_are_dense() {

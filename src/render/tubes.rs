@@ -82,9 +82,11 @@ impl Tubes {
     /// Tubes of radius `radius` (> 0) around `polylines`.
     pub fn new(polylines: &[Polyline], radius: f64) -> crate::Result<Tubes> {
         if !(radius > 0.0 && radius.is_finite()) {
-            return Err(crate::Error::Invalid(format!(
-                "tube radius {radius} must be a positive number"
-            )));
+            let text = format!("{radius} must be a positive number");
+            return Err(crate::Error::config(
+                "tube radius",
+                crate::Problem::Other { text },
+            ));
         }
         let mut segments = Vec::new();
         let mut runs = Vec::new();
@@ -216,6 +218,23 @@ fn capsule_hit(ray: &Ray64, a: DVec3, b: DVec3, r: f64, t_max: f64) -> Option<(f
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_radius_that_is_not_positive_is_a_config_error() {
+        for radius in [0.0, -1.0, f64::NAN] {
+            let Err(err) = Tubes::new(&[], radius) else {
+                panic!("radius {radius} accepted");
+            };
+            assert!(
+                matches!(&err, crate::Error::Config { key, problem: crate::Problem::Other { .. } } if key == "tube radius"),
+                "{err:?}"
+            );
+            assert_eq!(
+                err.to_string(),
+                format!("tube radius {radius} must be a positive number")
+            );
+        }
+    }
 
     fn line(points: Vec<DVec3>) -> Polyline {
         Polyline {

@@ -28,7 +28,7 @@ use std::time::{SystemTime, UNIX_EPOCH};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Problem, Result};
 use crate::files::{check_distinct, check_writable, create_folder, write_atomic};
 use crate::mesh::{Mesh, generate};
 use crate::metrics::Metrics;
@@ -363,7 +363,10 @@ pub fn measure_items(
                 .iter()
                 .find(|b| &b.name == name)
                 .map(|b| (std::borrow::Cow::Borrowed(&b.mesh), b.analytic))
-                .ok_or_else(|| Error::Invalid(format!("no benchmark mesh named '{name}'"))),
+                .ok_or_else(|| {
+                    let message = format!("no benchmark mesh named '{name}'");
+                    Error::config("mesh", Problem::Stated { message })
+                }),
             batch::MeshSource::File(path) => check_mesh_file(path).and_then(|()| {
                 Mesh::load_with(path, &work.load_options()).map(|(mesh, report)| {
                     out.warnings.extend(
