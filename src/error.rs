@@ -640,6 +640,33 @@ impl Error {
     }
 }
 
+/// What the tests of the validators check of a configuration error.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::{Error, Problem};
+
+    /// Asserts that `err` is [`Error::Config`] of `key` with a problem that `is_kind`
+    /// accepts, and that the user reads `text`.
+    #[track_caller]
+    pub(crate) fn assert_config_error(
+        err: &Error,
+        key: &str,
+        is_kind: fn(&Problem) -> bool,
+        text: impl AsRef<str>,
+    ) {
+        let Error::Config {
+            key: found,
+            problem,
+        } = err
+        else {
+            panic!("not a configuration error: {err:?}");
+        };
+        assert_eq!(found, key, "{err:?}");
+        assert!(is_kind(problem), "{err:?}");
+        assert_eq!(err.to_string(), text.as_ref());
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

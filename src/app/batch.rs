@@ -352,6 +352,7 @@ fn stl_faces(bytes: &[u8]) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::test_support::assert_config_error;
 
     #[test]
     fn sweeps_expand_to_every_combination() {
@@ -414,13 +415,11 @@ mod tests {
         );
         let err = with_defaults(vec![Variant::default_of("flat")], &["beta=1".into()])
             .expect_err("flat has no beta");
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "--param"),
-            "{err:?}"
-        );
-        assert_eq!(
-            err.to_string(),
-            "--param beta: no scheme of the report has a parameter 'beta' (they have: none)"
+        assert_config_error(
+            &err,
+            "--param",
+            |p| matches!(p, Problem::Other { .. }),
+            "--param beta: no scheme of the report has a parameter 'beta' (they have: none)",
         );
     }
 

@@ -533,6 +533,7 @@ fn render_frames(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::test_support::assert_config_error;
     use crate::render::modes::Mode;
 
     #[test]
@@ -581,13 +582,11 @@ mod tests {
         };
         let err = frame_view(&sweep, 1, &camera, DVec3::Y, &diffuse).expect_err("no stripes");
         assert!(err.to_string().contains("diffuse"), "{err}");
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "render.sweep (--sweep)"),
-            "{err:?}"
-        );
-        assert_eq!(
-            err.to_string(),
-            "a stripe sweep needs a mode with stripes to move, not 'diffuse'"
+        assert_config_error(
+            &err,
+            "render.sweep (--sweep)",
+            |p| matches!(p, Problem::Stated { .. }),
+            "a stripe sweep needs a mode with stripes to move, not 'diffuse'",
         );
     }
 
@@ -596,13 +595,11 @@ mod tests {
     fn gif_sides_are_limited() {
         assert!(check_gif_size(65535, 1).is_ok());
         let err = check_gif_size(65536, 10).expect_err("too wide");
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "render.size (--size)"),
-            "{err:?}"
-        );
-        assert_eq!(
-            err.to_string(),
-            "an animated GIF is at most 65535 pixels per side, not 65536x10"
+        assert_config_error(
+            &err,
+            "render.size (--size)",
+            |p| matches!(p, Problem::Stated { .. }),
+            "an animated GIF is at most 65535 pixels per side, not 65536x10",
         );
     }
 

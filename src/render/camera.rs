@@ -504,6 +504,7 @@ impl Camera {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::test_support::assert_config_error;
 
     /// Framing refuses a bad aspect, view direction or up as typed configuration errors,
     /// worded as before.
@@ -512,32 +513,32 @@ mod tests {
         let points = [DVec3::ZERO, DVec3::ONE];
         let err = Camera::frame_points(points.as_slice(), Camera::DEFAULT_VIEW, 40.0, 0.0)
             .expect_err("aspect");
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "image aspect"),
-            "{err:?}"
+        assert_config_error(
+            &err,
+            "image aspect",
+            |p| matches!(p, Problem::Stated { .. }),
+            "cannot frame with image aspect 0",
         );
-        assert_eq!(err.to_string(), "cannot frame with image aspect 0");
         let err =
             Camera::frame_points(points.as_slice(), DVec3::ZERO, 40.0, 1.0).expect_err("direction");
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Must { .. } } if key == "framing direction"),
-            "{err:?}"
+        assert_config_error(
+            &err,
+            "framing direction",
+            |p| matches!(p, Problem::Must { .. }),
+            "framing direction must be non-zero",
         );
-        assert_eq!(err.to_string(), "framing direction must be non-zero");
         let err = Camera::frame_points_with_up(points.as_slice(), DVec3::Y, DVec3::Y, 40.0, 1.0)
             .expect_err("up");
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "camera up"),
-            "{err:?}"
-        );
-        assert_eq!(
-            err.to_string(),
+        assert_config_error(
+            &err,
+            "camera up",
+            |p| matches!(p, Problem::Other { .. }),
             format!(
                 "camera up {} is zero or parallel to the automatic view direction {}; give \
                  --eye (and --target) to choose the view",
                 DVec3::Y,
                 -DVec3::Y
-            )
+            ),
         );
     }
 

@@ -330,6 +330,7 @@ impl TessellatedTracer<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::test_support::assert_config_error;
     use crate::testing::surfaces::octahedron_sphere;
 
     #[test]
@@ -338,14 +339,13 @@ mod tests {
         let Err(err) = TessellatedTracer::new(&surface, 0) else {
             panic!("level 0 accepted");
         };
-        assert!(
-            matches!(&err, Error::Config { key, problem: Problem::Stated { .. } } if key == "--tessellate"),
-            "{err:?}"
-        );
         let max = crate::budget::MAX_TESS;
-        assert_eq!(
-            err.to_string(),
-            format!("tessellation level 0 must be in 1..={max}")
+        let text = format!("tessellation level 0 must be in 1..={max}");
+        assert_config_error(
+            &err,
+            "--tessellate",
+            |p| matches!(p, Problem::Stated { .. }),
+            text,
         );
     }
 

@@ -218,6 +218,7 @@ fn capsule_hit(ray: &Ray64, a: DVec3, b: DVec3, r: f64, t_max: f64) -> Option<(f
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::test_support::assert_config_error;
 
     #[test]
     fn a_radius_that_is_not_positive_is_a_config_error() {
@@ -225,13 +226,11 @@ mod tests {
             let Err(err) = Tubes::new(&[], radius) else {
                 panic!("radius {radius} accepted");
             };
-            assert!(
-                matches!(&err, crate::Error::Config { key, problem: crate::Problem::Other { .. } } if key == "tube radius"),
-                "{err:?}"
-            );
-            assert_eq!(
-                err.to_string(),
-                format!("tube radius {radius} must be a positive number")
+            assert_config_error(
+                &err,
+                "tube radius",
+                |p| matches!(p, crate::Problem::Other { .. }),
+                format!("tube radius {radius} must be a positive number"),
             );
         }
     }

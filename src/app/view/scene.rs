@@ -261,6 +261,7 @@ fn scene_of(table: &toml::Table) -> Result<SceneFile> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::test_support::assert_config_error;
 
     fn base() -> BaseScene {
         BaseScene::new(
@@ -335,40 +336,32 @@ mod tests {
         let refused =
             |settings: serde_json::Value| base().with_page(&settings).expect_err("refused");
         let err = refused(serde_json::json!({ "bvh": { "max_leaves": 1 } }));
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "bvh"),
-            "{err:?}"
-        );
-        assert_eq!(
-            err.to_string(),
-            "the view cannot set the scene section 'bvh'"
+        assert_config_error(
+            &err,
+            "bvh",
+            |p| matches!(p, Problem::Stated { .. }),
+            "the view cannot set the scene section 'bvh'",
         );
         let err = refused(serde_json::json!({ "render": { "output": "/tmp/x" } }));
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "render.output"),
-            "{err:?}"
-        );
-        assert_eq!(
-            err.to_string(),
-            "the view cannot set the scene key 'render.output'"
+        assert_config_error(
+            &err,
+            "render.output",
+            |p| matches!(p, Problem::Stated { .. }),
+            "the view cannot set the scene key 'render.output'",
         );
         let err = refused(serde_json::json!({ "render": { "size": [4096, 10] } }));
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "render.size"),
-            "{err:?}"
-        );
-        assert_eq!(
-            err.to_string(),
-            "render.size 4096x10: the view renders at most 2048 pixels a side"
+        assert_config_error(
+            &err,
+            "render.size",
+            |p| matches!(p, Problem::Other { .. }),
+            "render.size 4096x10: the view renders at most 2048 pixels a side",
         );
         let err = refused(serde_json::json!({ "render": { "spp": 1024 } }));
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "render.spp"),
-            "{err:?}"
-        );
-        assert_eq!(
-            err.to_string(),
-            "render.spp 1024: the view renders at most 256 samples per pixel"
+        assert_config_error(
+            &err,
+            "render.spp",
+            |p| matches!(p, Problem::Other { .. }),
+            "render.spp 1024: the view renders at most 256 samples per pixel",
         );
     }
 }

@@ -413,6 +413,7 @@ pub(crate) fn save_view(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::test_support::assert_config_error;
 
     #[test]
     fn tokens_are_random_and_hex() {
@@ -450,14 +451,12 @@ mod tests {
     fn the_unspecified_address_is_a_config_error() {
         let any: SocketAddr = "0.0.0.0:8080".parse().expect("address");
         let err = check_bind(any).expect_err("refused");
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Other { .. } } if key == "--bind"),
-            "{err:?}"
-        );
-        assert_eq!(
-            err.to_string(),
+        assert_config_error(
+            &err,
+            "--bind",
+            |p| matches!(p, Problem::Other { .. }),
             "--bind 0.0.0.0: give the address of one interface (every request's Host header must \
-             name it), not the unspecified address"
+             name it), not the unspecified address",
         );
         let local: SocketAddr = "127.0.0.1:8080".parse().expect("address");
         assert!(check_bind(local).is_ok());

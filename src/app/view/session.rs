@@ -372,22 +372,21 @@ impl Session {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::test_support::assert_config_error;
 
     /// A scene without a scheme is a configuration error of `scheme.name`, worded as before.
     #[test]
     fn no_scheme_is_a_config_error() {
         let scene = SceneFile::parse("mesh = \"m.obj\"\n").expect("scene");
         let err = scheme_of(&scene).expect_err("no scheme");
-        assert!(
-            matches!(err, Error::Config { ref key, problem: Problem::Stated { .. } } if key == "scheme.name (--scheme)"),
-            "{err:?}"
-        );
-        assert_eq!(
-            err.to_string(),
+        assert_config_error(
+            &err,
+            "scheme.name (--scheme)",
+            |p| matches!(p, Problem::Stated { .. }),
             format!(
                 "no scheme given: pass --scheme NAME (one of {}) or set [scheme] name in the scene",
                 crate::schemes::names().join(", ")
-            )
+            ),
         );
     }
 }
