@@ -1352,6 +1352,18 @@ fn scene_key_weld_tolerance_and_the_flag_that_overrides_it() {
     );
 }
 
+/// A scene that names no mesh is refused by `render` and by `view` with the scene's path.
+#[test]
+fn a_scene_without_a_mesh_is_refused() {
+    let dir = scratch("scene-without-mesh");
+    let scene = write(&dir, "empty.toml", "[scheme]\nname = \"hb\"\n");
+    let path = scene.to_str().expect("utf-8");
+    for command in ["render", "view"] {
+        let out = smoothlab(&[command, path]);
+        assert_fails_naming(&out, &[&format!("{path}: no mesh given")]);
+    }
+}
+
 #[test]
 fn weld_tolerance_that_collapses_an_edge_names_the_face() {
     let dir = scratch("weld-collapse");

@@ -481,15 +481,10 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     let scene = scene_of(args)?;
     let job = scene.job()?;
     let animation = scene.animation()?;
-    let mesh_path = scene.mesh.clone().ok_or_else(|| {
-        Error::config(
-            "mesh",
-            Problem::Stated {
-                message: "no mesh given".into(),
-            },
-        )
-        .within(args.input.display().to_string())
-    })?;
+    let mesh_path = scene
+        .mesh
+        .clone()
+        .ok_or_else(|| crate::app::scene::no_mesh_given(&args.input))?;
     let load_options = scene.load_options()?;
     let exr = scene.exr_compression()?;
     // The frame and its files are the largest allocation a small mesh makes: refused first.

@@ -267,6 +267,13 @@ pub(crate) const CONE_DEG_RANGE: (f64, f64) = (1.0, 90.0);
 /// Largest `bvh.max_depth` (a piece then covers 4^-16 of its patch).
 pub(crate) const MAX_DEPTH_LIMIT: u32 = 16;
 
+/// The error of a scene or mesh argument `input` that gives no mesh: a configuration error of
+/// `mesh`, in `input`.
+pub(crate) fn no_mesh_given(input: &Path) -> Error {
+    let message = "no mesh given".to_string();
+    Error::config("mesh", Problem::Stated { message }).within(input.display().to_string())
+}
+
 /// The value `value` of mode key `key` written in a file in folder `dir`: a relative file
 /// name made relative to `dir` (as every path of scene files and figure specs is); built-in
 /// names, absolute paths and keys naming no file as they are.

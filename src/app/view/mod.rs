@@ -44,7 +44,7 @@ use std::net::{IpAddr, SocketAddr};
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use crate::error::{Error, Problem, Result};
+use crate::error::{Error, Result};
 use crate::metrics::joints::{JumpAt, jump_at};
 use crate::render::interaction::ShadingPoint;
 use crate::render::{Frame, RenderJob};
@@ -279,10 +279,10 @@ pub(crate) fn view_command(args: &ViewArgs, report: &mut dyn ViewReport) -> Resu
     }
     let scene = base.scene()?;
     let scheme = session::scheme_of(&scene)?;
-    let mesh_path = scene.mesh.clone().ok_or_else(|| {
-        let message = "no mesh given".to_string();
-        Error::config("mesh", Problem::Stated { message }).within(args.input.display().to_string())
-    })?;
+    let mesh_path = scene
+        .mesh
+        .clone()
+        .ok_or_else(|| crate::app::scene::no_mesh_given(&args.input))?;
     if !args.bind.is_loopback() {
         report.warning(&format!(
             "--bind {}: the view is reachable from the network by anyone who has its URL \

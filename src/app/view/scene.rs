@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::app::scene::{SceneFile, file_beside};
+use crate::app::scene::{SceneFile, file_beside, no_mesh_given};
 use crate::error::{Error, Problem, Result};
 use crate::render::RenderJob;
 use crate::render::modes::MODE_KEYS;
@@ -112,13 +112,7 @@ impl BaseScene {
             table
         };
         if !table.contains_key("mesh") {
-            return Err(Error::config(
-                "mesh",
-                Problem::Stated {
-                    message: "no mesh given".into(),
-                },
-            )
-            .within(input.display().to_string()));
+            return Err(no_mesh_given(input));
         }
         if let Some(toml::Value::Table(render)) = table.get_mut("render") {
             for key in [
