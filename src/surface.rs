@@ -44,7 +44,27 @@ pub struct Patch {
     pub geometry: PatchGeometry,
 }
 
+/// Subdivisions per patch edge of the grid on which a patch is sampled for its regularity
+/// and folds (`(n+1)(n+2)/2 = 45` points, corners and edges included).
+pub(crate) const PATCH_GRID: usize = 8;
+
 impl Patch {
+    /// Samples of the [`PATCH_GRID`] where the patch turns over its mesh face: the normal
+    /// `Su × Sv` points against the face's normal `face_normal`. A patch is parametrised with
+    /// the orientation of its face (the export contract, docs/guide/contracts.md), so a surface
+    /// that follows its mesh has none; a fold is where the surface doubles back over the face.
+    /// Samples where `Su × Sv = 0` are not counted.
+    pub(crate) fn fold_samples(&self, face_normal: DVec3) -> usize {
+        let n = PATCH_GRID;
+        (0..=n)
+            .flat_map(|i| (0..=n - i).map(move |j| (i, j)))
+            .filter(|&(i, j)| {
+                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                self.jet(u, v).cross().dot(face_normal) < 0.0
+            })
+            .count()
+    }
+
     /// Bit `e` set when edge `e` of the patch (corner e → e+1) lies on an edge of its mesh
     /// face: both corners' face-barycentric coordinates share a zero.
     pub fn face_edge_mask(&self) -> u8 {

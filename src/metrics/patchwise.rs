@@ -5,9 +5,8 @@ use rayon::prelude::*;
 
 use crate::surface::{Patch, Surface, UV_CORNERS};
 
-/// Subdivisions per patch edge of the grid on which regularity is sampled
-/// (`(n+1)(n+2)/2 = 45` points, corners and edges included).
-pub(crate) const REGULARITY_GRID: usize = 8;
+/// Subdivisions per patch edge of the grid on which regularity and folds are sampled.
+pub(crate) const REGULARITY_GRID: usize = crate::surface::PATCH_GRID;
 
 /// Largest `|S(corner) − vertex|` (absolute) over every patch corner that sits on a mesh
 /// vertex; `None` if no corner does.
@@ -46,23 +45,7 @@ pub(crate) fn patch_regularity(patch: &Patch) -> f64 {
     if mean > 0.0 { min / mean } else { 0.0 }
 }
 
-/// Samples where a patch turns over its mesh face: at a sample of the regularity grid, the
-/// patch's normal `Su × Sv` points against the face's normal `(P1 − P0) × (P2 − P0)`. A patch
-/// is parametrised with the orientation of its face (the export contract, docs/guide/contracts.md), so a
-/// surface that follows its mesh has none; a fold is where the surface doubles back over the
-/// face. Samples where `Su × Sv = 0` are not counted.
-pub(crate) fn patch_fold_samples(patch: &Patch, face_normal: DVec3) -> usize {
-    let n = REGULARITY_GRID;
-    (0..=n)
-        .flat_map(|i| (0..=n - i).map(move |j| (i, j)))
-        .filter(|&(i, j)| {
-            let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
-            patch.jet(u, v).cross().dot(face_normal) < 0.0
-        })
-        .count()
-}
-
-/// The folds of a surface ([`patch_fold_samples`] over every patch).
+/// The folds of a surface ([`Patch::fold_samples`] over every patch, against `(P1 − P0) × (P2 − P0)` of its face).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Folds {
     /// Samples where a patch's normal points against its face's normal.
@@ -78,7 +61,7 @@ pub(crate) fn folds(surface: &Surface, faces: &[[u32; 3]], positions: &[DVec3]) 
         .par_iter()
         .map(|patch| {
             let p = faces[patch.face as usize].map(|v| positions[v as usize]);
-            patch_fold_samples(patch, (p[1] - p[0]).cross(p[2] - p[0]))
+            patch.fold_samples((p[1] - p[0]).cross(p[2] - p[0]))
         })
         .collect();
     Folds {
@@ -160,14 +143,14 @@ mod tests {
     #[test]
     fn patch_over_its_face_has_no_fold_and_a_turned_patch_has() {
         let up = DVec3::Z;
-        assert_eq!(patch_fold_samples(&pulled_quadratic(0.5), up), 0);
-        assert_eq!(patch_fold_samples(&pulled_quadratic(0.1), up), 0);
+        assert_eq!(pulled_quadratic(0.5).fold_samples(up), 0);
+        assert_eq!(pulled_quadratic(0.1).fold_samples(up), 0);
         // Just past the edge: the 9 samples of the far edge turn over.
-        assert_eq!(patch_fold_samples(&pulled_quadratic(-0.01), up), 9);
+        assert_eq!(pulled_quadratic(-0.01).fold_samples(up), 9);
         // Pulled far back: all but the 6 samples nearest corner b(2,0,0).
-        assert_eq!(patch_fold_samples(&pulled_quadratic(-1.0), up), 39);
+        assert_eq!(pulled_quadratic(-1.0).fold_samples(up), 39);
         // Seen against the face's normal, the face itself is turned everywhere.
         let grid = (REGULARITY_GRID + 1) * (REGULARITY_GRID + 2) / 2;
-        assert_eq!(patch_fold_samples(&pulled_quadratic(0.5), -up), grid);
+        assert_eq!(pulled_quadratic(0.5).fold_samples(-up), grid);
     }
 }

@@ -479,6 +479,18 @@ impl<T> HalfEdgeTable<T> {
         &self.data[self.offsets[v as usize]..self.offsets[v as usize + 1]]
     }
 
+    /// Takes the entries of the edges leaving each vertex of `vertices` from `other`, a table
+    /// of the same mesh: per-vertex data computed under another rule at those vertices only.
+    pub(crate) fn adopt(&mut self, other: &HalfEdgeTable<T>, vertices: &[u32])
+    where
+        T: Clone,
+    {
+        for &v in vertices {
+            let range = self.offsets[v as usize]..self.offsets[v as usize + 1];
+            self.data[range.clone()].clone_from_slice(&other.data[range]);
+        }
+    }
+
     /// Index of the directed edge from `faces[f][k]` to the corner `step` (1 or 2) after it.
     pub(crate) fn directed(&self, face: [u32; 3], f: usize, k: usize, step: usize) -> usize {
         let x = face[k] as usize;

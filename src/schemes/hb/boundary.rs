@@ -73,9 +73,17 @@ fn boundary_shape(
     let nf = ring.len() as f64;
     let alpha = rule.alpha;
     let b0 = alpha * v + (1.0 - alpha) * ring.iter().sum::<DVec3>() / nf;
-    let fitted = fit_shape(v, ring, b0, rule.beta, unit_tangent, normal, false, |j| {
-        open_loop_point(v, ring, j)
-    });
+    let fitted = fit_shape(
+        v,
+        ring,
+        b0,
+        rule.beta,
+        rule.swerve,
+        unit_tangent,
+        normal,
+        false,
+        |j| open_loop_point(v, ring, j),
+    );
     ShapeParams {
         alpha,
         gamma: rule.gamma.unwrap_or(fitted.gamma),

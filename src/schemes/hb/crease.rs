@@ -62,6 +62,7 @@ pub(crate) fn sector_half_edges(
                     &points[1..m],
                     b0,
                     Some(1.0 / 3.0),
+                    rule.swerve,
                     &unit,
                     sector.normal,
                     false,

@@ -20,7 +20,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use crate::schemes::vertex_rings::{HB_SWERVE, RingFourier, front_facing_plane, swerve_cap};
+use crate::schemes::vertex_rings::{RingFourier, front_facing_plane, swerve_cap};
 
 /// The shape parameters of HB00: α (eq. 9), β (eq. 12), γ0, γ1, γ2 (eq. 15, γ0+γ1+γ2 = 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,6 +46,9 @@ pub(crate) struct ShapeRule {
     pub gamma: Option<[f64; 3]>,
     /// Which plane the tangents span.
     pub plane: PlaneRule,
+    /// How far the boundary curves may swerve off their edges when β is chosen per vertex
+    /// ([`swerve_cap`]; [`HB_SWERVE`](crate::schemes::vertex_rings::HB_SWERVE) at the vertices of folding faces, see `hb::build`).
+    pub swerve: f64,
 }
 
 /// The tangent plane of the surface at a mesh vertex.
@@ -133,7 +136,7 @@ impl ShapeRule {
                 gamma,
             },
             _ => {
-                let adaptive = adaptive_shape(v, ring, fourier, self.alpha, self.beta);
+                let adaptive = adaptive_shape(v, ring, fourier, self.alpha, self.beta, self.swerve);
                 ShapeParams {
                     gamma: self.gamma.unwrap_or(adaptive.gamma),
                     ..adaptive
@@ -180,13 +183,15 @@ pub(crate) const GAMMA2_RANGE: [f64; 2] = [0.0, 0.25];
 /// * **γ1** (eq. 15) removes the tangential part of `r²_i` in the least squares sense (a curve
 ///   of uniform speed), and γ0 = 1 − γ1 − γ2.
 ///
-/// With `beta = Some(β)`, β is kept and only the γ are chosen.
+/// With `beta = Some(β)`, β is kept and only the γ are chosen; otherwise β is capped by
+/// [`swerve_cap`] with `swerve`.
 pub(crate) fn adaptive_shape(
     v: DVec3,
     ring: &[DVec3],
     fourier: &RingFourier,
     alpha: f64,
     beta: Option<f64>,
+    swerve: f64,
 ) -> ShapeParams {
     let n = ring.len();
     let nf = n as f64;
@@ -199,14 +204,24 @@ pub(crate) fn adaptive_shape(
         |i: usize| (2.0 * v + ring[(i + n - 1) % n] + 2.0 * ring[i] + ring[(i + 1) % n]) / 6.0;
     ShapeParams {
         alpha,
-        ..fit_shape(v, ring, b0, beta, &unit_tangent, normal, true, loop_point)
+        ..fit_shape(
+            v,
+            ring,
+            b0,
+            beta,
+            swerve,
+            &unit_tangent,
+            normal,
+            true,
+            loop_point,
+        )
     }
 }
 
 /// The fits of [`adaptive_shape`] over the edges `v → ring[i]`, given the vertex point `b0`,
 /// the tangents `unit_tangent[i]` for β = 1, the tangent plane's `normal` and Loop's point
 /// `loop_point(i)` of each edge; shared by interior and boundary vertices (`closed`: the ring
-/// goes all round `v`). The returned α is
+/// goes all round `v`; `swerve`: the cap on a fitted β, [`swerve_cap`]). The returned α is
 /// 1: the caller's α goes in its place.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_shape(
@@ -214,6 +229,7 @@ pub(crate) fn fit_shape(
     ring: &[DVec3],
     b0: DVec3,
     beta: Option<f64>,
+    swerve: f64,
     unit_tangent: &[DVec3],
     normal: DVec3,
     closed: bool,
@@ -231,9 +247,7 @@ pub(crate) fn fit_shape(
         }
         let fitted = if den > 0.0 { num / den } else { 1.0 / 3.0 };
         // b¹ − b⁰ = β r¹/6 (eq. 11): no boundary curve swerves off its edge.
-        let cap = swerve_cap(v, ring, normal, HB_SWERVE, closed, |i| {
-            unit_tangent[i] / 6.0
-        });
+        let cap = swerve_cap(v, ring, normal, swerve, closed, |i| unit_tangent[i] / 6.0);
         fitted.clamp(BETA_RANGE[0], BETA_RANGE[1]).min(cap)
     });
     let (mut num, mut den, mut reference, mut scale) = (0.0, 0.0, 0.0, 0.0);
@@ -663,7 +677,14 @@ mod tests {
             for (sphere, p) in [(true, on_sphere), (false, ring(n, 40 + n as u64))] {
                 let v = DVec3::ZERO;
                 let fourier = PlaneRule::Max.ring_fourier(v, &p);
-                let shape = adaptive_shape(v, &p, &fourier, 1.0, None);
+                let shape = adaptive_shape(
+                    v,
+                    &p,
+                    &fourier,
+                    1.0,
+                    None,
+                    crate::schemes::vertex_rings::HB_SWERVE,
+                );
                 let mut he = vec![HalfEdgeData::default(); n];
                 half_edges(v, &p, &vec![PI / 3.0; n], &fourier, &shape, true, &mut he);
                 let normal = fourier.normal();
