@@ -45,7 +45,8 @@ pub(crate) fn patch_regularity(patch: &Patch) -> f64 {
     if mean > 0.0 { min / mean } else { 0.0 }
 }
 
-/// The folds of a surface ([`Patch::fold_samples`] over every patch, against `(P1 − P0) × (P2 − P0)` of its face).
+/// The folds of a surface: [`Patch::fold_samples`] over every patch, against the normal
+/// `(P1 − P0) × (P2 − P0)` of its face.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Folds {
     /// Samples where a patch's normal points against its face's normal.
