@@ -212,7 +212,8 @@ pub(crate) fn front_facing_plane(
 /// edge towards a thin face crosses that face's far edge and the macro-patch turns over it.
 /// Measured on the two bunny scenes (fold samples on the regularity grid of 12, hb): 81 / 691
 /// with a cap of 0.1 chord whatever the face, 23 / 123 with 0.1 times the face's sine, 14 / 9
-/// with 0.03, 14 / 6 with 0.02 (examples/fold_sites.rs).
+/// with 0.03, 14 / 6 with 0.02 (examples/fold_sites.rs). hb applies it only at the corners of
+/// faces that fold under a cap of 0.1 (`hb::build`): as many folds, a third of the BVH leaves.
 pub(crate) const HB_SWERVE: f64 = 0.03;
 
 /// The same bound at Loop94 vertices. Loop's middle point `f²` is fixed (eq. 2), so a shorter

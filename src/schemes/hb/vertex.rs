@@ -47,7 +47,8 @@ pub(crate) struct ShapeRule {
     /// Which plane the tangents span.
     pub plane: PlaneRule,
     /// How far the boundary curves may swerve off their edges when β is chosen per vertex
-    /// ([`swerve_cap`]; [`HB_SWERVE`](crate::schemes::vertex_rings::HB_SWERVE) at the vertices of folding faces, see `hb::build`).
+    /// ([`swerve_cap`]): `hb::build` starts with a loose cap and takes
+    /// [`HB_SWERVE`](crate::schemes::vertex_rings::HB_SWERVE) at the corners of folding faces.
     pub swerve: f64,
 }
 
