@@ -391,9 +391,6 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
         let steps: Vec<f64> = (0..mesh.vertex_count() as u32)
             .map(|v| fan_angle_step(mesh, v))
             .collect();
-        let orders: Vec<usize> = (0..mesh.vertex_count() as u32)
-            .map(|v| fan_order(mesh, v))
-            .collect();
         Self::build_indexed(mesh, |_: &mut (), v, out| {
             let ring = mesh.one_ring(v as u32);
             let ring_faces = mesh.ring_faces(v as u32);
@@ -406,21 +403,22 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
                 sectors.corner_step[3 * f + k]
             };
             let ring_points: Vec<DVec3> = ring.iter().map(|&p| positions[p as usize]).collect();
-            let ring_order: Vec<usize> = ring.iter().map(|&p| orders[p as usize]).collect();
             let ring_step: Vec<f64> = (0..n)
                 .map(|j| far_step(j, if j < nf { j } else { j - 1 }))
                 .collect();
             let ring_step_minus: Vec<f64> = (0..n)
                 .map(|j| far_step(j, if boundary && j == 0 { 0 } else { j + nf - 1 }))
                 .collect();
+            let mut ring_sharp = vec![false; n];
+            mesh.sharp_cuts(v as u32).for_each(|j| ring_sharp[j] = true);
             let fan = Fan {
                 position: positions[v],
                 boundary,
                 step: steps[v],
                 ring: &ring_points,
-                ring_order: &ring_order,
                 ring_step: &ring_step,
                 ring_step_minus: &ring_step_minus,
+                ring_sharp: &ring_sharp,
                 sectors: sectors.by_vertex[v].as_deref(),
             };
             per_vertex(&fan, out);
@@ -564,8 +562,6 @@ pub(crate) struct Fan<'a> {
     pub step: f64,
     /// Positions of the one-ring (`Mesh::one_ring` order).
     pub ring: &'a [DVec3],
-    /// [`fan_order`] of every neighbour (what the closed-mesh rules call its valence).
-    pub ring_order: &'a [usize],
     /// The angle step at neighbour `ring[j]` of the face on the "+" side of edge `v → ring[j]`
     /// (`(v, ring[j], ring[j+1])`; on a boundary edge, of its one face): [`fan_angle_step`] of
     /// the neighbour, or the step of its [`Sector`] holding that face.
@@ -573,6 +569,8 @@ pub(crate) struct Fan<'a> {
     /// The same for the face on the "−" side (`(v, ring[j−1], ring[j])`); it differs from
     /// `ring_step` only across a sharp edge whose far end is cut into sectors.
     pub ring_step_minus: &'a [f64],
+    /// Whether edge `v → ring[j]` is sharp ([`Mesh::sharp_cuts`]).
+    pub ring_sharp: &'a [bool],
     /// The vertex's sectors when sharp edges cut its fan into two or more ([`fan_sectors`]).
     pub sectors: Option<&'a [Sector]>,
 }

@@ -13,6 +13,17 @@ pub fn mesh((positions, faces): generate::Triangles) -> Mesh {
         .0
 }
 
+/// `mesh` with every edge sharp whose faces turn by more than `degrees` (`--crease-angle`).
+pub fn creased(mesh: &Mesh, degrees: f64) -> Mesh {
+    let options = crate::mesh::LoadOptions {
+        crease_angle: Some(degrees),
+        ..crate::mesh::LoadOptions::default()
+    };
+    Mesh::from_triangles_with(mesh.positions().to_vec(), mesh.faces().to_vec(), &options)
+        .expect("valid mesh")
+        .0
+}
+
 /// The closed scenes of scenes/ and a closed mesh with a vertex of each valence 3..=16.
 pub fn closed_test_meshes() -> Vec<(String, Mesh)> {
     let mut out: Vec<(String, Mesh)> = generate::SCENES

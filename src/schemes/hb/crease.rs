@@ -132,26 +132,14 @@ mod tests {
     use glam::DVec3;
 
     use super::crease_curve;
-    use crate::mesh::{LoadOptions, Mesh};
     use crate::metrics::Metrics;
     use crate::schemes::hb::test_support::max_corner_mismatch;
     use crate::schemes::hb::{SPEC, build};
     use crate::testing::{
-        JointFigures, assert_g1_joints, closed_test_meshes, max_smoothness_defect_inside_faces,
-        open_test_meshes, params,
+        JointFigures, assert_g1_joints, closed_test_meshes, creased,
+        max_smoothness_defect_inside_faces, open_test_meshes, params,
     };
     use crate::tolerance::POSITION_REL;
-
-    /// The mesh with every edge sharp whose faces turn by more than `degrees`.
-    fn creased(mesh: &Mesh, degrees: f64) -> Mesh {
-        let options = LoadOptions {
-            crease_angle: Some(degrees),
-            ..LoadOptions::default()
-        };
-        Mesh::from_triangles_with(mesh.positions().to_vec(), mesh.faces().to_vec(), &options)
-            .expect("valid mesh")
-            .0
-    }
 
     /// The crease curve of a parabola `E(u) = v + T u + K u²` whose end tangent is its own:
     /// the half-edge cubic (in `2u`) of `E` on `[0, ½]`, and from the other end the cubic of

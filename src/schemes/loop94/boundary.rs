@@ -14,20 +14,35 @@
 
 use glam::DVec3;
 
-use super::vertex::{LoopHalfEdge, LoopShape, half_edges};
+use super::vertex::{LoopCross, LoopHalfEdge, LoopShape, RingSteps, half_edges};
 use crate::mesh::Mesh;
 use crate::schemes::vertex_rings::{
     Fan, HalfEdgeTable, LOOP_SWERVE, MeshSectors, half_ring_tangent_basis, open_fan_cross_data,
     open_loop_point, swerve_cap,
 };
 
-/// The per-vertex pass of Loop's scheme on a mesh that may be open.
-pub(crate) fn open_table(mesh: &Mesh, shape: &LoopShape) -> HalfEdgeTable<LoopHalfEdge> {
-    HalfEdgeTable::build_open(mesh, &MeshSectors::plain(mesh), |fan, out| {
-        if fan.boundary {
+/// The per-vertex pass of Loop's scheme on a mesh that may be open and have sharp edges
+/// (`sectors`, [`MeshSectors::new`]): interior vertices by the closed rule of
+/// [`half_edges`] (their neighbours' steps and sharp edges read from the [`Fan`]), boundary
+/// vertices by [`boundary_half_edges`], vertices cut into sectors by
+/// [`super::crease::sector_half_edges`].
+pub(crate) fn open_table(
+    mesh: &Mesh,
+    sectors: &MeshSectors,
+    shape: &LoopShape,
+) -> HalfEdgeTable<LoopHalfEdge> {
+    HalfEdgeTable::build_open(mesh, sectors, |fan, out| {
+        if let Some(sectors) = fan.sectors {
+            super::crease::sector_half_edges(fan, sectors, shape, out);
+        } else if fan.boundary {
             boundary_half_edges(fan, shape, out);
         } else {
-            half_edges(fan.position, fan.ring, fan.ring_order, shape, out);
+            let steps = RingSteps {
+                step: fan.ring_step,
+                step_minus: fan.ring_step_minus,
+                sharp: fan.ring_sharp,
+            };
+            half_edges(fan.position, fan.ring, &steps, shape, out);
         }
     })
 }
@@ -62,9 +77,11 @@ pub(crate) fn boundary_half_edges(fan: &Fan, shape: &LoopShape, out: &mut [LoopH
     // Φ quadratic with Φ(½) = ½ (eq. 1): Φ'(0) = 1 − 2 cos θ.
     let cross = open_fan_cross_data(&r1, &r2, &psi_slope, (c, s, 1.0 - 2.0 * c));
     for (slot, (v0, v_prime)) in out.iter_mut().zip(cross) {
-        slot.v = [v0, v0 + v_prime / 3.0];
-        slot.phi0 = c;
-        slot.psi0 = s;
+        slot.set_plus(LoopCross {
+            v: [v0, v0 + v_prime / 3.0],
+            phi0: c,
+            psi0: s,
+        });
         slot.beta = beta;
     }
 }

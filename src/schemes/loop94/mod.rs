@@ -24,18 +24,19 @@
 //! edges (regularity 0.04 on the icosahedron).
 
 pub(crate) mod boundary;
+pub(crate) mod crease;
 pub(crate) mod patch;
 pub(crate) mod vertex;
 
 use rayon::prelude::*;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::schemes::vertex_rings::HalfEdgeTable;
+use crate::schemes::vertex_rings::{HalfEdgeTable, MeshSectors};
 use crate::schemes::{ParamSpec, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 use patch::{edge_curves, sextic};
-use vertex::{LoopHalfEdge, LoopShape, half_edges};
+use vertex::{LoopHalfEdge, LoopShape, RingSteps, half_edges};
 
 /// Registry entry.
 pub(crate) const SPEC: SchemeSpec = SchemeSpec {
@@ -55,7 +56,7 @@ pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     ],
     needs_closed_mesh: false,
     bytes_per_face: 1400.0,
-    sharp_edges: crate::schemes::SharpEdgeSupport::Refuses("its crease rules are not implemented"),
+    sharp_edges: crate::schemes::SharpEdgeSupport::Builds,
     build,
 };
 
@@ -65,13 +66,32 @@ fn shape(params: &Params) -> Result<LoopShape> {
     Ok(LoopShape { alpha, beta })
 }
 
-fn table(mesh: &Mesh, shape: &LoopShape) -> HalfEdgeTable<LoopHalfEdge> {
-    if !mesh.is_closed() {
-        return boundary::open_table(mesh, shape);
+/// The per-vertex pass for the whole mesh, parallel over vertices; on an open mesh the boundary
+/// vertices follow [`boundary`], and the vertices that sharp edges cut into sectors [`crease`].
+fn table(mesh: &Mesh, shape: &LoopShape) -> Result<HalfEdgeTable<LoopHalfEdge>> {
+    if mesh.is_closed() && mesh.sharp_edges().is_empty() {
+        return Ok(HalfEdgeTable::build(mesh, |p, ring, valences, out| {
+            let step: Vec<f64> = valences
+                .iter()
+                .map(|&n| 2.0 * std::f64::consts::PI / n as f64)
+                .collect();
+            let steps = RingSteps {
+                step: &step,
+                step_minus: &step,
+                sharp: &vec![false; ring.len()],
+            };
+            half_edges(p, ring, &steps, shape, out)
+        }));
     }
-    HalfEdgeTable::build(mesh, |p, ring, valences, out| {
-        half_edges(p, ring, valences, shape, out)
-    })
+    let sectors = MeshSectors::new(mesh).map_err(|(a, b)| Error::DegenerateEdge {
+        scheme: SPEC.name.into(),
+        a: a as usize,
+        b: b as usize,
+        reason: "the sharp edge runs along the normal of a sector it bounds, or the faces of \
+                 that sector cancel in its normal"
+            .into(),
+    })?;
+    Ok(boundary::open_table(mesh, &sectors, shape))
 }
 
 /// The three edges `a_k → a_{k+1}` of face `f` as (boundary curve, cross derivative).
@@ -87,7 +107,7 @@ fn face_edges(
 
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let shape = shape(params)?;
-    let table = table(mesh, &shape);
+    let table = table(mesh, &shape)?;
     let whole_face = [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z];
     let patches = mesh
         .faces()
@@ -151,7 +171,7 @@ pub(crate) mod test_support {
     /// Largest disagreement of the twist points computed from either edge, and of Loop's middle
     /// boundary point `f²` computed from either end, over all faces (for tests and diagnostics).
     pub(crate) fn max_consistency_defect(mesh: &Mesh, params: &Params) -> Result<f64> {
-        let table = table(mesh, &shape(params)?);
+        let table = table(mesh, &shape(params)?)?;
         Ok(mesh
             .faces()
             .iter()
@@ -228,7 +248,7 @@ mod tests {
     #[test]
     fn a_capped_beta_is_counted_in_one_warning() {
         for (name, mesh) in closed_test_meshes() {
-            let large = table(&mesh, &shape(&params(&SPEC, &[("beta", "50")])).unwrap());
+            let large = table(&mesh, &shape(&params(&SPEC, &[("beta", "50")])).unwrap()).unwrap();
             let used: Vec<f64> = (0..mesh.vertex_count() as u32)
                 .map(|v| large.leaving(v)[0].beta)
                 .collect();
@@ -248,7 +268,7 @@ mod tests {
                 short(smallest)
             );
             assert_eq!(capped, [&expected], "{name}");
-            let half = table(&mesh, &shape(&params(&SPEC, &[("beta", "0.5")])).unwrap());
+            let half = table(&mesh, &shape(&params(&SPEC, &[("beta", "0.5")])).unwrap()).unwrap();
             let count = (0..mesh.vertex_count() as u32)
                 .filter(|&v| half.leaving(v)[0].beta < 0.5)
                 .count();

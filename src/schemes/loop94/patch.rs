@@ -30,15 +30,17 @@ fn rot(k: usize, w: [usize; 3]) -> usize {
 }
 
 /// The boundary curve of edge `X → Y` (quartic, eq. 2) and the cross-boundary derivative
-/// towards the third corner of the face on its left (quintic, eq. 3), from the data of both ends.
+/// towards the third corner of the face on its "+" side (quintic, eq. 3), from the data of both
+/// ends (that face is on the "−" side of `Y → X`).
 pub(crate) fn edge_curves(here: &LoopHalfEdge, there: &LoopHalfEdge) -> (CurveBezier, CurveBezier) {
     let boundary = CurveBezier::new(vec![
         here.f[0], here.f[1], here.f[2], there.f[1], there.f[0],
     ]);
+    let (near, far) = (here.side(false), there.side(true));
     // V seen from Y is −V(1−u) (as in HB00: Φ̃ = 1 − Φ, Ψ̃ = Ψ), so its cubic, in X's order:
-    let v = CurveBezier::new(vec![here.v[0], here.v[1], -there.v[1], -there.v[0]]);
-    let phi = [here.phi0, 0.5, 1.0 - there.phi0];
-    let psi = [here.psi0, there.psi0];
+    let v = CurveBezier::new(vec![near.v[0], near.v[1], -far.v[1], -far.v[0]]);
+    let phi = [near.phi0, 0.5, 1.0 - far.phi0];
+    let psi = [near.psi0, far.psi0];
     let phi_e = boundary.derivative().times_scalar_polynomial(&phi);
     let psi_v = v.times_scalar_polynomial(&psi).elevate();
     let cross = CurveBezier::new(

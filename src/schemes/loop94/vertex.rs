@@ -42,13 +42,66 @@ pub(crate) struct LoopHalfEdge {
     /// The β used at the edge's first vertex: the parameter, or the swerve cap where that is
     /// lower (the same for every edge leaving the vertex).
     pub beta: f64,
+    /// On a sharp edge, the cross-boundary data of the face on the "−" side
+    /// (`(p, p_{i−1}, p_i)`); `v`, `phi0` and `psi0` are then those of the "+" side
+    /// (`(p, p_i, p_{i+1})`). `None` elsewhere: both sides share them.
+    pub minus: Option<LoopCross>,
+}
+
+/// The cross-boundary data of one side of a directed edge ([`LoopHalfEdge`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct LoopCross {
+    /// `v⁰`, `v¹` of the cubic `V` (eq. 4).
+    pub v: [DVec3; 2],
+    /// `Φ(0)` (eq. 1).
+    pub phi0: f64,
+    /// `Ψ(0)` (eq. 4).
+    pub psi0: f64,
+}
+
+impl LoopHalfEdge {
+    /// The cross-boundary data of the face on the "−" side (`minus`) or the "+" side.
+    pub(crate) fn side(&self, minus: bool) -> LoopCross {
+        match (minus, self.minus) {
+            (true, Some(side)) => side,
+            _ => LoopCross {
+                v: self.v,
+                phi0: self.phi0,
+                psi0: self.psi0,
+            },
+        }
+    }
+
+    /// Sets the cross-boundary data of the "+" side.
+    pub(crate) fn set_plus(&mut self, side: LoopCross) {
+        self.v = side.v;
+        self.phi0 = side.phi0;
+        self.psi0 = side.psi0;
+    }
+}
+
+/// The neighbours of an interior vertex as its closed rule reads them: `step[i]` the angle
+/// step at `ring[i]` of the face on the "+" side of edge `p → ring[i]` (`2π` over its order
+/// when it is not cut into sectors), `step_minus[i]` of the face on the "−" side, and
+/// `sharp[i]` whether the edge is sharp ([`crate::schemes::vertex_rings::Fan`]).
+pub(crate) struct RingSteps<'a> {
+    pub step: &'a [f64],
+    pub step_minus: &'a [f64],
+    pub sharp: &'a [bool],
 }
 
 /// Fills `out[i]` with the data of edge `p → ring[i]` (eqs. 1–4).
+///
+/// A sharp edge (a dart's, or one whose far end is cut into sectors) has the chord midpoint
+/// as `f²`, as the far end's crease rule has ([`super::crease`]), and the face on each side
+/// its own `V`: (21) on the "+" side gives `V'_+(0)` from the twist `t_i` as everywhere, and
+/// on the "−" side `t_{i−1} = R_i − Ψ'_−(0) V(0) − Ψ(0) V'_−(0)` (`R_i = Φ'(0) r¹_i + Φ(0) r²_i`)
+/// gives `V'_−(0)` from `t_{i−1}`, so that both faces keep their twists (II_T no longer ties
+/// them: the edge is only G⁰).
 pub(crate) fn half_edges(
     p: DVec3,
     ring: &[DVec3],
-    ring_valence: &[usize],
+    steps: &RingSteps,
     shape: &LoopShape,
     out: &mut [LoopHalfEdge],
 ) {
@@ -69,28 +122,46 @@ pub(crate) fn half_edges(
     ));
     let f0 = alpha * p + (1.0 - alpha) * fourier.mean();
     let r1 = |i: usize| (4.0 * beta / nf) * fourier.cos_sum(i % n);
+    // The twist of face (p, p_i, p_{i+1}) [HB00 §6].
+    let twist = |i: usize| {
+        let f1_pre = f0 + (beta / nf) * fourier.twist_preimage_sum(i);
+        let f2_pre = (p + ring[i] + ring[(i + 1) % n]) / 3.0;
+        (12.0 * phi_0 - 4.0 * phi_1) * f0
+            + (4.0 * phi_1 - 24.0 * phi_0) * f1_pre
+            + 12.0 * phi_0 * f2_pre
+    };
     for i in 0..n {
         let (prev, next) = (ring[(i + n - 1) % n], ring[(i + 1) % n]);
         let r1_i = r1(i);
         let f1 = f0 + r1_i / 4.0;
-        let f2 = (2.0 * p + prev + 2.0 * ring[i] + next) / 6.0;
+        let f2 = if steps.sharp[i] {
+            0.5 * (p + ring[i])
+        } else {
+            (2.0 * p + prev + 2.0 * ring[i] + next) / 6.0
+        };
         let r2_i = 12.0 * (f2 - 2.0 * f1 + f0);
-        let f1_pre = f0 + (beta / nf) * fourier.twist_preimage_sum(i);
-        let f2_pre = (p + ring[i] + next) / 3.0;
-        let twist = (12.0 * phi_0 - 4.0 * phi_1) * f0
-            + (4.0 * phi_1 - 24.0 * phi_0) * f1_pre
-            + 12.0 * phi_0 * f2_pre;
+        let along = phi_1 * r1_i + phi_0 * r2_i;
         // (19): r¹_{i+1} = Φ(0) r¹_i + Ψ(0) V(0).
         let v0 = (r1(i + 1) - c * r1_i) / s;
         // Ψ linear over [0, 1] (eq. 4): Ψ'(0) = sin(2π/n_i) − sin(2π/n).
-        let psi_1 = psi0(ring_valence[i]) - s;
-        let v_prime = (twist - phi_1 * r1_i - phi_0 * r2_i - psi_1 * v0) / s;
+        let psi_1 = steps.step[i].sin() - s;
+        let v_prime = (twist(i) - along - psi_1 * v0) / s;
+        let minus = steps.sharp[i].then(|| {
+            let psi_1 = steps.step_minus[i].sin() - s;
+            let v_prime = (along - psi_1 * v0 - twist((i + n - 1) % n)) / s;
+            LoopCross {
+                v: [v0, v0 + v_prime / 3.0],
+                phi0: c,
+                psi0: s,
+            }
+        });
         out[i] = LoopHalfEdge {
             f: [f0, f1, f2],
             v: [v0, v0 + v_prime / 3.0],
             phi0: c,
             psi0: s,
             beta,
+            minus,
         };
     }
 }
@@ -130,8 +201,14 @@ mod tests {
             ] {
                 let p = ring(n);
                 let valences: Vec<usize> = (0..n).map(|i| 3 + (i * 7 + n) % 11).collect();
+                let step: Vec<f64> = valences.iter().map(|&m| 2.0 * PI / m as f64).collect();
+                let steps = RingSteps {
+                    step: &step,
+                    step_minus: &step,
+                    sharp: &vec![false; n],
+                };
                 let mut he = vec![LoopHalfEdge::default(); n];
-                half_edges(DVec3::new(0.0, 0.1, 0.2), &p, &valences, &shape, &mut he);
+                half_edges(DVec3::new(0.0, 0.1, 0.2), &p, &steps, &shape, &mut he);
                 let (phi_0, phi_1) = (phi0(n), 1.0 - 2.0 * phi0(n));
                 let r1 = |i: usize| 4.0 * (he[i % n].f[1] - he[i % n].f[0]);
                 let r2 = |i: usize| 12.0 * (he[i].f[2] - 2.0 * he[i].f[1] + he[i].f[0]);
