@@ -575,6 +575,28 @@ pub(crate) struct Fan<'a> {
     pub sectors: Option<&'a [Sector]>,
 }
 
+impl Fan<'_> {
+    /// `Ψ'(0)` over each edge of `sector` (its edges `0..=faces`), `Ψ` linear from
+    /// `sin θ` of the sector's step here to the far end's `Ψ(0)` on the sector's side of
+    /// the edge ([`Fan::ring_step`] inside and at the first edge, [`Fan::ring_step_minus`]
+    /// at the last) [HB00 eq. 20, open-fan analogue].
+    pub(crate) fn sector_psi_slope(&self, sector: &Sector) -> Vec<f64> {
+        let n = self.ring.len();
+        let s = sector.step.sin();
+        (0..=sector.faces)
+            .map(|j| {
+                let edge = (sector.first + j) % n;
+                let far = if j < sector.faces {
+                    self.ring_step[edge]
+                } else {
+                    self.ring_step_minus[edge]
+                };
+                far.sin() - s
+            })
+            .collect()
+    }
+}
+
 /// Sectors are told apart from a crease tangent of zero length by this fraction of the
 /// edge: below it the edge runs (nearly) along the normal of a sector it bounds.
 pub(crate) const MIN_CREASE_TANGENT: f64 = 1e-9;
@@ -776,6 +798,18 @@ impl MeshSectors {
             .map(|v| fan_sectors(mesh, v, &corner_normals))
             .collect::<std::result::Result<Vec<_>, _>>()?;
         Ok(MeshSectors::from_sectors(mesh, by_vertex))
+    }
+
+    /// [`MeshSectors::new`] for `scheme`, failing with the error that names the edge at fault.
+    pub(crate) fn for_scheme(mesh: &Mesh, scheme: &str) -> crate::error::Result<MeshSectors> {
+        MeshSectors::new(mesh).map_err(|(a, b)| crate::error::Error::DegenerateEdge {
+            scheme: scheme.into(),
+            a: a as usize,
+            b: b as usize,
+            reason: "the sharp edge runs along the normal of a sector it bounds, or the faces \
+                     of that sector cancel in its normal"
+                .into(),
+        })
     }
 
     /// One sector per vertex (sharp edges ignored), for the schemes that refuse them.

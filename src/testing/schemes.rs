@@ -24,6 +24,21 @@ pub fn creased(mesh: &Mesh, degrees: f64) -> Mesh {
         .0
 }
 
+/// The vertices of `mesh` by kind of sharp edges met: `[corners (3 or more sharp edges,
+/// interior), darts (1, interior), boundary vertices with a sharp edge]`.
+pub fn sharp_vertex_kinds(mesh: &Mesh) -> [usize; 3] {
+    let mut kinds = [0; 3];
+    for v in 0..mesh.vertex_count() as u32 {
+        match (mesh.is_boundary_vertex(v), mesh.sharp_valence(v)) {
+            (false, 3..) => kinds[0] += 1,
+            (false, 1) => kinds[1] += 1,
+            (true, 1..) => kinds[2] += 1,
+            _ => {}
+        }
+    }
+    kinds
+}
+
 /// The closed scenes of scenes/ and a closed mesh with a vertex of each valence 3..=16.
 pub fn closed_test_meshes() -> Vec<(String, Mesh)> {
     let mut out: Vec<(String, Mesh)> = generate::SCENES

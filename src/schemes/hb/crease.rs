@@ -91,17 +91,7 @@ pub(crate) fn sector_half_edges(
             .iter()
             .map(|b| 24.0 * (b[2] - 2.0 * b[1] + b[0]))
             .collect();
-        // Ψ linear over each edge from sin θ here to the far end's Ψ(0) on the sector's side.
-        let psi_slope: Vec<f64> = (0..=m)
-            .map(|j| {
-                let far = if j < m {
-                    fan.ring_step[edge(j)]
-                } else {
-                    fan.ring_step_minus[edge(j)]
-                };
-                far.sin() - s
-            })
-            .collect();
+        let psi_slope = fan.sector_psi_slope(sector);
         let cross = open_fan_cross_data(&r1, &r2, &psi_slope, (c, s, 1.0 - 2.0 * c));
         for (j, (v0, v_prime)) in cross.into_iter().enumerate() {
             let side = CrossSide {
@@ -137,7 +127,7 @@ mod tests {
     use crate::schemes::hb::{SPEC, build};
     use crate::testing::{
         JointFigures, assert_g1_joints, closed_test_meshes, creased,
-        max_smoothness_defect_inside_faces, open_test_meshes, params,
+        max_smoothness_defect_inside_faces, open_test_meshes, params, sharp_vertex_kinds,
     };
     use crate::tolerance::POSITION_REL;
 
@@ -191,14 +181,8 @@ mod tests {
                 if mesh.sharp_edges().is_empty() {
                     continue;
                 }
-                for v in 0..mesh.vertex_count() as u32 {
-                    match (mesh.is_boundary_vertex(v), mesh.sharp_valence(v)) {
-                        (false, 1) => darts += 1,
-                        (false, 3..) => corners += 1,
-                        (true, 1..) => on_boundary += 1,
-                        _ => {}
-                    }
-                }
+                let [c, d, b] = sharp_vertex_kinds(&mesh);
+                (corners, darts, on_boundary) = (corners + c, darts + d, on_boundary + b);
                 for pairs in [
                     &[][..],
                     &[("free", "zero-twist")][..],

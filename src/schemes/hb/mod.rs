@@ -180,14 +180,7 @@ fn half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> Result<HalfEdgeTable<HalfEd
             rule.half_edges(v, ring, &steps, &steps, out)
         }));
     }
-    let sectors = MeshSectors::new(mesh).map_err(|(a, b)| Error::DegenerateEdge {
-        scheme: SPEC.name.into(),
-        a: a as usize,
-        b: b as usize,
-        reason: "the sharp edge runs along the normal of a sector it bounds, or the faces of \
-                 that sector cancel in its normal"
-            .into(),
-    })?;
+    let sectors = MeshSectors::for_scheme(mesh, SPEC.name)?;
     Ok(boundary::open_half_edge_table(mesh, &sectors, rule))
 }
 

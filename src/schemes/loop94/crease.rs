@@ -69,17 +69,7 @@ pub(crate) fn sector_half_edges(
             .map(|f| 12.0 * (f[2] - 2.0 * f[1] + f[0]))
             .collect();
         let (s, c) = sector.step.sin_cos();
-        // Ψ linear over each edge from sin θ here to the far end's Ψ(0) on the sector's side.
-        let psi_slope: Vec<f64> = (0..=m)
-            .map(|j| {
-                let far = if j < m {
-                    fan.ring_step[edge(j)]
-                } else {
-                    fan.ring_step_minus[edge(j)]
-                };
-                far.sin() - s
-            })
-            .collect();
+        let psi_slope = fan.sector_psi_slope(sector);
         // Φ quadratic with Φ(½) = ½ (eq. 1): Φ'(0) = 1 − 2 cos θ.
         let cross = open_fan_cross_data(&r1, &r2, &psi_slope, (c, s, 1.0 - 2.0 * c));
         for (j, (v0, v_prime)) in cross.into_iter().enumerate() {
@@ -107,7 +97,9 @@ mod tests {
     use crate::metrics::Metrics;
     use crate::schemes::loop94::test_support::max_consistency_defect;
     use crate::schemes::loop94::{SPEC, build};
-    use crate::testing::{closed_test_meshes, creased, open_test_meshes, params};
+    use crate::testing::{
+        closed_test_meshes, creased, open_test_meshes, params, sharp_vertex_kinds,
+    };
     use crate::tolerance::{NORMAL_RAD, POSITION_REL};
 
     /// On every closed and open test mesh with the edges above 20° and 35° sharp (corners,
@@ -124,14 +116,8 @@ mod tests {
                 if mesh.sharp_edges().is_empty() {
                     continue;
                 }
-                for v in 0..mesh.vertex_count() as u32 {
-                    match (mesh.is_boundary_vertex(v), mesh.sharp_valence(v)) {
-                        (false, 1) => darts += 1,
-                        (false, 3..) => corners += 1,
-                        (true, 1..) => on_boundary += 1,
-                        _ => {}
-                    }
-                }
+                let [c, d, b] = sharp_vertex_kinds(&mesh);
+                (corners, darts, on_boundary) = (corners + c, darts + d, on_boundary + b);
                 for pairs in [&[][..], &[("beta", "0.4")][..], &[("alpha", "0.8")][..]] {
                     let p = params(&SPEC, pairs);
                     let label = format!("{name} at {degrees}° {pairs:?}");

@@ -30,7 +30,7 @@ pub(crate) mod vertex;
 
 use rayon::prelude::*;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::schemes::vertex_rings::{HalfEdgeTable, MeshSectors};
 use crate::schemes::{ParamSpec, Params, SchemeSpec};
@@ -83,14 +83,7 @@ fn table(mesh: &Mesh, shape: &LoopShape) -> Result<HalfEdgeTable<LoopHalfEdge>> 
             half_edges(p, ring, &steps, shape, out)
         }));
     }
-    let sectors = MeshSectors::new(mesh).map_err(|(a, b)| Error::DegenerateEdge {
-        scheme: SPEC.name.into(),
-        a: a as usize,
-        b: b as usize,
-        reason: "the sharp edge runs along the normal of a sector it bounds, or the faces of \
-                 that sector cancel in its normal"
-            .into(),
-    })?;
+    let sectors = MeshSectors::for_scheme(mesh, SPEC.name)?;
     Ok(boundary::open_table(mesh, &sectors, shape))
 }
 
