@@ -85,8 +85,11 @@ impl LoopHalfEdge {
 /// when it is not cut into sectors), `step_minus[i]` of the face on the "−" side, and
 /// `sharp[i]` whether the edge is sharp ([`crate::schemes::vertex_rings::Fan`]).
 pub(crate) struct RingSteps<'a> {
+    /// Angle step at `ring[i]` of the face on the "+" side of edge `i`.
     pub step: &'a [f64],
+    /// Angle step at `ring[i]` of the face on the "−" side of edge `i`.
     pub step_minus: &'a [f64],
+    /// Whether edge `i` is sharp.
     pub sharp: &'a [bool],
 }
 
