@@ -42,9 +42,11 @@ pub(crate) enum EdgeScaling {
     Thesis,
 }
 
-/// Step 1, one boundary point: the control point next to `vertex` (unit normal `normal`) on
-/// the edge towards `other`, or `None` when the normal is along the edge (no tangent
-/// direction for it).
+/// Step 1, one boundary point along `leg`, the chord `other − vertex` projected orthogonally
+/// onto the curve's tangent directions at `vertex` (the tangent plane, `q − b300` of
+/// [Piper87 §3.8 step 1]; on a sharp edge the crease line of [`crate::mesh::crease_tangent`]),
+/// scaled by the rule `scaling`; `None` when the leg vanishes (the chord is across every
+/// tangent direction).
 ///
 /// The crossing guard [Piper87 §3.8 step 1, Fig. 15]: the two points of an edge cross when
 /// they pass each other along the chord, which gives cusps. Whatever the scaling, the factor
@@ -52,16 +54,13 @@ pub(crate) enum EdgeScaling {
 /// to its vertex: then the two points of an edge can touch at the chord's midpoint but never
 /// cross. Only [`EdgeScaling::Thesis`] can reach the cap (when `‖q − b300‖` is more than
 /// 1.5 units); the other rules stay within the first third (`Farin`) or 4/9 (`Relative`).
-pub(crate) fn edge_point(
+pub(crate) fn edge_point_along(
     vertex: DVec3,
-    normal: DVec3,
+    leg: DVec3,
     other: DVec3,
     scaling: EdgeScaling,
 ) -> Option<DVec3> {
-    let chord = other - vertex;
-    let chord_length = chord.length();
-    // q − b300: the chord projected into the tangent plane at the vertex.
-    let leg = chord - chord.dot(normal) * normal;
+    let chord_length = (other - vertex).length();
     let leg_length = leg.length();
     if leg_length <= 1e-9 * chord_length || !leg_length.is_finite() {
         return None;
@@ -74,25 +73,45 @@ pub(crate) fn edge_point(
         EdgeScaling::Relative => 1.0 / 3.0 + cos_theta / 9.0,
         EdgeScaling::Thesis => 1.0 / 3.0 + leg_length / 9.0,
     };
-    // The chord projection of factor·leg is factor·‖leg‖²/‖chord‖; keep it ≤ ‖chord‖/2.
+    // The leg is an orthogonal projection of the chord, so the chord projection of
+    // factor·leg is factor·‖leg‖²/‖chord‖; keep it ≤ ‖chord‖/2.
     let crossing_cap = 0.5 / (cos_theta * cos_theta);
     Some(vertex + factor.min(crossing_cap) * leg)
 }
 
 /// Step 1 for one face: the candidate cubic net of corners `p` (face order, `b300 = p[0]`,
-/// `b030 = p[1]`, `b003 = p[2]`) with unit vertex normals `n`. Boundary points by
-/// [`edge_point`], the centre by Farin's C⁰ rule [Piper87 §3.8 step 1]:
+/// `b030 = p[1]`, `b003 = p[2]`) with unit corner normals `n` (a vertex's normal, or its
+/// sector's at a vertex cut by sharp edges). Boundary points by [`edge_point_along`], the centre by
+/// Farin's C⁰ rule [Piper87 §3.8 step 1]:
 /// `b111 = ¼(b201 + b102 + b012 + b021 + b120 + b210) − ⅙(b300 + b030 + b003)`.
 ///
-/// On error returns the corner `(from, to)` (indices 0..3 into the face) whose normal lies
-/// along the edge.
+/// `creases[e]` is set for a sharp edge `e` (corner `e` → `e + 1`): the normals of the
+/// neighbour's sectors at its two ends. Its points then leave each end along the crease
+/// direction of the two sectors there ([`crate::mesh::crease_tangent`], the same for both
+/// faces bit for bit), so the faces on either side build one boundary curve.
+///
+/// On error returns the corner `(from, to)` (indices 0..3 into the face) where the edge has
+/// no tangent direction.
 pub(crate) fn candidate_net(
     p: [DVec3; 3],
     n: [DVec3; 3],
+    creases: [Option<[DVec3; 2]>; 3],
     scaling: EdgeScaling,
 ) -> Result<Cubic, (usize, usize)> {
-    let point =
-        |from: usize, to: usize| edge_point(p[from], n[from], p[to], scaling).ok_or((from, to));
+    let point = |from: usize, to: usize| {
+        // Edge e runs from corner e to corner e + 1; `from` is its end 0 or 1.
+        let (e, end) = if to == (from + 1) % 3 {
+            (from, 0)
+        } else {
+            (to, 1)
+        };
+        let chord = p[to] - p[from];
+        let leg = match creases[e] {
+            Some(other) => crate::mesh::crease_tangent(chord, n[from], other[end]),
+            None => chord - chord.dot(n[from]) * n[from],
+        };
+        edge_point_along(p[from], leg, p[to], scaling).ok_or((from, to))
+    };
     let b210 = point(0, 1)?;
     let b120 = point(1, 0)?;
     let b021 = point(1, 2)?;
@@ -211,6 +230,19 @@ pub(crate) fn elevate(net: &Cubic) -> Quartic {
 mod tests {
     use super::*;
 
+    /// The control point next to `vertex` (unit normal `normal`) on
+    /// the edge towards `other`, or `None` when the normal is along the edge (no tangent
+    /// direction for it). [`edge_point_along`] with the chord projected into the tangent plane.
+    fn edge_point(
+        vertex: DVec3,
+        normal: DVec3,
+        other: DVec3,
+        scaling: EdgeScaling,
+    ) -> Option<DVec3> {
+        let chord = other - vertex;
+        edge_point_along(vertex, chord - chord.dot(normal) * normal, other, scaling)
+    }
+
     fn unit_sphere_face() -> ([DVec3; 3], [DVec3; 3]) {
         let p = [
             DVec3::new(1.0, 0.1, 0.2).normalize(),
@@ -230,7 +262,7 @@ mod tests {
             EdgeScaling::Relative,
             EdgeScaling::Thesis,
         ] {
-            let net = candidate_net(p, n, scaling).expect("regular data");
+            let net = candidate_net(p, n, [None; 3], scaling).expect("regular data");
             let patch = TriangleBezier::new(3, net.to_vec());
             for (c, (i, j)) in [(3, 0), (0, 3), (0, 0)].into_iter().enumerate() {
                 assert_eq!(patch.point(i, j), p[c]);
@@ -318,7 +350,7 @@ mod tests {
     #[test]
     fn split_reproduces_the_net_and_shares_points_exactly() {
         let (p, n) = unit_sphere_face();
-        let net = candidate_net(p, n, EdgeScaling::Farin).unwrap();
+        let net = candidate_net(p, n, [None; 3], EdgeScaling::Farin).unwrap();
         let whole = TriangleBezier::new(3, net.to_vec());
         let pieces = split_at_centroid(&net);
         for (k, piece) in pieces.iter().enumerate() {

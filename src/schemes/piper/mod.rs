@@ -21,6 +21,13 @@
 //! construction is local, so open meshes work as they are — a boundary edge has no neighbour,
 //! its sub-net keeps its candidate points, and every interior edge is G¹.
 //!
+//! Sharp edges (`--crease-angle`, or marked in the file) are kept sharp the same way: each
+//! vertex cut by sharp edges has one normal per sector ([`Mesh::corner_normals`]), a sharp
+//! edge's boundary points leave each end along the crease of the two sectors there (step 1,
+//! [`cubic_net::candidate_net`]), so both faces build one boundary curve (G⁰), and steps 3
+//! and 5 skip it as they skip a boundary edge. The thesis has no crease rule; this is the
+//! boundary rule applied on both sides of the edge.
+//!
 //! Where this differs from the thesis, and why:
 //! * edge scaling (`scaling=`): the thesis's factor `1/3 + ‖q − b‖/9` measures a length in
 //!   the mesh's units, so the surface changes shape when the mesh is scaled, and the thesis
@@ -33,7 +40,7 @@
 //!   edges); `scaling=relative` is the thesis's factor with the distance in chord lengths
 //!   (scale invariant; 4/9 of the chord on flat data, so only second order on spheres, but
 //!   the calmest zebra stripes on coarse, spiky meshes). Every rule is capped at the edge's
-//!   midpoint, the crossing guard ([`cubic_net::edge_point`]);
+//!   midpoint, the crossing guard ([`cubic_net::edge_point_along`]);
 //! * step 3: the thesis's projection-and-scaling makes the four points coplanar only to first
 //!   order; here both centres are projected onto one plane between the two, weighted by the
 //!   same heights — exactly coplanar (this only changes the starting point of step 5);
@@ -74,9 +81,7 @@ pub(crate) const SPEC: SchemeSpec = SchemeSpec {
     ],
     needs_closed_mesh: false,
     bytes_per_face: 3900.0,
-    sharp_edges: crate::schemes::SharpEdgeSupport::Refuses(
-        "its G1 solve joins the two faces of every interior edge smoothly",
-    ),
+    sharp_edges: crate::schemes::SharpEdgeSupport::Builds,
     build,
 };
 
@@ -175,8 +180,8 @@ impl Construction<'_> {
         let mut pieces = [[glam::DVec3::ZERO; 15]; 3];
         for (k, piece) in pieces.iter_mut().enumerate() {
             *piece = match self.mesh.neighbor(f as u32, k) {
-                None => cubic_net::elevate(&self.cubic_pieces[f][k]),
-                Some((g, kg)) => {
+                // A boundary edge, or a sharp one: no G¹ solve across it.
+                Some((g, kg)) if !self.mesh.is_sharp(f as u32, k) => {
                     let other = (g as usize, kg);
                     if f < other.0 {
                         self.solve_edge((f, k), other)?.0
@@ -184,6 +189,7 @@ impl Construction<'_> {
                         self.solve_edge(other, (f, k))?.1
                     }
                 }
+                _ => cubic_net::elevate(&self.cubic_pieces[f][k]),
             };
         }
         c1_restore::restore_c1(&mut pieces);
@@ -223,31 +229,52 @@ fn candidates<'a>(mesh: &'a Mesh, params: &Params) -> Result<Construction<'a>> {
     let (normals, warnings) =
         crate::schemes::scheme_normals(mesh, params, SPEC.name, AtFoldedVertex::Refuse)?;
     let positions = mesh.positions();
+    let corner_normals = mesh.corner_normals(&normals);
     // Steps 1–2, per face.
-    let cubic_pieces = mesh
-        .faces()
-        .par_iter()
-        .map(|face| {
+    let cubic_pieces = (0..mesh.face_count())
+        .into_par_iter()
+        .map(|f| {
+            let face = mesh.faces()[f];
             let p = face.map(|v| positions[v as usize]);
-            let n = face.map(|v| normals[v as usize]);
-            cubic_net::candidate_net(p, n, scaling)
-                .map(|net| cubic_net::split_at_centroid(&net))
-                .map_err(|(from, to)| Error::DegenerateEdge {
-                    scheme: SPEC.name.to_string(),
-                    a: face[from] as usize,
-                    b: face[to] as usize,
-                    reason: format!(
-                        "the normal of vertex {} lies along the edge, so the edge has no \
-                         tangent direction there",
-                        mesh.input_vertex(face[from])
-                    ),
-                })
+            cubic_net::candidate_net(
+                p,
+                corner_normals[f],
+                creases(mesh, &corner_normals, f),
+                scaling,
+            )
+            .map(|net| cubic_net::split_at_centroid(&net))
+            .map_err(|(from, to)| Error::DegenerateEdge {
+                scheme: SPEC.name.to_string(),
+                a: face[from] as usize,
+                b: face[to] as usize,
+                reason: format!(
+                    "the normal of vertex {} (or the crease of its sectors, on a sharp \
+                         edge) lies across the edge, so the edge has no tangent direction there",
+                    mesh.input_vertex(face[from])
+                ),
+            })
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(Construction {
         mesh,
         cubic_pieces,
         warnings,
+    })
+}
+
+/// For each sharp edge `e` of face `f` (corner `e` → `e + 1`), the normals of the
+/// neighbour's sectors at the edge's two ends ([`cubic_net::candidate_net`]).
+fn creases(
+    mesh: &Mesh,
+    corner_normals: &[[glam::DVec3; 3]],
+    f: usize,
+) -> [Option<[glam::DVec3; 2]>; 3] {
+    std::array::from_fn(|e| {
+        let (g, ge) = mesh.neighbor(f as u32, e)?;
+        // Corner e of f is corner ge + 1 of g, and corner e + 1 of f is corner ge of g.
+        let other = corner_normals[g as usize];
+        mesh.is_sharp(f as u32, e)
+            .then(|| [other[(ge + 1) % 3], other[ge]])
     })
 }
 

@@ -456,3 +456,124 @@ fn approximates_the_sphere() {
         }
     }
 }
+
+/// The creased test meshes on which Piper's surface folds (G¹ = π between faces): sector
+/// normals are angle-weighted averages of their faces' normals, so the crease line n₀ × n₁ of
+/// two nearly coplanar sectors can swing far from the mesh edge it stands for. The edge points
+/// projected onto it then turn a face's corner over, Piper's end weights go negative and the
+/// tangent planes agree with opposite orientations. Measured, not claimed away: the metrics
+/// count the folds, and creases are meant for CAD parts, not scans.
+const FOLDS_WHEN_CREASED: [(&str, f64); 4] = [
+    ("bunny-open", 20.0),
+    ("bunny-open", 35.0),
+    ("wheel-11", 20.0),
+    ("wheel-12", 20.0),
+];
+
+/// Creased meshes on which Piper's surface is G¹ with no corner turned over, and yet a few
+/// samples face against their own face's normal with the Farin scaling (2 on the hemisphere
+/// at 35°; 0 with the circle scaling, and 0 for both without creases).
+const FARIN_BULGES_WHEN_CREASED: [(&str, f64, &str); 1] = [("hemisphere", 35.0, "farin")];
+
+/// On every closed and open test mesh with the edges above 20° and 35° sharp (corners,
+/// darts, creases ending at boundaries): G0 across the sharp joints (one boundary curve, bit
+/// for bit), G¹ across every other joint between faces, C¹ inside faces, the vertices
+/// interpolated and each patch corner tangent to its sector's normal. Every kind of vertex is
+/// met. The meshes of [`FOLDS_WHEN_CREASED`] fold instead, and say so.
+#[test]
+fn creased_meshes_are_g0_across_sharp_edges_and_g1_elsewhere() {
+    let (mut corners, mut darts, mut on_boundary) = (0, 0, 0);
+    let meshes = closed_test_meshes()
+        .into_iter()
+        .chain(testing::open_test_meshes());
+    for (name, mesh) in meshes {
+        for degrees in [20.0, 35.0] {
+            let mesh = testing::creased(&mesh, degrees);
+            if mesh.sharp_edges().is_empty() {
+                continue;
+            }
+            let [c, d, b] = testing::sharp_vertex_kinds(&mesh);
+            (corners, darts, on_boundary) = (corners + c, darts + d, on_boundary + b);
+            for scaling in ["circle", "farin"] {
+                let p = params(&[("scaling", scaling)]);
+                let label = format!("{name} at {degrees}° {scaling}");
+                let surface = build(&mesh, &p).unwrap_or_else(|e| panic!("{label}: {e}"));
+                let m = Metrics::measure(&surface, &mesh, 0.0);
+                assert_eq!(m.singular_samples, 0, "{label}");
+                assert_eq!(m.sharp_g0_max_rel, Some(0.0), "{label}: sharp G0");
+                let gap = m.g0_max_rel.expect("joints measured");
+                let between = m.g1_between_faces_max_rad.unwrap_or(0.0);
+                let inside = m.g1_inside_faces_max_rad.expect("pieces measured");
+                assert!(gap <= crate::tolerance::POSITION_REL, "{label}: G0 {gap}");
+                let known_fold = FOLDS_WHEN_CREASED.contains(&(name.as_str(), degrees));
+                assert_eq!(
+                    between > crate::tolerance::NORMAL_RAD,
+                    known_fold,
+                    "{label}: G1 {between} (FOLDS_WHEN_CREASED lists the meshes that fold)"
+                );
+                assert!(
+                    inside <= crate::tolerance::NORMAL_RAD,
+                    "{label}: C1 {inside}"
+                );
+                let interpolation = m.interp_max_rel.expect("vertices measured");
+                assert!(interpolation <= 1e-12, "{label}: {interpolation}");
+                let (front, _) =
+                    crate::schemes::scheme_normals(&mesh, &p, SPEC.name, AtFoldedVertex::Refuse)
+                        .expect("normals");
+                let corner_normals = mesh.corner_normals(&front);
+                // A face that is a sector of its own between the two sharp edges of a crease
+                // through the vertex has both its edges there along the one crease line: its
+                // corner opens by 180° and the patch's normal there is left to rounding.
+                let (mut straight_corners, mut turned_corners) = (0, 0);
+                let mut worst_corner = 0.0f64;
+                for vc in surface.vertex_corners(mesh.faces()) {
+                    let patch = &surface.patches[vc.patch as usize];
+                    let uv = UV_CORNERS[vc.corner as usize];
+                    let jet = patch.jet(uv.x, uv.y);
+                    let face = mesh.faces()[patch.face as usize];
+                    let c = face.iter().position(|&x| x == vc.vertex).expect("corner");
+                    let own_sector = mesh.is_sharp(patch.face, c)
+                        && mesh.is_sharp(patch.face, (c + 2) % 3)
+                        && mesh.sharp_valence(vc.vertex) == 2;
+                    if own_sector {
+                        straight_corners += 1;
+                        continue;
+                    }
+                    let sector_normal = corner_normals[patch.face as usize][c];
+                    let angle = normal_angle(jet.normal(), sector_normal);
+                    if angle > std::f64::consts::FRAC_PI_2 {
+                        // Tangent to the sector's plane, but turned over (a fold).
+                        turned_corners += 1;
+                    } else {
+                        worst_corner = worst_corner.max(angle);
+                    }
+                }
+                assert!(
+                    worst_corner <= crate::tolerance::NORMAL_RAD,
+                    "{label}: corner normal off its sector's by {worst_corner} rad"
+                );
+                // The fold is the turned-over corner, and it is reported to the user.
+                assert_eq!(turned_corners > 0, known_fold, "{label}: {turned_corners}");
+                let bulge = FARIN_BULGES_WHEN_CREASED.contains(&(name.as_str(), degrees, scaling));
+                assert_eq!(
+                    m.folds > 0,
+                    known_fold || bulge,
+                    "{label}: folds {}",
+                    m.folds
+                );
+                if scaling == "circle" {
+                    eprintln!(
+                        "{label}: {} sharp joints, G1 {between:.1e} rad, C1 {inside:.1e} rad, \
+                         corners {worst_corner:.1e} rad ({straight_corners} straight, \
+                         {turned_corners} turned over), folds {}",
+                        m.sharp_joints, m.folds
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        corners > 0 && darts > 0 && on_boundary > 0,
+        "corners {corners}, darts {darts}, on the boundary {on_boundary}"
+    );
+}
