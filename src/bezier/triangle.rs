@@ -120,6 +120,19 @@ fn jet_from_quadratic_level(q: &[DVec3], degree: usize, w: DVec3) -> Jet {
     }
 }
 
+/// [`TriangleBezier::jet`] of a net of degree `D` (`N` points, `2 ≤ D`): the same de Casteljau
+/// steps as the general path, in the same order (so the same bits), with the degree known to
+/// the compiler, which unrolls the rows and drops their index checks. The jet at every ray hit
+/// and every fold-test sample of the schemes runs through here.
+#[inline(always)]
+fn jet_of_degree<const D: usize, const N: usize>(points: &[DVec3], w: DVec3) -> Jet {
+    let mut net: [DVec3; N] = std::array::from_fn(|n| points[n]);
+    for m in (3..=D).rev() {
+        de_casteljau_step(&mut net, m, w);
+    }
+    jet_from_quadratic_level(&net, D, w)
+}
+
 /// A triangular Bézier patch `B(w0,w1,w2) = Σ b(i,j,k) d!/(i!j!k!) w0^i w1^j w2^k`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TriangleBezier {
@@ -231,6 +244,11 @@ impl TriangleBezier {
                 dv: b[2] - b[0],
                 ..Jet::default()
             },
+            2 => jet_of_degree::<2, 6>(b, w),
+            3 => jet_of_degree::<3, 10>(b, w),
+            4 => jet_of_degree::<4, 15>(b, w),
+            5 => jet_of_degree::<5, 21>(b, w),
+            6 => jet_of_degree::<6, 28>(b, w),
             degree => with_working_net(b, |net| {
                 for m in (3..=degree).rev() {
                     de_casteljau_step(net, m, w);

@@ -137,17 +137,109 @@ impl ZebraParams {
                 // the direction of the reflected vector's part across the view.
                 let up = (self.view_up - view * self.view_up.dot(view)).normalize_or(DVec3::Y);
                 let right = view.cross(up);
-                let theta = (-reflected.dot(view)).clamp(-1.0, 1.0).acos();
                 let (x, y) = (reflected.dot(right), reflected.dot(up));
                 let across = x.hypot(y);
                 if across <= 0.0 {
                     return 0.0;
                 }
+                // θ from its sine and cosine: `acos` of the cosine alone loses half the digits
+                // near normal incidence (θ → 0).
+                let theta = across.atan2(-reflected.dot(view));
                 let c = if self.axis == ZebraAxis::View { x } else { y };
                 theta * c / across
             }
         };
         angle / std::f64::consts::TAU
+    }
+
+    /// The width, in turns, of the interval [`ZebraParams::turns`] sweeps over the footprint
+    /// `f` of the hit `sp`: `|∂τ/∂x| + |∂τ/∂y|`, the quantity
+    /// [`Footprint::phase_width`] estimates by central differences, here from the analytic
+    /// derivative ([`ZebraParams::turns_slopes`]: one evaluation and no `acos`/`hypot` beyond
+    /// the phase's own, where the differences take four). The differences are kept for the
+    /// degenerate cases the derivative does not cover (view along the image's up direction,
+    /// reflected direction along a pole).
+    fn turns_width(&self, sp: &ShadingPoint, f: &Footprint) -> f64 {
+        let slopes = self.turns_slopes(sp.facing_normal, sp.view, f.dn, f.dv);
+        match slopes {
+            Some([a, b]) if (a.abs() + b.abs()).is_finite() => a.abs() + b.abs(),
+            _ => f.phase_width(sp, |_, n, v| self.turns(n, v)),
+        }
+    }
+
+    /// The derivatives of [`ZebraParams::turns`] at unit normal `n` and unit view `v` along
+    /// the two footprint directions, where the normal moves by `dn[k]` and the view by
+    /// `dv[k]` (both then renormalised, as [`Footprint::phase_width`] does): forward-mode
+    /// differentiation of the same formula. None where it is singular.
+    ///
+    /// View axes: with `c = −r·v` (`r` the reflected direction), `θ = acos c` and the
+    /// across-view part `(x, y)` of `r`, `|(x, y)| = sin θ = √(1 − c²)`, so the angle is
+    /// `g(c) · x` (or `· y`) with `g(c) = acos c / √(1 − c²)` and
+    /// `g′(c) = (c g − 1) / (1 − c²)`, which tends to `−1/3 − 4(1 − c)/15` as the reflected
+    /// direction comes back along the ray (`c → 1`, normal incidence), where the series is
+    /// used. World axis:
+    /// the derivative of `atan2(r·b₂, r·b₁)`.
+    fn turns_slopes(&self, n: DVec3, v: DVec3, dn: [DVec3; 2], dv: [DVec3; 2]) -> Option<[f64; 2]> {
+        let k = v.dot(n);
+        let r = v - 2.0 * k * n;
+        // The moves of the unit normal and view: the parts of `dn`, `dv` across them.
+        let moves = [0, 1].map(|i| (dn[i] - n * n.dot(dn[i]), dv[i] - v * v.dot(dv[i])));
+        let reflected_move =
+            |(n1, v1): (DVec3, DVec3)| v1 - 2.0 * ((v1.dot(n) + v.dot(n1)) * n + k * n1);
+        let slopes = match self.axis {
+            ZebraAxis::World(axis) => {
+                let (b1, b2) = axis.normalize_or(DVec3::Y).any_orthonormal_pair();
+                let (a, b) = (r.dot(b1), r.dot(b2));
+                let norm = a * a + b * b;
+                if !(norm > 0.0) {
+                    return None;
+                }
+                moves.map(|m| {
+                    let r1 = reflected_move(m);
+                    (a * r1.dot(b2) - b * r1.dot(b1)) / norm
+                })
+            }
+            ZebraAxis::View | ZebraAxis::ViewHorizontal => {
+                let w = self.view_up - v * self.view_up.dot(v);
+                let length = w.length();
+                if !(length > 0.0) {
+                    return None;
+                }
+                let up = w / length;
+                let right = v.cross(up);
+                let c = (-r.dot(v)).clamp(-1.0, 1.0);
+                let (x, y) = (r.dot(right), r.dot(up));
+                let across = x.hypot(y);
+                if !(across > 0.0) {
+                    return None;
+                }
+                // θ / sin θ, with θ from both its sine and cosine: `acos` alone loses half
+                // the digits as the reflected direction comes back along the ray.
+                let g = across.atan2(c) / across;
+                let e = 1.0 - c;
+                let g1 = if e < 1e-6 {
+                    -1.0 / 3.0 - 4.0 / 15.0 * e
+                } else {
+                    (c * g - 1.0) / (across * across)
+                };
+                let horizontal = self.axis == ZebraAxis::ViewHorizontal;
+                let sel = if horizontal { y } else { x };
+                moves.map(|(n1, v1)| {
+                    let r1 = reflected_move((n1, v1));
+                    let w1 = -(v1 * self.view_up.dot(v) + v * self.view_up.dot(v1));
+                    let up1 = (w1 - up * up.dot(w1)) / length;
+                    let right1 = v1.cross(up) + v.cross(up1);
+                    let c1 = -(r1.dot(v) + r.dot(v1));
+                    let sel1 = if horizontal {
+                        r1.dot(up) + r.dot(up1)
+                    } else {
+                        r1.dot(right) + r.dot(right1)
+                    };
+                    g1 * c1 * sel + g * sel1
+                })
+            }
+        };
+        Some(slopes.map(|s| s / std::f64::consts::TAU))
     }
 
     /// Bright or dark stripe at the hit, box-filtered over `footprint` when given. The filter
@@ -157,9 +249,7 @@ impl ZebraParams {
     pub fn shade(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
         let phase = self.phase(sp.facing_normal, sp.view);
         let width = match footprint {
-            Some(f) if self.filter => {
-                self.stripes.abs() * f.phase_width(sp, |_, n, v| self.turns(n, v))
-            }
+            Some(f) if self.filter => self.stripes.abs() * self.turns_width(sp, f),
             _ => 0.0,
         };
         let bright = filtered_square_wave(phase, width, self.duty);
@@ -538,5 +628,74 @@ mod tests {
         // The world axis's pole: the normal halfway between −view and the axis.
         let pole = (DVec3::Y - view).normalize();
         assert!(gradient(&world, (pole + DVec3::X * 1e-4).normalize()) > 100.0);
+    }
+
+    /// The analytic slopes of the turns equal their central differences (Richardson-
+    /// extrapolated, steps 1e-3 and 5e-4; measured to 1e-10) on random normals,
+    /// views and footprints for each axis kind, including normals at and near normal
+    /// incidence (the series branch) and views far off the image plane.
+    #[test]
+    fn turns_slopes_equal_their_differences() {
+        use crate::testing::Rng;
+        let mut rng = Rng::new(33);
+        let unit = |rng: &mut Rng| {
+            DVec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            )
+            .normalize()
+        };
+        let axes = [
+            ZebraAxis::View,
+            ZebraAxis::ViewHorizontal,
+            ZebraAxis::World(DVec3::new(0.3, 0.9, -0.2).normalize()),
+        ];
+        let mut worst: f64 = 0.0;
+        let mut series = 0;
+        for (case, axis) in (0..3000).map(|i| (i, axes[i % 3])) {
+            let params = ZebraParams {
+                axis,
+                view_up: DVec3::new(0.1, 1.0, 0.05).normalize(),
+                ..ZebraParams::default()
+            };
+            let v = unit(&mut rng);
+            // Normals facing the eye; every tenth case within 1e-4 rad of normal incidence
+            // (every hundredth exactly there).
+            let n = match case % 100 {
+                0 => -v,
+                c if c % 10 == 0 => (-v + unit(&mut rng) * 1e-4).normalize(),
+                _ => {
+                    let m = unit(&mut rng);
+                    if m.dot(v) < 0.0 { m } else { -m }
+                }
+            };
+            let dn = [0, 1].map(|_| unit(&mut rng) * rng.range(1e-3, 1e-1));
+            let dv = [0, 1].map(|_| unit(&mut rng) * rng.range(1e-4, 1e-2));
+            if 1.0 + (v - 2.0 * v.dot(n) * n).dot(v) < 1e-6 {
+                series += 1;
+            }
+            let Some(slopes) = params.turns_slopes(n, v, dn, dv) else {
+                panic!("no slopes at n {n}, v {v}");
+            };
+            for k in 0..2 {
+                let at =
+                    |s: f64| params.turns((n + dn[k] * s).normalize(), (v + dv[k] * s).normalize());
+                let central = |h: f64| {
+                    let d = at(h) - at(-h);
+                    (d - d.round()) / (2.0 * h)
+                };
+                let reference = (4.0 * central(5e-4) - central(1e-3)) / 3.0;
+                let error = (slopes[k] - reference).abs() / reference.abs().max(1.0);
+                worst = worst.max(error);
+                assert!(
+                    error < 1e-9,
+                    "{axis:?} n {n} v {v}: slope {} against {reference}",
+                    slopes[k]
+                );
+            }
+        }
+        assert!(series >= 30, "{series} cases on the series branch");
+        eprintln!("turns slopes: worst relative difference {worst:.2e}, {series} on the series");
     }
 }
