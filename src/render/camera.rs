@@ -125,6 +125,39 @@ pub struct Camera {
     up: DVec3,
 }
 
+/// The rays of one image through a [`Camera`] ([`Camera::rays`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CameraRays<'c> {
+    camera: &'c Camera,
+    aspect: f64,
+    /// `tan(fov / 2)` of a perspective projection.
+    tan: f64,
+}
+
+impl CameraRays<'_> {
+    /// The ray through image-plane point `(x, y)`, both in `[-1, 1]` (x right, y up).
+    pub(crate) fn at(&self, x: f64, y: f64) -> Ray64 {
+        let camera = self.camera;
+        match camera.projection {
+            Projection::Perspective { .. } => {
+                let (tan, aspect) = (self.tan, self.aspect);
+                let dir =
+                    camera.forward + camera.right * (x * tan * aspect) + camera.up * (y * tan);
+                Ray64::new(camera.eye, dir)
+            }
+            Projection::Orthographic { height } => {
+                let origin = camera.eye
+                    + camera.right * (0.5 * x * height * self.aspect)
+                    + camera.up * (0.5 * y * height);
+                Ray64 {
+                    origin,
+                    dir: camera.forward,
+                }
+            }
+        }
+    }
+}
+
 impl Camera {
     /// A camera at `eye` looking at `target` with `up` pointing up in the image. The frame is
     /// computed scale-free (see [`unit_direction`]), so any finite eye, target and up work,
@@ -421,23 +454,24 @@ impl Camera {
     }
 
     /// The ray through image-plane point `(x, y)`, both in `[-1, 1]` (x right, y up), for an
-    /// image of aspect `aspect` (width / height).
+    /// image of aspect `aspect` (width / height). For many rays, [`Camera::rays`] computes the
+    /// projection's constants once.
     pub fn ray(&self, x: f64, y: f64, aspect: f64) -> Ray64 {
-        match self.projection {
-            Projection::Perspective { fov_deg } => {
-                let tan = (0.5 * fov_deg.to_radians()).tan();
-                let dir = self.forward + self.right * (x * tan * aspect) + self.up * (y * tan);
-                Ray64::new(self.eye, dir)
-            }
-            Projection::Orthographic { height } => {
-                let origin = self.eye
-                    + self.right * (0.5 * x * height * aspect)
-                    + self.up * (0.5 * y * height);
-                Ray64 {
-                    origin,
-                    dir: self.forward,
-                }
-            }
+        self.rays(aspect).at(x, y)
+    }
+
+    /// The rays of an image of aspect `aspect` (width / height), with the projection's
+    /// constants (the tangent of half the field of view) computed once: the renderer asks for
+    /// several rays per pixel.
+    pub(crate) fn rays(&self, aspect: f64) -> CameraRays<'_> {
+        let tan = match self.projection {
+            Projection::Perspective { fov_deg } => (0.5 * fov_deg.to_radians()).tan(),
+            Projection::Orthographic { .. } => 0.0,
+        };
+        CameraRays {
+            camera: self,
+            aspect,
+            tan,
         }
     }
 

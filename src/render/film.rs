@@ -321,6 +321,7 @@ fn render_tile<T: SurfaceTracer>(
 ) -> TileCounts {
     let (w, h) = (settings.width, settings.height);
     let aspect = f64::from(w) / f64::from(h);
+    let rays = camera.rays(aspect);
     let mut counts = TileCounts::default();
     let ndc = |px: f64, py: f64| (2.0 * px / f64::from(w) - 1.0, 1.0 - 2.0 * py / f64::from(h));
     // The side of one sample's cell in pixels (the stratified grid of `pixel_offset`): the
@@ -338,7 +339,7 @@ fn render_tile<T: SurfaceTracer>(
             let pixel = u64::from(y) * u64::from(w) + u64::from(x);
             // Geometry channels: the ray through the pixel centre.
             let (cx, cy) = ndc(f64::from(x) + 0.5, f64::from(y) + 0.5);
-            let ray = camera.ray(cx, cy, aspect);
+            let ray = rays.at(cx, cy);
             counts.rays += 1;
             let centre_hit = if settings.surface {
                 tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counts.counters)
@@ -359,7 +360,7 @@ fn render_tile<T: SurfaceTracer>(
                     pixel_offset(settings.seed, pixel, s, settings.spp)
                 };
                 let (sx, sy) = ndc(f64::from(x) + ox, f64::from(y) + oy);
-                let ray = camera.ray(sx, sy, aspect);
+                let ray = rays.at(sx, sy);
                 let hit = if centre_only {
                     centre_hit
                 } else {
@@ -389,8 +390,8 @@ fn render_tile<T: SurfaceTracer>(
                         };
                         let footprint = if filtered {
                             let (fx, fy) = ndc(f64::from(x) + ox + cell, f64::from(y) + oy + cell);
-                            let right = camera.ray(fx, sy, aspect);
-                            let down = camera.ray(sx, fy, aspect);
+                            let right = rays.at(fx, sy);
+                            let down = rays.at(sx, fy);
                             Footprint::new(&sp, &ray, [&right, &down])
                         } else {
                             None
