@@ -3,7 +3,8 @@
 //!   15 360 quintic patches and for the scanned bunny's 4000 (`scenes/bunny.obj`: irregular
 //!   rings, many more leaves per patch);
 //! - primary-ray throughput (closest hit, one thread) on that surface, and on the scanned bunny
-//!   seen close up (`primary_rays/exact_hb_bunny_view_256`);
+//!   seen close up (`primary_rays/exact_hb_bunny_view_256`), and the same view rendered as a
+//!   filtered zebra frame, shading included (`zebra_frame/exact_hb_bunny_view_256`);
 //! - exact patches against the tessellated path at the level whose largest normal error is
 //!   ≤ 0.01°, on a 1600-patch hb torus (the 15k-patch one would need ~16M triangles).
 //!
@@ -147,6 +148,20 @@ fn bunny_view(c: &mut Criterion) {
     let mut group = ray_throughput_group(c, "primary_rays", rays.len(), 5);
     group.bench_function("exact_hb_bunny_view_256", |b| {
         b.iter(|| trace_all(&exact, black_box(&rays)))
+    });
+    group.finish();
+    // The same view as a filtered zebra frame (the default mode, one sample per pixel):
+    // tracing plus the shading point, the stripe footprint and the stripe phase per pixel.
+    let settings = smoothlab::render::RenderSettings {
+        width: side,
+        height: side,
+        spp: 1,
+        progress: false,
+        ..smoothlab::render::RenderSettings::default()
+    };
+    let mut group = ray_throughput_group(c, "zebra_frame", rays.len(), 5);
+    group.bench_function("exact_hb_bunny_view_256", |b| {
+        b.iter(|| smoothlab::render::render(&exact, &camera, black_box(&settings)).expect("frame"))
     });
     group.finish();
 }
