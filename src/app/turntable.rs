@@ -220,6 +220,7 @@ fn accumulate(total: &mut RenderStats, frame: &RenderStats) {
     total.fallback_roots += frame.fallback_roots;
     total.newton_unconverged += frame.newton_unconverged;
     total.newton_undecided += frame.newton_undecided;
+    total.newton_boundary_cleared += frame.newton_boundary_cleared;
     total.bvh_build_ms = frame.bvh_build_ms;
     total.leaves = frame.leaves;
     total.memory_bytes = frame.memory_bytes;

@@ -717,6 +717,104 @@ pub(crate) fn hull_clears_origin(points: &[DVec2], limit: f64) -> bool {
     false
 }
 
+/// Deepest halving of a boundary curve in [`boundary_clears_origin`]: a curve that needs more
+/// passes within about 2⁻¹⁰ of its length of the ray, where the in-leaf search decides.
+const BOUNDARY_DEPTH: u32 = 10;
+
+/// True when the ray misses a piece it can meet at most once, proved on the piece's boundary
+/// alone: `curves` are the piece's three boundary curves (degree `degree`, control points in
+/// the first `degree + 1` entries), projected onto the ray's planes with the ray at the origin
+/// and running once around `T`; `magnitude` bounds their coordinates' sizes (for rounding).
+///
+/// Where every ray parallel to this one meets the piece at most once
+/// ([`Start::may_meet_twice`] false: no chord of the piece is parallel to the ray, by the
+/// proved [`PieceBounds::tilt`]), the projection `F` of the piece onto the ray's planes is
+/// one-to-one, so `F(T)` is the region bounded by the closed curve `F(∂T)` and the ray meets
+/// the piece exactly when that curve winds around the origin. Each curve is halved until the
+/// convex hull of every part's control polygon keeps further than `limit` from the origin
+/// ([`hull_clears_origin`]); then the curve and the closed polygon of those control points
+/// are homotopic without crossing the disk of radius `limit` (the segment between a curve
+/// point and its polygon point lies in their part's hull), so they wind around every point
+/// of it alike, and the polygon's winding number is its signed crossings of the positive
+/// x axis. Zero: no point of the piece comes within `limit` of the ray, a proof. False (no
+/// proof) when the curve winds around the origin (the piece holds a root) or some part does
+/// not clear within [`BOUNDARY_DEPTH`] halvings.
+pub(crate) fn boundary_clears_origin(
+    curves: &[[DVec2; MAX_CURVE_POINTS]; 3],
+    degree: usize,
+    magnitude: f64,
+    limit: f64,
+) -> bool {
+    let mut winding = 0i32;
+    let mut stack = [([DVec2::ZERO; MAX_CURVE_POINTS], 0u32); BOUNDARY_DEPTH as usize + 2];
+    for curve in curves {
+        stack[0] = (*curve, 0);
+        let mut waiting = 1;
+        while waiting > 0 {
+            waiting -= 1;
+            let (points, depth) = stack[waiting];
+            let points = &points[..=degree];
+            // Each halving rounds the control points by a few ulps of the coordinates.
+            let margin = limit + 32.0 * f64::EPSILON * magnitude * f64::from(depth + 1);
+            if hull_clears_origin(points, margin) {
+                winding += x_axis_crossings(points);
+                continue;
+            }
+            if depth == BOUNDARY_DEPTH {
+                return false;
+            }
+            let (left, right) = halve_curve(points);
+            stack[waiting] = (right, depth + 1);
+            stack[waiting + 1] = (left, depth + 1);
+            waiting += 2;
+        }
+    }
+    winding == 0
+}
+
+/// Room for the control points of a boundary curve of the highest stacked degree.
+pub(crate) const MAX_CURVE_POINTS: usize = 7;
+
+/// The signed crossings of the positive x axis by the polygon `points` (upward +1, downward
+/// −1), counting a vertex on the axis as above it, so that polygons that share end points
+/// add up to the winding number of their union.
+fn x_axis_crossings(points: &[DVec2]) -> i32 {
+    points
+        .windows(2)
+        .map(|pair| {
+            let (a, b) = (pair[0], pair[1]);
+            if (a.y >= 0.0) == (b.y >= 0.0) {
+                return 0;
+            }
+            let x = a.x + (b.x - a.x) * (a.y / (a.y - b.y));
+            match (x > 0.0, b.y > a.y) {
+                (false, _) => 0,
+                (true, true) => 1,
+                (true, false) => -1,
+            }
+        })
+        .sum()
+}
+
+/// De Casteljau at the middle: the control points of the two halves of the curve `points`.
+fn halve_curve(points: &[DVec2]) -> ([DVec2; MAX_CURVE_POINTS], [DVec2; MAX_CURVE_POINTS]) {
+    let n = points.len();
+    let mut work = [DVec2::ZERO; MAX_CURVE_POINTS];
+    work[..n].copy_from_slice(points);
+    let (mut left, mut right) = (
+        [DVec2::ZERO; MAX_CURVE_POINTS],
+        [DVec2::ZERO; MAX_CURVE_POINTS],
+    );
+    for level in 0..n {
+        left[level] = work[0];
+        right[n - 1 - level] = work[n - 1 - level];
+        for i in 0..n - 1 - level {
+            work[i] = (work[i] + work[i + 1]) * 0.5;
+        }
+    }
+    (left, right)
+}
+
 /// The point of the segment `[a, b]` nearest the origin, with the smallest face of the
 /// segment holding it (one endpoint, or both).
 fn nearest_on_segment(a: DVec2, b: DVec2) -> (DVec2, [DVec2; 2], usize) {

@@ -49,6 +49,9 @@ pub struct RenderStats {
     /// Pieces the fallback left undecided at its deepest level: rays there may have missed a
     /// root. 0 unless rays graze the surface along a tangency.
     pub newton_undecided: u64,
+    /// Of the undecided runs, those proved misses by their leaf's boundary (a ray that meets
+    /// the leaf at most once and whose projected boundary does not wind around it): no search.
+    pub newton_boundary_cleared: u64,
     /// Number of patches.
     pub patches: u64,
     /// Half-range of the curvature colour map, when in curvature mode.
@@ -74,6 +77,7 @@ impl RenderStats {
         self.fallback_roots = c.fallback_roots;
         self.newton_unconverged = c.newton_unconverged;
         self.newton_undecided = c.undecided;
+        self.newton_boundary_cleared = c.boundary_cleared;
     }
 
     /// Fills the rates (`rays_per_pixel`, `rays_per_s`, `pixels_per_s`) from the counts and
