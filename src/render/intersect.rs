@@ -76,8 +76,8 @@ pub struct IntersectCounters {
     /// Pieces of the deepest fallback level that stayed undecided: a root there may have been
     /// missed. Zero in every watertightness test.
     pub undecided: u64,
-    /// Undecided runs settled as misses by the leaf's boundary (the ray meets the leaf at most
-    /// once and its projected boundary does not wind around the ray), with no search.
+    /// Runs settled as misses by the leaf's boundary (the ray meets the leaf at most once and
+    /// its projected boundary does not wind around the ray), tried with the hull clearance.
     pub boundary_cleared: u64,
 }
 
@@ -401,8 +401,9 @@ impl<'s> Tracer<'s> {
     /// True when a ray that meets the leaf at most once (by its proved tilt) passes beside it:
     /// the leaf's boundary curves, from its degree-`D` power form `c` projected onto the ray's
     /// planes, do not wind around the ray ([`boundary_clears_origin`]), with the limit of
-    /// [`Tracer::net_clears`]. Tried after an undecided Newton run, before the search: a ray
-    /// passing just beside a leaf is settled along the leaf's edge instead of over its area.
+    /// [`Tracer::net_clears`]. Tried where the hull clearance is and fails: a ray passing just
+    /// beside a leaf is settled along the leaf's edge instead of by Newton iterating on that
+    /// edge and a search over the leaf's area.
     fn boundary_clears<const D: usize>(
         &self,
         c: &[DVec3],
@@ -429,8 +430,9 @@ impl<'s> Tracer<'s> {
 
     /// [`Tracer::solve_leaf`] with the leaf's evaluator `eval` in leaf-local `(s, t)`, the
     /// search's extra exclusion test `exclude` (see [`search`]) and `clears` and
-    /// `boundary_clears`, tests that prove the whole leaf free of roots (run only when Newton
-    /// is undecided, before the search; `clears` also by Newton, see [`newton_clearing`]).
+    /// `boundary_clears`, tests that prove the whole leaf free of roots (tried, the second
+    /// only when the first fails, once per run: by Newton when its target first leaves the
+    /// leaf, see [`newton_clearing`], else after an undecided run, before the search).
     #[allow(clippy::too_many_arguments)]
     fn solve_piece(
         &self,
@@ -450,6 +452,13 @@ impl<'s> Tracer<'s> {
         // The hull clearance is tried at most once per run: by Newton when its target first
         // leaves the leaf, else after an undecided run.
         let clearance_tried = std::cell::Cell::new(false);
+        let boundary_cleared = std::cell::Cell::new(false);
+        let clearance = || {
+            clears() || {
+                boundary_cleared.set(boundary_clears());
+                boundary_cleared.get()
+            }
+        };
         let outcome = newton_clearing(
             &eval,
             bounds,
@@ -459,9 +468,10 @@ impl<'s> Tracer<'s> {
             &self.newton,
             &|| {
                 clearance_tried.set(true);
-                clears()
+                clearance()
             },
         );
+        counters.boundary_cleared += u64::from(boundary_cleared.get());
         let first = match outcome {
             Newton::NoRoot => return None,
             Newton::Root(st, iterations, p) => {
@@ -483,11 +493,8 @@ impl<'s> Tracer<'s> {
             Newton::Failed => {
                 counters.newton_unconverged += 1;
                 // A leaf proved free of roots needs no search.
-                if !clearance_tried.get() && clears() {
-                    return None;
-                }
-                if boundary_clears() {
-                    counters.boundary_cleared += 1;
+                if !clearance_tried.get() && clearance() {
+                    counters.boundary_cleared += u64::from(boundary_cleared.get());
                     return None;
                 }
                 None

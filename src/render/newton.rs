@@ -216,7 +216,8 @@ pub(crate) fn newton(
 
 /// [`newton`] with `clears`, a proof that the whole piece keeps further than `tolerance` from
 /// the ray (the projected control net's hull clearance,
-/// [`crate::render::intersect::Tracer`]'s `net_clears`), tried once, the first time a Newton
+/// [`crate::render::intersect::Tracer`]'s `net_clears`, then the boundary's winding number,
+/// [`boundary_clears_origin`]), tried once, the first time a Newton
 /// target lands outside `T` without the error bounds settling the piece: that is how a ray
 /// passing just beside the piece shows itself, and without the proof such a run iterates on
 /// the boundary to its cap. When `clears` answers true no point of the piece lies within

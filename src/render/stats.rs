@@ -49,8 +49,9 @@ pub struct RenderStats {
     /// Pieces the fallback left undecided at its deepest level: rays there may have missed a
     /// root. 0 unless rays graze the surface along a tangency.
     pub newton_undecided: u64,
-    /// Of the undecided runs, those proved misses by their leaf's boundary (a ray that meets
-    /// the leaf at most once and whose projected boundary does not wind around it): no search.
+    /// Newton runs proved misses by their leaf's boundary (a ray that meets the leaf at most
+    /// once and whose projected boundary does not wind around it), most of which would
+    /// otherwise have ended undecided and searched the leaf.
     pub newton_boundary_cleared: u64,
     /// Number of patches.
     pub patches: u64,
