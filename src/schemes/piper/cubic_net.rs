@@ -59,6 +59,7 @@ pub(crate) fn edge_point_along(
     leg: DVec3,
     other: DVec3,
     scaling: EdgeScaling,
+    shorten: bool,
 ) -> Option<DVec3> {
     let chord_length = (other - vertex).length();
     let leg_length = leg.length();
@@ -72,6 +73,13 @@ pub(crate) fn edge_point_along(
         EdgeScaling::Circle => 2.0 * chord_length / (3.0 * (1.0 + cos_theta)) / leg_length,
         EdgeScaling::Relative => 1.0 / 3.0 + cos_theta / 9.0,
         EdgeScaling::Thesis => 1.0 / 3.0 + leg_length / 9.0,
+    };
+    // A leg that swerves off its faces (see `swerving_legs` in mod.rs): no longer than the
+    // relative rule's.
+    let factor = if shorten {
+        factor.min(1.0 / 3.0 + cos_theta / 9.0)
+    } else {
+        factor
     };
     // The leg is an orthogonal projection of the chord, so the chord projection of
     // factor·leg is factor·‖leg‖²/‖chord‖; keep it ≤ ‖chord‖/2.
@@ -96,6 +104,7 @@ pub(crate) fn candidate_net(
     p: [DVec3; 3],
     n: [DVec3; 3],
     creases: [Option<[DVec3; 2]>; 3],
+    shorten: [[bool; 2]; 3],
     scaling: EdgeScaling,
 ) -> Result<Cubic, (usize, usize)> {
     let point = |from: usize, to: usize| {
@@ -110,7 +119,7 @@ pub(crate) fn candidate_net(
             Some(other) => crate::mesh::crease_tangent(chord, n[from], other[end]),
             None => chord - chord.dot(n[from]) * n[from],
         };
-        edge_point_along(p[from], leg, p[to], scaling).ok_or((from, to))
+        edge_point_along(p[from], leg, p[to], scaling, shorten[e][end]).ok_or((from, to))
     };
     let b210 = point(0, 1)?;
     let b120 = point(1, 0)?;
@@ -240,7 +249,13 @@ mod tests {
         scaling: EdgeScaling,
     ) -> Option<DVec3> {
         let chord = other - vertex;
-        edge_point_along(vertex, chord - chord.dot(normal) * normal, other, scaling)
+        edge_point_along(
+            vertex,
+            chord - chord.dot(normal) * normal,
+            other,
+            scaling,
+            false,
+        )
     }
 
     fn unit_sphere_face() -> ([DVec3; 3], [DVec3; 3]) {
@@ -262,7 +277,8 @@ mod tests {
             EdgeScaling::Relative,
             EdgeScaling::Thesis,
         ] {
-            let net = candidate_net(p, n, [None; 3], scaling).expect("regular data");
+            let net =
+                candidate_net(p, n, [None; 3], [[false; 2]; 3], scaling).expect("regular data");
             let patch = TriangleBezier::new(3, net.to_vec());
             for (c, (i, j)) in [(3, 0), (0, 3), (0, 0)].into_iter().enumerate() {
                 assert_eq!(patch.point(i, j), p[c]);
@@ -350,7 +366,7 @@ mod tests {
     #[test]
     fn split_reproduces_the_net_and_shares_points_exactly() {
         let (p, n) = unit_sphere_face();
-        let net = candidate_net(p, n, [None; 3], EdgeScaling::Farin).unwrap();
+        let net = candidate_net(p, n, [None; 3], [[false; 2]; 3], EdgeScaling::Farin).unwrap();
         let whole = TriangleBezier::new(3, net.to_vec());
         let pieces = split_at_centroid(&net);
         for (k, piece) in pieces.iter().enumerate() {

@@ -40,7 +40,12 @@
 //!   edges); `scaling=relative` is the thesis's factor with the distance in chord lengths
 //!   (scale invariant; 4/9 of the chord on flat data, so only second order on spheres, but
 //!   the calmest zebra stripes on coarse, spiky meshes). Every rule is capped at the edge's
-//!   midpoint, the crossing guard ([`cubic_net::edge_point_along`]);
+//!   midpoint, the crossing guard ([`cubic_net::edge_point_along`]). A leg that swerves
+//!   across its face, seen from either face of its edge (its angle off the chord, towards the
+//!   face, exceeds the face's angle at the vertex: thin fan triangles under a normal that
+//!   leans off them), is in addition no longer than the `relative` rule's ([`swerving_legs`]);
+//!   long legs there leave the face edge-on and steps 3–5 turn it over. Both faces decide
+//!   alike, so they build the same boundary curve; regular meshes never trigger it;
 //! * step 3: the thesis's projection-and-scaling makes the four points coplanar only to first
 //!   order; here both centres are projected onto one plane between the two, weighted by the
 //!   same heights — exactly coplanar (this only changes the starting point of step 5);
@@ -240,6 +245,7 @@ fn candidates<'a>(mesh: &'a Mesh, params: &Params) -> Result<Construction<'a>> {
                 p,
                 corner_normals[f],
                 creases(mesh, &corner_normals, f),
+                swerving_legs(mesh, &corner_normals, f),
                 scaling,
             )
             .map(|net| cubic_net::split_at_centroid(&net))
@@ -259,6 +265,58 @@ fn candidates<'a>(mesh: &'a Mesh, params: &Params) -> Result<Construction<'a>> {
         mesh,
         cubic_pieces,
         warnings,
+    })
+}
+
+/// For each edge `e` of face `f` and each end (0: at corner `e`, 1: at corner `e + 1`), true
+/// when the leg there (the chord projected orthogonally into the vertex's tangent plane),
+/// seen from either face of the edge, swerves across the face's far edge: its angle to the
+/// chord, towards the face, exceeds the face's angle at the vertex. Decided from both faces
+/// alike, so both build the same boundary curve.
+fn swerving_legs(mesh: &Mesh, corner_normals: &[[glam::DVec3; 3]], f: usize) -> [[bool; 2]; 3] {
+    let positions = mesh.positions();
+    // Does the leg at corner `k` of face `g` towards corner `to` swerve past the face's wedge?
+    let swerves = |g: usize, k: usize, to: usize| -> bool {
+        let face = mesh.faces()[g];
+        let third = 3 - k - to;
+        let (a, b, c) = (
+            positions[face[k] as usize],
+            positions[face[to] as usize],
+            positions[face[third] as usize],
+        );
+        let n = corner_normals[g][k];
+        let chord = b - a;
+        let leg = chord - chord.dot(n) * n;
+        let face_normal = (b - a).cross(c - a);
+        let mut inward = face_normal.cross(chord).normalize_or_zero();
+        if inward.dot(c - a) < 0.0 {
+            inward = -inward;
+        }
+        let swerve = leg.dot(inward).atan2(leg.dot(chord.normalize_or_zero()));
+        swerve > chord.angle_between(c - a)
+    };
+    std::array::from_fn(|e| {
+        if mesh.is_sharp(f as u32, e) {
+            return [false; 2];
+        }
+        let other = mesh.neighbor(f as u32, e);
+        std::array::from_fn(|end| {
+            let (k, to) = if end == 0 {
+                (e, (e + 1) % 3)
+            } else {
+                ((e + 1) % 3, e)
+            };
+            // In g, corner e of f is corner ge + 1, corner e + 1 of f is corner ge.
+            swerves(f, k, to)
+                || other.is_some_and(|(g, ge)| {
+                    let (kg, tog) = if end == 0 {
+                        ((ge + 1) % 3, ge)
+                    } else {
+                        (ge, (ge + 1) % 3)
+                    };
+                    swerves(g as usize, kg, tog)
+                })
+        })
     })
 }
 

@@ -575,3 +575,45 @@ fn creased_meshes_are_g0_across_sharp_edges_and_g1_elsewhere() {
         "corners {corners}, darts {darts}, on the boundary {on_boundary}"
     );
 }
+
+/// Legs that swerve across their face's far edge are shortened ([`swerving_legs`]): the
+/// mixed-valence scene's 14.65° fans around its valence-15 and -16 vertices, whose vertex
+/// normals lean 54° off the thin faces, folded on 49 samples of the metrics grid with the
+/// circle scaling and fold on none now, G¹ as before. The rule fires there and nowhere on the
+/// regular meshes (the icosahedron and the octahedron keep the thesis's legs).
+#[test]
+fn swerving_legs_are_shortened_so_thin_fans_do_not_fold() {
+    let scene = |name: &str| {
+        generate::SCENES
+            .iter()
+            .find(|s| s.name == name)
+            .expect("scene exists")
+            .mesh()
+            .expect("valid")
+    };
+    let swerving = |mesh: &Mesh| {
+        let normals = mesh.corner_normals(
+            &mesh
+                .vertex_normals(NormalSource::Estimate)
+                .expect("normals"),
+        );
+        (0..mesh.face_count())
+            .map(|f| {
+                swerving_legs(mesh, &normals, f)
+                    .iter()
+                    .flatten()
+                    .filter(|&&s| s)
+                    .count()
+            })
+            .sum::<usize>()
+    };
+    let mixed = scene("mixed-valence");
+    assert!(swerving(&mixed) > 0, "the rule fires on the thin fans");
+    for scaling in ["circle", "farin", "relative", "thesis"] {
+        let m = check("mixed-valence", &mixed, &params(&[("scaling", scaling)]));
+        assert_eq!(m.folds, 0, "mixed-valence, scaling {scaling}");
+    }
+    for regular in [mesh(generate::icosahedron()), mesh(generate::octahedron())] {
+        assert_eq!(swerving(&regular), 0);
+    }
+}
