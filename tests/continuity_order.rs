@@ -2,18 +2,10 @@
 //! `continuity_order`): `flat` and `pn` are G0, the G1 schemes measure exactly 1 between faces
 //! on meshes without symmetries (a mirror-symmetric joint can agree to order 2 by symmetry).
 
-use smoothlab::mesh::{Mesh, generate};
+use smoothlab::mesh::Mesh;
 use smoothlab::metrics::Metrics;
 use smoothlab::schemes;
-
-fn scene(name: &str) -> Mesh {
-    generate::SCENES
-        .iter()
-        .find(|s| s.name == name)
-        .expect("scene exists")
-        .mesh()
-        .expect("valid")
-}
+use smoothlab::testing::scene;
 
 fn order_between_faces(mesh: &Mesh, scheme: &str) -> i32 {
     let surface = schemes::build(scheme, mesh, &[]).expect("builds");

@@ -76,6 +76,16 @@ pub fn open_test_meshes() -> Vec<(String, Mesh)> {
     out
 }
 
+/// The generated scene `name` of [`crate::mesh::generate::SCENES`] as a mesh.
+pub fn scene(name: &str) -> Mesh {
+    crate::mesh::generate::SCENES
+        .iter()
+        .find(|s| s.name == name)
+        .expect("scene exists")
+        .mesh()
+        .expect("valid")
+}
+
 /// `scenes/bunny-open.obj`: the scanned bunny with its base cut open.
 pub fn open_bunny() -> Mesh {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bunny-open.obj");

@@ -39,14 +39,9 @@ fn test_meshes() -> Vec<(String, Mesh)> {
     for rings in [1, 2, 4] {
         out.push((format!("disk-{rings} (open)"), mesh(generate::disk(rings))));
     }
-    for scene in ["torus", "genus2", "deformed-icosahedron", "mixed-valence"] {
-        let closed = generate::SCENES
-            .iter()
-            .find(|s| s.name == scene)
-            .expect("scene exists")
-            .mesh()
-            .expect("valid");
-        out.push((format!("{scene} with holes (open)"), with_holes(&closed, 5)));
+    for name in ["torus", "genus2", "deformed-icosahedron", "mixed-valence"] {
+        let closed = testing::scene(name);
+        out.push((format!("{name} with holes (open)"), with_holes(&closed, 5)));
     }
     out
 }
@@ -583,14 +578,6 @@ fn creased_meshes_are_g0_across_sharp_edges_and_g1_elsewhere() {
 /// regular meshes (the icosahedron and the octahedron keep the thesis's legs).
 #[test]
 fn swerving_legs_are_shortened_so_thin_fans_do_not_fold() {
-    let scene = |name: &str| {
-        generate::SCENES
-            .iter()
-            .find(|s| s.name == name)
-            .expect("scene exists")
-            .mesh()
-            .expect("valid")
-    };
     let swerving = |mesh: &Mesh| {
         let normals = mesh.corner_normals(
             &mesh
@@ -607,7 +594,7 @@ fn swerving_legs_are_shortened_so_thin_fans_do_not_fold() {
             })
             .sum::<usize>()
     };
-    let mixed = scene("mixed-valence");
+    let mixed = testing::scene("mixed-valence");
     assert!(swerving(&mixed) > 0, "the rule fires on the thin fans");
     for scaling in ["circle", "farin", "relative", "thesis"] {
         let m = check("mixed-valence", &mixed, &params(&[("scaling", scaling)]));
