@@ -191,7 +191,7 @@ impl ZebraParams {
                 let (b1, b2) = axis.normalize_or(DVec3::Y).any_orthonormal_pair();
                 let (a, b) = (r.dot(b1), r.dot(b2));
                 let norm = a * a + b * b;
-                if !(norm > 0.0) {
+                if norm.is_nan() || norm <= 0.0 {
                     return None;
                 }
                 moves.map(|m| {
@@ -202,7 +202,7 @@ impl ZebraParams {
             ZebraAxis::View | ZebraAxis::ViewHorizontal => {
                 let w = self.view_up - v * self.view_up.dot(v);
                 let length = w.length();
-                if !(length > 0.0) {
+                if length.is_nan() || length <= 0.0 {
                     return None;
                 }
                 let up = w / length;
@@ -210,7 +210,7 @@ impl ZebraParams {
                 let c = (-r.dot(v)).clamp(-1.0, 1.0);
                 let (x, y) = (r.dot(right), r.dot(up));
                 let across = x.hypot(y);
-                if !(across > 0.0) {
+                if across.is_nan() || across <= 0.0 {
                     return None;
                 }
                 // θ / sin θ, with θ from both its sine and cosine: `acos` alone loses half
