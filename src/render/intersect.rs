@@ -1075,9 +1075,9 @@ mod tests {
         assert!(settled_early > 0 && unchanged > settled_early);
     }
 
-    /// The boundary test settles a leaf only where the ray misses it: on every quintic leaf of
-    /// the scanned bunny's hb surface, rays steeper than the leaf's tilt aimed beyond each of
-    /// its edges by 10^-1 … 10^-7 of the leaf, or inside it. Where the test says the ray
+    /// The boundary test settles a leaf only where the ray misses it: on every third quintic
+    /// leaf of the scanned bunny's hb surface, rays steeper than the leaf's tilt aimed beyond
+    /// each of its edges by 10^-1 … 10^-7 of the leaf, or inside it. Where the test says the ray
     /// clears the leaf, the in-leaf search (from the leaf's start, as after an undecided run)
     /// finds no root in it (some it cannot decide) and every sampled point of the leaf stays
     /// further than the root tolerance from the ray; it never clears a ray aimed inside. It
