@@ -29,8 +29,8 @@ use crate::blend::BlendPatch;
 use crate::geom::Aabb;
 use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion, UnitFrame};
 use crate::render::evaluate::{
-    local_point_and_tangents, net_point_and_tangents, point_and_tangents, power_index,
-    projected_net,
+    MAX_STACK_DEGREE, local_point_and_tangents, net_point_and_tangents, point_and_tangents,
+    power_index, projected_net,
 };
 pub use crate::render::newton::NewtonSettings;
 use crate::render::newton::{
@@ -346,15 +346,18 @@ impl<'s> Tracer<'s> {
         }
         // A Bézier leaf of degree D: its power form, and its projected net to clear the ray,
         // as a whole or, for a ray that meets the leaf at most once, by its boundary.
+        // The projected net is made once, when the first of the two asks for it.
         macro_rules! solve_power_form {
-            ($d:literal) => {
+            ($d:literal) => {{
+                let projected = std::cell::OnceCell::new();
+                let net = || projected.get_or_init(|| self.projected_net::<$d>(c, query.planes));
                 solve_with!(
                     |x| local_point_and_tangents::<$d>(c, x.x, x.y),
                     |_| false,
-                    || self.net_clears::<$d>(c, query.planes),
-                    || self.boundary_clears::<$d>(c, query.planes, bounds, start)
+                    || Tracer::net_clears::<$d>(net()),
+                    || Tracer::boundary_clears::<$d>(net(), bounds, start)
                 )
-            };
+            }};
         }
         match leaf.degree {
             1 => solve_power_form!(1),
@@ -387,36 +390,40 @@ impl<'s> Tracer<'s> {
         }
     }
 
-    /// True when the leaf's Bézier net, given by its degree-`D` power form `c` and projected
-    /// onto the ray's planes, keeps its convex hull (and so the leaf) further than the root
-    /// tolerance from the ray ([`hull_clears_origin`]); the limit grows by the rounding of
-    /// the net's computation.
-    fn net_clears<const D: usize>(&self, c: &[DVec3], planes: &RayPlanes) -> bool {
+    /// The leaf's Bézier net, given by its degree-`D` power form `c`, projected onto the ray's
+    /// planes with the ray at the origin ([`projected_net`]), and the distance from the ray
+    /// that clears it: the root tolerance grown by the rounding of the net's computation.
+    fn projected_net<const D: usize>(&self, c: &[DVec3], planes: &RayPlanes) -> ProjectedNet {
         let offset = -planes.residual(DVec3::ZERO);
         let (net, magnitude) = projected_net::<D>(c, |v| planes.project(v), offset);
         let limit = crate::tolerance::inflate(self.tolerance) + 64.0 * f64::EPSILON * magnitude;
-        hull_clears_origin(&net[..point_count(D)], limit)
+        ProjectedNet {
+            net,
+            magnitude,
+            limit,
+        }
+    }
+
+    /// True when the leaf's projected net (degree `D`) keeps its convex hull (and so the leaf)
+    /// further than its limit from the ray ([`hull_clears_origin`]).
+    fn net_clears<const D: usize>(projected: &ProjectedNet) -> bool {
+        hull_clears_origin(&projected.net[..point_count(D)], projected.limit)
     }
 
     /// True when a ray that meets the leaf at most once (by its proved tilt) passes beside it:
-    /// the leaf's boundary curves, from its degree-`D` power form `c` projected onto the ray's
-    /// planes, do not wind around the ray ([`boundary_clears_origin`]), with the limit of
-    /// [`Tracer::net_clears`]. Tried where the hull clearance is and fails: a ray passing just
-    /// beside a leaf is settled along the leaf's edge instead of by Newton iterating on that
-    /// edge and a search over the leaf's area.
+    /// the boundary curves of the leaf's projected net (degree `D`) do not wind around the ray
+    /// ([`boundary_clears_origin`]). Tried where the hull clearance is and fails: a ray
+    /// passing just beside a leaf is settled along the leaf's edge instead of by Newton
+    /// iterating on that edge and a search over the leaf's area.
     fn boundary_clears<const D: usize>(
-        &self,
-        c: &[DVec3],
-        planes: &RayPlanes,
+        projected: &ProjectedNet,
         bounds: &PieceBounds,
         start: Start,
     ) -> bool {
         if !bounds.proved || !bounds.tilt.is_finite() || start.may_meet_twice() {
             return false;
         }
-        let offset = -planes.residual(DVec3::ZERO);
-        let (net, magnitude) = projected_net::<D>(c, |v| planes.project(v), offset);
-        let limit = crate::tolerance::inflate(self.tolerance) + 64.0 * f64::EPSILON * magnitude;
+        let net = &projected.net;
         // Once around T: t = 0 from (0, 0) to (1, 0), s + t = 1 to (0, 1), s = 0 back; the
         // net's entry (j, k) is b(D − j − k, j, k), the point at (s, t) = (j, k) / D.
         let mut curves = [[DVec2::ZERO; MAX_CURVE_POINTS]; 3];
@@ -425,7 +432,7 @@ impl<'s> Tracer<'s> {
             curves[1][n] = net[power_index(D, D - n, n)];
             curves[2][n] = net[power_index(D, 0, D - n)];
         }
-        boundary_clears_origin(&curves, D, magnitude, limit)
+        boundary_clears_origin(&curves, D, projected.magnitude, projected.limit)
     }
 
     /// [`Tracer::solve_leaf`] with the leaf's evaluator `eval` in leaf-local `(s, t)`, the
@@ -577,6 +584,16 @@ pub(crate) fn unit_scale(diagonal: f64) -> f64 {
     let exponent = diagonal.log2().floor() as i32;
     // Two steps so that neither factor over- or underflows for diagonals near the limits.
     2f64.powi(-exponent / 2) * 2f64.powi(-exponent + exponent / 2)
+}
+
+/// A leaf's Bézier net projected onto a ray's planes ([`Tracer::projected_net`]).
+struct ProjectedNet {
+    /// The projected control points, in [`projected_net`] order.
+    net: [DVec2; point_count(MAX_STACK_DEGREE)],
+    /// The sum of the projected coefficients' absolute coordinates (for rounding).
+    magnitude: f64,
+    /// The distance from the ray that clears the net: the root tolerance plus rounding.
+    limit: f64,
 }
 
 /// One ray query: the ray, its planes and the near end of its interval.
@@ -1035,7 +1052,8 @@ mod tests {
                     evaluations.set(evaluations.get() + 1);
                     local_point_and_tangents::<5>(c, x.x, x.y)
                 };
-                let clears = || tracer.net_clears::<5>(c, &planes);
+                let projected = tracer.projected_net::<5>(c, &planes);
+                let clears = || Tracer::net_clears::<5>(&projected);
                 let settings = &tracer.newton;
                 let late = newton(&eval, &bounds, start, &planes, tracer.tolerance, settings);
                 let late_evaluations = evaluations.replace(0);
@@ -1128,7 +1146,8 @@ mod tests {
                 tried += 1;
                 let far = !inside && level <= 4;
                 beyond_far += u64::from(far);
-                if !tracer.boundary_clears::<5>(c, &planes, &bounds, start) {
+                let projected = tracer.projected_net::<5>(c, &planes);
+                if !Tracer::boundary_clears::<5>(&projected, &bounds, start) {
                     continue;
                 }
                 assert!(!inside, "leaf {n}, ray {k}: a ray aimed inside was cleared");
