@@ -325,6 +325,11 @@ pub struct Surface {
     /// vertex normal moved so that the surface does not fold), one line each naming the first
     /// element; the commands print them as `warning:` lines.
     pub warnings: Vec<String>,
+    /// The face pairs `(f, g)`, `f < g`, sorted, across the edges the construction made sharp
+    /// at spikes of the mesh where its smooth surface would fold
+    /// ([`crate::mesh::Mesh::with_spike_edges`]): the surface is G0 across them, and the
+    /// metrics count them with the mesh's own sharp edges. Empty on most meshes.
+    pub spike_face_pairs: Vec<(u32, u32)>,
 }
 
 /// A point of a mesh's domain, independent of the face it is written in.
@@ -369,9 +374,21 @@ impl Surface {
         Surface {
             scheme: self.scheme.clone(),
             warnings: self.warnings.clone(),
+            spike_face_pairs: self.spike_face_pairs.clone(),
             params: self.params.clone(),
             patches: self.patches.iter().map(|patch| patch.mapped(&f)).collect(),
         }
+    }
+
+    /// The face pairs `(f, g)`, `f < g`, sorted, across the sharp edges of `mesh` (the mesh
+    /// it was built on) and the edges its construction made sharp at spikes
+    /// ([`Surface::spike_face_pairs`]): the joints where the surface is G0 by design.
+    pub fn sharp_face_pairs(&self, mesh: &crate::mesh::Mesh) -> Vec<(u32, u32)> {
+        let mut pairs = mesh.sharp_face_pairs();
+        pairs.extend_from_slice(&self.spike_face_pairs);
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs
     }
 
     /// Bounding box of all patches (control-net bounds: contains the surface).
@@ -393,6 +410,7 @@ impl Surface {
         Surface {
             scheme: self.scheme.clone(),
             warnings: self.warnings.clone(),
+            spike_face_pairs: self.spike_face_pairs.clone(),
             params: self.params.clone(),
             patches: self.patches.iter().map(|p| p.scaled(factor)).collect(),
         }
@@ -524,6 +542,7 @@ mod tests {
         let surface = Surface {
             scheme: "test".into(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: vec![],
             patches: vec![
                 flat_patch(0, [e0, e1, mid12]),
@@ -553,6 +572,7 @@ mod tests {
         let surface = Surface {
             scheme: "test".into(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: vec![],
             patches: (0..3).map(|f| flat_patch(f, whole)).collect(),
         };

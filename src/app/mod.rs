@@ -746,6 +746,7 @@ mod tests {
             vertex_mean_curvature_ratio_min: Some(0.5),
             vertex_mean_curvature_ratio_max: Some(1.5),
             sharp_joints: 0,
+            spike_edges: 0,
             sharp_g0_max_rel: None,
             sharp_g1_max_rad: None,
             repairs: Vec::new(),

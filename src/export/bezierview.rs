@@ -101,6 +101,7 @@ mod tests {
         let surface = Surface {
             scheme: "test".into(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: vec![],
             patches: vec![patch(labelled_cubic()), patch(linear)],
         };

@@ -253,6 +253,7 @@ mod tests {
         Surface {
             scheme: "test".into(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: vec![("alpha".into(), "0.5".into())],
             patches: vec![
                 patch(4, 1, quadratic),

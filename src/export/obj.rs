@@ -237,6 +237,7 @@ mod tests {
         Surface {
             scheme: "test".into(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: vec![],
             patches: vec![Patch {
                 face: 0,
@@ -327,6 +328,7 @@ mod tests {
         Surface {
             scheme: "test".into(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: vec![],
             patches: vec![
                 patch(0, linear([a, b, c])),

@@ -51,6 +51,7 @@ pub use formats::MeshFormat;
 pub use normals::OBJ_NORMAL_ANGLE_TOLERANCE;
 pub use polygon::{CONVEXITY_TOLERANCE, PLANARITY_TOLERANCE};
 pub use repair::{Element, Repair, RepairKind};
+pub(crate) use sharp::turn_angle;
 pub use sharp::{SharpEdges, crease_tangent};
 pub use validate::{DEGENERATE_AREA_RATIO, MAX_COORDINATE_MAGNITUDE, MIN_COORDINATE_SPAN};
 pub use weld::{DEFAULT_WELD_TOLERANCE, PointWelder, check_weld_tolerance};
@@ -455,6 +456,30 @@ impl Mesh {
         pairs.sort_unstable();
         pairs.dedup();
         pairs
+    }
+    /// The mesh with the edges `edges` (vertex pairs, either order; each an interior edge)
+    /// sharp as well: the edges a construction makes sharp at a spike of the mesh where its
+    /// smooth surface would fold (counted apart in [`SharpEdges::at_spikes`]). Edges already
+    /// sharp stay as they are. Panics if a pair is not an interior edge of the mesh.
+    pub fn with_spike_edges(&self, edges: &[(u32, u32)]) -> Mesh {
+        let mut mesh = self.clone();
+        for &(a, b) in edges {
+            let he = self
+                .ring_faces(a)
+                .iter()
+                .flat_map(|&f| (0..3).map(move |e| 3 * f as usize + e))
+                .find(|&he| {
+                    let face = self.faces[he / 3];
+                    let ends = (face[he % 3], face[(he + 1) % 3]);
+                    ends == (a, b) || ends == (b, a)
+                })
+                .unwrap_or_else(|| panic!("({a}, {b}) is not an edge of the mesh"));
+            let twin = self.topology.twin[he];
+            assert!(twin != NO_TWIN, "({a}, {b}) is a boundary edge");
+            mesh.sharp
+                .mark_at_spike(he, twin as usize, (a.min(b), a.max(b)));
+        }
+        mesh
     }
     /// Number of sharp edges at vertex `v` (1 for a dart, 3 or more for a corner).
     pub fn sharp_valence(&self, v: u32) -> usize {

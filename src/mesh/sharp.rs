@@ -27,6 +27,7 @@ pub struct SharpEdges {
     count: usize,
     by_angle: usize,
     from_file: usize,
+    at_spikes: usize,
     first: Option<(u32, u32)>,
 }
 
@@ -47,9 +48,27 @@ impl SharpEdges {
     pub fn from_file(&self) -> usize {
         self.from_file
     }
-    /// The first sharp edge (as mesh vertices, smaller first), in half-edge order.
+    /// Of those, the edges a construction made sharp at a spike of the mesh where its smooth
+    /// surface folded ([`super::Mesh::with_spike_edges`]).
+    pub fn at_spikes(&self) -> usize {
+        self.at_spikes
+    }
+    /// The first sharp edge (as mesh vertices, smaller first), in half-edge order among those
+    /// found while loading, else the first made sharp at a spike.
     pub fn first(&self) -> Option<(u32, u32)> {
         self.first
+    }
+    /// Marks the edge of half-edges `he` and `twin` (vertices `edge`) sharp at a spike, unless
+    /// it is sharp already.
+    pub(super) fn mark_at_spike(&mut self, he: usize, twin: usize, edge: (u32, u32)) {
+        if self.half_edges[he] {
+            return;
+        }
+        self.half_edges[he] = true;
+        self.half_edges[twin] = true;
+        self.count += 1;
+        self.at_spikes += 1;
+        self.first.get_or_insert(edge);
     }
     /// True if half-edge `he` (`3·face + edge`) lies on a sharp edge.
     pub fn is_sharp(&self, he: usize) -> bool {
@@ -58,7 +77,7 @@ impl SharpEdges {
 }
 
 /// The angle (rad) between the unit normals of two faces, accurate near 0 and π.
-fn turn_angle(n0: DVec3, n1: DVec3) -> f64 {
+pub(crate) fn turn_angle(n0: DVec3, n1: DVec3) -> f64 {
     n0.cross(n1).length().atan2(n0.dot(n1))
 }
 

@@ -1151,6 +1151,7 @@ mod tests {
         let surface = Surface {
             scheme: "test".into(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: vec![],
             patches: vec![patch(0, a), patch(1, b)],
         };

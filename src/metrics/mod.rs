@@ -144,6 +144,10 @@ pub struct Metrics {
     /// `joints` and in `g0_max_rel`, but left out of every G1, curvature-jump and
     /// continuity-order figure, which measure the smooth joints only.
     pub sharp_joints: usize,
+    /// Of the sharp edges, those the construction made sharp at spikes of the mesh where its
+    /// smooth surface folded ([`Surface::spike_face_pairs`]); their joints are among
+    /// `sharp_joints`. 0 on most meshes.
+    pub spike_edges: usize,
     /// Largest gap between the two sides of a sharp joint, relative to the diagonal (G0
     /// across the creases; `None` without sharp edges).
     pub sharp_g0_max_rel: Option<f64>,
@@ -196,7 +200,7 @@ impl Metrics {
                 mesh.faces(),
                 Some(&mesh.edge_ids()),
                 mesh.positions(),
-                &mesh.sharp_face_pairs(),
+                &surface.sharp_face_pairs(mesh),
                 construct_ms,
             )
         }
@@ -308,6 +312,7 @@ impl Metrics {
             vertex_mean_curvature_ratio_min: at_vertices.mean_ratio_min,
             vertex_mean_curvature_ratio_max: at_vertices.mean_ratio_max,
             sharp_joints: per_sharp_joint.len(),
+            spike_edges: surface.spike_face_pairs.len(),
             sharp_g0_max_rel: sharp_sums.gap_max.map(|g| g / diag),
             sharp_g1_max_rad: sharp_sums.angle_between,
             repairs: Vec::new(),
@@ -473,6 +478,7 @@ mod tests {
         Surface {
             scheme: "test".into(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: vec![("p".into(), "1".into())],
             patches,
         }

@@ -216,6 +216,7 @@ mod tests {
         let flat = Surface {
             scheme: "flat".into(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: Vec::new(),
             patches: faces
                 .iter()

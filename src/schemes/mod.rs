@@ -9,6 +9,7 @@ pub(crate) mod hb;
 pub(crate) mod loop94;
 pub(crate) mod piper;
 pub(crate) mod pn;
+mod spikes;
 
 pub(crate) mod vertex_rings;
 
@@ -160,9 +161,74 @@ fn build_in_frame_numbered(
     ));
     let frame = LocalFrame::of_points(mesh.positions());
     let local = mesh.framed(frame.centre, frame.scale);
-    let surface = (spec.build)(&local, &params)?;
+    let surface = build_sharpening_spikes(spec, &local, &params)?;
     check_surface(&surface, &local, user)?;
     Ok((surface, frame))
+}
+
+/// Rounds of [`spikes::spike_edges`]: each rebuild can fold at a spike the last one did not.
+const SPIKE_ROUNDS: usize = 4;
+
+/// Builds `spec` on `mesh`; for a scheme that keeps sharp edges, where the surface folds at a
+/// spike of the mesh, or the scheme refuses a vertex whose faces fold over themselves
+/// ([`spikes`]), the spike's sharpest edges are made sharp and the surface is rebuilt, with
+/// one warning counting them and naming the first (in the file's numbering).
+fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> Result<Surface> {
+    if spec.sharp_edges != SharpEdgeSupport::Builds {
+        return (spec.build)(mesh, params);
+    }
+    let mut sharpened = mesh.clone();
+    let mut added: Vec<(u32, u32)> = Vec::new();
+    let mut built = (spec.build)(mesh, params);
+    for _ in 0..SPIKE_ROUNDS {
+        let edges = match &built {
+            Ok(surface) => spikes::spike_edges(&sharpened, surface),
+            Err(Error::FoldedVertex { vertex, .. }) => spikes::edges_at(&sharpened, *vertex as u32),
+            Err(_) => Vec::new(),
+        };
+        if edges.is_empty() {
+            break;
+        }
+        sharpened = sharpened.with_spike_edges(&edges);
+        built = (spec.build)(&sharpened, params);
+        added.extend(edges);
+    }
+    let mut surface = built?;
+    let Some(&(a, b)) = added.first() else {
+        return Ok(surface);
+    };
+    let turn = |(a, b): (u32, u32)| {
+        let pair = sharpened
+            .edges()
+            .into_iter()
+            .find(|e| (e.a, e.b) == (a, b))
+            .and_then(|e| Some((e.faces.0, e.faces.1?)));
+        pair.map_or(0.0, |(f, g)| {
+            crate::mesh::turn_angle(sharpened.face_normal(f), sharpened.face_normal(g)).to_degrees()
+        })
+    };
+    let mut vertices: Vec<u32> = added.iter().flat_map(|&(a, b)| [a, b]).collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    surface.warnings.push(format!(
+        "{}: made {} edges sharp at spikes of the mesh, where a smooth surface would fold over a \
+         face (first: edge ({}, {}), its faces turning {:.1}°; {} vertices involved): the surface \
+         is G0 across them and the metrics count them as sharp joints; fix the mesh there, or \
+         choose sharp edges with --crease-angle",
+        spec.name,
+        added.len(),
+        sharpened.input_vertex(a),
+        sharpened.input_vertex(b),
+        turn((a, b)),
+        vertices.len(),
+    ));
+    let before = mesh.sharp_face_pairs();
+    surface.spike_face_pairs = sharpened
+        .sharp_face_pairs()
+        .into_iter()
+        .filter(|pair| before.binary_search(pair).is_err())
+        .collect();
+    Ok(surface)
 }
 
 /// Builds `scheme` on `mesh` ([`build`]) and returns the surface with the construction time
@@ -286,6 +352,7 @@ impl Params {
         Surface {
             scheme: scheme.to_string(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: self.values.clone(),
             patches,
         }
@@ -400,7 +467,13 @@ pub fn scheme_normals(
         }
         return Ok((estimate, warnings));
     }
-    let front = front_facing_normals(mesh.positions(), mesh.faces(), &estimate);
+    let mut front = front_facing_normals(mesh.positions(), mesh.faces(), &estimate);
+    // A vertex whose fan sharp edges cut into sectors takes one normal per sector
+    // (`Mesh::corner_normals`), not this one.
+    front.folded.retain(|&v| {
+        let sharp = mesh.sharp_valence(v);
+        sharp == 0 || (sharp == 1 && !mesh.is_boundary_vertex(v))
+    });
     if let Some(&v) = front.folded.first() {
         if folded == AtFoldedVertex::Refuse {
             return Err(Error::FoldedVertex {
@@ -446,7 +519,6 @@ pub fn parse_param(text: &str) -> Result<(String, String)> {
 mod tests {
     use glam::DVec3;
 
-    use crate::error::Error;
     use crate::mesh::{Mesh, generate};
 
     /// The octahedron flattened to a sheet (its equator vertices' rings fold over themselves),
@@ -463,25 +535,40 @@ mod tests {
         mesh
     }
 
+    /// pn keeps its normal there and warns; every scheme that keeps sharp edges makes the
+    /// sheet's rim sharp instead ([`super::spikes`]), so each side is a smooth sector that
+    /// does not fold; both name vertices in the file's numbering.
     #[test]
     fn a_folded_vertex_is_named_in_the_files_numbering() {
         let mesh = flat_sheet_after_an_unused_vertex();
-        for scheme in ["piper", "nielson"] {
-            match super::build(scheme, &mesh, &[]) {
-                Err(Error::FoldedVertex { vertex, .. }) => assert_eq!(vertex, 1, "{scheme}"),
-                Err(other) => panic!("{scheme}: expected a folded vertex, got {other}"),
-                Ok(_) => panic!("{scheme}: expected a folded vertex, got a surface"),
-            }
-        }
-        for scheme in ["pn", "hb", "loop94"] {
+        let surface = super::build("pn", &mesh, &[]).expect("pn");
+        let folded: Vec<&String> = surface
+            .warnings
+            .iter()
+            .filter(|w| w.contains("fold over themselves"))
+            .collect();
+        assert_eq!(folded.len(), 1, "pn: {:?}", surface.warnings);
+        assert!(folded[0].contains("(first: vertex 1)"), "{}", folded[0]);
+        for scheme in ["hb", "loop94", "piper", "nielson", "fang-mann"] {
             let surface = super::build(scheme, &mesh, &[]).expect(scheme);
-            let folded: Vec<&String> = surface
+            let sharpened: Vec<&String> = surface
                 .warnings
                 .iter()
-                .filter(|w| w.contains("fold over themselves"))
+                .filter(|w| w.contains("made 4 edges sharp at spikes"))
                 .collect();
-            assert_eq!(folded.len(), 1, "{scheme}: {:?}", surface.warnings);
-            assert!(folded[0].contains("(first: vertex 1)"), "{}", folded[0]);
+            assert_eq!(sharpened.len(), 1, "{scheme}: {:?}", surface.warnings);
+            assert!(
+                sharpened[0].contains("(first: edge (1, 3), its faces turning 180.0°"),
+                "{}",
+                sharpened[0]
+            );
+            let m = crate::metrics::Metrics::measure(&surface, &mesh, 0.0);
+            assert_eq!((m.folds, m.spike_edges), (0, 4), "{scheme}");
+            assert!(
+                m.g1_max_rad.unwrap() <= 1e-9,
+                "{scheme}: {:?}",
+                m.g1_max_rad
+            );
         }
     }
 }

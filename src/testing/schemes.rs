@@ -76,14 +76,19 @@ pub fn open_test_meshes() -> Vec<(String, Mesh)> {
     out
 }
 
-/// The generated scene `name` of [`crate::mesh::generate::SCENES`] as a mesh.
+/// The scene `name` as a mesh: a generated one of [`crate::mesh::generate::SCENES`] or a
+/// scanned one of [`crate::mesh::generate::SCANNED_SCENES`] (`scenes/<name>.obj`).
 pub fn scene(name: &str) -> Mesh {
-    crate::mesh::generate::SCENES
-        .iter()
-        .find(|s| s.name == name)
-        .expect("scene exists")
-        .mesh()
-        .expect("valid")
+    use crate::mesh::generate::{SCANNED_SCENES, SCENES};
+    match SCENES.iter().find(|s| s.name == name) {
+        Some(generated) => generated.mesh(),
+        None => SCANNED_SCENES
+            .iter()
+            .find(|s| s.name == name)
+            .expect("scene exists")
+            .mesh(),
+    }
+    .expect("valid")
 }
 
 /// `scenes/bunny-open.obj`: the scanned bunny with its base cut open.
@@ -251,6 +256,7 @@ mod tests {
         let surface_of = |nets: Vec<TriangleBezier>| Surface {
             scheme: "test".into(),
             warnings: Vec::new(),
+            spike_face_pairs: Vec::new(),
             params: vec![],
             patches: nets
                 .into_iter()

@@ -78,6 +78,7 @@ pub fn octahedron_sphere(degree: usize, radius: f64, split_levels: u32) -> Surfa
     Surface {
         scheme: "octahedron-sphere".into(),
         warnings: Vec::new(),
+        spike_face_pairs: Vec::new(),
         params: vec![],
         patches,
     }
@@ -97,6 +98,7 @@ pub fn height_field_patch() -> Surface {
     Surface {
         scheme: "height-field".into(),
         warnings: Vec::new(),
+        spike_face_pairs: Vec::new(),
         params: vec![],
         patches: vec![Patch {
             face: 0,
