@@ -327,7 +327,7 @@ pub struct Surface {
     pub warnings: Vec<String>,
     /// The face pairs `(f, g)`, `f < g`, sorted, across the edges the construction made sharp
     /// at spikes of the mesh where its smooth surface would fold
-    /// ([`crate::mesh::Mesh::with_spike_edges`]): the surface is G0 across them, and the
+    /// (`Mesh::with_spike_edges`): the surface is G0 across them, and the
     /// metrics count them with the mesh's own sharp edges. Empty on most meshes.
     pub spike_face_pairs: Vec<(u32, u32)>,
 }
@@ -378,17 +378,6 @@ impl Surface {
             params: self.params.clone(),
             patches: self.patches.iter().map(|patch| patch.mapped(&f)).collect(),
         }
-    }
-
-    /// The face pairs `(f, g)`, `f < g`, sorted, across the sharp edges of `mesh` (the mesh
-    /// it was built on) and the edges its construction made sharp at spikes
-    /// ([`Surface::spike_face_pairs`]): the joints where the surface is G0 by design.
-    pub fn sharp_face_pairs(&self, mesh: &crate::mesh::Mesh) -> Vec<(u32, u32)> {
-        let mut pairs = mesh.sharp_face_pairs();
-        pairs.extend_from_slice(&self.spike_face_pairs);
-        pairs.sort_unstable();
-        pairs.dedup();
-        pairs
     }
 
     /// Bounding box of all patches (control-net bounds: contains the surface).

@@ -159,6 +159,17 @@ pub struct Metrics {
     pub repairs: Vec<crate::mesh::Repair>,
 }
 
+/// The face pairs `(f, g)`, `f < g`, sorted, across the sharp edges of `mesh` and the edges
+/// the construction of `surface` (built on `mesh`) made sharp at spikes
+/// ([`Surface::spike_face_pairs`]): the joints where the surface is G0 by design.
+pub fn sharp_face_pairs(surface: &Surface, mesh: &Mesh) -> Vec<(u32, u32)> {
+    let mut pairs = mesh.sharp_face_pairs();
+    pairs.extend_from_slice(&surface.spike_face_pairs);
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
 impl Metrics {
     /// Measures `surface`, built from `mesh` in `construct_ms` milliseconds (both in the
     /// user's coordinates).
@@ -200,7 +211,7 @@ impl Metrics {
                 mesh.faces(),
                 Some(&mesh.edge_ids()),
                 mesh.positions(),
-                &surface.sharp_face_pairs(mesh),
+                &sharp_face_pairs(surface, mesh),
                 construct_ms,
             )
         }

@@ -134,7 +134,7 @@ pub(crate) struct JointUnder {
 impl JointIndex {
     /// The joints of `surface`, built on `mesh`.
     pub(crate) fn new(surface: &Surface, mesh: &crate::mesh::Mesh) -> JointIndex {
-        let sharp = surface.sharp_face_pairs(mesh);
+        let sharp = crate::metrics::sharp_face_pairs(surface, mesh);
         let mut by_edge = HashMap::new();
         for joint in surface.joints(mesh.faces(), Some(&mesh.edge_ids())) {
             let (f, g) = (
