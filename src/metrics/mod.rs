@@ -162,7 +162,7 @@ pub struct Metrics {
 /// The face pairs `(f, g)`, `f < g`, sorted, across the sharp edges of `mesh` and the edges
 /// the construction of `surface` (built on `mesh`) made sharp at spikes
 /// ([`Surface::spike_face_pairs`]): the joints where the surface is G0 by design.
-pub fn sharp_face_pairs(surface: &Surface, mesh: &Mesh) -> Vec<(u32, u32)> {
+pub(crate) fn sharp_face_pairs(surface: &Surface, mesh: &Mesh) -> Vec<(u32, u32)> {
     let mut pairs = mesh.sharp_face_pairs();
     pairs.extend_from_slice(&surface.spike_face_pairs);
     pairs.sort_unstable();
