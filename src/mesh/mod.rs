@@ -485,6 +485,15 @@ impl Mesh {
     pub fn sharp_valence(&self, v: u32) -> usize {
         self.sharp_cuts(v).count()
     }
+    /// True if the fan of `v` is one smooth sector (no sharp edge, or a single one at an
+    /// interior vertex: a dart), so that a vertex normal serves all its faces.
+    pub fn has_one_sector(&self, v: u32) -> bool {
+        match self.sharp_valence(v) {
+            0 => true,
+            1 => !self.is_boundary_vertex(v),
+            _ => false,
+        }
+    }
     /// The fan positions `j` at which a sharp edge `(v, one_ring(v)[j])` separates
     /// `ring_faces(v)[j − 1]` from `ring_faces(v)[j]`, in fan order.
     pub fn sharp_cuts(&self, v: u32) -> impl Iterator<Item = usize> + '_ {
@@ -564,7 +573,9 @@ impl Mesh {
     /// the sector from its front: then the crease line `n₀ × n₁` of two neighbouring sectors
     /// ([`crease_tangent`]) is their mesh edge itself, instead of swinging away from it when
     /// the sectors are nearly coplanar and turning a face's corner over. Everywhere else (and
-    /// at a corner that fails either test) it is `average`, normalised. Making the two sectors
+    /// at a corner that fails either test) it is `average`, normalised — or, where a face of
+    /// the sector sees that from behind or edge-on, the closest direction every face of the
+    /// sector sees from the front ([`front_facing`], as for whole fans). Making the two sectors
     /// of a crease vertex orthogonal to the crease's mean direction was measured as well and
     /// turned more corners over on scans (the crease lines of a scan zig-zag), so it is not
     /// done.
@@ -579,10 +590,22 @@ impl Mesh {
         /// Below this sine of the angle between the two sharp edges, their plane is left to
         /// rounding.
         const COLLINEAR: f64 = 0.05;
-        let average = average.normalize_or_zero();
         let ring = self.one_ring(v);
         let ring_faces = self.ring_faces(v);
         let closed = !self.is_boundary_vertex(v);
+        // The average, or where a face of the sector sees it from behind or edge-on (a sector
+        // of a fold or spike of a scan), the closest direction every face of the sector sees
+        // from the front (as for whole fans, `front_facing`).
+        let average = average.normalize_or_zero();
+        let sector_faces: Vec<DVec3> = (start..end)
+            .map(|j| self.face_normal(ring_faces[j % ring_faces.len()]))
+            .collect();
+        let average =
+            match front_facing::front_facing_by(average, &sector_faces, front_facing::FRONT_MARGIN)
+            {
+                front_facing::FrontFacing::Moved { normal, .. } => normal,
+                _ => average,
+            };
         // On an open fan, edges 0 and `ring.len() − 1` are boundary edges.
         let between_sharp_edges = closed || (start > 0 && end < ring.len() - 1);
         if !between_sharp_edges || (closed && cuts == 2) {
@@ -597,8 +620,7 @@ impl Mesh {
         }
         let n = plane / sine;
         let n = if n.dot(average) < 0.0 { -n } else { n };
-        let front_facing =
-            (start..end).all(|j| self.face_normal(ring_faces[j % ring_faces.len()]).dot(n) > 0.0);
+        let front_facing = sector_faces.iter().all(|f| f.dot(n) > 0.0);
         if front_facing { n } else { average }
     }
     /// Bounding box of the vertices.

@@ -172,7 +172,9 @@ const SPIKE_ROUNDS: usize = 4;
 /// Builds `spec` on `mesh`; for a scheme that keeps sharp edges, where the surface folds at a
 /// spike of the mesh, or the scheme refuses a vertex whose faces fold over themselves
 /// ([`spikes`]), the spike's sharpest edges are made sharp and the surface is rebuilt, with
-/// one warning counting them and naming the first (in the file's numbering).
+/// one warning counting them and naming the first (in the file's numbering). A round of
+/// sharp edges is kept only if the surface then folds less; a refusal stands unless the
+/// rebuilt surface folds nowhere.
 fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> Result<Surface> {
     if spec.sharp_edges != SharpEdgeSupport::Builds {
         return (spec.build)(mesh, params);
@@ -180,18 +182,48 @@ fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> R
     let mut sharpened = mesh.clone();
     let mut added: Vec<(u32, u32)> = Vec::new();
     let mut built = (spec.build)(mesh, params);
+    // A refusal of a folded ring is given up only for a surface that folds nowhere.
+    let refusal = match &built {
+        Err(Error::FoldedVertex { scheme, vertex }) => Some(Error::FoldedVertex {
+            scheme: scheme.clone(),
+            vertex: *vertex,
+        }),
+        _ => None,
+    };
+    // Fold samples of `built` when it is a surface, once counted.
+    let mut folds = None;
     for _ in 0..SPIKE_ROUNDS {
         let edges = match &built {
             Ok(surface) => spikes::spike_edges(&sharpened, surface),
-            Err(Error::FoldedVertex { vertex, .. }) => spikes::edges_at(&sharpened, *vertex as u32),
+            Err(Error::FoldedVertex { .. }) => spikes::folded_ring_edges(&sharpened),
             Err(_) => Vec::new(),
         };
         if edges.is_empty() {
             break;
         }
-        sharpened = sharpened.with_spike_edges(&edges);
-        built = (spec.build)(&sharpened, params);
+        let candidate_mesh = sharpened.with_spike_edges(&edges);
+        let candidate = (spec.build)(&candidate_mesh, params);
+        // Sharp edges are kept only where they leave fewer folds: on a mesh that is messy
+        // around its spikes too, the sectors can fold more than the smooth surface did.
+        if let Ok(current) = &built {
+            let Ok(new) = &candidate else { break };
+            let before = *folds.get_or_insert_with(|| spikes::fold_samples(&sharpened, current));
+            let after = spikes::fold_samples(&candidate_mesh, new);
+            if after >= before {
+                break;
+            }
+            folds = Some(after);
+        }
+        sharpened = candidate_mesh;
+        built = candidate;
         added.extend(edges);
+    }
+    if let Some(refusal) = refusal
+        && built.as_ref().map_or(true, |surface| {
+            spikes::fold_samples(&sharpened, surface) > 0
+        })
+    {
+        return Err(refusal);
     }
     let mut surface = built?;
     let Some(&(a, b)) = added.first() else {
@@ -470,10 +502,7 @@ pub fn scheme_normals(
     let mut front = front_facing_normals(mesh.positions(), mesh.faces(), &estimate);
     // A vertex whose fan sharp edges cut into sectors takes one normal per sector
     // (`Mesh::corner_normals`), not this one.
-    front.folded.retain(|&v| {
-        let sharp = mesh.sharp_valence(v);
-        sharp == 0 || (sharp == 1 && !mesh.is_boundary_vertex(v))
-    });
+    front.folded.retain(|&v| mesh.has_one_sector(v));
     if let Some(&v) = front.folded.first() {
         if folded == AtFoldedVertex::Refuse {
             return Err(Error::FoldedVertex {

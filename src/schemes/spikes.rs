@@ -19,7 +19,8 @@
 
 use rayon::prelude::*;
 
-use crate::mesh::Mesh;
+use crate::mesh::front_facing::front_facing_normals;
+use crate::mesh::{Mesh, NormalSource};
 use crate::surface::Surface;
 
 /// Angle (degrees) between the normals of an edge's two faces above which the edge can be made
@@ -101,10 +102,38 @@ pub(super) fn spike_edges(mesh: &Mesh, surface: &Surface) -> Vec<(u32, u32)> {
     edges
 }
 
+/// The fold samples of `surface`, built on `mesh` (`Patch::fold_samples` over every patch).
+pub(super) fn fold_samples(mesh: &Mesh, surface: &Surface) -> usize {
+    surface
+        .patches
+        .par_iter()
+        .map(|p| p.fold_samples(mesh.face_normal(p.face)))
+        .sum()
+}
+
+/// The edges to make sharp ([`edges_at`]) at every vertex whose faces fold over themselves
+/// (no normal sees them all from the front, `mesh::front_facing`) and whose fan is one sector:
+/// where a scheme refuses such a vertex, each side of the fold becomes a sector of its own.
+pub(super) fn folded_ring_edges(mesh: &Mesh) -> Vec<(u32, u32)> {
+    let Ok(estimate) = mesh.vertex_normals(NormalSource::Estimate) else {
+        return Vec::new();
+    };
+    let front = front_facing_normals(mesh.positions(), mesh.faces(), &estimate);
+    let mut edges: Vec<(u32, u32)> = front
+        .folded
+        .iter()
+        .filter(|&&v| mesh.has_one_sector(v))
+        .flat_map(|&v| edges_at(mesh, v))
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    edges
+}
+
 /// The edges to make sharp at vertex `v` (vertex pairs, smaller first): its interior edges
 /// that are not sharp and turn more than [`SPIKE_TURN_DEG`], and, if that makes `v` an
 /// interior vertex with a single sharp edge, its next-sharpest edge. Empty if `v` is no spike.
-pub(super) fn edges_at(mesh: &Mesh, v: u32) -> Vec<(u32, u32)> {
+fn edges_at(mesh: &Mesh, v: u32) -> Vec<(u32, u32)> {
     let limit = SPIKE_TURN_DEG.to_radians();
     let mut ring = smooth_ring_edges(mesh, v);
     ring.sort_by(|a, b| b.turn.total_cmp(&a.turn));
@@ -124,14 +153,6 @@ mod tests {
     use crate::metrics::Metrics;
     use crate::schemes::{Params, build, build_in_frame, find};
     use crate::testing;
-
-    fn fold_samples(surface: &Surface, mesh: &Mesh) -> usize {
-        surface
-            .patches
-            .iter()
-            .map(|p| p.fold_samples(mesh.face_normal(p.face)))
-            .sum()
-    }
 
     /// Scanned bunnies whose ear tips and ridges turn by up to 135° across an edge (vertex
     /// 248 of `scenes/bunny.obj`, vertices 94 and 248 of `scenes/bunny-irregular.obj`): each
@@ -153,7 +174,7 @@ mod tests {
             let params = Params::resolve(spec, &[]).unwrap();
             let papers = (spec.build)(&mesh, &params).unwrap();
             let edges = spike_edges(&mesh, &papers);
-            assert!(fold_samples(&papers, &mesh) > 0, "{scene} {scheme}");
+            assert!(fold_samples(&mesh, &papers) > 0, "{scene} {scheme}");
             assert!(!edges.is_empty(), "{scene} {scheme}");
 
             // Every edge chosen has an end where the mesh turns past a right angle and whose
