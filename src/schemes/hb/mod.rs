@@ -223,9 +223,8 @@ fn face_corner_curves(
 ///
 /// With β chosen per vertex, the boundary curves may first swerve off their edges by
 /// [`LOOSE_SWERVE`]; the corners of every face whose macro-patch then folds over it
-/// ([`Patch::fold_samples`]) are rebuilt with the tighter [`HB_SWERVE`], and those of faces
-/// that still fold one rung further down [`SWERVE_LADDER`] each round, until no face with a
-/// corner above the last rung folds. Tight caps everywhere would shorten the tangents at every vertex of a
+/// ([`Patch::fold_samples`]) are rebuilt with the tighter [`HB_SWERVE`], until no face with a
+/// loose corner folds. Tight caps everywhere would shorten the tangents at every vertex of a
 /// scan, not only where a fold asks for it, and curve its patches more than their faces need
 /// (measured on a 3.7k-face scanned bunny: 97k BVH leaves at 0.03 everywhere, 35k with this
 /// rule, both with 0 folds).
@@ -240,7 +239,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
 }
 
 /// The patches of [`build`], four per face, with the swerve cap `loose` where no face folds
-/// under it, and which vertices took a tighter cap of [`SWERVE_LADDER`] instead.
+/// under it, and which vertices took the tight cap [`HB_SWERVE`] instead.
 fn macro_patches(
     mesh: &Mesh,
     shape: &ShapeRule,
@@ -286,47 +285,30 @@ fn macro_patches(
                 });
         };
     fill(&mut patches, &table, None);
-    // The rung of `SWERVE_LADDER` each vertex is built with (0: `loose`).
-    let mut rung = vec![0u8; mesh.vertex_count()];
+    let mut tight = vec![false; mesh.vertex_count()];
     if adaptive {
-        let mut tables: Vec<Option<HalfEdgeTable<HalfEdgeData>>> =
-            (0..=SWERVE_LADDER.len()).map(|_| None).collect();
+        let mut tight_table = None;
         let mut changed: Option<Vec<bool>> = None;
         loop {
-            let mut newly: Vec<u32> = folding_faces(mesh, &patches, changed.as_deref())
+            let newly: Vec<u32> = folding_faces(mesh, &patches, changed.as_deref())
                 .into_iter()
                 .flat_map(|f| mesh.faces()[f])
+                .filter(|&v| !std::mem::replace(&mut tight[v as usize], true))
                 .collect();
-            newly.sort_unstable();
-            newly.dedup();
-            newly.retain(|&v| usize::from(rung[v as usize]) < SWERVE_LADDER.len());
             if newly.is_empty() {
                 break;
             }
-            for &v in &newly {
-                rung[v as usize] += 1;
-            }
-            for step in 1..=SWERVE_LADDER.len() {
-                let at: Vec<u32> = newly
-                    .iter()
-                    .copied()
-                    .filter(|&v| usize::from(rung[v as usize]) == step)
-                    .collect();
-                if at.is_empty() {
-                    continue;
-                }
-                let capped = match &mut tables[step] {
-                    Some(table) => table,
-                    empty => empty.insert(half_edge_table(
-                        mesh,
-                        &ShapeRule {
-                            swerve: SWERVE_LADDER[step - 1],
-                            ..*shape
-                        },
-                    )?),
-                };
-                table.adopt(capped, &at);
-            }
+            let tight_table = match &mut tight_table {
+                Some(table) => table,
+                empty => empty.insert(half_edge_table(
+                    mesh,
+                    &ShapeRule {
+                        swerve: HB_SWERVE,
+                        ..*shape
+                    },
+                )?),
+            };
+            table.adopt(tight_table, &newly);
             // The faces around a re-capped vertex change; no others do.
             let mut around = vec![false; mesh.face_count()];
             for &v in &newly {
@@ -338,22 +320,12 @@ fn macro_patches(
             changed = Some(around);
         }
     }
-    let tight = rung.iter().map(|&r| r > 0).collect();
     Ok((patches, tight))
 }
 
 /// The swerve cap of a per-vertex β at vertices whose faces do not fold under it (see
 /// [`build`]): long tangents, nearly flat patches.
 const LOOSE_SWERVE: f64 = 0.1;
-
-/// The tighter swerve caps a vertex takes, one rung at a time, while a face around it still
-/// folds: [`HB_SWERVE`] first, then shorter tangents still. On slivers (faces with angles of
-/// 1°) the tangents HB00 spaces evenly around a vertex cross a thin face unless they are very
-/// short; the lower rungs are taken there only (53 of 177 vertices of the hostile corpus's
-/// sliver sphere: 837 fold samples at 0.03, none at 0.001). Such short tangents make the
-/// vertex nearly a cone point, and the renderer subdivides the patches there deeply (on that
-/// sphere 807k BVH leaves against 243k; docs/folds.md), which is the price of no fold.
-const SWERVE_LADDER: [f64; 4] = [HB_SWERVE, 0.01, 0.003, 0.001];
 
 /// The faces among `selected` (all when `None`) with a patch that folds over them
 /// ([`Patch::fold_samples`]), in order.
