@@ -59,12 +59,28 @@ fn smooth_ring_edges(mesh: &Mesh, v: u32) -> Vec<RingEdge> {
 }
 
 /// The vertices with an interior edge that is not sharp and whose faces turn by more than
-/// [`SPIKE_TURN_DEG`].
+/// [`SPIKE_TURN_DEG`], a right angle: their normals' dot product is negative. In order.
 fn spike_vertices(mesh: &Mesh) -> Vec<u32> {
-    let limit = SPIKE_TURN_DEG.to_radians();
+    let positions = mesh.positions();
+    let area_normal = |f: u32| {
+        let [a, b, c] = mesh.faces()[f as usize].map(|v| positions[v as usize]);
+        (b - a).cross(c - a)
+    };
+    let mut spike = vec![false; mesh.vertex_count()];
+    for f in 0..mesh.face_count() as u32 {
+        for e in 0..3 {
+            let Some((g, _)) = mesh.neighbor(f, e) else {
+                continue;
+            };
+            if g > f && !mesh.is_sharp(f, e) && area_normal(f).dot(area_normal(g)) < 0.0 {
+                let face = mesh.faces()[f as usize];
+                spike[face[e] as usize] = true;
+                spike[face[(e + 1) % 3] as usize] = true;
+            }
+        }
+    }
     (0..mesh.vertex_count() as u32)
-        .into_par_iter()
-        .filter(|&v| smooth_ring_edges(mesh, v).iter().any(|e| e.turn > limit))
+        .filter(|&v| spike[v as usize])
         .collect()
 }
 
