@@ -514,3 +514,34 @@ fn a_figure_spec_and_a_scene_file_given_to_the_wrong_command_say_which_to_run() 
     );
     assert_eq!(files_under(&dir), ["fig.toml", "scene.toml"]);
 }
+
+/// A figure prints what loading repaired and what each construction changed, as the other
+/// commands do: the flipped octahedron of the hostile corpus is re-oriented on loading, and
+/// hb makes the spike edges of the scanned bunny's ear tip sharp.
+#[test]
+fn a_figure_prints_the_repairs_and_the_constructions_warnings() {
+    let dir = scratch("warnings");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (mesh, scheme, expected) in [
+        (
+            "scenes/hostile/octahedron-flipped.obj",
+            "flat",
+            "warning: re-oriented 1 faces",
+        ),
+        (
+            "scenes/bunny.obj",
+            "hb",
+            "warning: hb: made 3 edges sharp at spikes of the mesh",
+        ),
+    ] {
+        let spec = format!(
+            "mesh = {:?}\noutput = \"out/w\"\nsize = [16, 16]\nspp = 1\nexr = false\n\
+             [[schemes]]\nname = \"{scheme}\"\n[[modes]]\nname = \"zebra\"\n",
+            root.join(mesh).display().to_string()
+        );
+        let out = figure(&dir, &spec);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{mesh}: {stderr}");
+        assert!(stderr.contains(expected), "{mesh}: {stderr}");
+    }
+}

@@ -350,18 +350,21 @@ pub fn figure_command(args: &FigureArgs) -> Result<Output> {
         .map(|name| Theme::by_name("--theme", name))
         .transpose()?;
     let mut stdout = String::new();
+    let mut warnings = Vec::new();
     for spec in &args.specs {
         if let Some(shard) = args.shard {
             let files = super::figure::shard::run_figure_spec_shard(spec, shard, theme)?;
             stdout += &super::figure::shard::shard_summary(&files);
+            warnings.extend(files.warnings);
         } else {
             let files = super::figure::spec::run_figure_spec(spec, theme)?;
             stdout += &super::figure::spec::figure_summary(&files);
+            warnings.extend(files.warnings);
         }
     }
     Ok(Output {
         stdout,
-        warnings: Vec::new(),
+        warnings,
         failed: false,
     })
 }

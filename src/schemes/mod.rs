@@ -172,7 +172,7 @@ const SPIKE_ROUNDS: usize = 4;
 /// Builds `spec` on `mesh`; for a scheme that keeps sharp edges, where the surface folds at a
 /// spike of the mesh, or the scheme refuses a vertex whose faces fold over themselves
 /// ([`spikes`]), the spike's sharpest edges are made sharp and the surface is rebuilt, with
-/// one warning counting them and naming the first (in the file's numbering). A round of
+/// one warning counting them and naming the sharpest (in the file's numbering). A round of
 /// sharp edges is kept only if the surface then folds less; a refusal stands unless the
 /// rebuilt surface folds nowhere.
 fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> Result<Surface> {
@@ -226,32 +226,35 @@ fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> R
         return Err(refusal);
     }
     let mut surface = built?;
-    let Some(&(a, b)) = added.first() else {
+    if added.is_empty() {
         return Ok(surface);
-    };
-    let turn = |(a, b): (u32, u32)| {
-        let pair = sharpened
-            .edges()
-            .into_iter()
-            .find(|e| (e.a, e.b) == (a, b))
-            .and_then(|e| Some((e.faces.0, e.faces.1?)));
-        pair.map_or(0.0, |(f, g)| {
-            crate::mesh::turn_angle(sharpened.face_normal(f), sharpened.face_normal(g)).to_degrees()
+    }
+    added.sort_unstable();
+    // The sharpest of them, with its turn (degrees), for the warning.
+    let (sharpest, turn) = sharpened
+        .edges()
+        .into_iter()
+        .filter(|e| added.binary_search(&(e.a, e.b)).is_ok())
+        .filter_map(|e| {
+            let (f, g) = (e.faces.0, e.faces.1?);
+            let turn = crate::mesh::turn_angle(sharpened.face_normal(f), sharpened.face_normal(g));
+            Some(((e.a, e.b), turn.to_degrees()))
         })
-    };
+        .fold(((0, 0), f64::NEG_INFINITY), |best, e| {
+            if e.1 > best.1 { e } else { best }
+        });
     let mut vertices: Vec<u32> = added.iter().flat_map(|&(a, b)| [a, b]).collect();
     vertices.sort_unstable();
     vertices.dedup();
     surface.warnings.push(format!(
         "{}: made {} edges sharp at spikes of the mesh, where a smooth surface would fold over a \
-         face (first: edge ({}, {}), its faces turning {:.1}°; {} vertices involved): the surface \
-         is G0 across them and the metrics count them as sharp joints; fix the mesh there, or \
-         choose sharp edges with --crease-angle",
+         face (sharpest: edge ({}, {}), its faces turning {turn:.1}°; {} vertices involved): the \
+         surface is G0 across them and the metrics count them as sharp joints; fix the mesh \
+         there, or choose sharp edges with --crease-angle",
         spec.name,
         added.len(),
-        sharpened.input_vertex(a),
-        sharpened.input_vertex(b),
-        turn((a, b)),
+        sharpened.input_vertex(sharpest.0),
+        sharpened.input_vertex(sharpest.1),
         vertices.len(),
     ));
     let before = mesh.sharp_face_pairs();
@@ -587,7 +590,7 @@ mod tests {
                 .collect();
             assert_eq!(sharpened.len(), 1, "{scheme}: {:?}", surface.warnings);
             assert!(
-                sharpened[0].contains("(first: edge (1, 3), its faces turning 180.0°"),
+                sharpened[0].contains("(sharpest: edge (1, 3), its faces turning 180.0°"),
                 "{}",
                 sharpened[0]
             );

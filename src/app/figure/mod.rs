@@ -99,6 +99,9 @@ pub struct FigureJob {
     pub geometry: Geometry,
     /// Colours of the cells' backgrounds and legends and of the sheet.
     pub theme: Theme,
+    /// What loading repaired in the mesh and what each construction changed (e.g. sharp
+    /// edges at spikes), one line each, for the command to print.
+    pub warnings: Vec<String>,
 }
 
 /// One rendered cell.

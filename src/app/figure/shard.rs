@@ -128,6 +128,8 @@ pub(crate) struct FigureShardFiles {
     pub part: PathBuf,
     /// What it says.
     pub record: FigurePart,
+    /// The job's warnings ([`FigureJob::warnings`]).
+    pub warnings: Vec<String>,
 }
 
 /// Renders `shard`'s share of the cells of the spec at `path` and writes them (PNG, and EXR
@@ -221,7 +223,11 @@ pub(crate) fn run_figure_spec_shard(
     let text = serde_json::to_string_pretty(&record)
         .map_err(|e| Error::Invalid(format!("figure part JSON: {e}")))?;
     write_atomic(&part, text.as_bytes())?;
-    Ok(FigureShardFiles { part, record })
+    Ok(FigureShardFiles {
+        part,
+        record,
+        warnings: job.warnings,
+    })
 }
 
 /// One line for the terminal about a shard of a figure.

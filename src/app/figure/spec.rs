@@ -202,8 +202,9 @@ impl FigureSpec {
         Ok(spec)
     }
 
-    /// The mesh: a scenes/ name, else a mesh file (OBJ, PLY, OFF, STL) relative to `dir`.
-    pub fn load_mesh(&self, dir: &Path) -> Result<Mesh> {
+    /// The mesh: a scenes/ name, else a mesh file (OBJ, PLY, OFF, STL) relative to `dir`,
+    /// with what loading repaired (warnings, one line each).
+    pub fn load_mesh(&self, dir: &Path) -> Result<(Mesh, Vec<String>)> {
         let mut options = LoadOptions {
             strict: self.strict.unwrap_or(false),
             ..Default::default()
@@ -223,9 +224,13 @@ impl FigureSpec {
         ) {
             (Some(scene), _) => {
                 let (positions, faces) = (scene.build)();
-                Ok(Mesh::from_triangles_with(positions, faces, &options)?.0)
+                let (mesh, report) = Mesh::from_triangles_with(positions, faces, &options)?;
+                Ok((mesh, report.warnings))
             }
-            (None, path) => Ok(Mesh::load_with(&path, &options)?.0),
+            (None, path) => {
+                let (mesh, report) = Mesh::load_with(&path, &options)?;
+                Ok((mesh, report.warnings))
+            }
         }
     }
 
@@ -334,7 +339,7 @@ impl FigureSpec {
                 "figure spec: needs at least one [[schemes]] and one [[modes]]".into(),
             ));
         }
-        let mesh = self.load_mesh(dir)?;
+        let (mesh, mut warnings) = self.load_mesh(dir)?;
         let mut surfaces = Vec::with_capacity(self.schemes.len());
         for (k, entry) in self.schemes.iter().enumerate() {
             let params: Vec<(String, String)> = entry
@@ -344,6 +349,7 @@ impl FigureSpec {
                 .collect();
             let surface = schemes::build(&entry.name, &mesh, &params)
                 .map_err(|e| e.within(format!("schemes[{k}] ({})", entry.name)))?;
+            warnings.extend(surface.warnings.iter().cloned());
             let label = entry.label.clone().unwrap_or_else(|| {
                 let mut l = entry.name.clone();
                 for (n, v) in &params {
@@ -395,6 +401,7 @@ impl FigureSpec {
             transpose: self.transpose.unwrap_or(false),
             geometry,
             theme,
+            warnings,
         })
     }
 
@@ -436,6 +443,8 @@ pub(crate) struct FigureFiles {
     pub exrs: Vec<PathBuf>,
     /// The rendered figure.
     pub figure: Figure,
+    /// The job's warnings ([`FigureJob::warnings`]).
+    pub warnings: Vec<String>,
 }
 
 /// File-name-safe form of a label.
@@ -537,6 +546,7 @@ pub(crate) fn run_figure_spec(path: &Path, theme: Option<Theme>) -> Result<Figur
         svg,
         exrs,
         figure,
+        warnings: job.warnings,
     })
 }
 
