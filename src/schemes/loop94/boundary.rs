@@ -17,8 +17,8 @@ use glam::DVec3;
 use super::vertex::{LoopCross, LoopHalfEdge, LoopShape, RingSteps, half_edges};
 use crate::mesh::Mesh;
 use crate::schemes::vertex_rings::{
-    Fan, HalfEdgeTable, LOOP_SWERVE, MeshSectors, half_ring_tangent_basis, open_fan_cross_data,
-    open_loop_point, swerve_cap,
+    Fan, HalfEdgeTable, MeshSectors, half_ring_tangent_basis, open_fan_cross_data, open_loop_point,
+    swerve_cap,
 };
 
 /// The per-vertex pass of Loop's scheme on a mesh that may be open and have sharp edges
@@ -54,10 +54,14 @@ pub(crate) fn boundary_half_edges(fan: &Fan, shape: &LoopShape, out: &mut [LoopH
     let theta = fan.step;
     let (s, c) = theta.sin_cos();
     let (a, b) = half_ring_tangent_basis(v, ring, theta);
-    let LoopShape { alpha, beta } = *shape;
+    let LoopShape {
+        alpha,
+        beta,
+        swerve,
+    } = *shape;
     // β is the upper limit: f¹ − f⁰ = β (A cos jθ + B sin jθ)/2 swerves off no edge.
     let normal = a.cross(b).normalize_or_zero();
-    let beta = beta.min(swerve_cap(v, ring, normal, LOOP_SWERVE, false, |j| {
+    let beta = beta.min(swerve_cap(v, ring, normal, swerve, false, |j| {
         let (sj, cj) = (theta * j as f64).sin_cos();
         0.5 * (cj * a + sj * b)
     }));

@@ -23,9 +23,7 @@
 use glam::DVec3;
 
 use super::vertex::{LoopCross, LoopHalfEdge, LoopShape};
-use crate::schemes::vertex_rings::{
-    Fan, LOOP_SWERVE, Sector, open_fan_cross_data, open_loop_point, swerve_cap,
-};
+use crate::schemes::vertex_rings::{Fan, Sector, open_fan_cross_data, open_loop_point, swerve_cap};
 
 /// Fills `out[j]` with the data of edge `v → p_j` at the vertex of `fan`, cut into `sectors`
 /// (see the module doc).
@@ -37,7 +35,11 @@ pub(crate) fn sector_half_edges(
 ) {
     let (v, ring) = (fan.position, fan.ring);
     let n = ring.len();
-    let LoopShape { alpha, beta } = *shape;
+    let LoopShape {
+        alpha,
+        beta,
+        swerve,
+    } = *shape;
     let f0 = alpha * v + (1.0 - alpha) * ring.iter().sum::<DVec3>() / n as f64;
     let sector_points = |sector: &Sector| -> Vec<DVec3> {
         (0..=sector.faces)
@@ -50,7 +52,7 @@ pub(crate) fn sector_half_edges(
             v,
             &sector_points(sector),
             sector.normal,
-            LOOP_SWERVE,
+            swerve,
             false,
             |j| 0.5 * sector.tangents[j],
         );

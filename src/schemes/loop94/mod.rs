@@ -32,7 +32,7 @@ use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::mesh::Mesh;
-use crate::schemes::vertex_rings::{HalfEdgeTable, MeshSectors};
+use crate::schemes::vertex_rings::{HalfEdgeTable, LOOP_SWERVE, MeshSectors};
 use crate::schemes::{ParamSpec, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 use patch::{edge_curves, sextic};
@@ -63,7 +63,11 @@ pub(crate) const SPEC: SchemeSpec = SchemeSpec {
 fn shape(params: &Params) -> Result<LoopShape> {
     let alpha = params.number("alpha")?;
     let beta = params.positive_number("beta", "tangents vanish or flip")?;
-    Ok(LoopShape { alpha, beta })
+    Ok(LoopShape {
+        alpha,
+        beta,
+        swerve: LOOP_SWERVE,
+    })
 }
 
 /// The per-vertex pass for the whole mesh, parallel over vertices; on an open mesh the boundary
@@ -100,19 +104,7 @@ fn face_edges(
 
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let shape = shape(params)?;
-    let table = table(mesh, &shape)?;
-    let whole_face = [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z];
-    let patches = mesh
-        .faces()
-        .par_iter()
-        .enumerate()
-        .map(|(f, face)| Patch {
-            face: f as u32,
-            piece: 0,
-            domain: whole_face,
-            geometry: PatchGeometry::Bezier(sextic(&face_edges(&table, *face, f))),
-        })
-        .collect();
+    let (table, patches) = table_and_patches(mesh, &shape)?;
     let mut surface = params.surface(SPEC.name, patches);
     surface.warnings = crate::schemes::vertex_rings::plane_warnings(mesh, SPEC.name, |_, ring| {
         crate::schemes::vertex_rings::RingFourier::new(ring)
@@ -121,6 +113,104 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
         .warnings
         .extend(beta_cap_warning(mesh, &table, shape.beta));
     Ok(surface)
+}
+
+/// The per-vertex data of [`build`] and its patches, one per face: the swerve cap everywhere
+/// except where [`loosen_where_folding`] drops it.
+fn table_and_patches(
+    mesh: &Mesh,
+    shape: &LoopShape,
+) -> Result<(HalfEdgeTable<LoopHalfEdge>, Vec<Patch>)> {
+    let mut table = table(mesh, shape)?;
+    let mut patches: Vec<Patch> = (0..mesh.face_count())
+        .into_par_iter()
+        .map(|f| face_patch(mesh, &table, f))
+        .collect();
+    loosen_where_folding(mesh, shape, &mut table, &mut patches)?;
+    Ok((table, patches))
+}
+
+/// The sextic patch over face `f` from the per-vertex data `table`.
+fn face_patch(mesh: &Mesh, table: &HalfEdgeTable<LoopHalfEdge>, f: usize) -> Patch {
+    Patch {
+        face: f as u32,
+        piece: 0,
+        domain: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
+        geometry: PatchGeometry::Bezier(sextic(&face_edges(table, mesh.faces()[f], f))),
+    }
+}
+
+/// Rounds of [`loosen_where_folding`].
+const LOOSENING_ROUNDS: usize = 4;
+
+/// The swerve cap keeps the boundary curves on their edges, but Loop's middle point is fixed,
+/// so on a fan of thin faces the short tangents it leaves bend the curves sharply and fold a
+/// patch instead (the ear-clipped caps of the hostile corpus's twelve-gon prism). So the
+/// corners of every face whose patch folds over it (`Patch::fold_samples`) are rebuilt without
+/// the cap (β then only reaches at most half way along each chord), and kept so if the faces
+/// around them then have fewer fold samples; round by round, each vertex tried once.
+fn loosen_where_folding(
+    mesh: &Mesh,
+    shape: &LoopShape,
+    table: &mut HalfEdgeTable<LoopHalfEdge>,
+    patches: &mut [Patch],
+) -> Result<()> {
+    let folds = |patches: &[Patch], f: usize| patches[f].fold_samples(mesh.face_normal(f as u32));
+    let mut folding: Vec<usize> = (0..mesh.face_count())
+        .into_par_iter()
+        .filter(|&f| folds(patches, f) > 0)
+        .collect();
+    if folding.is_empty() {
+        return Ok(());
+    }
+    let capped = self::table(mesh, shape)?;
+    let loose = self::table(
+        mesh,
+        &LoopShape {
+            swerve: f64::INFINITY,
+            ..*shape
+        },
+    )?;
+    let mut tried = vec![false; mesh.vertex_count()];
+    for _ in 0..LOOSENING_ROUNDS {
+        let mut newly: Vec<u32> = folding
+            .iter()
+            .flat_map(|&f| mesh.faces()[f])
+            .filter(|&v| !tried[v as usize])
+            .collect();
+        newly.sort_unstable();
+        newly.dedup();
+        if newly.is_empty() {
+            break;
+        }
+        for &v in &newly {
+            tried[v as usize] = true;
+        }
+        let mut around: Vec<usize> = newly
+            .iter()
+            .flat_map(|&v| mesh.ring_faces(v).iter().map(|&f| f as usize))
+            .collect();
+        around.sort_unstable();
+        around.dedup();
+        let count = |patches: &[Patch]| around.iter().map(|&f| folds(patches, f)).sum::<usize>();
+        let before = count(patches);
+        table.adopt(&loose, &newly);
+        for &f in &around {
+            patches[f] = face_patch(mesh, table, f);
+        }
+        if count(patches) >= before {
+            table.adopt(&capped, &newly);
+            for &f in &around {
+                patches[f] = face_patch(mesh, table, f);
+            }
+        }
+        folding = around
+            .iter()
+            .copied()
+            .filter(|&f| folds(patches, f) > 0)
+            .collect();
+    }
+    Ok(())
 }
 
 /// The warning line for the vertices where β was capped below the parameter `beta` so that no
@@ -241,7 +331,9 @@ mod tests {
     #[test]
     fn a_capped_beta_is_counted_in_one_warning() {
         for (name, mesh) in closed_test_meshes() {
-            let large = table(&mesh, &shape(&params(&SPEC, &[("beta", "50")])).unwrap()).unwrap();
+            let (large, _) =
+                table_and_patches(&mesh, &shape(&params(&SPEC, &[("beta", "50")])).unwrap())
+                    .unwrap();
             let used: Vec<f64> = (0..mesh.vertex_count() as u32)
                 .map(|v| large.leaving(v)[0].beta)
                 .collect();
@@ -261,7 +353,9 @@ mod tests {
                 short(smallest)
             );
             assert_eq!(capped, [&expected], "{name}");
-            let half = table(&mesh, &shape(&params(&SPEC, &[("beta", "0.5")])).unwrap()).unwrap();
+            let (half, _) =
+                table_and_patches(&mesh, &shape(&params(&SPEC, &[("beta", "0.5")])).unwrap())
+                    .unwrap();
             let count = (0..mesh.vertex_count() as u32)
                 .filter(|&v| half.leaving(v)[0].beta < 0.5)
                 .count();
@@ -290,5 +384,28 @@ mod tests {
     fn non_positive_beta_is_rejected() {
         let err = shape(&params(&SPEC, &[("beta", "0")])).unwrap_err();
         assert!(err.to_string().contains("beta"), "{err}");
+    }
+
+    /// The hostile corpus's twelve-gon prism, its caps ear-clipped into fans of thin faces:
+    /// with the swerve cap at every vertex the patches of those fans fold (16 fold samples);
+    /// with the corners of folding faces rebuilt without it, none do, and the surface is G1.
+    #[test]
+    fn corners_of_faces_that_fold_under_the_swerve_cap_are_rebuilt_without_it() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hostile/ngon-prism.obj");
+        let (mesh, _) = Mesh::load_obj(&path).expect("the prism loads");
+        let p = params(&SPEC, &[]);
+        let shape = shape(&p).unwrap();
+        let capped = table(&mesh, &shape).unwrap();
+        let capped_folds: usize = (0..mesh.face_count())
+            .map(|f| face_patch(&mesh, &capped, f).fold_samples(mesh.face_normal(f as u32)))
+            .sum();
+        assert!(capped_folds > 0);
+        check("ngon-prism", &mesh, &p, true);
+        let m = Metrics::measure(&build(&mesh, &p).unwrap(), &mesh, 0.0);
+        assert_eq!(
+            m.folds, 0,
+            "{capped_folds} fold samples with the cap everywhere"
+        );
     }
 }

@@ -16,7 +16,7 @@
 
 use glam::DVec3;
 
-use crate::schemes::vertex_rings::{LOOP_SWERVE, RingFourier, front_facing_plane, swerve_cap};
+use crate::schemes::vertex_rings::{RingFourier, front_facing_plane, swerve_cap};
 use crate::schemes::vertex_rings::{phi0, psi0};
 
 /// Loop's shape parameters α and β (eq. 2).
@@ -24,8 +24,12 @@ use crate::schemes::vertex_rings::{phi0, psi0};
 pub(crate) struct LoopShape {
     /// α: 1 interpolates the vertices, smaller values approximate (pull `f⁰` to the centroid).
     pub alpha: f64,
-    /// β: tangent magnitude.
+    /// β: tangent magnitude (an upper limit, see `swerve`).
     pub beta: f64,
+    /// How far a boundary curve may swerve off its edge ([`swerve_cap`]): β is capped per
+    /// vertex by it; `LOOP_SWERVE` by default, infinite where the cap made a face fold
+    /// (`super::build`).
+    pub swerve: f64,
 }
 
 /// Data of the directed edge `p → p_i` that `p` determines alone.
@@ -113,16 +117,15 @@ pub(crate) fn half_edges(
     let (fourier, _) = front_facing_plane(p, ring, RingFourier::new(ring));
     let (c, s) = (phi0(n), psi0(n));
     let (phi_0, phi_1) = (c, 1.0 - 2.0 * c);
-    let LoopShape { alpha, beta } = *shape;
+    let LoopShape {
+        alpha,
+        beta,
+        swerve,
+    } = *shape;
     // β is the upper limit: f¹ − f⁰ = β cos_sum(i)/n swerves off no edge.
-    let beta = beta.min(swerve_cap(
-        p,
-        ring,
-        fourier.normal(),
-        LOOP_SWERVE,
-        true,
-        |i| fourier.cos_sum(i) / nf,
-    ));
+    let beta = beta.min(swerve_cap(p, ring, fourier.normal(), swerve, true, |i| {
+        fourier.cos_sum(i) / nf
+    }));
     let f0 = alpha * p + (1.0 - alpha) * fourier.mean();
     let r1 = |i: usize| (4.0 * beta / nf) * fourier.cos_sum(i % n);
     // The twist of face (p, p_i, p_{i+1}) [HB00 §6].
@@ -174,6 +177,7 @@ mod tests {
     use std::f64::consts::PI;
 
     use super::*;
+    use crate::schemes::vertex_rings::LOOP_SWERVE;
 
     fn ring(n: usize) -> Vec<DVec3> {
         (0..n)
@@ -196,10 +200,12 @@ mod tests {
                 LoopShape {
                     alpha: 1.0,
                     beta: 0.1,
+                    swerve: LOOP_SWERVE,
                 },
                 LoopShape {
                     alpha: 0.4,
                     beta: 0.7,
+                    swerve: LOOP_SWERVE,
                 },
             ] {
                 let p = ring(n);
