@@ -229,34 +229,9 @@ fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> R
     if added.is_empty() {
         return Ok(surface);
     }
-    added.sort_unstable();
-    // The sharpest of them, with its turn (degrees), for the warning.
-    let (sharpest, turn) = sharpened
-        .edges()
-        .into_iter()
-        .filter(|e| added.binary_search(&(e.a, e.b)).is_ok())
-        .filter_map(|e| {
-            let (f, g) = (e.faces.0, e.faces.1?);
-            let turn = crate::mesh::turn_angle(sharpened.face_normal(f), sharpened.face_normal(g));
-            Some(((e.a, e.b), turn.to_degrees()))
-        })
-        .fold(((0, 0), f64::NEG_INFINITY), |best, e| {
-            if e.1 > best.1 { e } else { best }
-        });
-    let mut vertices: Vec<u32> = added.iter().flat_map(|&(a, b)| [a, b]).collect();
-    vertices.sort_unstable();
-    vertices.dedup();
-    surface.warnings.push(format!(
-        "{}: made {} edges sharp at spikes of the mesh, where a smooth surface would fold over a \
-         face (sharpest: edge ({}, {}), its faces turning {turn:.1}°; {} vertices involved): the \
-         surface is G0 across them and the metrics count them as sharp joints; fix the mesh \
-         there, or choose sharp edges with --crease-angle",
-        spec.name,
-        added.len(),
-        sharpened.input_vertex(sharpest.0),
-        sharpened.input_vertex(sharpest.1),
-        vertices.len(),
-    ));
+    surface
+        .warnings
+        .push(spikes::warning(spec.name, &sharpened, &mut added));
     let before = mesh.sharp_face_pairs();
     surface.spike_face_pairs = sharpened
         .sharp_face_pairs()

@@ -120,6 +120,38 @@ pub(super) fn spike_edges(mesh: &Mesh, surface: &Surface) -> Vec<(u32, u32)> {
     edges
 }
 
+/// The warning for the edges `added` (vertex pairs, smaller first; sorted here) that scheme
+/// `scheme` made sharp at spikes of `sharpened` (the mesh with them sharp): how many, the
+/// sharpest with its turn (in the file's numbering), how many vertices, and the remedy.
+pub(super) fn warning(scheme: &str, sharpened: &Mesh, added: &mut [(u32, u32)]) -> String {
+    added.sort_unstable();
+    let (sharpest, turn) = sharpened
+        .edges()
+        .into_iter()
+        .filter(|e| added.binary_search(&(e.a, e.b)).is_ok())
+        .filter_map(|e| {
+            let (f, g) = (e.faces.0, e.faces.1?);
+            let turn = crate::mesh::turn_angle(sharpened.face_normal(f), sharpened.face_normal(g));
+            Some(((e.a, e.b), turn.to_degrees()))
+        })
+        .fold(((0, 0), f64::NEG_INFINITY), |best, e| {
+            if e.1 > best.1 { e } else { best }
+        });
+    let mut vertices: Vec<u32> = added.iter().flat_map(|&(a, b)| [a, b]).collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    format!(
+        "{scheme}: made {} edges sharp at spikes of the mesh, where a smooth surface would fold \
+         over a face (sharpest: edge ({}, {}), its faces turning {turn:.1}°; {} vertices \
+         involved): the surface is G0 across them and the metrics count them as sharp joints; \
+         fix the mesh there, or choose sharp edges with --crease-angle",
+        added.len(),
+        sharpened.input_vertex(sharpest.0),
+        sharpened.input_vertex(sharpest.1),
+        vertices.len(),
+    )
+}
+
 /// The fold samples of `surface`, built on `mesh` (`Patch::fold_samples` over every patch).
 pub(super) fn fold_samples(mesh: &Mesh, surface: &Surface) -> usize {
     surface
