@@ -13,8 +13,9 @@
 //! smooth sectors instead of a dart's one); the registry rebuilds the surface with them sharp
 //! (`Mesh::with_spike_edges`) and keeps the result if it has fewer fold samples (a mesh messy
 //! around its spikes can fold more in sectors: the Stanford dragon's coarsest scan with hb),
-//! reports them in a warning and the metrics count them as sharp joints. Everywhere else the surface is the paper's, bit for bit; a mesh without such a
-//! vertex is not even checked for folds. A scheme that refuses a vertex whose faces fold
+//! reports them in a warning and the metrics count them as sharp joints. Everywhere else the
+//! surface is the paper's, bit for bit; a mesh without such a vertex is not even checked for
+//! folds. A scheme that refuses a vertex whose faces fold
 //! over themselves (no normal sees them all from the front) gets the same remedy there: each
 //! side of the fold is a smooth sector of its own, taken only if the surface then folds
 //! nowhere.
