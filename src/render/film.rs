@@ -12,9 +12,10 @@ use std::time::Instant;
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::render::bundle::{BUNDLE_SIDE, BundleScratch};
 use crate::render::camera::Camera;
 use crate::render::interaction::ShadingPoint;
-use crate::render::intersect::{Hit, IntersectCounters};
+use crate::render::intersect::{Hit, IntersectCounters, Ray64};
 use crate::render::modes::{Footprint, Mode, Overlay, Sample, Setup};
 use crate::render::sampler::pixel_offset;
 use crate::render::stats::RenderStats;
@@ -312,6 +313,12 @@ fn progress_bar(settings: &RenderSettings, tiles: u64) -> Option<indicatif::Prog
 }
 
 /// Renders one tile into its slices of the frame and returns what it counted.
+///
+/// The tile is rendered in square blocks of [`BUNDLE_SIDE`] pixels: the rays of one sample
+/// index through all pixels of a block are traced together ([`SurfaceTracer::closest_hits`]:
+/// a perspective camera's rays share the eye and walk the BVH once), then each pixel's sample
+/// is shaded. Each pixel still sums its samples in sample order, so the image is the same as
+/// ray by ray.
 fn render_tile<T: SurfaceTracer>(
     tracer: &T,
     camera: &Camera,
@@ -332,102 +339,139 @@ fn render_tile<T: SurfaceTracer>(
     // ray: one ray per pixel, not two, and one shading point.
     let centre_only = settings.spp == 1;
     let (x0, y0) = (tile.x0, tile.y0);
-    for (y, (rgb_row, geometry_row)) in (y0..).zip(tile.rgb.iter_mut().zip(&mut tile.geometry)) {
-        for (x, (rgb_out, geometry_out)) in
-            (x0..).zip(rgb_row.iter_mut().zip(geometry_row.iter_mut()))
-        {
-            let pixel = u64::from(y) * u64::from(w) + u64::from(x);
-            // Geometry channels: the ray through the pixel centre.
-            let (cx, cy) = ndc(f64::from(x) + 0.5, f64::from(y) + 0.5);
-            let ray = rays.at(cx, cy);
-            counts.rays += 1;
-            let centre_hit = if settings.surface {
-                tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counts.counters)
-            } else {
-                None
-            };
-            let centre_sp = centre_hit.map(|hit| {
-                counts.hits += 1;
-                tracer.shading_point(&hit, &ray)
-            });
-            *geometry_out = centre_sp.as_ref().map(PixelGeometry::new);
-            // Colour: stratified supersampling (the centre ray alone at one sample per pixel).
-            let mut sum = DVec3::ZERO;
-            for s in 0..settings.spp {
-                let (ox, oy) = if centre_only {
-                    (0.5, 0.5)
-                } else {
-                    pixel_offset(settings.seed, pixel, s, settings.spp)
-                };
-                let (sx, sy) = ndc(f64::from(x) + ox, f64::from(y) + oy);
-                let ray = rays.at(sx, sy);
-                let hit = if centre_only {
-                    centre_hit
-                } else {
-                    counts.rays += 1;
-                    let hit = if settings.surface {
-                        tracer.closest_hit(&ray, 0.0, f64::INFINITY, &mut counts.counters)
-                    } else {
-                        None
-                    };
-                    counts.hits += u64::from(hit.is_some());
-                    hit
-                };
-                let tube = settings.curves.as_ref().and_then(|tubes| {
-                    let t_max = hit.map_or(f64::INFINITY, |h| h.t);
-                    tubes
-                        .closest_hit(&ray, t_max)
-                        .map(|th| tubes.shade(&th, &ray))
+    let rows = tile.rgb.len() as u32;
+    let cols = tile.rgb.first().map_or(0, |row| row.len()) as u32;
+    let mut scratch = BundleScratch::default();
+    let mut block_pixels: Vec<(u32, u32)> = Vec::new();
+    let mut block_rays: Vec<Ray64> = Vec::new();
+    let mut block_hits: Vec<Option<Hit>> = Vec::new();
+    let mut centre_sps: Vec<Option<ShadingPoint>> = Vec::new();
+    let mut sums: Vec<DVec3> = Vec::new();
+    let mut trace = |rays: &[Ray64], hits: &mut Vec<Option<Hit>>, counts: &mut TileCounts| {
+        hits.clear();
+        hits.resize(rays.len(), None);
+        counts.rays += rays.len() as u64;
+        if settings.surface {
+            tracer.closest_hits(
+                rays,
+                0.0,
+                f64::INFINITY,
+                hits,
+                &mut counts.counters,
+                &mut scratch,
+            );
+        }
+    };
+    for by in (0..rows).step_by(BUNDLE_SIDE as usize) {
+        for bx in (0..cols).step_by(BUNDLE_SIDE as usize) {
+            block_pixels.clear();
+            for dy in by..rows.min(by + BUNDLE_SIDE) {
+                block_pixels.extend((bx..cols.min(bx + BUNDLE_SIDE)).map(|dx| (dx, dy)));
+            }
+            // Geometry channels: the rays through the pixel centres.
+            block_rays.clear();
+            block_rays.extend(block_pixels.iter().map(|&(dx, dy)| {
+                let (cx, cy) = ndc(f64::from(x0 + dx) + 0.5, f64::from(y0 + dy) + 0.5);
+                rays.at(cx, cy)
+            }));
+            trace(&block_rays, &mut block_hits, &mut counts);
+            centre_sps.clear();
+            for ((&(dx, dy), hit), ray) in block_pixels.iter().zip(&block_hits).zip(&block_rays) {
+                let sp = hit.map(|hit| {
+                    counts.hits += 1;
+                    tracer.shading_point(&hit, ray)
                 });
-                let colour = match (tube, hit) {
-                    (Some(c), _) => c,
-                    (None, None) => settings.background,
-                    (None, Some(hit)) => {
-                        // The centre ray's shading point is the same ray's, evaluated once.
-                        let sp = match centre_sp {
-                            Some(sp) if centre_only => sp,
-                            _ => tracer.shading_point(&hit, &ray),
-                        };
-                        let footprint = if filtered {
-                            let (fx, fy) = ndc(f64::from(x) + ox + cell, f64::from(y) + oy + cell);
-                            let right = rays.at(fx, sy);
-                            let down = rays.at(sx, fy);
-                            Footprint::new(&sp, &ray, [&right, &down])
-                        } else {
-                            None
-                        };
-                        let mut sample = Sample {
-                            seed: settings.seed,
-                            pixel,
-                            sample: s,
-                            counters: &mut counts.counters,
-                            rays: 0,
-                            hits: 0,
-                        };
-                        let base = mode.radiance(tracer, &sp, footprint.as_ref(), &mut sample);
-                        counts.rays += sample.rays;
-                        counts.hits += sample.hits;
-                        if settings.overlay.enabled() {
-                            let footprint = camera.pixel_footprint(hit.t, h);
-                            settings.overlay.apply(
-                                base,
-                                &sp,
-                                footprint,
-                                tracer.face_edge_mask(hit.patch),
-                            )
-                        } else {
-                            base
-                        }
+                tile.geometry[dy as usize][dx as usize] = sp.as_ref().map(PixelGeometry::new);
+                centre_sps.push(sp);
+            }
+            // Colour: stratified supersampling (the centre ray alone at one sample per pixel).
+            sums.clear();
+            sums.resize(block_pixels.len(), DVec3::ZERO);
+            for s in 0..settings.spp {
+                let offset = |pixel: u64| {
+                    if centre_only {
+                        (0.5, 0.5)
+                    } else {
+                        pixel_offset(settings.seed, pixel, s, settings.spp)
                     }
                 };
-                sum += if colour.is_finite() {
-                    colour
-                } else {
-                    DVec3::ZERO
-                };
+                let pixel_of =
+                    |(dx, dy): (u32, u32)| u64::from(y0 + dy) * u64::from(w) + u64::from(x0 + dx);
+                if !centre_only {
+                    block_rays.clear();
+                    block_rays.extend(block_pixels.iter().map(|&(dx, dy)| {
+                        let (ox, oy) = offset(pixel_of((dx, dy)));
+                        let (sx, sy) = ndc(f64::from(x0 + dx) + ox, f64::from(y0 + dy) + oy);
+                        rays.at(sx, sy)
+                    }));
+                    trace(&block_rays, &mut block_hits, &mut counts);
+                    counts.hits += block_hits.iter().filter(|hit| hit.is_some()).count() as u64;
+                }
+                for (i, &(dx, dy)) in block_pixels.iter().enumerate() {
+                    let (x, y) = (x0 + dx, y0 + dy);
+                    let pixel = pixel_of((dx, dy));
+                    let (ox, oy) = offset(pixel);
+                    let (sx, sy) = ndc(f64::from(x) + ox, f64::from(y) + oy);
+                    let (ray, hit) = (block_rays[i], block_hits[i]);
+                    let tube = settings.curves.as_ref().and_then(|tubes| {
+                        let t_max = hit.map_or(f64::INFINITY, |h| h.t);
+                        tubes
+                            .closest_hit(&ray, t_max)
+                            .map(|th| tubes.shade(&th, &ray))
+                    });
+                    let colour = match (tube, hit) {
+                        (Some(c), _) => c,
+                        (None, None) => settings.background,
+                        (None, Some(hit)) => {
+                            // The centre ray's shading point is the same ray's, evaluated once.
+                            let sp = match centre_sps[i] {
+                                Some(sp) if centre_only => sp,
+                                _ => tracer.shading_point(&hit, &ray),
+                            };
+                            let footprint = if filtered {
+                                let (fx, fy) =
+                                    ndc(f64::from(x) + ox + cell, f64::from(y) + oy + cell);
+                                let right = rays.at(fx, sy);
+                                let down = rays.at(sx, fy);
+                                Footprint::new(&sp, &ray, [&right, &down])
+                            } else {
+                                None
+                            };
+                            let mut sample = Sample {
+                                seed: settings.seed,
+                                pixel,
+                                sample: s,
+                                counters: &mut counts.counters,
+                                rays: 0,
+                                hits: 0,
+                            };
+                            let base = mode.radiance(tracer, &sp, footprint.as_ref(), &mut sample);
+                            counts.rays += sample.rays;
+                            counts.hits += sample.hits;
+                            if settings.overlay.enabled() {
+                                let footprint = camera.pixel_footprint(hit.t, h);
+                                settings.overlay.apply(
+                                    base,
+                                    &sp,
+                                    footprint,
+                                    tracer.face_edge_mask(hit.patch),
+                                )
+                            } else {
+                                base
+                            }
+                        }
+                    };
+                    sums[i] += if colour.is_finite() {
+                        colour
+                    } else {
+                        DVec3::ZERO
+                    };
+                }
             }
-            let c = sum / f64::from(settings.spp);
-            *rgb_out = [c.x as f32, c.y as f32, c.z as f32];
+            for (&(dx, dy), sum) in block_pixels.iter().zip(&sums) {
+                let c = *sum / f64::from(settings.spp);
+                tile.rgb[dy as usize][dx as usize] = [c.x as f32, c.y as f32, c.z as f32];
+            }
         }
     }
     counts

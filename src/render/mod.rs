@@ -6,6 +6,7 @@
 //! (camera rays, stratified supersampling, a [`modes::Mode`]) → [`output`] (PNG + EXR) and
 //! [`stats::RenderStats`].
 
+pub(crate) mod bundle;
 pub(crate) mod bvh;
 pub(crate) mod camera;
 pub(crate) mod curves;

@@ -3,6 +3,7 @@
 //! render loop is generic over it.
 
 use crate::geom::Aabb;
+use crate::render::bundle::BundleScratch;
 use crate::render::interaction::ShadingPoint;
 use crate::render::intersect::{Hit, IntersectCounters, Ray64, Tracer};
 use crate::surface::Surface;
@@ -21,6 +22,23 @@ pub trait SurfaceTracer: Sync {
         t_max: f64,
         counters: &mut IntersectCounters,
     ) -> Option<Hit>;
+    /// The closest hits of `rays` with `t ∈ (t_min, t_max)`, one per entry of `hits`, as
+    /// [`SurfaceTracer::closest_hit`] gives them. A tracer may trace rays that share their
+    /// origin together (`scratch` holds its buffers); the default traces them one by one.
+    fn closest_hits(
+        &self,
+        rays: &[Ray64],
+        t_min: f64,
+        t_max: f64,
+        hits: &mut [Option<Hit>],
+        counters: &mut IntersectCounters,
+        scratch: &mut BundleScratch,
+    ) {
+        let _ = scratch;
+        for (ray, hit) in rays.iter().zip(hits) {
+            *hit = self.closest_hit(ray, t_min, t_max, counters);
+        }
+    }
     /// Whether anything lies on the ray with `t ∈ (t_min, t_max)` (a shadow ray): stops at the
     /// first hit found, not the closest. The default asks for the closest hit.
     fn occluded(
@@ -61,6 +79,18 @@ impl SurfaceTracer for Tracer<'_> {
         counters: &mut IntersectCounters,
     ) -> Option<Hit> {
         Tracer::closest_hit(self, ray, t_min, t_max, counters)
+    }
+
+    fn closest_hits(
+        &self,
+        rays: &[Ray64],
+        t_min: f64,
+        t_max: f64,
+        hits: &mut [Option<Hit>],
+        counters: &mut IntersectCounters,
+        scratch: &mut BundleScratch,
+    ) {
+        Tracer::closest_hits(self, rays, t_min, t_max, hits, counters, scratch);
     }
 
     fn occluded(
