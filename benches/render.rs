@@ -3,7 +3,8 @@
 //!   15 360 quintic patches and for the scanned bunny's 4000 (`scenes/bunny.obj`: irregular
 //!   rings, many more leaves per patch);
 //! - primary-ray throughput (closest hit, one thread) on that surface, and on the scanned bunny
-//!   seen close up (`primary_rays/exact_hb_bunny_view_256`), and the same view rendered as a
+//!   seen close up (`primary_rays/exact_hb_bunny_view_256`, ray by ray, and
+//!   `…_bundled`, in the renderer's 8×8 pixel bundles), and the same view rendered as a
 //!   filtered zebra frame, shading included (`zebra_frame/exact_hb_bunny_view_256`);
 //! - exact patches against the tessellated path at the level whose largest normal error is
 //!   ≤ 0.01°, on a 1600-patch hb torus (the 15k-patch one would need ~16M triangles).
@@ -19,7 +20,7 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use common::{camera_rays, ray_throughput_group, trace_all};
+use common::{camera_rays, ray_throughput_group, trace_all, trace_bundles};
 use criterion::{Criterion, Throughput, criterion_group};
 use smoothlab::mesh::Mesh;
 use smoothlab::mesh::generate::analytic::torus;
@@ -148,6 +149,10 @@ fn bunny_view(c: &mut Criterion) {
     let mut group = ray_throughput_group(c, "primary_rays", rays.len(), 5);
     group.bench_function("exact_hb_bunny_view_256", |b| {
         b.iter(|| trace_all(&exact, black_box(&rays)))
+    });
+    // The same rays as the renderer traces them: 8×8 pixel blocks as bundles from the eye.
+    group.bench_function("exact_hb_bunny_view_256_bundled", |b| {
+        b.iter(|| trace_bundles(&exact, black_box(&rays), side as usize))
     });
     group.finish();
     // The same view as a filtered zebra frame (the default mode, one sample per pixel):

@@ -42,7 +42,7 @@ fn lib_declares_only_the_allowed_public_modules() {
 
 /// The most public items the facade may have (see [`public_items`]); raise it only in a
 /// commit that means to grow the public API.
-const PUBLIC_ITEM_BOUND: usize = 248;
+const PUBLIC_ITEM_BOUND: usize = 249;
 
 /// Public items reachable from src/lib.rs, counted in the source: every top-level `pub` item
 /// (fn, struct, enum, const, static, trait, type) of a public module, walked from `pub mod`

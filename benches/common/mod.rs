@@ -9,9 +9,9 @@ use std::time::Duration;
 
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, Throughput};
-use smoothlab::render::Camera;
 use smoothlab::render::IntersectCounters;
 use smoothlab::render::SurfaceSamples;
+use smoothlab::render::{BundleScratch, Camera};
 use smoothlab::render::{Ray64, SurfaceTracer};
 use smoothlab::surface::Surface;
 
@@ -66,6 +66,41 @@ pub fn trace_all<T: SurfaceTracer>(tracer: &T, rays: &[Ray64]) -> (u64, Intersec
         }
     }
     (hits, counters)
+}
+
+/// The closest hit of every ray of a `side`-square image (row-major `rays`) on one thread,
+/// traced as the renderer traces them: blocks of 8×8 pixels as bundles
+/// ([`SurfaceTracer::closest_hits`]). The number of hits and the counters.
+#[inline(never)]
+pub fn trace_bundles<T: SurfaceTracer>(
+    tracer: &T,
+    rays: &[Ray64],
+    side: usize,
+) -> (u64, IntersectCounters) {
+    let mut counters = IntersectCounters::default();
+    let mut scratch = BundleScratch::default();
+    let (mut bundle, mut hits) = (Vec::new(), Vec::new());
+    let mut count = 0;
+    for by in (0..side).step_by(8) {
+        for bx in (0..side).step_by(8) {
+            bundle.clear();
+            for y in by..side.min(by + 8) {
+                bundle.extend_from_slice(&rays[y * side + bx..y * side + side.min(bx + 8)]);
+            }
+            hits.clear();
+            hits.resize(bundle.len(), None);
+            tracer.closest_hits(
+                &bundle,
+                0.0,
+                f64::INFINITY,
+                &mut hits,
+                &mut counters,
+                &mut scratch,
+            );
+            count += hits.iter().filter(|h| h.is_some()).count() as u64;
+        }
+    }
+    (count, counters)
 }
 
 /// A benchmark group counting `rays` rays per iteration: ten samples over `seconds` seconds

@@ -28,6 +28,7 @@ pub(crate) mod theme;
 pub(crate) mod trace;
 pub(crate) mod tubes;
 
+pub use bundle::BundleScratch;
 pub use camera::{Camera, Projection};
 pub use environment::Environment;
 pub use film::{Frame, PixelGeometry, RenderSettings, check_frame_memory, render};
