@@ -520,7 +520,9 @@ impl Mesh {
     /// the normal of a sector of a vertex cut into several is the angle-weighted average of
     /// the sector's face normals [Thürmer & Wüthrich 1998], so a flat sector gets its plane's
     /// normal, except at a corner, where it is the plane of the sector's two sharp edges when
-    /// that plane faces all of the sector's faces (see `sector_normal`).
+    /// that plane faces all of the sector's faces (see `sector_normal`), and at a crease that
+    /// turns back at an interior vertex, whose two sectors take its edges' plane where that
+    /// fits them (see `hairpin_normals`).
     pub fn corner_normals(&self, vertex_normals: &[DVec3]) -> Vec<[DVec3; 3]> {
         let mut corners: Vec<[DVec3; 3]> = self
             .faces
