@@ -456,17 +456,19 @@ fn approximates_the_sphere() {
 /// line n₀ × n₁ of two nearly coplanar sectors can swing far from the mesh edge it stands for.
 /// The edge points projected onto it then turn a face's corner over, Piper's end weights go
 /// negative and the tangent planes agree with opposite orientations. Corner sectors take the
-/// plane of their sharp edges ([`Mesh::corner_normals`]), which keeps the crease lines on the
-/// edges there; what is left is the scan creased at 20° and 35°, whose crease lines zig-zag
-/// through crease vertices (2 and 10 corners turned over, 30 and 94 fold samples with the
-/// circle scaling). Measured, not claimed away: the metrics count the folds, and creases are
-/// meant for CAD parts, not scans.
-const FOLDS_WHEN_CREASED: [(&str, f64); 2] = [("bunny-open", 20.0), ("bunny-open", 35.0)];
+/// plane of their sharp edges ([`Mesh::corner_normals`]), and so do the two sectors of a
+/// crease that turns back at a vertex (a hairpin), which keeps the crease lines on the edges
+/// there; what is left is the scan creased at 35°, whose crease lines zig-zag through crease
+/// vertices (74 fold samples with the circle scaling, 101 before hairpins were taken in their
+/// edges' plane; at 20° 32 then, and none now). Measured, not claimed away:
+/// the metrics count the folds, and creases are meant for CAD parts, not scans.
+const FOLDS_WHEN_CREASED: [(&str, f64); 1] = [("bunny-open", 35.0)];
 
 /// Creased meshes on which Piper's surface is G¹ with no corner turned over, and yet a few
 /// samples face against their own face's normal with the Farin scaling (2 on the hemisphere
-/// at 35°; 0 with the circle scaling, and 0 for both without creases).
-const FARIN_BULGES_WHEN_CREASED: [(&str, f64, &str); 1] = [("hemisphere", 35.0, "farin")];
+/// at 35°, 4 on the scan at 20°; 0 with the circle scaling, and 0 for both without creases).
+const BULGES_WHEN_CREASED: [(&str, f64, &str); 2] =
+    [("hemisphere", 35.0, "farin"), ("bunny-open", 20.0, "farin")];
 
 /// On every closed and open test mesh with the edges above 20° and 35° sharp (corners,
 /// darts, creases ending at boundaries): G0 across the sharp joints (one boundary curve, bit
@@ -547,7 +549,7 @@ fn creased_meshes_are_g0_across_sharp_edges_and_g1_elsewhere() {
                 );
                 // The fold is the turned-over corner, and it is reported to the user.
                 assert_eq!(turned_corners > 0, known_fold, "{label}: {turned_corners}");
-                let bulge = FARIN_BULGES_WHEN_CREASED.contains(&(name.as_str(), degrees, scaling));
+                let bulge = BULGES_WHEN_CREASED.contains(&(name.as_str(), degrees, scaling));
                 assert_eq!(
                     m.folds > 0,
                     known_fold || bulge,
