@@ -587,6 +587,7 @@ impl Mesh {
         }
         corners
     }
+
     /// The normals of the two sectors `a` and `b` (fan edges `start..end`) of a crease that
     /// turns back at interior vertex `v` (a *hairpin*: its two sharp edges `ê_a`, `ê_b` less
     /// than a right angle apart, [`HAIRPIN_COS`]), given their own normals `normals`: the
