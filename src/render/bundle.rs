@@ -1,8 +1,8 @@
 //! Bundles of coherent rays: rays that leave one point (the eye of a perspective camera, for
 //! a block of neighbouring pixels) traverse the BVH **once, together**. The bundle's cone of
 //! directions is bounded by four planes through the common origin; one walk down the CWBVH
-//! collects every leaf whose box reaches into that cone, with the distance from the origin to
-//! its box, and sorts them near to far. Each ray then tests only those leaves, in that order,
+//! collects every leaf whose box, and then whose oriented box, reaches into that cone, with
+//! the distance from the origin to its oriented box, and sorts them near to far. Each ray then tests only those leaves, in that order,
 //! and stops at the first whose box lies beyond its closest hit so far: no node of the BVH is
 //! visited per ray.
 //!
@@ -14,6 +14,8 @@
 
 use glam::{DVec3, Vec3A};
 use obvhs::cwbvh::CwBvh;
+
+use crate::render::bvh::Leaf;
 
 /// Pixels per side of the square block of primary rays traced as one bundle.
 pub(crate) const BUNDLE_SIDE: u32 = 8;
@@ -72,6 +74,36 @@ impl Cone {
         })
     }
 
+    /// True when the leaf's oriented box (the points `q` with `lo ≤ axes · (q − corner) ≤ hi`,
+    /// [`Leaf::ray_meets_box`]) lies wholly outside one of the cone's planes. The box's
+    /// frame is orthonormal to f32 rounding; the margin covers that many times over.
+    fn excludes_leaf(&self, leaf: &Leaf) -> bool {
+        let (lo, hi) = (leaf.lo.as_dvec3(), leaf.hi.as_dvec3());
+        let axes = leaf.axes.map(|a| a.as_dvec3());
+        let offset = leaf.corners[0].as_dvec3() - self.origin;
+        let margin =
+            1e-6 * lo.abs().max(hi.abs()).max_element() + 1e-12 * offset.abs().max_element();
+        self.normals.iter().any(|n| {
+            let local = DVec3::new(axes[0].dot(*n), axes[1].dot(*n), axes[2].dot(*n));
+            let corner = DVec3::select(local.cmplt(DVec3::ZERO), hi, lo);
+            n.dot(offset) + local.dot(corner) > margin * n.length()
+        })
+    }
+
+    /// A lower bound on the distance from the cone's origin to the leaf's oriented box.
+    fn distance_to_leaf(&self, leaf: &Leaf) -> f64 {
+        let (lo, hi) = (leaf.lo.as_dvec3(), leaf.hi.as_dvec3());
+        let q = self.origin - leaf.corners[0].as_dvec3();
+        let local = DVec3::new(
+            leaf.axes[0].as_dvec3().dot(q),
+            leaf.axes[1].as_dvec3().dot(q),
+            leaf.axes[2].as_dvec3().dot(q),
+        );
+        // The frame's rows are unit to f32 rounding: lengths in it are exact to ~1e-7.
+        let outside = (local - local.clamp(lo, hi)).length();
+        (outside * (1.0 - 1e-6) - 1e-12 * q.abs().max_element()).max(0.0)
+    }
+
     /// True when the box `[lo, hi]` lies wholly outside one of the cone's planes (a
     /// conservative test: a box near the cone's edges may be kept though it misses it).
     fn excludes(&self, lo: DVec3, hi: DVec3) -> bool {
@@ -90,8 +122,9 @@ impl Cone {
 pub(crate) struct Candidate {
     /// Leaf (primitive) index of the BVH.
     pub leaf: u32,
-    /// Distance from the bundle's origin to the leaf's box: no point of the leaf is closer
-    /// to the origin, so no ray of the bundle meets it at a smaller `t`.
+    /// A lower bound on the distance from the bundle's origin to the leaf's oriented box:
+    /// no point of the leaf is closer to the origin, so no ray of the bundle meets it at a
+    /// smaller `t`.
     pub near: f64,
     /// The leaf's box in the BVH (padded, f32 corners).
     pub lo: DVec3,
@@ -129,9 +162,10 @@ pub struct BundleScratch {
     pub(crate) candidates: Vec<Candidate>,
 }
 
-/// Fills `scratch.candidates` with every leaf of `bvh` whose box reaches into `cone`, sorted
-/// by distance from the cone's origin (then by index: the order does not depend on the walk).
-pub(crate) fn gather(bvh: &CwBvh, cone: &Cone, scratch: &mut BundleScratch) {
+/// Fills `scratch.candidates` with every leaf of `bvh` (leaf data `leaves`) whose BVH box and
+/// oriented box reach into `cone`, sorted by distance from the cone's origin to the oriented
+/// box (then by index: the order does not depend on the walk).
+pub(crate) fn gather(bvh: &CwBvh, leaves: &[Leaf], cone: &Cone, scratch: &mut BundleScratch) {
     let BundleScratch { stack, candidates } = scratch;
     stack.clear();
     candidates.clear();
@@ -154,9 +188,19 @@ pub(crate) fn gather(bvh: &CwBvh, cone: &Cone, scratch: &mut BundleScratch) {
                 stack.push(node.child_node_index(child));
                 continue;
             }
-            let near = (cone.origin.clamp(lo, hi) - cone.origin).length();
             let (first, count) = node.child_primitives(child);
-            candidates.extend((first..first + count).map(|leaf| Candidate { leaf, near, lo, hi }));
+            for index in first..first + count {
+                let leaf = &leaves[index as usize];
+                if cone.excludes_leaf(leaf) {
+                    continue;
+                }
+                candidates.push(Candidate {
+                    leaf: index,
+                    near: cone.distance_to_leaf(leaf),
+                    lo,
+                    hi,
+                });
+            }
         }
     }
     candidates.sort_unstable_by(|a, b| a.near.total_cmp(&b.near).then(a.leaf.cmp(&b.leaf)));

@@ -218,7 +218,7 @@ impl<'s> Tracer<'s> {
             }
             return;
         };
-        bundle::gather(&self.bvh.bvh, &cone, scratch);
+        bundle::gather(&self.bvh.bvh, &self.bvh.leaves, &cone, scratch);
         for (ray, hit) in rays.iter().zip(hits) {
             let (unit, t0, t1) = self.to_unit(ray, t_min, t_max);
             *hit = self
