@@ -12,13 +12,25 @@
 //! root as the single-ray traversal finds (where two leaves hold the same root, at a seam, the
 //! order may pick the other leaf's copy of it).
 
-use glam::{DVec3, Vec3A};
+use glam::{DVec2, DVec3, Vec3A};
 use obvhs::cwbvh::CwBvh;
 
 use crate::render::bvh::Leaf;
 
 /// Pixels per side of the square block of primary rays traced as one bundle.
 pub(crate) const BUNDLE_SIDE: u32 = 8;
+
+/// The most candidate leaves per ray a bundle is traced with. Each ray skips the candidates
+/// its direction misses by one bit test, but a bundle whose cone meets many more leaves than
+/// it has rays (a surface divided finely compared with the pixels) is traced ray by ray.
+pub(crate) const MAX_CANDIDATES_PER_RAY: usize = 1;
+
+/// The most rays of a bundle: one bit each in [`Candidate::rays`].
+pub(crate) const MAX_BUNDLE_RAYS: usize = 64;
+
+/// Bundles traced ray by ray without an attempt after one that met too many leaves: the
+/// next blocks of the same region likely do too (the walk up to the limit is wasted there).
+pub(crate) const SKIP_AFTER_DECLINE: u32 = 15;
 
 /// The cosine below which a ray is too far from the bundle's mean direction for a cone
 /// bounded by four planes: such bundles are traced ray by ray.
@@ -34,14 +46,22 @@ const WIDEN: f64 = 1e-9;
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Cone {
     origin: DVec3,
+    /// The frame `(a, b, axis)` in which a direction `d` has tangent coordinates
+    /// `(d·a, d·b) / d·axis`.
+    frame: [DVec3; 3],
     normals: [DVec3; 5],
 }
 
 impl Cone {
     /// The cone around unit directions `dirs` from `origin`, or `None` when it would not be
     /// narrower than a half-space (a direction more than ~75° from the mean) or a direction
-    /// is not finite.
-    pub(crate) fn around(origin: DVec3, dirs: impl Iterator<Item = DVec3> + Clone) -> Option<Cone> {
+    /// is not finite. `tangents` receives each direction's tangent coordinates.
+    pub(crate) fn around(
+        origin: DVec3,
+        dirs: impl Iterator<Item = DVec3> + Clone,
+        tangents: &mut Vec<DVec2>,
+    ) -> Option<Cone> {
+        tangents.clear();
         let axis = dirs.clone().sum::<DVec3>().normalize_or_zero();
         if axis == DVec3::ZERO || !axis.is_finite() || !origin.is_finite() {
             return None;
@@ -58,12 +78,14 @@ impl Cone {
                 lo[k] = lo[k].min(tangent[k]);
                 hi[k] = hi[k].max(tangent[k]);
             }
+            tangents.push(DVec2::from(tangent));
         }
         let widen = |x: f64, outward: f64| x + outward * WIDEN * (1.0 + x.abs());
         let (lo, hi) = (lo.map(|x| widen(x, -1.0)), hi.map(|x| widen(x, 1.0)));
         // x ≤ hi·z, x ≥ lo·z (and the same for y) in the frame (a, b, axis) at the origin.
         Some(Cone {
             origin,
+            frame: [a, b, axis],
             normals: [
                 a - axis * hi[0],
                 axis * lo[0] - a,
@@ -88,6 +110,47 @@ impl Cone {
             let corner = DVec3::select(local.cmplt(DVec3::ZERO), hi, lo);
             n.dot(offset) + local.dot(corner) > margin * n.length()
         })
+    }
+
+    /// The rays (bit `i` for `tangents[i]`) whose directions fall in the projection of the
+    /// leaf's oriented box from the origin: the only rays of the bundle that can meet it. The
+    /// box's corners are off by the frame's f32 rounding (well below `1e-6` of the box); the
+    /// bounds of their projection are widened by that, so no ray meeting the box is left out.
+    /// Every ray when the box reaches to the origin's plane across the axis.
+    fn ray_mask(&self, leaf: &Leaf, tangents: &[DVec2]) -> u64 {
+        let all = u64::MAX >> (64 - tangents.len().min(64));
+        let (lo, hi) = (leaf.lo.as_dvec3(), leaf.hi.as_dvec3());
+        let axes = leaf.axes.map(|a| a.as_dvec3());
+        let offset = leaf.corners[0].as_dvec3() - self.origin;
+        let [a, b, axis] = self.frame;
+        let error =
+            1e-6 * lo.abs().max(hi.abs()).max_element() + 1e-12 * offset.abs().max_element();
+        let (mut min, mut max) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+        let mut nearest = f64::INFINITY;
+        for corner in 0..8 {
+            let pick = |bit: usize, k: usize| if corner & bit == 0 { lo[k] } else { hi[k] };
+            let q = offset + axes[0] * pick(1, 0) + axes[1] * pick(2, 1) + axes[2] * pick(4, 2);
+            let z = q.dot(axis);
+            nearest = nearest.min(z);
+            let t = DVec2::new(q.dot(a), q.dot(b)) / z;
+            min = min.min(t);
+            max = max.max(t);
+        }
+        let in_front = nearest > 2.0 * error && min.is_finite() && max.is_finite();
+        if !in_front {
+            return all;
+        }
+        // A corner moved by `error` moves its projection by at most about
+        // `error · (1 + |t|) · √2 / (z − error)`.
+        let reach = min.abs().max(max.abs()).max_element();
+        let widen = 2.0 * error * (1.0 + reach) / (nearest - error) + WIDEN * (1.0 + reach);
+        let (min, max) = (min - DVec2::splat(widen), max + DVec2::splat(widen));
+        let mut mask = 0;
+        for (i, t) in tangents.iter().enumerate().take(64) {
+            let inside = t.x >= min.x && t.x <= max.x && t.y >= min.y && t.y <= max.y;
+            mask |= u64::from(inside) << i;
+        }
+        mask
     }
 
     /// A lower bound on the distance from the cone's origin to the leaf's oriented box.
@@ -126,51 +189,46 @@ pub(crate) struct Candidate {
     /// no point of the leaf is closer to the origin, so no ray of the bundle meets it at a
     /// smaller `t`.
     pub near: f64,
-    /// The leaf's box in the BVH (padded, f32 corners).
-    pub lo: DVec3,
-    /// Upper corner of that box.
-    pub hi: DVec3,
+    /// The rays of the bundle (bit `i` for ray `i`) that can meet the leaf's oriented box.
+    pub rays: u64,
 }
 
-impl Candidate {
-    /// True when the ray `origin + t dir` meets the candidate's box for some
-    /// `t ∈ [t_min, t_max]` (slab test in f64 on the f32 box; `dir` with zero components
-    /// tested against the slab directly).
-    pub(crate) fn ray_meets(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64) -> bool {
-        let (mut near, mut far) = (t_min, t_max);
-        for k in 0..3 {
-            let (o, d) = (origin[k], dir[k]);
-            if d == 0.0 {
-                if o < self.lo[k] || o > self.hi[k] {
-                    return false;
-                }
-                continue;
-            }
-            let inv = 1.0 / d;
-            let (t0, t1) = ((self.lo[k] - o) * inv, (self.hi[k] - o) * inv);
-            near = near.max(t0.min(t1));
-            far = far.min(t0.max(t1));
-        }
-        near <= far
-    }
-}
-
-/// Buffers a worker reuses from bundle to bundle.
+/// Buffers a worker reuses from bundle to bundle, and how many coming bundles skip the
+/// attempt (after one met too many leaves, [`SKIP_AFTER_DECLINE`]).
 #[derive(Debug, Default)]
 pub struct BundleScratch {
     stack: Vec<u32>,
+    pub(crate) tangents: Vec<DVec2>,
     pub(crate) candidates: Vec<Candidate>,
+    skip: u32,
 }
 
 /// Fills `scratch.candidates` with every leaf of `bvh` (leaf data `leaves`) whose BVH box and
 /// oriented box reach into `cone`, sorted by distance from the cone's origin to the oriented
-/// box (then by index: the order does not depend on the walk).
-pub(crate) fn gather(bvh: &CwBvh, leaves: &[Leaf], cone: &Cone, scratch: &mut BundleScratch) {
-    let BundleScratch { stack, candidates } = scratch;
+/// box (then by index: the order does not depend on the walk). False, and the candidates
+/// incomplete, when there are more than `limit` (the next [`SKIP_AFTER_DECLINE`] calls then
+/// return false at once).
+pub(crate) fn gather(
+    bvh: &CwBvh,
+    leaves: &[Leaf],
+    cone: &Cone,
+    limit: usize,
+    scratch: &mut BundleScratch,
+) -> bool {
+    if scratch.skip > 0 {
+        scratch.skip -= 1;
+        return false;
+    }
+    let BundleScratch {
+        stack,
+        tangents,
+        candidates,
+        ..
+    } = scratch;
     stack.clear();
     candidates.clear();
     if bvh.nodes.is_empty() {
-        return;
+        return true;
     }
     stack.push(0);
     while let Some(index) = stack.pop() {
@@ -194,16 +252,24 @@ pub(crate) fn gather(bvh: &CwBvh, leaves: &[Leaf], cone: &Cone, scratch: &mut Bu
                 if cone.excludes_leaf(leaf) {
                     continue;
                 }
+                if candidates.len() == limit {
+                    scratch.skip = SKIP_AFTER_DECLINE;
+                    return false;
+                }
+                let rays = cone.ray_mask(leaf, tangents);
+                if rays == 0 {
+                    continue;
+                }
                 candidates.push(Candidate {
                     leaf: index,
                     near: cone.distance_to_leaf(leaf),
-                    lo,
-                    hi,
+                    rays,
                 });
             }
         }
     }
     candidates.sort_unstable_by(|a, b| a.near.total_cmp(&b.near).then(a.leaf.cmp(&b.leaf)));
+    true
 }
 
 fn dvec(v: Vec3A) -> DVec3 {
@@ -223,7 +289,8 @@ mod tests {
             .flat_map(|i| (0..8).map(move |j| (i, j)))
             .map(|(i, j)| DVec3::new(0.01 * f64::from(i), 0.013 * f64::from(j), -1.0).normalize())
             .collect();
-        let cone = Cone::around(origin, dirs.iter().copied()).expect("narrow bundle");
+        let cone =
+            Cone::around(origin, dirs.iter().copied(), &mut Vec::new()).expect("narrow bundle");
         for d in &dirs {
             for t in [1e-3, 0.5, 3.0, 1e4] {
                 let p = origin + *d * t;
@@ -238,6 +305,6 @@ mod tests {
         assert!(cone.excludes(beside - DVec3::splat(0.1), beside + DVec3::splat(0.1)));
         // Directions spanning more than a half-space have no such cone.
         let wide = [DVec3::X, -DVec3::X, DVec3::Z];
-        assert!(Cone::around(origin, wide.iter().copied()).is_none());
+        assert!(Cone::around(origin, wide.iter().copied(), &mut Vec::new()).is_none());
     }
 }

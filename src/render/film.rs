@@ -347,6 +347,7 @@ fn render_tile<T: SurfaceTracer>(
     let mut block_hits: Vec<Option<Hit>> = Vec::new();
     let mut centre_sps: Vec<Option<ShadingPoint>> = Vec::new();
     let mut sums: Vec<DVec3> = Vec::new();
+    let mut offsets: Vec<(f64, f64)> = Vec::new();
     let mut trace = |rays: &[Ray64], hits: &mut Vec<Option<Hit>>, counts: &mut TileCounts| {
         hits.clear();
         hits.resize(rays.len(), None);
@@ -397,11 +398,12 @@ fn render_tile<T: SurfaceTracer>(
                 };
                 let pixel_of =
                     |(dx, dy): (u32, u32)| u64::from(y0 + dy) * u64::from(w) + u64::from(x0 + dx);
+                offsets.clear();
+                offsets.extend(block_pixels.iter().map(|&p| offset(pixel_of(p))));
                 if !centre_only {
                     block_rays.clear();
-                    block_rays.extend(block_pixels.iter().map(|&(dx, dy)| {
-                        let (ox, oy) = offset(pixel_of((dx, dy)));
-                        let (sx, sy) = ndc(f64::from(x0 + dx) + ox, f64::from(y0 + dy) + oy);
+                    block_rays.extend(block_pixels.iter().zip(&offsets).map(|(&(dx, dy), o)| {
+                        let (sx, sy) = ndc(f64::from(x0 + dx) + o.0, f64::from(y0 + dy) + o.1);
                         rays.at(sx, sy)
                     }));
                     trace(&block_rays, &mut block_hits, &mut counts);
@@ -410,7 +412,7 @@ fn render_tile<T: SurfaceTracer>(
                 for (i, &(dx, dy)) in block_pixels.iter().enumerate() {
                     let (x, y) = (x0 + dx, y0 + dy);
                     let pixel = pixel_of((dx, dy));
-                    let (ox, oy) = offset(pixel);
+                    let (ox, oy) = offsets[i];
                     let (sx, sy) = ndc(f64::from(x) + ox, f64::from(y) + oy);
                     let (ray, hit) = (block_rays[i], block_hits[i]);
                     let tube = settings.curves.as_ref().and_then(|tubes| {

@@ -194,8 +194,10 @@ impl<'s> Tracer<'s> {
     /// The closest hits of `rays` with `t ∈ (t_min, t_max)`, one per entry of `hits`, as
     /// [`Tracer::closest_hit`] gives them one by one. Rays that all start at one point (a
     /// perspective camera's rays through a block of pixels) walk the BVH once, as a bundle
-    /// ([`bundle`](crate::render::bundle)); other rays, and bundles too wide for a cone, are
-    /// traced one by one.
+    /// ([`bundle`](crate::render::bundle)); other rays, bundles too wide for a cone and
+    /// bundles whose cone meets more than [`bundle::MAX_CANDIDATES_PER_RAY`] leaves per ray
+    /// (the next few bundles on the same `scratch` then skip the attempt) are traced one by
+    /// one.
     pub fn closest_hits(
         &self,
         rays: &[Ray64],
@@ -208,30 +210,38 @@ impl<'s> Tracer<'s> {
         let cone = rays.first().and_then(|first| {
             let shared = rays.iter().all(|r| r.origin == first.origin);
             let (unit, ..) = self.to_unit(first, t_min, t_max);
-            shared
-                .then(|| Cone::around(unit.origin, rays.iter().map(|r| r.dir)))
+            (shared && rays.len() <= bundle::MAX_BUNDLE_RAYS)
+                .then(|| {
+                    let dirs = rays.iter().map(|r| r.dir);
+                    Cone::around(unit.origin, dirs, &mut scratch.tangents)
+                })
                 .flatten()
         });
-        let Some(cone) = cone else {
+        let limit = bundle::MAX_CANDIDATES_PER_RAY * rays.len();
+        let gathered = cone.is_some_and(|cone| {
+            bundle::gather(&self.bvh.bvh, &self.bvh.leaves, &cone, limit, scratch)
+        });
+        if !gathered {
             for (ray, hit) in rays.iter().zip(hits) {
                 *hit = self.closest_hit(ray, t_min, t_max, counters);
             }
             return;
-        };
-        bundle::gather(&self.bvh.bvh, &self.bvh.leaves, &cone, scratch);
-        for (ray, hit) in rays.iter().zip(hits) {
+        }
+        for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
             let (unit, t0, t1) = self.to_unit(ray, t_min, t_max);
             *hit = self
-                .closest_among(&unit, t0, t1, &scratch.candidates, counters)
+                .closest_among(&unit, 1 << i, t0, t1, &scratch.candidates, counters)
                 .map(|hit| self.to_world(hit));
         }
     }
 
-    /// The closest hit of a unit-frame ray among a bundle's `candidates` (sorted near to
-    /// far): each is tested until one lies beyond the closest hit so far.
+    /// The closest hit of a unit-frame ray (bit `ray_bit` of the candidates' ray masks)
+    /// among a bundle's `candidates` (sorted near to far): each it can meet is tested until
+    /// one lies beyond the closest hit so far.
     fn closest_among(
         &self,
         ray: &Ray64,
+        ray_bit: u64,
         t_min: f64,
         t_max: f64,
         candidates: &[Candidate],
@@ -245,7 +255,7 @@ impl<'s> Tracer<'s> {
             if candidate.near > best_t + padding {
                 break;
             }
-            if !candidate.ray_meets(ray.origin, ray.dir, t_min - padding, best_t + padding) {
+            if candidate.rays & ray_bit == 0 {
                 continue;
             }
             let leaf = &self.bvh.leaves[candidate.leaf as usize];
@@ -1098,6 +1108,72 @@ mod tests {
             bit_identical * 1000 >= hits * 999,
             "{bit_identical} of {hits} identical"
         );
+    }
+
+    /// A bundle keeps every leaf each of its rays can meet: wherever a ray meets a leaf's
+    /// oriented box and prism ([`Leaf::ray_meets_box`]), the leaf is a candidate with that
+    /// ray's bit set. Every leaf of the scanned bunny's hb surface against 8×8 bundles on
+    /// the surface's middle, its silhouette and a grazing view.
+    #[test]
+    fn a_bundle_keeps_every_leaf_its_rays_meet() {
+        use crate::render::camera::{Camera, Projection};
+        let bunny = crate::mesh::generate::SCANNED_SCENES[0]
+            .mesh()
+            .expect("bunny");
+        let hb = crate::schemes::build("hb", &bunny, &[]).expect("hb");
+        let tracer = Tracer::with_default_settings(&hb).expect("tracer");
+        let target = hb.bounds().center();
+        let diagonal = hb.bounds().diagonal();
+        let (mut checked, mut met) = (0, 0);
+        for (eye, fov_deg, corner) in [
+            (DVec3::new(0.0, 0.05, 0.6), 30.0, (28, 28)),
+            (DVec3::new(0.3, 0.5, 2.5), 25.0, (20, 24)),
+            (DVec3::new(2.0, 0.0, 0.01), 10.0, (28, 30)),
+        ] {
+            let camera = Camera::look_at(
+                target + eye * diagonal,
+                target,
+                DVec3::Y,
+                Projection::Perspective { fov_deg },
+            )
+            .expect("camera");
+            let n = 64.0;
+            let rays: Vec<Ray64> = (corner.1..corner.1 + 8)
+                .flat_map(|y| (corner.0..corner.0 + 8).map(move |x| (x, y)))
+                .map(|(x, y)| {
+                    let ndc = |i: i32| 2.0 * (f64::from(i) + 0.5) / n - 1.0;
+                    camera.ray(ndc(x), -ndc(y), 1.0)
+                })
+                .collect();
+            let mut scratch = BundleScratch::default();
+            let (unit, ..) = tracer.to_unit(&rays[0], 0.0, f64::INFINITY);
+            let cone = Cone::around(
+                unit.origin,
+                rays.iter().map(|r| r.dir),
+                &mut scratch.tangents,
+            )
+            .expect("cone");
+            assert!(bundle::gather(
+                &tracer.bvh.bvh,
+                &tracer.bvh.leaves,
+                &cone,
+                usize::MAX,
+                &mut scratch
+            ));
+            for (l, leaf) in tracer.bvh.leaves.iter().enumerate() {
+                let candidate = scratch.candidates.iter().find(|c| c.leaf as usize == l);
+                for (i, ray) in rays.iter().enumerate() {
+                    let (unit, ..) = tracer.to_unit(ray, 0.0, f64::INFINITY);
+                    checked += 1;
+                    if leaf.ray_meets_box(unit.origin, unit.dir, 0.0, f64::INFINITY) {
+                        met += 1;
+                        let kept = candidate.is_some_and(|c| c.rays & (1 << i) != 0);
+                        assert!(kept, "leaf {l}, ray {i} dropped");
+                    }
+                }
+            }
+        }
+        assert!(met > 100, "{met} of {checked} ray-leaf pairs meet");
     }
 
     /// The any-hit query agrees with the closest-hit query on every ray, including rays that

@@ -75,14 +75,20 @@ fn patch_samples(patch: &Patch) -> [DVec3; FRAMING_POINTS] {
 /// count.
 pub struct SurfaceSamples<'a> {
     surfaces: Vec<&'a Surface>,
+    /// The box of the control points of each run of [`FRAMING_RUN`] patches, in the order of
+    /// [`SurfaceSamples::runs`]: made once, as the framing asks for many maxima.
+    run_boxes: Vec<Aabb>,
 }
 
 impl<'a> SurfaceSamples<'a> {
     /// The framing points of all `surfaces` together.
     pub fn new(surfaces: &[&'a Surface]) -> SurfaceSamples<'a> {
-        SurfaceSamples {
+        let mut samples = SurfaceSamples {
             surfaces: surfaces.to_vec(),
-        }
+            run_boxes: Vec::new(),
+        };
+        samples.run_boxes = samples.runs().map(run_bounds).collect();
+        samples
     }
 
     /// The framing points of one surface.
@@ -91,10 +97,18 @@ impl<'a> SurfaceSamples<'a> {
     }
 
     /// Runs of up to [`FRAMING_RUN`] consecutive patches, in parallel.
-    fn runs(&self) -> impl ParallelIterator<Item = &'a [Patch]> + '_ {
-        self.surfaces
-            .par_iter()
-            .flat_map(|s| s.patches.par_chunks(FRAMING_RUN))
+    fn runs(&self) -> impl IndexedParallelIterator<Item = &'a [Patch]> + '_ {
+        let runs: Vec<&'a [Patch]> = self
+            .surfaces
+            .iter()
+            .flat_map(|s| s.patches.chunks(FRAMING_RUN))
+            .collect();
+        runs.into_par_iter()
+    }
+
+    /// The runs with their control boxes.
+    fn boxed_runs(&self) -> impl ParallelIterator<Item = (&'a [Patch], Aabb)> + '_ {
+        self.runs().zip(self.run_boxes.par_iter().copied())
     }
 
     /// All the points, in order (patch by patch): for tests and small surfaces.
@@ -168,9 +182,9 @@ impl FramedPoints for SurfaceSamples<'_> {
             corners.max - DVec3::splat(margin),
         );
         let inside = |b: Aabb| b.min.cmpge(lo).all() && b.max.cmple(hi).all();
-        self.runs()
-            .map(|run| {
-                if inside(run_bounds(run)) {
+        self.boxed_runs()
+            .map(|(run, run_box)| {
+                if inside(run_box) {
                     return Aabb::EMPTY;
                 }
                 run.iter()
@@ -200,9 +214,9 @@ impl FramedPoints for SurfaceSamples<'_> {
         // A run of patches whose common control box lies below the running maximum (a convex
         // function's maximum over a box is at its corners) cannot raise it: one test of 8
         // corners instead of every patch's control points.
-        self.runs()
-            .map(|run| {
-                if box_corners(run_bounds(run)).into_iter().all(below) {
+        self.boxed_runs()
+            .map(|(run, run_box)| {
+                if box_corners(run_box).into_iter().all(below) {
                     return corners;
                 }
                 run.iter()
