@@ -53,8 +53,20 @@ impl Patch {
     /// `Su × Sv` points against the face's normal `face_normal`. A patch is parametrised with
     /// the orientation of its face (the export contract, docs/guide/contracts.md), so a surface
     /// that follows its mesh has none; a fold is where the surface doubles back over the face.
-    /// Samples where `Su × Sv = 0` are not counted.
+    /// Samples where `Su × Sv = 0` are not counted. A Bézier patch whose normal's Bézier
+    /// form proves it faces along `face_normal` everywhere ([`TriangleBezier::faces_along`])
+    /// has none and is not sampled.
     pub(crate) fn fold_samples(&self, face_normal: DVec3) -> usize {
+        if let PatchGeometry::Bezier(net) = &self.geometry
+            && net.faces_along(face_normal)
+        {
+            return 0;
+        }
+        self.sampled_fold_samples(face_normal)
+    }
+
+    /// [`Patch::fold_samples`] by evaluating the grid.
+    fn sampled_fold_samples(&self, face_normal: DVec3) -> usize {
         let n = PATCH_GRID;
         (0..=n)
             .flat_map(|i| (0..=n - i).map(move |j| (i, j)))
@@ -519,6 +531,79 @@ mod tests {
                 vec![DVec3::ZERO, DVec3::X, DVec3::Y],
             )),
         }
+    }
+
+    /// The proof that a patch faces along its face's normal never hides a fold sample: on
+    /// the hb, loop94 and pn surfaces of the scanned bunnies (folds included: the papers'
+    /// surfaces of `bunny-irregular` fold) and on nets of every degree 1–7 with their
+    /// points jittered more and more, wherever `faces_along` holds the 45-point grid finds
+    /// no sample turned over; and it holds on most patches of a smooth surface, so the grid
+    /// is rarely sampled.
+    #[test]
+    fn a_patch_proved_to_face_along_its_normal_has_no_fold_sample() {
+        use crate::testing::Rng;
+        let mut checked = Vec::new();
+        for scene in ["bunny", "bunny-irregular"] {
+            let mesh = crate::testing::scene(scene);
+            for scheme in ["hb", "loop94", "pn"] {
+                let surface = crate::schemes::build(scheme, &mesh, &[]).expect("surface");
+                let proved = surface
+                    .patches
+                    .iter()
+                    .filter(|p| {
+                        let normal = mesh.face_normal(p.face);
+                        let proved = p.as_bezier().expect("bezier").faces_along(normal);
+                        if proved {
+                            assert_eq!(p.sampled_fold_samples(normal), 0, "{scene} {scheme}");
+                        }
+                        proved
+                    })
+                    .count();
+                checked.push((scene, scheme, proved, surface.patches.len()));
+            }
+        }
+        for &(scene, scheme, proved, all) in &checked {
+            assert!(
+                proved * 10 >= all * 9,
+                "{scene} {scheme}: {proved} of {all} proved"
+            );
+        }
+        let mut rng = Rng::new(7);
+        let (mut proved, mut folding) = (0, 0);
+        for degree in 1..=7 {
+            for case in 0..400 {
+                let jitter = 0.02 * f64::from(case % 20);
+                let net = TriangleBezier::from_fn(degree, |i, j, _| {
+                    let (x, y) = (
+                        j as f64 / degree as f64,
+                        (degree - i - j) as f64 / degree as f64,
+                    );
+                    DVec3::new(x, y, 0.3 * x * y)
+                        + DVec3::new(
+                            rng.range(-1.0, 1.0),
+                            rng.range(-1.0, 1.0),
+                            rng.range(-1.0, 1.0),
+                        ) * jitter
+                });
+                let patch = Patch {
+                    face: 0,
+                    piece: 0,
+                    domain: [DVec3::X, DVec3::Y, DVec3::Z],
+                    geometry: PatchGeometry::Bezier(net),
+                };
+                let normal = DVec3::Z;
+                let samples = patch.sampled_fold_samples(normal);
+                folding += usize::from(samples > 0);
+                if patch.as_bezier().expect("bezier").faces_along(normal) {
+                    proved += 1;
+                    assert_eq!(samples, 0, "degree {degree}, case {case}");
+                }
+            }
+        }
+        assert!(
+            proved > 500 && folding > 500,
+            "{proved} proved, {folding} folding"
+        );
     }
 
     /// Two faces (0,1,2) and (2,1,3) share edge (1,2), written in opposite directions; a

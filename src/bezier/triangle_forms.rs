@@ -1,6 +1,7 @@
 //! Other Bézier forms of the same triangular patch: over a sub-triangle of its domain
 //! (subdivision through the blossom), at a higher degree (elevation), restricted to a boundary
-//! edge (a Bézier curve), and the boxes that contain it (convex-hull property).
+//! edge (a Bézier curve), the boxes that contain it (convex-hull property), and the Bézier form
+//! of its normal's component along a direction (a proof that it does not turn over).
 //!
 //! Standard facts from Farin, *Curves and Surfaces for CAGD*, ch. 17, as recalled in
 //! [Piper87 §3.6–3.7].
@@ -136,6 +137,70 @@ impl TriangleBezier {
             min: bounds.min - DVec3::splat(margin),
             max: bounds.max + DVec3::splat(margin),
         }
+    }
+}
+
+/// The highest degree whose normal component [`TriangleBezier::faces_along`] proves on stack
+/// buffers.
+const MAX_FACING_DEGREE: usize = 7;
+
+/// `m! / (i! j! (m − i − j)!)`.
+fn multinomial(m: usize, i: usize, j: usize) -> f64 {
+    let factorial = |x: usize| (1..=x).fold(1.0, |f, k| f * k as f64);
+    factorial(m) / (factorial(i) * factorial(j) * factorial(m - i - j))
+}
+
+impl TriangleBezier {
+    /// True when the patch's normal `∂B/∂u × ∂B/∂v` has a positive component along `n`
+    /// everywhere on its domain, by a margin far above rounding: a proof that the patch
+    /// nowhere turns over a face of normal `n`. False proves nothing (degree 0 or above
+    /// [`MAX_FACING_DEGREE`], or a coefficient too small).
+    ///
+    /// The partials are Bézier triangles of degree `d − 1` with control points
+    /// `a_m = b(m + e₁) − b(m + e₀)`, `c_m = b(m + e₂) − b(m + e₀)` (times `d`), so
+    /// `(∂B/∂u × ∂B/∂v) · n` is a Bézier triangle of degree `2d − 2` whose coefficient at `k` is
+    /// `d² Σ_{m+l=k} M(m) M(l) / M(k) · det[a_m, c_l, n]` (`M` the multinomials: the product
+    /// rule of Bernstein polynomials, Farin, CAGD §17.2); a Bernstein sum lies between its
+    /// smallest and largest coefficients.
+    pub(crate) fn faces_along(&self, n: DVec3) -> bool {
+        let d = self.degree();
+        if d == 0 || d > MAX_FACING_DEGREE {
+            return false;
+        }
+        let m = d - 1;
+        let mut a = [DVec3::ZERO; point_count(MAX_FACING_DEGREE - 1)];
+        let mut c_across_n = [DVec3::ZERO; point_count(MAX_FACING_DEGREE - 1)];
+        let mut weight = [0.0; point_count(MAX_FACING_DEGREE - 1)];
+        let (mut largest_a, mut largest_c) = (0.0_f64, 0.0_f64);
+        for i in 0..=m {
+            for j in 0..=m - i {
+                let at = index(m, i, j);
+                let base = self.point(i + 1, j);
+                a[at] = self.point(i, j + 1) - base;
+                let c = self.point(i, j) - base;
+                c_across_n[at] = c.cross(n);
+                weight[at] = multinomial(m, i, j);
+                largest_a = largest_a.max(a[at].length());
+                largest_c = largest_c.max(c.length());
+            }
+        }
+        let mut coefficients = [0.0; point_count(2 * MAX_FACING_DEGREE - 2)];
+        for (i, j) in (0..=m).flat_map(|i| (0..=m - i).map(move |j| (i, j))) {
+            let p = index(m, i, j);
+            for (k, l) in (0..=m).flat_map(|k| (0..=m - k).map(move |l| (k, l))) {
+                let q = index(m, k, l);
+                coefficients[index(2 * m, i + k, j + l)] +=
+                    weight[p] * weight[q] * a[p].dot(c_across_n[q]);
+            }
+        }
+        // The sampled normal and these sums each round to a few ulps of this scale.
+        let scale = largest_a * largest_c * n.length();
+        let margin = 1e-10 * scale;
+        scale.is_finite()
+            && scale > 0.0
+            && (0..=2 * m)
+                .flat_map(|i| (0..=2 * m - i).map(move |j| (i, j)))
+                .all(|(i, j)| coefficients[index(2 * m, i, j)] / multinomial(2 * m, i, j) > margin)
     }
 }
 
