@@ -811,6 +811,14 @@ mod tests {
     use crate::testing::surfaces::{height_field_patch, octahedron_sphere};
 
     /// Every sampled point of a leaf's sub-patch lies in its oriented box.
+    /// The surface of `scheme` on the repository's scanned bunny (`scenes/bunny.obj`).
+    fn scanned_bunny(scheme: &str) -> Surface {
+        let bunny = crate::mesh::generate::SCANNED_SCENES[0]
+            .mesh()
+            .expect("bunny");
+        crate::schemes::build(scheme, &bunny, &[]).expect("surface")
+    }
+
     #[test]
     fn oriented_boxes_contain_their_sub_patches() {
         let surface = octahedron_sphere(4, 1.0, 1);
@@ -906,12 +914,9 @@ mod tests {
     /// bound (every undecided or grazing run searched).
     #[test]
     fn tilt_never_hides_a_closer_root() {
-        let bunny = crate::mesh::generate::SCANNED_SCENES[0]
-            .mesh()
-            .expect("bunny");
         let mut counters = IntersectCounters::default();
         for scheme in ["pn", "hb"] {
-            let surface = crate::schemes::build(scheme, &bunny, &[]).expect("surface");
+            let surface = scanned_bunny(scheme);
             let tracer = Tracer::with_default_settings(&surface).expect("tracer");
             let (mut hits, mut worst) = (0, 0.0_f64);
             for (l, leaf) in tracer.bvh.leaves.iter().enumerate() {
@@ -1027,10 +1032,7 @@ mod tests {
     #[test]
     fn bundled_hits_equal_the_rays_traced_alone() {
         use crate::render::camera::{Camera, Projection};
-        let bunny = crate::mesh::generate::SCANNED_SCENES[0]
-            .mesh()
-            .expect("bunny");
-        let hb = crate::schemes::build("hb", &bunny, &[]).expect("hb");
+        let hb = scanned_bunny("hb");
         let sphere = octahedron_sphere(3, 1.0, 1);
         let centre = |s: &Surface| s.bounds().center();
         let views = [
@@ -1117,10 +1119,7 @@ mod tests {
     #[test]
     fn a_bundle_keeps_every_leaf_its_rays_meet() {
         use crate::render::camera::{Camera, Projection};
-        let bunny = crate::mesh::generate::SCANNED_SCENES[0]
-            .mesh()
-            .expect("bunny");
-        let hb = crate::schemes::build("hb", &bunny, &[]).expect("hb");
+        let hb = scanned_bunny("hb");
         let tracer = Tracer::with_default_settings(&hb).expect("tracer");
         let target = hb.bounds().center();
         let diagonal = hb.bounds().diagonal();
@@ -1334,10 +1333,7 @@ mod tests {
     /// settles most rays aimed 10^-4 of the leaf or more beyond it.
     #[test]
     fn boundary_clearance_settles_only_leaves_without_a_root() {
-        let bunny = crate::mesh::generate::SCANNED_SCENES[0]
-            .mesh()
-            .expect("bunny");
-        let surface = crate::schemes::build("hb", &bunny, &[]).expect("surface");
+        let surface = scanned_bunny("hb");
         let tracer = Tracer::with_default_settings(&surface).expect("tracer");
         let (mut cleared, mut beyond_far, mut cleared_far, mut tried) = (0u64, 0u64, 0u64, 0u64);
         let mut search_undecided = 0u64;
