@@ -392,6 +392,18 @@ impl Surface {
         }
     }
 
+    /// [`Surface::mapped`] consuming the surface: Bézier nets are mapped in place, so a large
+    /// surface is never held twice (blends, whose sub-surfaces are rebuilt, are mapped anew).
+    pub fn into_mapped(mut self, f: impl Fn(DVec3) -> DVec3) -> Surface {
+        for patch in &mut self.patches {
+            match &mut patch.geometry {
+                PatchGeometry::Bezier(net) => net.map_points_in_place(&f),
+                PatchGeometry::Blend(_) => *patch = patch.mapped(&f),
+            }
+        }
+        self
+    }
+
     /// Bounding box of all patches (control-net bounds: contains the surface).
     pub fn bounds(&self) -> Aabb {
         self.patches

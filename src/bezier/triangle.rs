@@ -310,6 +310,13 @@ impl TriangleBezier {
             points: self.points.iter().map(|&p| f(p)).collect(),
         }
     }
+
+    /// [`TriangleBezier::map_points`] in place: no second net.
+    pub(crate) fn map_points_in_place(&mut self, f: impl Fn(DVec3) -> DVec3) {
+        for p in &mut self.points {
+            *p = f(*p);
+        }
+    }
 }
 
 #[cfg(test)]

@@ -526,6 +526,11 @@ impl PatchBvh {
                     pieces
                 })
                 .collect();
+            // Exact capacities: grown by doubling, the leaves could hold up to twice their
+            // memory at the peak of a large build.
+            let leaves: usize = chunks.iter().map(|c| c.leaves.len()).sum();
+            all.leaves.reserve_exact(leaves);
+            all.boxes.reserve_exact(leaves);
             for chunk in chunks {
                 let blend = all.blend_second_bounds.len() as u32;
                 all.leaves.extend(chunk.leaves.iter().map(|leaf| Leaf {

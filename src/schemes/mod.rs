@@ -102,7 +102,7 @@ pub fn names() -> Vec<&'static str> {
 /// user's coordinates (for exports and the renderer, which take those).
 pub fn build(scheme: &str, mesh: &Mesh, user: &[(String, String)]) -> Result<Surface> {
     let (surface, frame) = build_in_frame(scheme, mesh, user)?;
-    Ok(surface.mapped(|q| frame.to_user(q)))
+    Ok(surface.into_mapped(|q| frame.to_user(q)))
 }
 
 /// Builds `scheme` on `mesh` mapped into its [`LocalFrame`] (centred, power-of-two scale),
