@@ -194,7 +194,7 @@ impl<'s> Tracer<'s> {
     /// The closest hits of `rays` with `t ∈ (t_min, t_max)`, one per entry of `hits`, as
     /// [`Tracer::closest_hit`] gives them one by one. Rays that all start at one point (a
     /// perspective camera's rays through a block of pixels) walk the BVH once, as a bundle
-    /// ([`bundle`](crate::render::bundle)); other rays, bundles too wide for a cone and
+    /// ([`bundle`]); other rays, bundles too wide for a cone and
     /// bundles whose cone meets more than [`bundle::MAX_CANDIDATES_PER_RAY`] leaves per ray
     /// (the next few bundles on the same `scratch` then skip the attempt) are traced one by
     /// one.
