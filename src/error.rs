@@ -269,7 +269,7 @@ pub enum Error {
     },
     /// A scheme's construction has no valid result at a mesh edge (e.g. a vertex normal along
     /// the edge leaves no tangent direction for it).
-    #[error("scheme '{scheme}' fails at edge ({a}, {b}): {reason}")]
+    #[error("scheme '{scheme}' fails at edge ({a}, {b}): {reason}{}", more_edges(.also))]
     DegenerateEdge {
         /// The scheme.
         scheme: String,
@@ -279,6 +279,8 @@ pub enum Error {
         b: usize,
         /// Why.
         reason: String,
+        /// The other edges where the construction fails as well, in mesh order.
+        also: Vec<(usize, usize)>,
     },
     /// A scheme built a surface that cannot be used: a control point is NaN or infinite, or
     /// the surface reaches absurdly far beyond the mesh (typically an extreme parameter).
@@ -577,14 +579,50 @@ impl Error {
                 a,
                 b,
                 reason,
+                also,
             } => Error::DegenerateEdge {
                 scheme,
                 a: input(a),
                 b: input(b),
                 reason,
+                also: also
+                    .into_iter()
+                    .map(|(a, b)| (input(a), input(b)))
+                    .collect(),
             },
             other => other,
         }
+    }
+}
+
+/// " (and N more edges, the next (a, b))" of [`Error::DegenerateEdge`], empty without more.
+fn more_edges(also: &[(usize, usize)]) -> String {
+    match also.first() {
+        Some((a, b)) => format!(" (and {} more edges, the next ({a}, {b}))", also.len()),
+        None => String::new(),
+    }
+}
+
+/// The results of a construction's elements in mesh order, or its first error; where that is
+/// an [`Error::DegenerateEdge`], with the edges of every later one in `also`, so that a
+/// caller can treat them all at once.
+pub(crate) fn collect_in_order<T>(results: Vec<Result<T>>) -> Result<Vec<T>> {
+    let mut values = Vec::with_capacity(results.len());
+    let mut first: Option<Error> = None;
+    for result in results {
+        match (result, &mut first) {
+            (Ok(value), None) => values.push(value),
+            (Ok(_), Some(_)) => {}
+            (Err(error), None) => first = Some(error),
+            (Err(Error::DegenerateEdge { a, b, .. }), Some(Error::DegenerateEdge { also, .. })) => {
+                also.push((a, b))
+            }
+            (Err(_), Some(_)) => {}
+        }
+    }
+    match first {
+        Some(error) => Err(error),
+        None => Ok(values),
     }
 }
 
@@ -886,5 +924,48 @@ mod tests {
             ),
             "the view cannot set the scene key 'render.output'"
         );
+    }
+
+    /// A construction's results in mesh order: the first error wins whatever order a
+    /// parallel run finished in, and the later failing edges ride along in its message.
+    #[test]
+    fn the_first_failing_edge_is_reported_with_the_others() {
+        let edge = |a: usize, b: usize| Error::DegenerateEdge {
+            scheme: "nielson".into(),
+            a,
+            b,
+            reason: "folds".into(),
+            also: Vec::new(),
+        };
+        let results = vec![
+            Ok(1),
+            Err(edge(3, 4)),
+            Ok(2),
+            Err(edge(7, 8)),
+            Err(edge(9, 2)),
+        ];
+        match collect_in_order(results) {
+            Err(Error::DegenerateEdge { a, b, also, .. }) => {
+                assert_eq!((a, b, also.clone()), (3, 4, vec![(7, 8), (9, 2)]));
+                let text = edge(3, 4).to_string();
+                assert_eq!(text, "scheme 'nielson' fails at edge (3, 4): folds");
+                let with = Error::DegenerateEdge {
+                    scheme: "nielson".into(),
+                    a,
+                    b,
+                    reason: "folds".into(),
+                    also,
+                }
+                .to_string();
+                assert!(
+                    with.ends_with("folds (and 2 more edges, the next (7, 8))"),
+                    "{with}"
+                );
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(collect_in_order(vec![Ok(1), Ok(2)]).unwrap(), vec![1, 2]);
+        let renamed = edge(3, 4).in_input_numbering(&|v| v + 10);
+        assert!(renamed.to_string().contains("(13, 14)"));
     }
 }

@@ -144,10 +144,20 @@ impl TriangleBezier {
 /// buffers.
 const MAX_FACING_DEGREE: usize = 7;
 
-/// `m! / (i! j! (m − i − j)!)`.
+/// `k!` for `k ≤ 2 MAX_FACING_DEGREE − 2`, the largest order [`multinomial`] is asked for.
+const FACTORIALS: [f64; 2 * MAX_FACING_DEGREE - 1] = {
+    let mut table = [1.0; 2 * MAX_FACING_DEGREE - 1];
+    let mut k = 1;
+    while k < table.len() {
+        table[k] = table[k - 1] * k as f64;
+        k += 1;
+    }
+    table
+};
+
+/// `m! / (i! j! (m − i − j)!)`, for `m ≤ 2 MAX_FACING_DEGREE − 2`.
 fn multinomial(m: usize, i: usize, j: usize) -> f64 {
-    let factorial = |x: usize| (1..=x).fold(1.0, |f, k| f * k as f64);
-    factorial(m) / (factorial(i) * factorial(j) * factorial(m - i - j))
+    FACTORIALS[m] / (FACTORIALS[i] * FACTORIALS[j] * FACTORIALS[m - i - j])
 }
 
 impl TriangleBezier {
@@ -168,29 +178,32 @@ impl TriangleBezier {
             return false;
         }
         let m = d - 1;
-        let mut a = [DVec3::ZERO; point_count(MAX_FACING_DEGREE - 1)];
-        let mut c_across_n = [DVec3::ZERO; point_count(MAX_FACING_DEGREE - 1)];
-        let mut weight = [0.0; point_count(MAX_FACING_DEGREE - 1)];
+        const FIRST: usize = point_count(MAX_FACING_DEGREE - 1);
+        // a_m and c_m × n, each times its multinomial M(m), and the (i, j) of each m.
+        let mut a = [DVec3::ZERO; FIRST];
+        let mut c_across_n = [DVec3::ZERO; FIRST];
+        let mut at = [(0, 0); FIRST];
         let (mut largest_a, mut largest_c) = (0.0_f64, 0.0_f64);
         for i in 0..=m {
             for j in 0..=m - i {
-                let at = index(m, i, j);
+                let p = index(m, i, j);
                 let base = self.point(i + 1, j);
-                a[at] = self.point(i, j + 1) - base;
-                let c = self.point(i, j) - base;
-                c_across_n[at] = c.cross(n);
-                weight[at] = multinomial(m, i, j);
-                largest_a = largest_a.max(a[at].length());
+                let (ap, c) = (self.point(i, j + 1) - base, self.point(i, j) - base);
+                let weight = multinomial(m, i, j);
+                a[p] = weight * ap;
+                c_across_n[p] = weight * c.cross(n);
+                at[p] = (i, j);
+                largest_a = largest_a.max(ap.length());
                 largest_c = largest_c.max(c.length());
             }
         }
+        let count = point_count(m);
         let mut coefficients = [0.0; point_count(2 * MAX_FACING_DEGREE - 2)];
-        for (i, j) in (0..=m).flat_map(|i| (0..=m - i).map(move |j| (i, j))) {
-            let p = index(m, i, j);
-            for (k, l) in (0..=m).flat_map(|k| (0..=m - k).map(move |l| (k, l))) {
-                let q = index(m, k, l);
-                coefficients[index(2 * m, i + k, j + l)] +=
-                    weight[p] * weight[q] * a[p].dot(c_across_n[q]);
+        for p in 0..count {
+            let (i, j) = at[p];
+            for q in 0..count {
+                let (k, l) = at[q];
+                coefficients[index(2 * m, i + k, j + l)] += a[p].dot(c_across_n[q]);
             }
         }
         // The sampled normal and these sums each round to a few ulps of this scale.
@@ -200,7 +213,7 @@ impl TriangleBezier {
             && scale > 0.0
             && (0..=2 * m)
                 .flat_map(|i| (0..=2 * m - i).map(move |j| (i, j)))
-                .all(|(i, j)| coefficients[index(2 * m, i, j)] / multinomial(2 * m, i, j) > margin)
+                .all(|(i, j)| coefficients[index(2 * m, i, j)] > margin * multinomial(2 * m, i, j))
     }
 }
 

@@ -464,26 +464,31 @@ impl Mesh {
         pairs
     }
     /// The mesh with the edges `edges` (vertex pairs, either order; each an interior edge)
-    /// sharp as well: the edges a construction makes sharp at a spike of the mesh where its
-    /// smooth surface would fold (counted apart in [`SharpEdges::at_spikes`]). Edges already
-    /// sharp stay as they are. Panics if a pair is not an interior edge of the mesh.
+    /// sharp as well: the edges a construction makes sharp where its smooth surface would
+    /// fold (counted apart in [`SharpEdges::at_spikes`]). Edges already sharp stay as they
+    /// are. Panics if a pair is not an interior edge of the mesh.
     pub fn with_spike_edges(&self, edges: &[(u32, u32)]) -> Mesh {
         let mut mesh = self.clone();
         for &(a, b) in edges {
-            let he = self
+            // A repaired non-manifold edge can leave two edges with the same ends: both.
+            let halves: Vec<(usize, usize)> = self
                 .ring_faces(a)
                 .iter()
                 .flat_map(|&f| (0..3).map(move |e| 3 * f as usize + e))
-                .find(|&he| {
+                .filter(|&he| {
                     let face = self.faces[he / 3];
                     let ends = (face[he % 3], face[(he + 1) % 3]);
                     ends == (a, b) || ends == (b, a)
                 })
-                .unwrap_or_else(|| panic!("({a}, {b}) is not an edge of the mesh"));
-            let twin = self.topology.twin[he];
-            assert!(twin != NO_TWIN, "({a}, {b}) is a boundary edge");
-            mesh.sharp
-                .mark_at_spike(he, twin as usize, (a.min(b), a.max(b)));
+                .filter_map(|he| {
+                    let twin = self.topology.twin[he];
+                    (twin != NO_TWIN).then_some((he, twin as usize))
+                })
+                .collect();
+            assert!(!halves.is_empty(), "({a}, {b}) is no interior edge");
+            for (he, twin) in halves {
+                mesh.sharp.mark_at_spike(he, twin, (a.min(b), a.max(b)));
+            }
         }
         mesh
     }

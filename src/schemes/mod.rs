@@ -4,6 +4,7 @@
 
 pub(crate) mod boundary_blend;
 pub(crate) mod flat;
+mod fold_corners;
 pub(crate) mod gk;
 pub(crate) mod hb;
 pub(crate) mod loop94;
@@ -173,15 +174,24 @@ const SPIKE_ROUNDS: usize = 4;
 /// spike of the mesh, or the scheme refuses a vertex whose faces fold over themselves
 /// ([`spikes`]), the spike's sharpest edges are made sharp and the surface is rebuilt, with
 /// one warning counting them and naming the sharpest (in the file's numbering). A round of
-/// sharp edges is kept only if the surface then folds less; a refusal stands unless the
-/// rebuilt surface folds nowhere.
+/// sharp edges is kept only if the surface then folds less. Where it still folds, or the
+/// scheme still refuses a folded ring or an edge, the corners of those faces, rings and
+/// edges become fully sharp, round by round, until nothing folds ([`fold_corners`], one
+/// more warning); a refusal stands if that does not end in a surface that folds nowhere.
 fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> Result<Surface> {
     if spec.sharp_edges != SharpEdgeSupport::Builds {
         return (spec.build)(mesh, params);
     }
+    // Every build flattens the faces whose corners are all fully sharp where they fold.
+    let build_on = |mesh: &Mesh| {
+        (spec.build)(mesh, params).map(|mut surface| {
+            fold_corners::flatten_sharp_faces(mesh, &mut surface);
+            surface
+        })
+    };
     let mut sharpened = mesh.clone();
     let mut added: Vec<(u32, u32)> = Vec::new();
-    let mut built = (spec.build)(mesh, params);
+    let mut built = build_on(mesh);
     // A refusal of a folded ring is given up only for a surface that folds nowhere.
     let refusal = match &built {
         Err(Error::FoldedVertex { scheme, vertex }) => Some(Error::FoldedVertex {
@@ -202,7 +212,7 @@ fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> R
             break;
         }
         let candidate_mesh = sharpened.with_spike_edges(&edges);
-        let candidate = (spec.build)(&candidate_mesh, params);
+        let candidate = build_on(&candidate_mesh);
         // Sharp edges are kept only where they leave fewer folds: on a mesh that is messy
         // around its spikes too, the sectors can fold more than the smooth surface did.
         if let Ok(current) = &built {
@@ -218,22 +228,29 @@ fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> R
         built = candidate;
         added.extend(edges);
     }
+    let rounds = fold_corners::fold_rounds(sharpened.clone(), built, build_on);
     if let Some(refusal) = refusal
-        && built.as_ref().map_or(true, |surface| {
-            spikes::fold_samples(&sharpened, surface) > 0
-        })
+        && rounds.samples > 0
     {
         return Err(refusal);
     }
-    let mut surface = built?;
-    if added.is_empty() {
-        return Ok(surface);
+    let mut surface = rounds.built?;
+    if !added.is_empty() {
+        surface
+            .warnings
+            .push(spikes::warning(spec.name, &sharpened, &mut added));
     }
-    surface
-        .warnings
-        .push(spikes::warning(spec.name, &sharpened, &mut added));
+    if rounds.edges > 0 {
+        surface.warnings.push(fold_corners::warning(
+            spec.name,
+            &rounds.mesh,
+            rounds.edges,
+            &rounds.folded,
+        ));
+    }
     let before = mesh.sharp_face_pairs();
-    surface.spike_face_pairs = sharpened
+    surface.spike_face_pairs = rounds
+        .mesh
         .sharp_face_pairs()
         .into_iter()
         .filter(|pair| before.binary_search(pair).is_err())

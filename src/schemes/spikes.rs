@@ -22,8 +22,7 @@
 
 use rayon::prelude::*;
 
-use crate::mesh::front_facing::front_facing_normals;
-use crate::mesh::{Mesh, NormalSource};
+use crate::mesh::Mesh;
 use crate::surface::Surface;
 
 /// Angle (degrees) between the normals of an edge's two faces above which the edge can be made
@@ -163,18 +162,12 @@ pub(super) fn fold_samples(mesh: &Mesh, surface: &Surface) -> usize {
 }
 
 /// The edges to make sharp ([`edges_at`]) at every vertex whose faces fold over themselves
-/// (no normal sees them all from the front, `mesh::front_facing`) and whose fan is one sector:
+/// and whose fan is one sector (`fold_corners::folded_rings`):
 /// where a scheme refuses such a vertex, each side of the fold becomes a sector of its own.
 pub(super) fn folded_ring_edges(mesh: &Mesh) -> Vec<(u32, u32)> {
-    let Ok(estimate) = mesh.vertex_normals(NormalSource::Estimate) else {
-        return Vec::new();
-    };
-    let front = front_facing_normals(mesh.positions(), mesh.faces(), &estimate);
-    let mut edges: Vec<(u32, u32)> = front
-        .folded
-        .iter()
-        .filter(|&&v| mesh.has_one_sector(v))
-        .flat_map(|&v| edges_at(mesh, v))
+    let mut edges: Vec<(u32, u32)> = super::fold_corners::folded_rings(mesh)
+        .into_iter()
+        .flat_map(|v| edges_at(mesh, v))
         .collect();
     edges.sort_unstable();
     edges.dedup();

@@ -605,6 +605,15 @@ pub(crate) const MIN_CREASE_TANGENT: f64 = 1e-9;
 /// their own (the threshold of [`crate::mesh::crease_tangent`]).
 const CREASE_LINE_SINE: f64 = 1e-9;
 
+/// Below this `|sin ω|` of a sector of two or more faces spanning `ω` (near a half or a full
+/// turn, or none), the harmonic `A cos jθ + B sin jθ` through its two end tangents would need
+/// a `B` far longer than either: the vertex's end tangents then all take one length.
+const END_SPAN_SINE: f64 = 0.25;
+
+/// Below this `sin θ` of its angle step a sector of two or more faces is refused (its end
+/// tangents leave its faces no angle, or a half turn each).
+const MIN_STEP_SINE: f64 = 1e-3;
+
 /// One sector of a vertex's fan (the faces between two consecutive sharp or boundary edges,
 /// see [`crate::mesh::SharpEdges`]) read as a fan of its own, with the tangents of its edges.
 ///
@@ -613,15 +622,19 @@ const CREASE_LINE_SINE: f64 = 1e-9;
 /// edges; their tangents (the derivatives at `v` of the edges' boundary curves) are fixed
 /// before any sector is looked at, so the two sectors of a sharp edge share it bit for bit:
 /// along the crease direction ([`crate::mesh::crease_tangent`] of the normals of the two
-/// sectors; on a boundary edge the edge projected into its sector's plane), all of one
-/// length `L`, the mean of the projected edges at the vertex. The edges inside the sector
-/// get the tangents `r¹_j = L (cos jθ d + sin jθ N × d)` (`d` the unit tangent of the first
-/// edge, `N` the sector's normal made orthogonal to `d`) with the step `θ = ω / faces`, `ω`
-/// the angle from the first end tangent to the last one turning round `N` in (0, 2π]: they
-/// solve the vertex system `r¹_{j+1} + r¹_{j−1} = 2 cos θ r¹_j` [HB00 eq. 5] on the sector's
-/// inner edges and meet the last end tangent, which lies in the plane orthogonal to the
-/// sector's normal too, up to rounding. A sector of one face has no inner edge; its step
-/// is the face's angle at `v` (as at a corner of an open mesh, [`fan_angle_step`]).
+/// sectors; on a boundary edge the edge projected into its sector's plane), each as long as
+/// its edge projected on that direction. The edges inside the sector get the tangents
+/// `r¹_j = A cos jθ + B sin jθ` (`A` the first end tangent) with the step `θ = ω / faces`, `ω`
+/// the angle from the first end tangent to the last one turning round the sector's normal
+/// `N` in (0, 2π], and `B` the one that meets the last end tangent `E`,
+/// `(E − A cos ω) / sin ω`: they solve the vertex system `r¹_{j+1} + r¹_{j−1} = 2 cos θ r¹_j`
+/// [HB00 eq. 5] on the sector's inner edges. Where a sector's `sin ω` is small (a crease
+/// through the vertex, ω = π) that `B` does not exist or is far too long, and every end
+/// tangent at the vertex takes one length `L`, the mean of the projected edges: then
+/// `B = L N × d` (`d` the unit of `A`), or fitted to the inner chords through a crease. A
+/// sector of one face has no inner edge; its step is the face's angle at `v` (as at a corner
+/// of an open mesh, [`fan_angle_step`]), and its end tangents are its edges' own, so that a
+/// face whose three edges are sharp is the flat triangle.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Sector {
     /// Fan position of the first edge.
@@ -647,8 +660,9 @@ fn turn_from(a: DVec3, b: DVec3, normal: DVec3) -> f64 {
 /// `corner_normals` the normal of every face corner ([`Mesh::corner_normals`]); `None` when
 /// the fan is one sector (no sharp edge, or a dart: one sharp edge at an interior vertex),
 /// which the closed and half-ring rules build. Fails, naming the edge, when an end edge runs
-/// along the normal of a sector it bounds (its tangent would vanish) or a sector's faces
-/// cancel in its normal.
+/// along the normal of a sector it bounds (its tangent would vanish), a sector's faces
+/// cancel in its normal, or a sector of two or more faces has an angle step whose sine is
+/// below `MIN_STEP_SINE`.
 pub(crate) fn fan_sectors(
     mesh: &Mesh,
     v: u32,
@@ -735,41 +749,73 @@ pub(crate) fn fan_sectors(
         .map(|e| e.1)
         .sum::<f64>()
         / end_edges.len() as f64;
-    let end_tangent = |j: usize| ends[j % n].map_or(DVec3::ZERO, |(d, _)| mean * d);
+    // Every sector's first end direction, normal and span ω (the turn to its last end).
+    let frames = bounds
+        .iter()
+        .map(|&(first, faces)| {
+            let d = ends[first].map_or(DVec3::ZERO, |e| e.0);
+            let normal = face_normal(first)
+                .reject_from_normalized(d)
+                .normalize_or_zero();
+            if normal == DVec3::ZERO {
+                return Err((v, ring[first % n]));
+            }
+            let last = ends[(first + faces) % n].map_or(DVec3::ZERO, |e| e.0);
+            Ok((d, normal, turn_from(d, last, normal)))
+        })
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    // End tangents keep their edges' own lengths wherever every sector's harmonic can meet
+    // both its ends (its span is not near 0, π or 2π); otherwise all take the mean length.
+    let own_lengths = !through
+        && bounds
+            .iter()
+            .zip(&frames)
+            .all(|(&(_, faces), &(_, _, span))| faces == 1 || span.sin().abs() >= END_SPAN_SINE);
+    let end_tangent = |j: usize| {
+        ends[j % n].map_or(
+            DVec3::ZERO,
+            |(d, length)| {
+                if own_lengths { length * d } else { mean * d }
+            },
+        )
+    };
     let sectors = bounds
         .into_iter()
+        .zip(frames)
         .map(
-            |(first, faces)| -> std::result::Result<Sector, (u32, u32)> {
-                let d = ends[first].map_or(DVec3::ZERO, |e| e.0);
-                let normal = face_normal(first)
-                    .reject_from_normalized(d)
-                    .normalize_or_zero();
-                if normal == DVec3::ZERO {
-                    return Err((v, ring[first % n]));
-                }
-                let last = ends[(first + faces) % n].map_or(DVec3::ZERO, |e| e.0);
+            |((first, faces), (d, normal, span))| -> std::result::Result<Sector, (u32, u32)> {
                 let step = if faces == 1 {
                     chord(first).angle_between(chord(first + 1))
                 } else {
-                    turn_from(d, last, normal) / faces as f64
+                    span / faces as f64
                 };
-                // Through a crease (both end tangents on one line, ω = π) the sine part is
-                // free: fitted to the inner chords as on a half ring; elsewhere the end
-                // tangents fix it.
+                // A sector whose end tangents leave its faces (nearly) no angle, or a half turn
+                // each, has no harmonic (`sin θ` divides the cross-boundary data): a ring folded
+                // at a repaired seam, whose crease lines run (nearly) parallel.
+                if faces > 1 && step.sin() < MIN_STEP_SINE {
+                    return Err((v, ring[first % n]));
+                }
+                let (start, end) = (end_tangent(first), end_tangent(first + faces));
+                // r¹_j = A cos jθ + B sin jθ with A the first end tangent. Through a crease (both
+                // end tangents on one line, ω = π) B is free: fitted to the inner chords as on a
+                // half ring; with ends of their own lengths it meets the last end; else it is the
+                // quarter turn of A round the normal.
                 let side = if through {
                     let inner: Vec<DVec3> = (0..=faces).map(|j| at + chord(first + j)).collect();
-                    sine_part(at, &inner, step, mean * d) / mean
+                    sine_part(at, &inner, step, mean * d)
+                } else if own_lengths && faces > 1 {
+                    (end - start * span.cos()) / span.sin()
                 } else {
-                    normal.cross(d)
+                    mean * normal.cross(d)
                 };
                 let mut tangents: Vec<DVec3> = (0..=faces)
                     .map(|j| {
                         let (sj, cj) = (step * j as f64).sin_cos();
-                        mean * (cj * d + sj * side)
+                        cj * start + sj * side
                     })
                     .collect();
-                tangents[0] = end_tangent(first);
-                tangents[faces] = end_tangent(first + faces);
+                tangents[0] = start;
+                tangents[faces] = end;
                 Ok(Sector {
                     first,
                     faces,
@@ -795,8 +841,8 @@ pub(crate) struct MeshSectors {
 
 impl MeshSectors {
     /// The sectors of `mesh` ([`fan_sectors`]): none without sharp edges. Fails as
-    /// [`fan_sectors`] does, with the edge at fault.
-    pub(crate) fn new(mesh: &Mesh) -> std::result::Result<MeshSectors, (u32, u32)> {
+    /// [`fan_sectors`] does, with every edge at fault, in vertex order.
+    pub(crate) fn new(mesh: &Mesh) -> std::result::Result<MeshSectors, Vec<(u32, u32)>> {
         if mesh.sharp_edges().is_empty() {
             return Ok(MeshSectors::plain(mesh));
         }
@@ -804,22 +850,32 @@ impl MeshSectors {
         // Only the corners of vertices cut into several sectors are read, and their normals
         // come from their faces, not from these vertex normals.
         let corner_normals = mesh.corner_normals(&vec![DVec3::ZERO; nv]);
-        let by_vertex = (0..nv as u32)
+        let by_vertex: Vec<_> = (0..nv as u32)
             .into_par_iter()
             .map(|v| fan_sectors(mesh, v, &corner_normals))
-            .collect::<std::result::Result<Vec<_>, _>>()?;
+            .collect();
+        let faults: Vec<(u32, u32)> = by_vertex.iter().filter_map(|s| s.clone().err()).collect();
+        if !faults.is_empty() {
+            return Err(faults);
+        }
+        let by_vertex = by_vertex.into_iter().map(|s| s.unwrap_or(None)).collect();
         Ok(MeshSectors::from_sectors(mesh, by_vertex))
     }
 
     /// [`MeshSectors::new`] for `scheme`, failing with the error that names the edge at fault.
     pub(crate) fn for_scheme(mesh: &Mesh, scheme: &str) -> crate::error::Result<MeshSectors> {
-        MeshSectors::new(mesh).map_err(|(a, b)| crate::error::Error::DegenerateEdge {
+        MeshSectors::new(mesh).map_err(|faults| crate::error::Error::DegenerateEdge {
             scheme: scheme.into(),
-            a: a as usize,
-            b: b as usize,
-            reason: "the sharp edge runs along the normal of a sector it bounds, or the faces \
-                     of that sector cancel in its normal"
+            a: faults[0].0 as usize,
+            b: faults[0].1 as usize,
+            reason: "the sharp edge runs along the normal of a sector it bounds, the faces of \
+                     that sector cancel in its normal, or its end tangents leave its faces no \
+                     angle"
                 .into(),
+            also: faults[1..]
+                .iter()
+                .map(|&(a, b)| (a as usize, b as usize))
+                .collect(),
         })
     }
 
@@ -1050,6 +1106,55 @@ mod tests {
             }
         }
         assert!(count > 0 && reflex > 0, "{count} sectors, {reflex} reflex");
+    }
+
+    /// Crease tangents keep their edges' own lengths: on the scanned bunny with every edge
+    /// sharp each face is a sector of its own and its end tangents are its edges (so its
+    /// boundary curves are its straight edges); at 35° the sectors of several faces meet end
+    /// tangents of different lengths and still solve the vertex system on their inner edges.
+    #[test]
+    fn crease_tangents_are_as_long_as_their_edges() {
+        let bunny = crate::testing::scene("bunny");
+        let all = crate::testing::creased(&bunny, 0.01);
+        let sectors = MeshSectors::new(&all).expect("sectors");
+        let mut ends = 0;
+        for (v, fan) in sectors.by_vertex.iter().enumerate() {
+            let ring = all.one_ring(v as u32);
+            let at = all.positions()[v];
+            for sector in fan.iter().flatten().filter(|s| s.faces == 1) {
+                for j in [0, 1] {
+                    let chord =
+                        all.positions()[ring[(sector.first + j) % ring.len()] as usize] - at;
+                    // The crease direction n₀ × n₁ of faces 0.01° apart carries rounding
+                    // of 1e-16 / sin 0.01° in its direction, none to first order in length.
+                    let t = sector.tangents[j];
+                    let angle = t.cross(chord).length() / (t.length() * chord.length());
+                    let length = t.length() / chord.length() - 1.0;
+                    assert!(
+                        angle <= 1e-9 && length.abs() <= 1e-14,
+                        "vertex {v}: {angle} {length}"
+                    );
+                    ends += 1;
+                }
+            }
+        }
+        assert!(ends > 5000, "{ends}");
+        let creased = crate::testing::creased(&bunny, 35.0);
+        let sectors = MeshSectors::new(&creased).expect("sectors");
+        let mut unequal = 0;
+        for fan in sectors.by_vertex.iter().flatten() {
+            for sector in fan.iter().filter(|s| s.faces > 1) {
+                let (r, m) = (&sector.tangents, sector.faces);
+                let scale = r[0].length().max(r[m].length());
+                let c = sector.step.cos();
+                for j in 1..m {
+                    let residual = r[j + 1] + r[j - 1] - 2.0 * c * r[j];
+                    assert!(residual.length() <= 1e-13 * scale, "edge {j}: {residual}");
+                }
+                unequal += usize::from((r[0].length() / r[m].length() - 1.0).abs() > 0.05);
+            }
+        }
+        assert!(unequal > 10, "{unequal}");
     }
 
     /// A regular ring of `n` points on the unit circle in the plane z = `height`.

@@ -121,6 +121,7 @@ fn edge_frame(
                     mesh.input_vertex(vertex),
                     area / ee
                 ),
+                also: Vec::new(),
             });
         }
     }
@@ -218,7 +219,8 @@ impl EdgeFrames {
                     }
                 }
             })
-            .collect::<Result<Vec<Vec<EdgeFrame>>>>()?;
+            .collect::<Vec<Result<Vec<EdgeFrame>>>>();
+        let per_edge = crate::error::collect_in_order(per_edge)?;
         let mut first = Vec::with_capacity(per_edge.len());
         let mut frames = Vec::with_capacity(edges.len());
         for group in per_edge {
@@ -330,7 +332,8 @@ pub(crate) fn build_blend(
                 geometry: PatchGeometry::Blend(Box::new(BlendPatch::new(family, subs))),
             })
         })
-        .collect::<Result<Vec<_>>>()?;
+        .collect::<Vec<Result<_>>>();
+    let patches = crate::error::collect_in_order(patches)?;
     let mut surface = params.surface(scheme, patches);
     surface.warnings = warnings;
     Ok(surface)

@@ -131,6 +131,7 @@ pub(crate) fn sub_surface(
                 "face {f} folds back over the edge's tangent planes (transversal weights \
                  {alpha0:.2e}, {alpha1:.2e})"
             ),
+            also: Vec::new(),
         });
     }
     // D(τ) = α(τ) W(τ) + β(τ) C'(τ), cubic.

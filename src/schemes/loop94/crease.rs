@@ -9,7 +9,9 @@
 //!   `r¹ = 2β (A cos jθ + B sin jθ)` at a boundary vertex), and `f²` the chord midpoint (what
 //!   Loop's point is on a boundary edge, [`open_loop_point`]; a dart's closed rule takes it
 //!   too, [`super::vertex::half_edges`]). β is one per vertex, the smallest swerve cap of its
-//!   sectors, so that every sector sees the same `f¹`.
+//!   sectors, so that every sector sees the same `f¹`; at a vertex whose every face is a
+//!   sector of its own it is ½, and each curve is then its straight edge, parametrised in
+//!   proportion to length (`f¹ = v + e/4`, `f² = v + e/2`).
 //! * **Inside a sector.** Its edges get `r¹_j = 2β` times the sector's tangents (they solve
 //!   the vertex system, eq. 5, with `Φ(0) = cos θ`, `Ψ(0) = sin θ`, θ the sector's step),
 //!   inner edges Loop's point `f²`, and the twists and `V` come from [`open_fan_cross_data`]
@@ -46,18 +48,25 @@ pub(crate) fn sector_half_edges(
             .map(|j| ring[(sector.first + j) % n])
             .collect()
     };
-    // β is the upper limit: f¹ − f⁰ = β T/2 swerves off no edge of any sector.
-    let beta = sectors.iter().fold(beta, |beta, sector| {
-        let cap = swerve_cap(
-            v,
-            &sector_points(sector),
-            sector.normal,
-            swerve,
-            false,
-            |j| 0.5 * sector.tangents[j],
-        );
-        beta.min(cap)
-    });
+    // β is the upper limit: f¹ − f⁰ = β T/2 swerves off no edge of any sector. Where every
+    // face is a sector of its own, each boundary curve is its straight edge, parametrised in
+    // proportion to length with β = ½, so that faces whose corners are all such vertices can
+    // be flat triangles (`schemes::fold_corners`).
+    let beta = if sectors.iter().all(|sector| sector.faces == 1) {
+        0.5
+    } else {
+        sectors.iter().fold(beta, |beta, sector| {
+            let cap = swerve_cap(
+                v,
+                &sector_points(sector),
+                sector.normal,
+                swerve,
+                false,
+                |j| 0.5 * sector.tangents[j],
+            );
+            beta.min(cap)
+        })
+    };
     for sector in sectors {
         let m = sector.faces;
         let edge = |j: usize| (sector.first + j) % n;

@@ -216,9 +216,12 @@ fn loosen_where_folding(
 /// The warning line for the vertices where β was capped below the parameter `beta` so that no
 /// boundary curve swerves off its edge ([`crate::schemes::vertex_rings::swerve_cap`]): their
 /// count, the first (in the file's numbering) with its β, and the smallest β used. None when
-/// no vertex is capped.
+/// no vertex is capped. A vertex whose every edge is sharp takes β = ½ (`crease.rs`), which is
+/// no cap.
 fn beta_cap_warning(mesh: &Mesh, table: &HalfEdgeTable<LoopHalfEdge>, beta: f64) -> Option<String> {
+    let fully_sharp = crate::schemes::fold_corners::fully_sharp_vertices(mesh);
     let capped: Vec<(u32, f64)> = (0..mesh.vertex_count() as u32)
+        .filter(|&v| !fully_sharp[v as usize] || mesh.sharp_valence(v) == 0)
         .filter_map(|v| {
             let used = table.leaving(v).first()?.beta;
             (used < beta).then_some((v, used))

@@ -166,6 +166,7 @@ impl Construction<'_> {
                  (the faces fold onto each other)",
                 self.mesh.input_vertex(a as u32)
             ),
+            also: Vec::new(),
         };
         let (w1, w2) = g1_solve::end_weights(&net);
         let w1 = w1.ok_or_else(|| fold(start, end))?;
@@ -210,7 +211,8 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
     let nets = (0..mesh.face_count())
         .into_par_iter()
         .map(|f| construction.face_nets(f))
-        .collect::<Result<Vec<_>>>()?;
+        .collect::<Vec<Result<_>>>();
+    let nets = crate::error::collect_in_order(nets)?;
     let patches = nets
         .into_iter()
         .enumerate()
@@ -258,9 +260,11 @@ fn candidates<'a>(mesh: &'a Mesh, params: &Params) -> Result<Construction<'a>> {
                          edge) lies across the edge, so the edge has no tangent direction there",
                     mesh.input_vertex(face[from])
                 ),
+                also: Vec::new(),
             })
         })
-        .collect::<Result<Vec<_>>>()?;
+        .collect::<Vec<Result<_>>>();
+    let cubic_pieces = crate::error::collect_in_order(cubic_pieces)?;
     Ok(Construction {
         mesh,
         cubic_pieces,
