@@ -338,8 +338,8 @@ pub struct Surface {
     /// element; the commands print them as `warning:` lines.
     pub warnings: Vec<String>,
     /// The face pairs `(f, g)`, `f < g`, sorted, across the edges the construction made sharp
-    /// at spikes of the mesh where its smooth surface would fold
-    /// (`Mesh::with_spike_edges`): the surface is G0 across them, and the
+    /// where its smooth surface would fold, at spikes of the mesh and round the faces that
+    /// still folded (`Mesh::with_spike_edges`): the surface is G0 across them, and the
     /// metrics count them with the mesh's own sharp edges. Empty on most meshes.
     pub spike_face_pairs: Vec<(u32, u32)>,
 }

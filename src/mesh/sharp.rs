@@ -146,12 +146,21 @@ pub(super) fn detect(
 /// sectors that meet at the edge there: `t (t · e)` with `t = n0 × n1 / |n0 × n1|` the crease
 /// direction, which lies in both sectors' tangent planes. Where the two normals are parallel
 /// (a dart, whose single sector is on both sides, or a flat sharp edge) it is `e` projected
-/// into the plane of `n0 + n1`. The result is the same for `(n0, n1)` and `(n1, n0)` bit for
+/// into the plane of `n0 + n1`; where both normals are orthogonal to `e` (the faces' own, at
+/// sectors of one face) it is `e`. The result is the same for `(n0, n1)` and `(n1, n0)` bit for
 /// bit, so the faces on both sides of the edge build one curve.
 pub fn crease_tangent(e: DVec3, n0: DVec3, n1: DVec3) -> DVec3 {
     /// Below this `|n0 × n1|` the crease direction is left to rounding; the common plane
     /// is used instead.
     const PARALLEL: f64 = 1e-9;
+    /// Above this `|n · e| / |e|` a unit normal is not orthogonal to the edge.
+    const ACROSS: f64 = 1e-12;
+    // Two faces' own normals (sectors of one face each) are orthogonal to their common edge,
+    // which is then their crease; n0 × n1 would give it only to rounding over |n0 × n1|.
+    let length = e.length();
+    if n0.dot(e).abs() <= ACROSS * length && n1.dot(e).abs() <= ACROSS * length {
+        return e;
+    }
     let cross = n0.cross(n1);
     let length = cross.length();
     if length > PARALLEL {
@@ -241,5 +250,23 @@ mod tests {
         let n = DVec3::new(0.1, 0.2, 1.0).normalize();
         let p = crease_tangent(e, n, n);
         assert!(p.dot(n).abs() < 1e-15 && (p - (e - n * n.dot(e))).length() < 1e-15);
+    }
+
+    /// Two faces' own normals, both orthogonal to their common edge and 1e-7 rad apart: the
+    /// crease is the edge itself, exactly, where `n0 × n1` would turn it by rounding over
+    /// 1e-7 — and across the edge altogether when the normals' difference lies along it.
+    #[test]
+    fn the_crease_of_two_faces_own_normals_is_their_edge() {
+        let e = DVec3::new(0.8, -0.1, 0.05);
+        let side = DVec3::new(0.1, 0.9, 0.2).reject_from(e).normalize();
+        let n0 = e.cross(side).normalize();
+        let n1 = (n0 + 1e-7 * side).normalize();
+        assert!(n0.dot(e).abs() < 1e-15 && n1.dot(e).abs() < 1e-15);
+        assert_eq!(crease_tangent(e, n0, n1), e);
+        assert_eq!(crease_tangent(e, n1, n0), e);
+        // Normals that are not orthogonal to the edge keep the crease of their planes.
+        let tilted = (n0 + 1e-3 * e).normalize();
+        let t = crease_tangent(e, n0, tilted);
+        assert!(t.dot(n0).abs() < 1e-15 && t.dot(tilted).abs() < 1e-15 && t != e);
     }
 }

@@ -144,9 +144,10 @@ pub struct Metrics {
     /// `joints` and in `g0_max_rel`, but left out of every G1, curvature-jump and
     /// continuity-order figure, which measure the smooth joints only.
     pub sharp_joints: usize,
-    /// Of the sharp edges, those the construction made sharp at spikes of the mesh where its
-    /// smooth surface folded ([`Surface::spike_face_pairs`]); their joints are among
-    /// `sharp_joints`. 0 on most meshes.
+    /// Of the sharp edges, those the construction made sharp where its smooth surface folded,
+    /// at spikes of the mesh and round the faces that still folded
+    /// ([`Surface::spike_face_pairs`]); their joints are among `sharp_joints`. 0 on most
+    /// meshes.
     pub spike_edges: usize,
     /// Largest gap between the two sides of a sharp joint, relative to the diagonal (G0
     /// across the creases; `None` without sharp edges).
