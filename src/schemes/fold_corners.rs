@@ -1,22 +1,25 @@
-//! Folds that no rule of a construction settles: the corners of the faces a surface still
-//! folds over become sharp, round by round, until it folds nowhere.
+//! Folds that no rule of a construction settles: the faces a surface still folds over get
+//! sharp edges, round by round, until it folds nowhere.
 //!
 //! The schemes' own rules (front-facing normals and tangent planes, short tangents, the spike
 //! rule of [`super::spikes`]) settle the folds of a clean or a decimated scan. A mesh that is
 //! folded over itself in many places — a coarse marching-cubes reconstruction with fins two
 //! faces thick and rings that wrap round themselves, such as the Stanford dragon's coarsest
 //! published resolution — leaves folds they cannot settle, and a scheme that needs a
-//! front-facing normal refuses such a ring. Here, after them, every vertex of a face over
-//! which the surface still folds (or of a ring the scheme refuses) becomes *fully sharp*:
-//! every edge there is made sharp, so each face around it is a sector of its own whose
-//! tangent plane is the face's plane, and the surface is rebuilt. A face whose three
-//! corners are fully sharp has straight boundary curves along its edges; where its patches
-//! still fold inside that plane (HB00's split of a sliver: its cross-boundary functions `Φ`,
-//! `Ψ` cannot reproduce a flat triangle's constant derivative) it becomes the flat triangle,
-//! which meets its neighbours along the same edges ([`flatten_sharp_faces`]). Each round
-//! makes at least one more vertex fully sharp, and a face whose corners are all fully sharp
-//! folds nowhere, so the rounds end — on a clean mesh after the first check, with nothing
-//! changed.
+//! front-facing normal refuses such a ring. Here, after them ([`fold_rounds`]), the edges of
+//! every face over which the surface still folds become sharp, so that the face is a sector
+//! of its own at each corner; a face that folds again with all its edges sharp has every
+//! edge at its corners made sharp (its corners *fully sharp*: each face around them is a
+//! sector of its own, whose tangent plane is the face's plane), and so do the vertices of a
+//! ring the scheme refuses and the ends of an edge where it fails. A face whose three
+//! corners are fully sharp has straight boundary curves along its edges (a crease between
+//! two faces' own normals is their edge, `mesh::crease_tangent`); where its patches still
+//! fold inside that plane (HB00's split of a sliver: its cross-boundary functions `Φ`, `Ψ`
+//! cannot reproduce a flat triangle's constant derivative) it becomes the flat triangle,
+//! which meets its neighbours along the same edges ([`flatten_sharp_faces`]). Every round
+//! makes at least one more edge sharp, so the rounds end; the surface with the fewest fold
+//! samples is kept. On a mesh where nothing folds they end after the first check, with the
+//! scheme's surface unchanged.
 
 use glam::DVec3;
 use rayon::prelude::*;

@@ -175,9 +175,10 @@ const SPIKE_ROUNDS: usize = 4;
 /// ([`spikes`]), the spike's sharpest edges are made sharp and the surface is rebuilt, with
 /// one warning counting them and naming the sharpest (in the file's numbering). A round of
 /// sharp edges is kept only if the surface then folds less. Where it still folds, or the
-/// scheme still refuses a folded ring or an edge, the corners of those faces, rings and
-/// edges become fully sharp, round by round, until nothing folds ([`fold_corners`], one
-/// more warning); a refusal stands if that does not end in a surface that folds nowhere.
+/// scheme still refuses a folded ring or an edge, the edges of the faces that fold (then
+/// every edge at their corners) and every edge at the refused rings and edges become sharp,
+/// round by round, until nothing folds ([`fold_corners`], one more warning); a refusal
+/// stands if that does not end in a surface that folds nowhere.
 fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> Result<Surface> {
     if spec.sharp_edges != SharpEdgeSupport::Builds {
         return (spec.build)(mesh, params);
