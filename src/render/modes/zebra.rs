@@ -126,119 +126,116 @@ impl ZebraParams {
     /// The angle of the reflected direction about the light tubes, in full turns: the phase
     /// of one stripe per turn, which [`ZebraParams::phase`] multiplies by the stripe count.
     fn turns(&self, n: DVec3, view: DVec3) -> f64 {
-        let reflected = view - 2.0 * view.dot(n) * n;
-        let angle = match self.axis {
-            ZebraAxis::World(axis) => {
-                let (b1, b2) = axis.normalize_or(DVec3::Y).any_orthonormal_pair();
-                reflected.dot(b2).atan2(reflected.dot(b1))
-            }
-            ZebraAxis::View | ZebraAxis::ViewHorizontal => {
-                // Azimuthal equidistant coordinates around −view: the angle from −view times
-                // the direction of the reflected vector's part across the view.
-                let up = (self.view_up - view * self.view_up.dot(view)).normalize_or(DVec3::Y);
-                let right = view.cross(up);
-                let (x, y) = (reflected.dot(right), reflected.dot(up));
-                let across = x.hypot(y);
-                if across <= 0.0 {
-                    return 0.0;
-                }
-                // θ from its sine and cosine: `acos` of the cosine alone loses half the digits
-                // near normal incidence (θ → 0).
-                let theta = across.atan2(-reflected.dot(view));
-                let c = if self.axis == ZebraAxis::View { x } else { y };
-                theta * c / across
-            }
-        };
-        angle / std::f64::consts::TAU
+        self.turns_and_slopes(n, view, None).0
     }
 
     /// The width, in turns, of the interval [`ZebraParams::turns`] sweeps over the footprint
-    /// `f` of the hit `sp`: `|∂τ/∂x| + |∂τ/∂y|`, the quantity
-    /// [`Footprint::phase_width`] estimates by central differences, here from the analytic
-    /// derivative ([`ZebraParams::turns_slopes`]: one evaluation of the angle with its
-    /// derivatives, where the differences take four). The differences are kept for the
-    /// degenerate cases the derivative does not cover (view along the image's up direction,
-    /// reflected direction along a pole).
-    fn turns_width(&self, sp: &ShadingPoint, f: &Footprint) -> f64 {
-        let slopes = self.turns_slopes(sp.facing_normal, sp.view, f.dn, f.dv);
+    /// `f` of a hit at normal `n` seen along `view`, given its `slopes` from
+    /// [`ZebraParams::turns_and_slopes`]: `|∂τ/∂x| + |∂τ/∂y|`, the quantity
+    /// [`Footprint::phase_width`] estimates by central differences (one evaluation of the
+    /// angle with its derivatives, where the differences take four). The differences are
+    /// kept for the degenerate cases the derivative does not cover (view along the image's
+    /// up direction, reflected direction along a pole).
+    fn turns_width(&self, sp: &ShadingPoint, f: &Footprint, slopes: Option<[f64; 2]>) -> f64 {
         match slopes {
             Some([a, b]) if (a.abs() + b.abs()).is_finite() => a.abs() + b.abs(),
             _ => f.phase_width(sp, |_, n, v| self.turns(n, v)),
         }
     }
 
-    /// The derivatives of [`ZebraParams::turns`] at unit normal `n` and unit view `v` along
-    /// the two footprint directions, where the normal moves by `dn[k]` and the view by
-    /// `dv[k]` (both then renormalised, as [`Footprint::phase_width`] does): forward-mode
-    /// differentiation of the same formula. None where it is singular.
+    /// [`ZebraParams::turns`] at unit normal `n` and unit view `v`, and, for a footprint whose
+    /// two directions move the normal by `dn[k]` and the view by `dv[k]` (both then
+    /// renormalised, as [`Footprint::phase_width`] does), its derivatives along them:
+    /// forward-mode differentiation of the same formula, sharing its reflection, frame and
+    /// angle. The derivatives are None where they are singular.
     ///
-    /// View axes: with `c = −r·v` (`r` the reflected direction), `θ` its angle and the
-    /// across-view part `(x, y)` of `r`, `|(x, y)| = sin θ = √(1 − c²)`, so the angle is
-    /// `g(c) · x` (or `· y`) with `g(c) = acos c / √(1 − c²)` and
-    /// `g′(c) = (c g − 1) / (1 − c²)`, which tends to `−1/3 − 4(1 − c)/15` as the reflected
-    /// direction comes back along the ray (`c → 1`, normal incidence), where the series is
-    /// used. World axis: the derivative of `atan2(r·b₂, r·b₁)`.
-    fn turns_slopes(&self, n: DVec3, v: DVec3, dn: [DVec3; 2], dv: [DVec3; 2]) -> Option<[f64; 2]> {
+    /// View axes: azimuthal equidistant coordinates around −view, the angle `θ` of the
+    /// reflected direction `r` from −view times the direction of its part `(x, y)` across the
+    /// view. With `c = −r·v`, `|(x, y)| = sin θ = √(1 − c²)`, so the angle is `g(c) · x` (or
+    /// `· y`) with `g(c) = acos c / √(1 − c²)` and `g′(c) = (c g − 1) / (1 − c²)`, which tends
+    /// to `−1/3 − 4(1 − c)/15` as the reflected direction comes back along the ray (`c → 1`,
+    /// normal incidence), where the series is used. World axis: `atan2(r·b₂, r·b₁)` and its
+    /// derivative.
+    fn turns_and_slopes(
+        &self,
+        n: DVec3,
+        v: DVec3,
+        moves: Option<([DVec3; 2], [DVec3; 2])>,
+    ) -> (f64, Option<[f64; 2]>) {
         let k = v.dot(n);
         let r = v - 2.0 * k * n;
         // The moves of the unit normal and view: the parts of `dn`, `dv` across them.
-        let moves = [0, 1].map(|i| (dn[i] - n * n.dot(dn[i]), dv[i] - v * v.dot(dv[i])));
+        let moves = moves
+            .map(|(dn, dv)| [0, 1].map(|i| (dn[i] - n * n.dot(dn[i]), dv[i] - v * v.dot(dv[i]))));
         let reflected_move =
             |(n1, v1): (DVec3, DVec3)| v1 - 2.0 * ((v1.dot(n) + v.dot(n1)) * n + k * n1);
-        let slopes = match self.axis {
+        let (angle, slopes) = match self.axis {
             ZebraAxis::World(axis) => {
                 let (b1, b2) = axis.normalize_or(DVec3::Y).any_orthonormal_pair();
                 let (a, b) = (r.dot(b1), r.dot(b2));
                 let norm = a * a + b * b;
-                if norm.is_nan() || norm <= 0.0 {
-                    return None;
-                }
-                moves.map(|m| {
-                    let r1 = reflected_move(m);
-                    (a * r1.dot(b2) - b * r1.dot(b1)) / norm
-                })
+                let slopes = moves.filter(|_| !norm.is_nan() && norm > 0.0).map(|moves| {
+                    moves.map(|m| {
+                        let r1 = reflected_move(m);
+                        (a * r1.dot(b2) - b * r1.dot(b1)) / norm
+                    })
+                });
+                (b.atan2(a), slopes)
             }
             ZebraAxis::View | ZebraAxis::ViewHorizontal => {
                 let w = self.view_up - v * self.view_up.dot(v);
-                let length = w.length();
-                if length.is_nan() || length <= 0.0 {
-                    return None;
-                }
-                let up = w / length;
+                let up = w.normalize_or(DVec3::Y);
                 let right = v.cross(up);
-                let c = (-r.dot(v)).clamp(-1.0, 1.0);
                 let (x, y) = (r.dot(right), r.dot(up));
                 let across = x.hypot(y);
-                if across.is_nan() || across <= 0.0 {
-                    return None;
-                }
-                // θ / sin θ, with θ from both its sine and cosine: `acos` alone loses half
-                // the digits as the reflected direction comes back along the ray.
-                let g = across.atan2(c) / across;
-                let e = 1.0 - c;
-                let g1 = if e < 1e-6 {
-                    -1.0 / 3.0 - 4.0 / 15.0 * e
-                } else {
-                    (c * g - 1.0) / (across * across)
-                };
+                // θ from its sine and cosine: `acos` of the cosine alone loses half the digits
+                // near normal incidence (θ → 0).
+                let cosine = -r.dot(v);
+                let theta = across.atan2(cosine);
                 let horizontal = self.axis == ZebraAxis::ViewHorizontal;
                 let sel = if horizontal { y } else { x };
-                moves.map(|(n1, v1)| {
-                    let r1 = reflected_move((n1, v1));
-                    let w1 = -(v1 * self.view_up.dot(v) + v * self.view_up.dot(v1));
-                    let up1 = (w1 - up * up.dot(w1)) / length;
-                    let right1 = v1.cross(up) + v.cross(up1);
-                    let c1 = -(r1.dot(v) + r.dot(v1));
-                    let sel1 = if horizontal {
-                        r1.dot(up) + r.dot(up1)
-                    } else {
-                        r1.dot(right) + r.dot(right1)
-                    };
-                    g1 * c1 * sel + g * sel1
-                })
+                let length = w.length();
+                let c = cosine.clamp(-1.0, 1.0);
+                // θ / sin θ, 1 at normal incidence (none where r runs along +v).
+                let g = if across > 0.0 {
+                    Some(if c == cosine { theta } else { across.atan2(c) } / across)
+                } else {
+                    (c > 0.0).then_some(1.0)
+                };
+                let slopes = moves
+                    .zip(g)
+                    .filter(|_| !length.is_nan() && length > 0.0)
+                    .map(|(moves, g)| {
+                        let e = 1.0 - c;
+                        let g1 = if e < 1e-6 {
+                            -1.0 / 3.0 - 4.0 / 15.0 * e
+                        } else {
+                            (c * g - 1.0) / (across * across)
+                        };
+                        moves.map(|(n1, v1)| {
+                            let r1 = reflected_move((n1, v1));
+                            let w1 = -(v1 * self.view_up.dot(v) + v * self.view_up.dot(v1));
+                            let up1 = (w1 - up * up.dot(w1)) / length;
+                            let right1 = v1.cross(up) + v.cross(up1);
+                            let c1 = -(r1.dot(v) + r.dot(v1));
+                            let sel1 = if horizontal {
+                                r1.dot(up) + r.dot(up1)
+                            } else {
+                                r1.dot(right) + r.dot(right1)
+                            };
+                            g1 * c1 * sel + g * sel1
+                        })
+                    });
+                let angle = if across > 0.0 {
+                    theta * sel / across
+                } else {
+                    0.0
+                };
+                (angle, slopes)
             }
         };
-        Some(slopes.map(|s| s / std::f64::consts::TAU))
+        let tau = std::f64::consts::TAU;
+        (angle / tau, slopes.map(|s| s.map(|s| s / tau)))
     }
 
     /// Bright or dark stripe at the hit, box-filtered over `footprint` when given. The filter
@@ -246,10 +243,13 @@ impl ZebraParams {
     /// and differences of the turns stay resolved for any count (differences of the phase
     /// itself lose every digit once the count is large).
     pub fn shade(&self, sp: &ShadingPoint, footprint: Option<&Footprint>) -> DVec3 {
-        let phase = self.phase(sp.facing_normal, sp.view);
-        let width = match footprint {
-            Some(f) if self.filter => self.stripes.abs() * self.turns_width(sp, f),
-            _ => 0.0,
+        let filtered = footprint.filter(|_| self.filter);
+        let (turns, slopes) =
+            self.turns_and_slopes(sp.facing_normal, sp.view, filtered.map(|f| (f.dn, f.dv)));
+        let phase = self.stripes * turns - self.shift;
+        let width = match filtered {
+            Some(f) => self.stripes.abs() * self.turns_width(sp, f, slopes),
+            None => 0.0,
         };
         let bright = filtered_square_wave(phase, width, self.duty);
         let colour = self.dark.lerp(self.bright, bright);
@@ -674,7 +674,7 @@ mod tests {
             if 1.0 + (v - 2.0 * v.dot(n) * n).dot(v) < 1e-6 {
                 series += 1;
             }
-            let Some(slopes) = params.turns_slopes(n, v, dn, dv) else {
+            let Some(slopes) = params.turns_and_slopes(n, v, Some((dn, dv))).1 else {
                 panic!("no slopes at n {n}, v {v}");
             };
             for k in 0..2 {
