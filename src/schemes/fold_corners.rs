@@ -312,16 +312,17 @@ fn flat_piece(mesh: &Mesh, patch: &Patch) -> Patch {
     }
 }
 
-/// The warning for the `edges` edges a scheme made sharp round the corners of the faces
-/// `folded` of `sharpened` (sorted; the first named in the file's numbering).
+/// The warning for the `edges` edges a scheme made sharp at the faces `folded` of
+/// `sharpened` (their edges, then their corners'; sorted, the first named in the file's
+/// numbering).
 pub(super) fn warning(scheme: &str, sharpened: &Mesh, edges: usize, folded: &[u32]) -> String {
     let first = match folded.first() {
         Some(&f) => format!("first: face {}", sharpened.input_face(f)),
         None => "at rings or edges the scheme refused".to_string(),
     };
     format!(
-        "{scheme}: made {edges} edges sharp round the corners of {} faces over which the \
-         surface folded ({first}), where no smooth surface follows the mesh: the surface is G0 \
+        "{scheme}: made {edges} edges sharp at {} faces over which the surface folded \
+         ({first}), where no smooth surface follows the mesh: the surface is G0 \
          across them and the metrics count them as sharp joints; repair the mesh there, or \
          choose sharp edges with --crease-angle",
         folded.len(),
