@@ -11,7 +11,8 @@
 //! of its own at each corner; a face that folds again with all its edges sharp has every
 //! edge at its corners made sharp (its corners *fully sharp*: each face around them is a
 //! sector of its own, whose tangent plane is the face's plane), and so do the vertices of a
-//! ring the scheme refuses and the ends of an edge where it fails. A face whose three
+//! ring the scheme refuses and the ends of an edge where it fails; a vertex a round would
+//! leave with exactly two sharp edges gets a third ([`with_third_edges`]). A face whose three
 //! corners are fully sharp has straight boundary curves along its edges (a crease between
 //! two faces' own normals is their edge, `mesh::crease_tangent`); where its patches still
 //! fold inside that plane (HB00's split of a sliver: its cross-boundary functions `Φ`, `Ψ`
@@ -115,6 +116,37 @@ pub(super) fn fold_rounds(
     best
 }
 
+/// `edges` and, at every interior vertex they would leave with exactly two sharp edges, a
+/// third: the ring edge halfway round the wider of its two sectors. Two sharp edges at a
+/// vertex take one crease line through it, whose tangents are half a turn apart however
+/// narrow the face between them; with three, each sector takes the plane of its end edges
+/// (`Mesh::corner_normals`), and the crease of two such sectors is their common edge.
+fn with_third_edges(mesh: &Mesh, mut edges: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
+    if edges.is_empty() {
+        return edges;
+    }
+    let after = mesh.with_spike_edges(&edges);
+    let mut ends: Vec<u32> = edges.iter().flat_map(|&(a, b)| [a, b]).collect();
+    ends.sort_unstable();
+    ends.dedup();
+    for v in ends {
+        if after.is_boundary_vertex(v) || after.sharp_valence(v) != 2 {
+            continue;
+        }
+        let cuts: Vec<usize> = after.sharp_cuts(v).collect();
+        let n = after.one_ring(v).len();
+        let (a, b) = (cuts[0], cuts[1]);
+        let (start, gap) = if b - a >= n - (b - a) { (a, b - a) } else { (b, n - (b - a)) };
+        if gap >= 2 {
+            let w = after.one_ring(v)[(start + gap / 2) % n];
+            edges.push((v.min(w), v.max(w)));
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    edges
+}
+
 /// For the surface (or error) `built` on `mesh`: the edges the next round makes sharp, its
 /// fold samples (`usize::MAX` for an error or an unusable surface) and the faces it folds
 /// over.
@@ -125,19 +157,19 @@ fn next_round(mesh: &Mesh, built: &Result<Surface>) -> (Vec<(u32, u32)>, usize, 
         }
         Ok(surface) => {
             let (faces, samples) = folding_faces(mesh, surface);
-            (edges_for_folds(mesh, &faces), samples, faces)
+            (with_third_edges(mesh, edges_for_folds(mesh, &faces)), samples, faces)
         }
         Err(Error::FoldedVertex { vertex, .. }) => {
             let mut rings = folded_rings(mesh);
             rings.push(*vertex as u32);
-            (edges_around(mesh, &rings), usize::MAX, Vec::new())
+            (with_third_edges(mesh, edges_around(mesh, &rings)), usize::MAX, Vec::new())
         }
         Err(Error::DegenerateEdge { a, b, also, .. }) => {
             let ends: Vec<u32> = std::iter::once((*a, *b))
                 .chain(also.iter().copied())
                 .flat_map(|(a, b)| [a as u32, b as u32])
                 .collect();
-            (edges_around(mesh, &ends), usize::MAX, Vec::new())
+            (with_third_edges(mesh, edges_around(mesh, &ends)), usize::MAX, Vec::new())
         }
         Err(_) => (Vec::new(), usize::MAX, Vec::new()),
     }
