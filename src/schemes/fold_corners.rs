@@ -136,7 +136,11 @@ fn with_third_edges(mesh: &Mesh, mut edges: Vec<(u32, u32)>) -> Vec<(u32, u32)> 
         let cuts: Vec<usize> = after.sharp_cuts(v).collect();
         let n = after.one_ring(v).len();
         let (a, b) = (cuts[0], cuts[1]);
-        let (start, gap) = if b - a >= n - (b - a) { (a, b - a) } else { (b, n - (b - a)) };
+        let (start, gap) = if b - a >= n - (b - a) {
+            (a, b - a)
+        } else {
+            (b, n - (b - a))
+        };
         if gap >= 2 {
             let w = after.one_ring(v)[(start + gap / 2) % n];
             edges.push((v.min(w), v.max(w)));
@@ -151,28 +155,29 @@ fn with_third_edges(mesh: &Mesh, mut edges: Vec<(u32, u32)>) -> Vec<(u32, u32)> 
 /// fold samples (`usize::MAX` for an error or an unusable surface) and the faces it folds
 /// over.
 fn next_round(mesh: &Mesh, built: &Result<Surface>) -> (Vec<(u32, u32)>, usize, Vec<u32>) {
-    match built {
+    let (edges, samples, faces) = match built {
         Ok(surface) if super::check_surface(surface, mesh, &[]).is_err() => {
             (Vec::new(), usize::MAX, Vec::new())
         }
         Ok(surface) => {
             let (faces, samples) = folding_faces(mesh, surface);
-            (with_third_edges(mesh, edges_for_folds(mesh, &faces)), samples, faces)
+            (edges_for_folds(mesh, &faces), samples, faces)
         }
         Err(Error::FoldedVertex { vertex, .. }) => {
             let mut rings = folded_rings(mesh);
             rings.push(*vertex as u32);
-            (with_third_edges(mesh, edges_around(mesh, &rings)), usize::MAX, Vec::new())
+            (edges_around(mesh, &rings), usize::MAX, Vec::new())
         }
         Err(Error::DegenerateEdge { a, b, also, .. }) => {
             let ends: Vec<u32> = std::iter::once((*a, *b))
                 .chain(also.iter().copied())
                 .flat_map(|(a, b)| [a as u32, b as u32])
                 .collect();
-            (with_third_edges(mesh, edges_around(mesh, &ends)), usize::MAX, Vec::new())
+            (edges_around(mesh, &ends), usize::MAX, Vec::new())
         }
         Err(_) => (Vec::new(), usize::MAX, Vec::new()),
-    }
+    };
+    (with_third_edges(mesh, edges), samples, faces)
 }
 
 /// The faces over which a patch of `surface` folds (`Patch::fold_samples`), sorted, each
