@@ -634,7 +634,7 @@ const MIN_STEP_SINE: f64 = 1e-3;
 /// `B = L N × d` (`d` the unit of `A`), or fitted to the inner chords through a crease. A
 /// sector of one face has no inner edge; its step is the face's angle at `v` (as at a corner
 /// of an open mesh, [`fan_angle_step`]), and its end tangents are its edges' own, so that a
-/// face whose three edges are sharp is the flat triangle.
+/// face whose corners have every edge sharp has its straight edges as boundary curves.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Sector {
     /// Fan position of the first edge.
