@@ -148,7 +148,7 @@ fn cell(x: Option<f64>) -> String {
 /// The metrics table's columns with the width of their values (the header may be wider;
 /// the scheme column is as wide as the longest registered name). Fixed widths let the table
 /// be printed row by row as schemes are measured.
-const TABLE_COLUMNS: [(&str, usize); 19] = [
+const TABLE_COLUMNS: [(&str, usize); 20] = [
     ("scheme", 0),
     ("faces", 7),
     ("patches", 7),
@@ -159,6 +159,7 @@ const TABLE_COLUMNS: [(&str, usize); 19] = [
     ("G1_mean", 8),
     ("G1_between", 8),
     ("G1_inside", 8),
+    ("G1>round", 8),
     ("curv_jump", 8),
     ("regularity", 8),
     ("undulation", 8),
@@ -299,6 +300,7 @@ pub(crate) fn metrics_table_row(m: &Metrics) -> String {
         cell(m.g1_mean_rad),
         cell(m.g1_between_faces_max_rad),
         cell(m.g1_inside_faces_max_rad),
+        cell(m.g1_beyond_rounding_max_rad),
         cell(m.curvature_jump_max_rel),
         cell(m.min_regularity_rel),
         format!("{:.2e}", m.network_undulation_max_rad),
@@ -721,6 +723,7 @@ mod tests {
             g1_max_rad: Some(0.25),
             g1_mean_rad: Some(0.1),
             g1_between_faces_max_rad: Some(0.25),
+            g1_beyond_rounding_max_rad: Some(0.25),
             g1_inside_faces_max_rad: None,
             curvature_jump_max_rel: Some(1.0),
             gaussian_jump_max_rel: Some(1.0),

@@ -87,6 +87,11 @@ pub struct Metrics {
     pub g1_between_faces_max_rad: Option<f64>,
     /// Largest normal-angle jump over joints inside one mesh face (rad).
     pub g1_inside_faces_max_rad: Option<f64>,
+    /// Largest normal-angle jump over the joint samples where rounding does not account for
+    /// it (rad): samples whose angle is within the rounding of the f64 nets and their
+    /// evaluation ([`joints::normal_rounding`], large only near a singular point of the
+    /// parametrisation) count 0. What a G1 scheme must keep ≤ 1e-9 rad.
+    pub g1_beyond_rounding_max_rad: Option<f64>,
     /// Largest relative jump of Gaussian or mean curvature over all joints
     /// (see [`CurvatureFloor`] for the floor of the relative measure).
     pub curvature_jump_max_rel: Option<f64>,
@@ -299,6 +304,7 @@ impl Metrics {
                 .then(|| sums.angle_sum / sums.regular_samples as f64),
             g1_between_faces_max_rad: sums.angle_between,
             g1_inside_faces_max_rad: sums.angle_inside,
+            g1_beyond_rounding_max_rad: sums.angle_beyond_rounding,
             curvature_jump_max_rel: max_of(sums.gaussian_jump, sums.mean_jump),
             gaussian_jump_max_rel: sums.gaussian_jump,
             mean_jump_max_rel: sums.mean_jump,
@@ -356,7 +362,7 @@ fn diagonal(positions: &[DVec3]) -> f64 {
 
 impl Metrics {
     /// Every real-valued figure with its JSON key.
-    fn figures(&self) -> [(&'static str, Option<f64>); 18] {
+    fn figures(&self) -> [(&'static str, Option<f64>); 19] {
         [
             ("construct_ms", Some(self.construct_ms)),
             ("interp_max_rel", self.interp_max_rel),
@@ -365,6 +371,10 @@ impl Metrics {
             ("g1_mean_rad", self.g1_mean_rad),
             ("g1_between_faces_max_rad", self.g1_between_faces_max_rad),
             ("g1_inside_faces_max_rad", self.g1_inside_faces_max_rad),
+            (
+                "g1_beyond_rounding_max_rad",
+                self.g1_beyond_rounding_max_rad,
+            ),
             ("curvature_jump_max_rel", self.curvature_jump_max_rel),
             ("gaussian_jump_max_rel", self.gaussian_jump_max_rel),
             ("mean_jump_max_rel", self.mean_jump_max_rel),
@@ -435,6 +445,7 @@ struct JointSums {
     gap_max: Option<f64>,
     angle_between: Option<f64>,
     angle_inside: Option<f64>,
+    angle_beyond_rounding: Option<f64>,
     angle_sum: f64,
     regular_samples: usize,
     singular_samples: usize,
@@ -457,6 +468,10 @@ impl JointSums {
                 &mut sums.angle_inside
             };
             *slot = max_of(*slot, Some(j.angle_max));
+            sums.angle_beyond_rounding = max_of(
+                sums.angle_beyond_rounding,
+                Some(j.angle_beyond_rounding_max),
+            );
             sums.angle_sum += j.angle_sum;
             sums.regular_samples += j.regular_samples;
             sums.gaussian_jump = max_of(sums.gaussian_jump, Some(j.gaussian_jump_max));
@@ -551,6 +566,41 @@ mod tests {
         assert_eq!(m.params.get("p").map(String::as_str), Some("1"));
     }
 
+    /// The pieces of one polynomial mapped by an affine map that squeezes them towards a
+    /// line far from the origin: still one polynomial, so exactly G1, but `Su` and `Sv` are
+    /// nearly parallel (their sine ~1e-7) and the points' rounding turns the computed normals
+    /// by ~1e-8 rad. `G1_max` shows that; the figure beyond rounding is 0. A real kink of the
+    /// same squeezed surface is counted in full.
+    #[test]
+    fn rounding_near_a_singular_parametrisation_is_told_from_a_kink() {
+        let squeeze = |p: DVec3| {
+            DVec3::new(0.6, -0.4, 0.8) + DVec3::new(p.x + p.y + p.z, 1e-7 * p.y, 1e-7 * p.z)
+        };
+        let measure = |kink: f64| {
+            let (mut s, faces, positions) = pieces_of_one_polynomial();
+            let PatchGeometry::Bezier(net) = &mut s.patches[2].geometry else {
+                unreachable!("Bézier pieces")
+            };
+            // An inner point of the one-piece face, next to its joint with face 0.
+            let p = net.point(1, 1);
+            net.set_point(1, 1, p + kink * DVec3::Z);
+            let squeezed = Surface {
+                patches: s.patches.iter().map(|p| p.mapped(squeeze)).collect(),
+                ..s
+            };
+            let positions: Vec<DVec3> = positions.into_iter().map(squeeze).collect();
+            Metrics::measure_faces(&squeezed, &faces, &positions, 0.0)
+        };
+        let smooth = measure(0.0);
+        let raw = smooth.g1_max_rad.expect("joints");
+        assert!(raw > 1e-9, "rounding shows in the raw figure: {raw:e}");
+        assert_eq!(smooth.g1_beyond_rounding_max_rad, Some(0.0), "{smooth:?}");
+        let kinked = measure(1e-5);
+        let kink = kinked.g1_between_faces_max_rad.expect("joints");
+        assert!(kink > 100.0 * raw, "{kink:e} vs {raw:e}");
+        assert_eq!(kinked.g1_beyond_rounding_max_rad, Some(kink), "{kinked:?}");
+    }
+
     fn linear(points: [DVec3; 3]) -> TriangleBezier {
         TriangleBezier::new(1, points.to_vec())
     }
@@ -589,6 +639,10 @@ mod tests {
         assert!((between - theta).abs() <= 1e-15, "{between}");
         assert!((m.g1_mean_rad.expect("samples") - theta).abs() <= 1e-15);
         assert_eq!(m.g1_max_rad, m.g1_between_faces_max_rad);
+        assert_eq!(
+            m.g1_beyond_rounding_max_rad, m.g1_max_rad,
+            "a kink is no rounding"
+        );
         assert_eq!(m.g1_inside_faces_max_rad, None, "no joint inside a face");
         assert!(m.g0_max_rel.expect("joint") <= 1e-16);
         assert_eq!(m.interp_max_rel, Some(0.0));

@@ -41,6 +41,7 @@ const QUALITY: &[(&str, Better, f64)] = &[
     ("g1_max_rad", Better::Lower, NORMAL_RAD),
     ("g1_between_faces_max_rad", Better::Lower, NORMAL_RAD),
     ("g1_inside_faces_max_rad", Better::Lower, NORMAL_RAD),
+    ("g1_beyond_rounding_max_rad", Better::Lower, NORMAL_RAD),
     ("curvature_jump_max_rel", Better::Lower, CURVATURE_REL),
     ("continuity_order", Better::Higher, 0.0),
     ("min_regularity_rel", Better::Higher, 0.0),
