@@ -116,6 +116,99 @@ pub(super) fn fold_rounds(
     best
 }
 
+/// Rounds of [`prune_rounds`] at most; each gives back at least one edge it had taken away.
+const PRUNE_ROUNDS: usize = 8;
+
+/// The interior edges that are sharp in `mesh` (vertex pairs, smaller first, sorted, each
+/// once), with the faces on their two sides.
+fn sharp_edges_with_faces(mesh: &Mesh) -> Vec<((u32, u32), [u32; 2])> {
+    let mut edges = Vec::new();
+    for f in 0..mesh.face_count() as u32 {
+        let face = mesh.faces()[f as usize];
+        for e in 0..3 {
+            if let Some((g, _)) = mesh.neighbor(f, e)
+                && mesh.is_sharp(f, e)
+            {
+                let (a, b) = (face[e], face[(e + 1) % 3]);
+                edges.push(((a.min(b), a.max(b)), [f.min(g), f.max(g)]));
+            }
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup_by_key(|(pair, _)| *pair);
+    edges
+}
+
+/// Gives back the edges the rounds made sharp that the final surface does not need:
+/// the rounds pass through surfaces that fold more than the one they end in (a round makes
+/// every edge at the corners of a face that folds again sharp, and a third edge where a vertex
+/// would keep two), so some of their edges lie between faces the surface never folded over.
+/// Those are taken away together from `rounds.mesh` (the other edges stay, on `base`, the mesh
+/// before the rounds); where the surface built then folds, or the scheme refuses, the edges
+/// taken away at the faces that fold, at their corners and at the refused vertices and edges
+/// ([`next_round`]) are given back, and it is built again. Ends in a surface with 0 fold
+/// samples, or returns `rounds` unchanged (no round gives anything back, or the rounds did
+/// not end with 0 fold samples).
+pub(super) fn prune_rounds(
+    base: &Mesh,
+    rounds: Rounds,
+    mut build: impl FnMut(&Mesh) -> Result<Surface>,
+) -> Rounds {
+    if rounds.samples != 0 || rounds.edges == 0 {
+        return rounds;
+    }
+    let before: Vec<(u32, u32)> = sharp_edges_with_faces(base)
+        .into_iter()
+        .map(|(pair, _)| pair)
+        .collect();
+    let mut keep: Vec<(u32, u32)> = Vec::new();
+    let mut away: Vec<(u32, u32)> = Vec::new();
+    for (pair, faces) in sharp_edges_with_faces(&rounds.mesh) {
+        if before.binary_search(&pair).is_ok() {
+            continue;
+        }
+        if faces.iter().any(|f| rounds.folded.binary_search(f).is_ok()) {
+            keep.push(pair);
+        } else {
+            away.push(pair);
+        }
+    }
+    for _ in 0..PRUNE_ROUNDS {
+        if away.is_empty() {
+            break;
+        }
+        let mesh = base.with_spike_edges(&keep);
+        let built = build(&mesh);
+        let (next, samples, faces) = next_round(&mesh, &built);
+        if samples == 0 {
+            return Rounds {
+                mesh,
+                built,
+                samples,
+                edges: keep.len(),
+                folded: rounds.folded,
+            };
+        }
+        let corners: Vec<u32> = faces
+            .iter()
+            .flat_map(|&f| mesh.faces()[f as usize])
+            .collect();
+        let mut wanted = edges_around(&mesh, &corners);
+        wanted.extend(next);
+        wanted.sort_unstable();
+        let (back, still): (Vec<_>, Vec<_>) = away
+            .into_iter()
+            .partition(|pair| wanted.binary_search(pair).is_ok());
+        if back.is_empty() {
+            break;
+        }
+        keep.extend(back);
+        keep.sort_unstable();
+        away = still;
+    }
+    rounds
+}
+
 /// `edges` and, at every interior vertex they would leave with exactly two sharp edges, a
 /// third: the ring edge halfway round the wider of its two sectors. Two sharp edges at a
 /// vertex take one crease line through it, whose tangents are half a turn apart however
@@ -425,6 +518,54 @@ mod tests {
     /// 169 and 192 samples) and loop94 on the irregular bunny (8). With the faces that fold
     /// made sectors of their own, and their corners fully sharp where that is not enough,
     /// nothing folds, and the surface keeps its continuity over every other joint.
+    /// The rounds' edges between faces that never folded are taken away where the surface
+    /// then still folds nowhere: the pruned mesh keeps 0 fold samples with fewer sharp edges,
+    /// every one of them among the rounds' own.
+    #[test]
+    fn edges_the_final_surface_does_not_need_are_given_back() {
+        let spec_of = |scheme: &str| find(scheme).expect("registered");
+        let mut pruned_any = false;
+        for (name, scheme) in [
+            ("sliver-sphere", "hb"),
+            ("sliver-sphere", "loop94"),
+            ("sliver-sphere", "fang-mann"),
+            ("bunny-irregular", "loop94"),
+        ] {
+            let mesh = match name {
+                "sliver-sphere" => hostile(name),
+                _ => testing::scene(name),
+            };
+            let spec = spec_of(scheme);
+            let params = Params::resolve(spec, &[]).expect("defaults");
+            let build_on = |mesh: &Mesh| {
+                (spec.build)(mesh, &params).map(|mut surface| {
+                    flatten_sharp_faces(mesh, &mut surface);
+                    surface
+                })
+            };
+            let rounds = fold_rounds(mesh.clone(), build_on(&mesh), build_on);
+            assert_eq!(rounds.samples, 0, "{name} {scheme}");
+            let rounds_edges = sharp_edges_with_faces(&rounds.mesh);
+            let pruned = prune_rounds(&mesh, rounds, build_on);
+            assert_eq!(pruned.samples, 0, "{name} {scheme}");
+            let surface = pruned.built.as_ref().expect("builds");
+            assert_eq!(folding_faces(&pruned.mesh, surface).1, 0, "{name} {scheme}");
+            let kept = sharp_edges_with_faces(&pruned.mesh);
+            assert!(
+                kept.iter().all(|e| rounds_edges.contains(e)),
+                "{name} {scheme}"
+            );
+            assert!(kept.len() <= rounds_edges.len(), "{name} {scheme}");
+            pruned_any |= kept.len() < rounds_edges.len();
+            println!(
+                "{name} {scheme}: {} -> {} sharp edges",
+                rounds_edges.len(),
+                kept.len()
+            );
+        }
+        assert!(pruned_any, "some round's edge is given back");
+    }
+
     #[test]
     fn faces_that_still_fold_get_sharp_edges_until_none_does() {
         let cases = [

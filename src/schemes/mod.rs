@@ -230,6 +230,7 @@ fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> R
         added.extend(edges);
     }
     let rounds = fold_corners::fold_rounds(sharpened.clone(), built, build_on);
+    let rounds = fold_corners::prune_rounds(&sharpened, rounds, build_on);
     if let Some(refusal) = refusal
         && rounds.samples > 0
     {
