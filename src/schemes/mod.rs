@@ -181,7 +181,20 @@ const SPIKE_ROUNDS: usize = 4;
 /// stands if that does not end in a surface that folds nowhere.
 fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> Result<Surface> {
     if spec.sharp_edges != SharpEdgeSupport::Builds {
-        return (spec.build)(mesh, params);
+        let mut surface = (spec.build)(mesh, params)?;
+        let (faces, samples) = fold_corners::folding_faces(mesh, &surface);
+        if let Some(&first) = faces.first() {
+            surface.warnings.push(format!(
+                "{}: the surface turns more than 90° away from the normals of {} faces \
+                 ({samples} samples; first: face {}), where it does not follow the mesh closely \
+                 (an approximating surface over thin parts or small steep faces); it has no \
+                 sharp edges to make there, and the metrics count the samples in `folds`",
+                spec.name,
+                faces.len(),
+                mesh.input_face(first)
+            ));
+        }
+        return Ok(surface);
     }
     // Every build flattens the faces whose corners are all fully sharp where they fold.
     let build_on = |mesh: &Mesh| {
@@ -559,6 +572,56 @@ mod tests {
         let (mesh, _) = Mesh::from_triangles(positions, faces).expect("loads");
         assert_eq!((mesh.vertex_count(), mesh.input_vertex(0)), (6, 1));
         mesh
+    }
+
+    /// A thin, twisted tube with three vertices round it and pointed ends (an insect's leg
+    /// in a scan): `segments` rings of radius 0.03 along a length of 1, each turned by 0.4 rad
+    /// against the last.
+    fn thin_twisted_tube(segments: u32) -> Mesh {
+        let ring = |i: u32, k: u32| 1 + 3 * i + k % 3;
+        let mut positions = vec![DVec3::new(0.0, 0.0, -0.05)];
+        for i in 0..=segments {
+            let z = f64::from(i) / f64::from(segments);
+            for k in 0..3 {
+                let a = std::f64::consts::TAU * f64::from(k) / 3.0 + 0.4 * f64::from(i % 2);
+                positions.push(DVec3::new(0.03 * a.cos(), 0.03 * a.sin(), z));
+            }
+        }
+        positions.push(DVec3::new(0.0, 0.0, 1.05));
+        let tip = positions.len() as u32 - 1;
+        let mut faces = Vec::new();
+        for k in 0..3 {
+            faces.push([0, ring(0, k + 1), ring(0, k)]);
+            faces.push([tip, ring(segments, k), ring(segments, k + 1)]);
+            for i in 0..segments {
+                let (a, b) = (ring(i, k), ring(i, k + 1));
+                let (c, d) = (ring(i + 1, k), ring(i + 1, k + 1));
+                faces.extend([[a, b, d], [a, d, c]]);
+            }
+        }
+        Mesh::from_triangles(positions, faces).expect("loads").0
+    }
+
+    /// gk approximates: over a thin twisted tube its surface turns more than 90° away from a
+    /// few faces' normals. It has no sharp edges to make, so it says so, counting what the
+    /// metrics count in `folds`.
+    #[test]
+    fn gk_says_where_its_surface_turns_away_from_the_faces() {
+        let mesh = thin_twisted_tube(6);
+        let surface = super::build("gk", &mesh, &[]).expect("gk builds a closed tube");
+        let m = crate::metrics::Metrics::measure(&surface, &mesh, 0.0);
+        assert!(m.folds > 0, "{m:?}");
+        let warned: Vec<&String> = surface
+            .warnings
+            .iter()
+            .filter(|w| w.contains("turns more than 90° away from the normals of"))
+            .collect();
+        assert_eq!(warned.len(), 1, "{:?}", surface.warnings);
+        assert!(
+            warned[0].contains(&format!("({} samples; first: face ", m.folds)),
+            "{}",
+            warned[0]
+        );
     }
 
     /// pn keeps its normal there and warns; every scheme that keeps sharp edges makes the
