@@ -161,15 +161,11 @@ impl Cone {
         mask
     }
 
-    /// A lower bound on the distance from the cone's origin to the leaf's oriented box.
-    fn distance_to_leaf(&self, leaf: &Leaf) -> f64 {
+    /// A lower bound on the distance from the cone's origin to the leaf's oriented box, whose
+    /// frame holds the origin at `local` ([`Leaf::box_coordinates`]).
+    fn distance_to_leaf(&self, leaf: &Leaf, local: DVec3) -> f64 {
         let (lo, hi) = (leaf.lo.as_dvec3(), leaf.hi.as_dvec3());
         let q = self.origin - leaf.corners[0].as_dvec3();
-        let local = DVec3::new(
-            leaf.axes[0].as_dvec3().dot(q),
-            leaf.axes[1].as_dvec3().dot(q),
-            leaf.axes[2].as_dvec3().dot(q),
-        );
         // The frame's rows are unit to f32 rounding: lengths in it are exact to ~1e-7.
         let outside = (local - local.clamp(lo, hi)).length();
         (outside * (1.0 - 1e-6) - 1e-12 * q.abs().max_element()).max(0.0)
@@ -199,6 +195,10 @@ pub(crate) struct Candidate {
     pub near: f64,
     /// The rays of the bundle (bit `i` for ray `i`) that can meet the leaf's oriented box.
     pub rays: u64,
+    /// The bundle's origin in the frame of the leaf's oriented box
+    /// ([`Leaf::box_coordinates`]), shared by its rays' box tests
+    /// ([`Leaf::ray_meets_box_from`]).
+    pub origin_in_box: DVec3,
 }
 
 /// Buffers a worker reuses from bundle to bundle, and how many coming bundles skip the
@@ -268,10 +268,12 @@ pub(crate) fn gather(
                 if rays == 0 {
                     continue;
                 }
+                let origin_in_box = leaf.box_coordinates(cone.origin);
                 candidates.push(Candidate {
                     leaf: index,
-                    near: cone.distance_to_leaf(leaf),
+                    near: cone.distance_to_leaf(leaf, origin_in_box),
                     rays,
+                    origin_in_box,
                 });
             }
         }

@@ -228,14 +228,35 @@ impl Leaf {
     /// True if the ray `origin + t dir`, `t ∈ [t_min, t_max]`, meets the oriented box and the
     /// edge prism (a conservative test: false means the ray cannot meet the sub-patch).
     pub fn ray_meets_box(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64) -> bool {
-        let q = origin - self.corners[0].as_dvec3();
+        self.ray_meets_box_from(self.box_coordinates(origin), dir, t_min, t_max)
+    }
+
+    /// The coordinates of `point` in the oriented box's frame (`axes · (point − corner)`, the
+    /// first corner stored): what [`Leaf::ray_meets_box`] computes of a ray's origin, so rays
+    /// that share their origin (a bundle's) compute it once per leaf.
+    pub fn box_coordinates(&self, point: DVec3) -> DVec3 {
+        let q = point - self.corners[0].as_dvec3();
+        DVec3::new(
+            self.axes[0].as_dvec3().dot(q),
+            self.axes[1].as_dvec3().dot(q),
+            self.axes[2].as_dvec3().dot(q),
+        )
+    }
+
+    /// [`Leaf::ray_meets_box`] for the ray whose origin has box coordinates `local_origin`
+    /// ([`Leaf::box_coordinates`]): the same test, bit for bit.
+    pub fn ray_meets_box_from(
+        &self,
+        local_origin: DVec3,
+        dir: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> bool {
         let (mut near, mut far) = (t_min, t_max);
-        let mut local_origin = DVec3::ZERO;
         let mut local_dir = DVec3::ZERO;
         for axis in 0..3 {
             let a = self.axes[axis].as_dvec3();
-            let (o, d) = (a.dot(q), a.dot(dir));
-            local_origin[axis] = o;
+            let (o, d) = (local_origin[axis], a.dot(dir));
             local_dir[axis] = d;
             let (lo, hi) = (f64::from(self.lo[axis]), f64::from(self.hi[axis]));
             if d == 0.0 {

@@ -259,7 +259,10 @@ impl<'s> Tracer<'s> {
                 continue;
             }
             let leaf = &self.bvh.leaves[candidate.leaf as usize];
-            if let Some(hit) = self.intersect_leaf(leaf, ray, &planes, t_min, best_t, counters) {
+            if !leaf.ray_meets_box_from(candidate.origin_in_box, ray.dir, t_min, best_t) {
+                continue;
+            }
+            if let Some(hit) = self.solve_met_leaf(leaf, ray, &planes, t_min, best_t, counters) {
                 best_t = hit.t;
                 best = Some(hit);
             }
@@ -359,6 +362,19 @@ impl<'s> Tracer<'s> {
         if !leaf.ray_meets_box(ray.origin, ray.dir, t_min, t_max) {
             return None;
         }
+        self.solve_met_leaf(leaf, ray, planes, t_min, t_max, counters)
+    }
+
+    /// [`Tracer::intersect_leaf`] for a ray that meets the leaf's oriented box and prism.
+    fn solve_met_leaf(
+        &self,
+        leaf: &Leaf,
+        ray: &Ray64,
+        planes: &RayPlanes,
+        t_min: f64,
+        t_max: f64,
+        counters: &mut IntersectCounters,
+    ) -> Option<Hit> {
         let bounds = self.piece_bounds(leaf);
         let start = planar_start(&bounds, ray);
         if start == Start::Outside {
