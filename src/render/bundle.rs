@@ -19,6 +19,8 @@ use glam::{DVec2, DVec3, Vec3A};
 use obvhs::cwbvh::CwBvh;
 
 use crate::render::bvh::Leaf;
+use crate::render::intersect::Hit;
+use crate::render::ray::{Ray64, RayPlanes};
 
 /// Pixels per side of the square block of primary rays traced as one bundle.
 pub(crate) const BUNDLE_SIDE: u32 = 8;
@@ -205,6 +207,22 @@ pub(crate) struct Candidate {
     pub origin_in_box: DVec3,
 }
 
+/// One ray of a bundle while its candidates are tested: the ray and its planes in the
+/// tracer's unit frame, its interval and its closest hit so far.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BundleRay {
+    /// The ray, unit frame.
+    pub ray: Ray64,
+    /// Its two planes ([`RayPlanes::new`]).
+    pub planes: RayPlanes,
+    /// The start of its interval.
+    pub t_min: f64,
+    /// The end of its interval: the distance of its closest hit so far.
+    pub best_t: f64,
+    /// Its closest hit so far.
+    pub best: Option<Hit>,
+}
+
 /// Buffers a worker reuses from bundle to bundle, and how many coming bundles skip the
 /// attempt (after one met too many leaves, [`SKIP_AFTER_DECLINE`]).
 #[derive(Debug, Default)]
@@ -212,6 +230,7 @@ pub struct BundleScratch {
     stack: Vec<u32>,
     pub(crate) tangents: Vec<DVec2>,
     pub(crate) candidates: Vec<Candidate>,
+    pub(crate) bundle_rays: Vec<BundleRay>,
     skip: u32,
 }
 

@@ -27,7 +27,7 @@ use obvhs::ray::{Ray, RayHit};
 use crate::bezier::triangle::point_count;
 use crate::blend::BlendPatch;
 use crate::geom::Aabb;
-use crate::render::bundle::{self, BundleScratch, Candidate, Cone};
+use crate::render::bundle::{self, BundleRay, BundleScratch, Candidate, Cone};
 use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion, UnitFrame};
 use crate::render::evaluate::{
     MAX_STACK_DEGREE, local_point_and_tangents, net_point_and_tangents, point_and_tangents,
@@ -227,47 +227,84 @@ impl<'s> Tracer<'s> {
             }
             return;
         }
-        for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
+        let BundleScratch {
+            candidates,
+            bundle_rays,
+            ..
+        } = scratch;
+        bundle_rays.clear();
+        bundle_rays.extend(rays.iter().map(|ray| {
             let (unit, t0, t1) = self.to_unit(ray, t_min, t_max);
-            *hit = self
-                .closest_among(&unit, 1 << i, t0, t1, &scratch.candidates, counters)
-                .map(|hit| self.to_world(hit));
+            BundleRay {
+                planes: RayPlanes::new(&unit),
+                ray: unit,
+                t_min: t0,
+                best_t: t1,
+                best: None,
+            }
+        }));
+        self.closest_among(candidates, bundle_rays, counters);
+        for (ray, hit) in bundle_rays.iter().zip(hits) {
+            *hit = ray.best.map(|hit| self.to_world(hit));
         }
     }
 
-    /// The closest hit of a unit-frame ray (bit `ray_bit` of the candidates' ray masks)
-    /// among a bundle's `candidates` (sorted near to far): each it can meet is tested until
-    /// one lies beyond the closest hit so far.
+    /// The closest hits of a bundle's unit-frame `rays` (ray `i` is bit `i` of the candidates'
+    /// ray masks) among its `candidates` (sorted near to far), leaf by leaf: each candidate is
+    /// tested for every ray with its bit whose closest hit so far does not lie before it. A ray
+    /// stops at the first candidate beyond its closest hit (padding included): the candidates
+    /// after it lie further still. So each ray tests the same leaves in the same order, with
+    /// the same interval, as it would alone, and finds the same hit; the leaf's bounds are
+    /// made once for all its rays.
     fn closest_among(
         &self,
-        ray: &Ray64,
-        ray_bit: u64,
-        t_min: f64,
-        t_max: f64,
         candidates: &[Candidate],
+        rays: &mut [BundleRay],
         counters: &mut IntersectCounters,
-    ) -> Option<Hit> {
-        let planes = RayPlanes::new(ray);
+    ) {
         let padding = self.bvh.padding;
-        let mut best: Option<Hit> = None;
-        let mut best_t = t_max;
+        let mut active = match rays.len() {
+            n if n >= bundle::MAX_BUNDLE_RAYS => u64::MAX,
+            n => (1 << n) - 1,
+        };
         for candidate in candidates {
-            if candidate.near > best_t + padding {
+            let mut bits = candidate.rays & active;
+            let leaf = &self.bvh.leaves[candidate.leaf as usize];
+            let mut bounds = None;
+            while bits != 0 {
+                let i = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let ray = &mut rays[i];
+                if candidate.near > ray.best_t + padding {
+                    active &= !(1 << i);
+                    continue;
+                }
+                if !leaf.ray_meets_box_from(
+                    candidate.origin_in_box,
+                    ray.ray.dir,
+                    ray.t_min,
+                    ray.best_t,
+                ) {
+                    continue;
+                }
+                let bounds = bounds.get_or_insert_with(|| self.piece_bounds(leaf));
+                if let Some(hit) = self.solve_met_leaf(
+                    leaf,
+                    bounds,
+                    &ray.ray,
+                    &ray.planes,
+                    ray.t_min,
+                    ray.best_t,
+                    counters,
+                ) {
+                    ray.best_t = hit.t;
+                    ray.best = Some(hit);
+                }
+            }
+            if active == 0 {
                 break;
             }
-            if candidate.rays & ray_bit == 0 {
-                continue;
-            }
-            let leaf = &self.bvh.leaves[candidate.leaf as usize];
-            if !leaf.ray_meets_box_from(candidate.origin_in_box, ray.dir, t_min, best_t) {
-                continue;
-            }
-            if let Some(hit) = self.solve_met_leaf(leaf, ray, &planes, t_min, best_t, counters) {
-                best_t = hit.t;
-                best = Some(hit);
-            }
         }
-        best
     }
 
     /// Whether the ray meets the surface at some `t ∈ (t_min, t_max)`: the traversal stops at
@@ -362,41 +399,44 @@ impl<'s> Tracer<'s> {
         if !leaf.ray_meets_box(ray.origin, ray.dir, t_min, t_max) {
             return None;
         }
-        self.solve_met_leaf(leaf, ray, planes, t_min, t_max, counters)
+        let bounds = self.piece_bounds(leaf);
+        self.solve_met_leaf(leaf, &bounds, ray, planes, t_min, t_max, counters)
     }
 
-    /// [`Tracer::intersect_leaf`] for a ray that meets the leaf's oriented box and prism.
+    /// [`Tracer::intersect_leaf`] for a ray that meets the leaf's oriented box and prism, with
+    /// the leaf's `bounds` ([`Tracer::piece_bounds`]).
+    #[allow(clippy::too_many_arguments)]
     fn solve_met_leaf(
         &self,
         leaf: &Leaf,
+        bounds: &PieceBounds,
         ray: &Ray64,
         planes: &RayPlanes,
         t_min: f64,
         t_max: f64,
         counters: &mut IntersectCounters,
     ) -> Option<Hit> {
-        let bounds = self.piece_bounds(leaf);
-        let start = planar_start(&bounds, ray);
+        let start = planar_start(bounds, ray);
         if start == Start::Outside {
             return None;
         }
         let query = Query { ray, planes, t_min };
-        self.solve_leaf(leaf, &bounds, start, &query, t_max, counters)
+        self.solve_leaf(leaf, bounds, start, &query, t_max, counters)
     }
 
     /// The bounds of `leaf` that certify its misses, in f64.
     fn piece_bounds(&self, leaf: &Leaf) -> PieceBounds {
-        PieceBounds {
-            corners: leaf.corners.map(|p| p.as_dvec3()),
-            affine_radius: f64::from(leaf.affine_radius),
-            tilt: f64::from(leaf.tilt),
-            second_bound: leaf.second_bound.map(f64::from),
-            proved: leaf.degree > 0
+        PieceBounds::new(
+            leaf.corners.map(|p| p.as_dvec3()),
+            f64::from(leaf.affine_radius),
+            f64::from(leaf.tilt),
+            leaf.second_bound.map(f64::from),
+            leaf.degree > 0
                 || self
                     .bvh
                     .whole_patch(leaf.patch)
                     .is_some_and(|p| p.as_blend().is_none()),
-        }
+        )
     }
 
     /// The closest root of `ray` in `leaf` (certified Newton, then the in-leaf search when
