@@ -129,10 +129,7 @@ impl Cone {
     /// bounds of their projection are widened by that, so no ray meeting the box is left out.
     /// Every ray when the box reaches to the origin's plane across the axis.
     fn ray_mask(&self, leaf: &Leaf, tangents: &[DVec2]) -> u64 {
-        let all = match tangents.len() {
-            n if n >= 64 => u64::MAX,
-            n => (1 << n) - 1,
-        };
+        let all = all_rays(tangents.len());
         let (lo, hi) = (leaf.lo.as_dvec3(), leaf.hi.as_dvec3());
         let axes = leaf.axes.map(|a| a.as_dvec3());
         let offset = leaf.corners[0].as_dvec3() - self.origin;
@@ -187,6 +184,14 @@ impl Cone {
             let corner = DVec3::select(n.cmplt(DVec3::ZERO), hi, lo);
             n.dot(corner) > margin
         })
+    }
+}
+
+/// The ray mask with a bit for each of `count` rays (every bit from [`MAX_BUNDLE_RAYS`] on).
+pub(crate) fn all_rays(count: usize) -> u64 {
+    match count {
+        n if n >= MAX_BUNDLE_RAYS => u64::MAX,
+        n => (1 << n) - 1,
     }
 }
 

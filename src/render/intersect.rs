@@ -263,10 +263,7 @@ impl<'s> Tracer<'s> {
         counters: &mut IntersectCounters,
     ) {
         let padding = self.bvh.padding;
-        let mut active = match rays.len() {
-            n if n >= bundle::MAX_BUNDLE_RAYS => u64::MAX,
-            n => (1 << n) - 1,
-        };
+        let mut active = bundle::all_rays(rays.len());
         for candidate in candidates {
             let mut bits = candidate.rays & active;
             let leaf = &self.bvh.leaves[candidate.leaf as usize];
