@@ -19,7 +19,6 @@ use glam::{DVec2, DVec3, Vec3A};
 use obvhs::cwbvh::CwBvh;
 
 use crate::render::bvh::Leaf;
-use crate::render::intersect::Hit;
 use crate::render::ray::{Ray64, RayPlanes};
 
 /// Pixels per side of the square block of primary rays traced as one bundle.
@@ -213,7 +212,7 @@ pub(crate) struct Candidate {
 }
 
 /// One ray of a bundle while its candidates are tested: the ray and its planes in the
-/// tracer's unit frame, its interval and its closest hit so far.
+/// tracer's unit frame and its interval, which ends at its closest hit so far.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BundleRay {
     /// The ray, unit frame.
@@ -224,8 +223,6 @@ pub(crate) struct BundleRay {
     pub t_min: f64,
     /// The end of its interval: the distance of its closest hit so far.
     pub best_t: f64,
-    /// Its closest hit so far.
-    pub best: Option<Hit>,
 }
 
 /// Buffers a worker reuses from bundle to bundle, and how many coming bundles skip the

@@ -232,25 +232,26 @@ impl<'s> Tracer<'s> {
             bundle_rays,
             ..
         } = scratch;
+        hits.fill(None);
         bundle_rays.clear();
-        bundle_rays.extend(rays.iter().map(|ray| {
+        bundle_rays.extend(rays.iter().take(hits.len()).map(|ray| {
             let (unit, t0, t1) = self.to_unit(ray, t_min, t_max);
             BundleRay {
                 planes: RayPlanes::new(&unit),
                 ray: unit,
                 t_min: t0,
                 best_t: t1,
-                best: None,
             }
         }));
-        self.closest_among(candidates, bundle_rays, counters);
-        for (ray, hit) in bundle_rays.iter().zip(hits) {
-            *hit = ray.best.map(|hit| self.to_world(hit));
+        self.closest_among(candidates, bundle_rays, hits, counters);
+        for hit in hits.iter_mut() {
+            *hit = hit.map(|hit| self.to_world(hit));
         }
     }
 
-    /// The closest hits of a bundle's unit-frame `rays` (ray `i` is bit `i` of the candidates'
-    /// ray masks) among its `candidates` (sorted near to far), leaf by leaf: each candidate is
+    /// The closest hits (`hits`, unit frame, one per ray, None to start with) of a bundle's
+    /// unit-frame `rays` (ray `i` is bit `i` of the candidates' ray masks) among its
+    /// `candidates` (sorted near to far), leaf by leaf: each candidate is
     /// tested for every ray with its bit whose closest hit so far does not lie before it. A ray
     /// stops at the first candidate beyond its closest hit (padding included): the candidates
     /// after it lie further still. So each ray tests the same leaves in the same order, with
@@ -260,6 +261,7 @@ impl<'s> Tracer<'s> {
         &self,
         candidates: &[Candidate],
         rays: &mut [BundleRay],
+        hits: &mut [Option<Hit>],
         counters: &mut IntersectCounters,
     ) {
         let padding = self.bvh.padding;
@@ -295,7 +297,7 @@ impl<'s> Tracer<'s> {
                     counters,
                 ) {
                     ray.best_t = hit.t;
-                    ray.best = Some(hit);
+                    hits[i] = Some(hit);
                 }
             }
             if active == 0 {
