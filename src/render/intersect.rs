@@ -425,17 +425,17 @@ impl<'s> Tracer<'s> {
 
     /// The bounds of `leaf` that certify its misses, in f64.
     fn piece_bounds(&self, leaf: &Leaf) -> PieceBounds {
-        PieceBounds::new(
-            leaf.corners.map(|p| p.as_dvec3()),
-            f64::from(leaf.affine_radius),
-            f64::from(leaf.tilt),
-            leaf.second_bound.map(f64::from),
-            leaf.degree > 0
+        PieceBounds {
+            corners: leaf.corners.map(|p| p.as_dvec3()),
+            affine_radius: f64::from(leaf.affine_radius),
+            tilt: f64::from(leaf.tilt),
+            second_bound: leaf.second_bound.map(f64::from),
+            proved: leaf.degree > 0
                 || self
                     .bvh
                     .whole_patch(leaf.patch)
                     .is_some_and(|p| p.as_blend().is_none()),
-        )
+        }
     }
 
     /// The closest root of `ray` in `leaf` (certified Newton, then the in-leaf search when

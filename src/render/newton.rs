@@ -92,35 +92,6 @@ pub(crate) struct PieceBounds {
     /// True when `second_bound` is a proof (control-net bound), false when it is sampled
     /// (blends): only a proved bound lets a root be accepted from the Taylor estimate alone.
     pub proved: bool,
-    /// The corner plane's edges `corners[1] − corners[0]`, `corners[2] − corners[0]` and the
-    /// length of their cross product (twice the corner triangle's area), made once per piece
-    /// for [`planar_start`].
-    edges: [DVec3; 2],
-    area: f64,
-}
-
-impl PieceBounds {
-    /// The bounds of a piece with these `corners`, `affine_radius`, `tilt`, `second_bound` and
-    /// `proved` (see the fields).
-    pub(crate) fn new(
-        corners: [DVec3; 3],
-        affine_radius: f64,
-        tilt: f64,
-        second_bound: [f64; 2],
-        proved: bool,
-    ) -> PieceBounds {
-        let [a, b, c] = corners;
-        let edges = [b - a, c - a];
-        PieceBounds {
-            corners,
-            affine_radius,
-            tilt,
-            second_bound,
-            proved,
-            edges,
-            area: edges[0].cross(edges[1]).length(),
-        }
-    }
 }
 
 /// Outcome of one Newton run.
@@ -193,11 +164,11 @@ impl Start {
 /// The start of Newton for `ray` on a piece with `bounds` (its corners, affine radius and tilt;
 /// see [`Start`]). Möller–Trumbore barycentrics of the ray–plane point.
 pub(crate) fn planar_start(bounds: &PieceBounds, ray: &Ray64) -> Start {
-    let a = bounds.corners[0];
-    let [e1, e2] = bounds.edges;
+    let [a, b, c] = bounds.corners;
+    let (e1, e2) = (b - a, c - a);
     let pvec = ray.dir.cross(e2);
     let det = e1.dot(pvec);
-    let area = bounds.area;
+    let area = e1.cross(e2).length();
     // det = −d · (e1 × e2), so |det| / |e1 × e2| is the cosine of the ray's angle to the normal.
     let cos = det.abs() / area;
     if cos.is_nan() || cos <= 0.0 || cos.is_infinite() {
@@ -1075,14 +1046,14 @@ mod tests {
     /// identity), so the affine radius is ½; `|D²S(δ, δ)| = 2` for unit δ, counted in full in
     /// both parts of the bound.
     fn cap_bounds() -> PieceBounds {
-        PieceBounds::new(
-            [DVec2::ZERO, DVec2::X, DVec2::Y].map(|x| cap(x).0),
-            0.5,
+        PieceBounds {
+            corners: [DVec2::ZERO, DVec2::X, DVec2::Y].map(|x| cap(x).0),
+            affine_radius: 0.5,
             // Slopes up to 1.6 over T: no chord bound.
-            1.0,
-            [2.0, 2.0],
-            true,
-        )
+            tilt: 1.0,
+            second_bound: [2.0, 2.0],
+            proved: true,
+        }
     }
 
     /// A ray along +x in the plane `y = b` at height `1 − h`: it meets the cap where
