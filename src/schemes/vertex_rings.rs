@@ -11,6 +11,56 @@ use rayon::prelude::*;
 use crate::mesh::Mesh;
 use crate::mesh::front_facing::{FrontFacing, front_facing_by, min_cosine};
 
+/// How the scalar `Ψ` of the cross-boundary derivative `Φ E' ± Ψ V` runs along an edge from
+/// `Ψ(0) = sin(2π/n)` at one end to `Ψ(1) = sin(2π/n_i)` at the other [HB00 eqs. 18, 20].
+///
+/// Along the edge the product `ΨV` is what the surface sees, and `V'(0)` is solved from it
+/// (eq. 22: `Ψ(0) V'(0) = … − Ψ'(0) V(0)`), so `V` bends by about `Ψ'(0)/Ψ(0)` per unit of
+/// the edge to keep `ΨV` on course. Linear `Ψ` makes that ratio `sin(2π/n_i)/sin(2π/n) − 1`,
+/// unbounded as the valence `n` grows: at a pole of valence 64 beside valence 6 it is 7.8, the
+/// quadratic `V` cannot follow `1/Ψ`, and `ΨV` turns over in the middle of the edge (the
+/// surface folds over both faces; measured on a bipyramid of valence 40 and a UV sphere of 64
+/// segments). HB00's 4-split needs `Ψ` only continuous at the edge midpoint (§7: `Ψ` and `V`
+/// "continuous and piecewise polynomial of degree 1 and 2"; §8.3: C¹ inside the macro-patch
+/// follows from continuity at `u = ½`), so `Ψ(½)` is free.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PsiRule {
+    /// HB00 eq. 20 (and Loop94, whose patches span the whole edge): linear over the edge,
+    /// `Ψ(½)` the mean of its ends.
+    Linear,
+    /// Linear on each half of the edge, `Ψ(½)` the harmonic mean `2ab/(a + b)` of the ends:
+    /// `|Ψ'(0)/Ψ(0)| = 2|a − b|/(a + b) < 2` at either end for any valences, and the same `Ψ`
+    /// as [`PsiRule::Linear`] where the two ends have the same valence.
+    Harmonic,
+}
+
+impl PsiRule {
+    /// `Ψ(½)` of an edge whose ends have `Ψ(0) = near` and `Ψ(1) = far`.
+    pub(crate) fn middle(self, near: f64, far: f64) -> f64 {
+        match self {
+            PsiRule::Linear => 0.5 * (near + far),
+            PsiRule::Harmonic if near == far => near,
+            PsiRule::Harmonic => 2.0 * near * far / (near + far),
+        }
+    }
+
+    /// `Ψ'(0)` at the `near` end, per unit of the edge parameter `u ∈ [0, 1]` (eq. 22's `Ψ¹`).
+    pub(crate) fn slope(self, near: f64, far: f64) -> f64 {
+        match self {
+            PsiRule::Linear => far - near,
+            PsiRule::Harmonic => 2.0 * (self.middle(near, far) - near),
+        }
+    }
+
+    /// `Ψ'(0)` towards `far_a` minus `Ψ'(0)` towards `far_b`, both from `near`.
+    pub(crate) fn slope_difference(self, near: f64, far_a: f64, far_b: f64) -> f64 {
+        match self {
+            PsiRule::Linear => far_a - far_b,
+            PsiRule::Harmonic => self.slope(near, far_a) - self.slope(near, far_b),
+        }
+    }
+}
+
 /// `Φ_i(0) = cos(2π/n)` [HB00 eq. 6].
 pub(crate) fn phi0(n: usize) -> f64 {
     (2.0 * PI / n as f64).cos()
@@ -576,11 +626,11 @@ pub(crate) struct Fan<'a> {
 }
 
 impl Fan<'_> {
-    /// `Ψ'(0)` over each edge of `sector` (its edges `0..=faces`), `Ψ` linear from
+    /// `Ψ'(0)` over each edge of `sector` (its edges `0..=faces`), `Ψ` running by `rule` from
     /// `sin θ` of the sector's step here to the far end's `Ψ(0)` on the sector's side of
     /// the edge ([`Fan::ring_step`] inside and at the first edge, [`Fan::ring_step_minus`]
     /// at the last) [HB00 eq. 20, open-fan analogue].
-    pub(crate) fn sector_psi_slope(&self, sector: &Sector) -> Vec<f64> {
+    pub(crate) fn sector_psi_slope(&self, sector: &Sector, rule: PsiRule) -> Vec<f64> {
         let n = self.ring.len();
         let s = sector.step.sin();
         (0..=sector.faces)
@@ -591,7 +641,7 @@ impl Fan<'_> {
                 } else {
                     self.ring_step_minus[edge]
                 };
-                far.sin() - s
+                rule.slope(s, far.sin())
             })
             .collect()
     }

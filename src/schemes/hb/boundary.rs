@@ -121,8 +121,12 @@ pub(crate) fn boundary_half_edges(fan: &Fan, rule: &ShapeRule, out: &mut [HalfEd
         // eq. 14, factor re-derived (see vertex.rs).
         r2.push(24.0 * (b2 - 2.0 * b1 + b0));
     }
-    // Ψ linear over each edge from sin θ here to the neighbour's Ψ(0) (eq. 20).
-    let psi_slope: Vec<f64> = fan.ring_step.iter().map(|t| t.sin() - s).collect();
+    // Ψ from sin θ here to the neighbour's Ψ(0) (eq. 20, by the rule's Ψ(½)).
+    let psi_slope: Vec<f64> = fan
+        .ring_step
+        .iter()
+        .map(|t| rule.psi.slope(s, t.sin()))
+        .collect();
     let cross = open_fan_cross_data(&r1, &r2, &psi_slope, (c, s, phi_slope));
     for (slot, (v0, v_prime)) in out.iter_mut().zip(cross) {
         slot.v0 = v0;

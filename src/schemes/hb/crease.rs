@@ -91,7 +91,7 @@ pub(crate) fn sector_half_edges(
             .iter()
             .map(|b| 24.0 * (b[2] - 2.0 * b[1] + b[0]))
             .collect();
-        let psi_slope = fan.sector_psi_slope(sector);
+        let psi_slope = fan.sector_psi_slope(sector, rule.psi);
         let cross = open_fan_cross_data(&r1, &r2, &psi_slope, (c, s, 1.0 - 2.0 * c));
         for (j, (v0, v_prime)) in cross.into_iter().enumerate() {
             let side = CrossSide {

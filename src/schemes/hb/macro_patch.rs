@@ -350,7 +350,7 @@ mod tests {
                 .expect("default parameters");
             let table = super::super::half_edge_table(&mesh, &shape).expect("pass 1");
             for (f, face) in mesh.faces().iter().enumerate().step_by(7) {
-                let corners = super::super::face_corner_curves(&table, *face, f);
+                let corners = super::super::face_corner_curves(&table, *face, f, shape.psi);
                 let nets = macro_patch(&corners, FreeRule::Energy);
                 let [p0, p1, p2] = face.map(|v| mesh.positions()[v as usize]);
                 let size = p0.distance(p1).max(p1.distance(p2)).max(p2.distance(p0));

@@ -47,7 +47,7 @@ pub(crate) mod vertex;
 
 use rayon::prelude::*;
 
-use crate::schemes::vertex_rings::{HB_SWERVE, HalfEdgeTable, MeshSectors};
+use crate::schemes::vertex_rings::{HB_SWERVE, HalfEdgeTable, MeshSectors, PsiRule};
 
 use glam::DVec3;
 
@@ -98,6 +98,11 @@ pub(crate) const SPEC: SchemeSpec = SchemeSpec {
             name: "free",
             default: "energy",
             help: "six free points per face: energy (thin-plate minimiser) | zero-twist",
+        },
+        ParamSpec {
+            name: "psi",
+            default: "harmonic",
+            help: "Ψ along an edge: harmonic (Ψ(½) the harmonic mean of its ends: no fold at vertices of high valence) | linear (eq. 20)",
         },
     ],
     needs_closed_mesh: false,
@@ -156,6 +161,10 @@ fn shape_params(params: &Params) -> Result<(ShapeRule, FreeRule)> {
         "fourier" => PlaneRule::Fourier,
         _ => PlaneRule::Max,
     };
+    let psi = match params.choice("psi", &["harmonic", "linear"])? {
+        "linear" => PsiRule::Linear,
+        _ => PsiRule::Harmonic,
+    };
     Ok((
         ShapeRule {
             alpha,
@@ -163,6 +172,7 @@ fn shape_params(params: &Params) -> Result<(ShapeRule, FreeRule)> {
             gamma,
             plane,
             swerve: HB_SWERVE,
+            psi,
         },
         free,
     ))
@@ -186,9 +196,9 @@ fn half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> Result<HalfEdgeTable<HalfEd
 
 /// Pass 2 for the edge `X → Y` with its reverse `Y → X`, for the face on the "+" side of
 /// `X → Y` (`minus = false`, the "−" side of `Y → X`) or on its "−" side: the midpoint
-/// (eq. 16), `v²` (C¹ `V`, see the module doc) and `Ψ(½)` (eq. 29) complete the pass-1 data
-/// of `X`.
-fn curve(here: &HalfEdgeData, there: &HalfEdgeData, minus: bool) -> HalfEdgeCurve {
+/// (eq. 16), `v²` (C¹ `V`, see the module doc) and `Ψ(½)` (eq. 29, by `psi`) complete the
+/// pass-1 data of `X`.
+fn curve(here: &HalfEdgeData, there: &HalfEdgeData, minus: bool, psi: PsiRule) -> HalfEdgeCurve {
     let (near, far) = (here.side(minus), there.side(!minus));
     HalfEdgeCurve {
         b: [
@@ -199,21 +209,22 @@ fn curve(here: &HalfEdgeData, there: &HalfEdgeData, minus: bool) -> HalfEdgeCurv
         ],
         v: [near.v0, near.v1, 0.5 * (near.v1 - far.v1)],
         phi0: near.phi0,
-        psi: [near.psi0, 0.5 * (near.psi0 + far.psi0)],
+        psi: [near.psi0, psi.middle(near.psi0, far.psi0)],
     }
 }
 
 /// The two half-edge curves leaving each corner of face `f`: `(X→Y, X→Z)` for `X = a_k`
-/// (the face lies on the "+" side of `X → Y` and on the "−" side of `X → Z`).
+/// (the face lies on the "+" side of `X → Y` and on the "−" side of `X → Z`), `Ψ` by `psi`.
 fn face_corner_curves(
     table: &HalfEdgeTable<HalfEdgeData>,
     face: [u32; 3],
     f: usize,
+    psi: PsiRule,
 ) -> [(HalfEdgeCurve, HalfEdgeCurve); 3] {
     table.corner_edges(face, f).map(|[xy, yx, xz, zx]| {
         (
-            curve(table.get(xy), table.get(yx), false),
-            curve(table.get(xz), table.get(zx), true),
+            curve(table.get(xy), table.get(yx), false, psi),
+            curve(table.get(xz), table.get(zx), true, psi),
         )
     })
 }
@@ -270,7 +281,10 @@ fn macro_patches(
                 .enumerate()
                 .filter(|(f, _)| selected.is_none_or(|s| s[*f]))
                 .for_each(|(f, out)| {
-                    let nets = macro_patch(&face_corner_curves(table, mesh.faces()[f], f), free);
+                    let nets = macro_patch(
+                        &face_corner_curves(table, mesh.faces()[f], f, shape.psi),
+                        free,
+                    );
                     for (piece, slot) in out.iter_mut().enumerate() {
                         *slot = Patch {
                             face: f as u32,
@@ -361,7 +375,7 @@ pub(crate) mod test_support {
             .faces()
             .iter()
             .enumerate()
-            .flat_map(|(f, face)| face_corner_curves(&table, *face, f))
+            .flat_map(|(f, face)| face_corner_curves(&table, *face, f, shape.psi))
             .map(|(to_y, to_z)| macro_patch::test_support::corner_mismatch(&to_y, &to_z))
             .fold(0.0, f64::max))
     }

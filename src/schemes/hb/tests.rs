@@ -360,8 +360,8 @@ fn cross_boundary_function_is_c1_at_every_edge_midpoint() {
             for (f, face) in mesh.faces().iter().enumerate() {
                 for [xy, yx, ..] in table.corner_edges(*face, f) {
                     // The face lies on the "+" side of X → Y, the "−" side of Y → X.
-                    let here = curve(table.get(xy), table.get(yx), false).v;
-                    let there = curve(table.get(yx), table.get(xy), true).v;
+                    let here = curve(table.get(xy), table.get(yx), false, shape.psi).v;
+                    let there = curve(table.get(yx), table.get(xy), true, shape.psi).v;
                     let c0 = (here[2] + there[2]).length() / scale;
                     let c1 = ((here[2] - here[1]) - (there[2] - there[1])).length() / scale;
                     assert!(
@@ -430,5 +430,43 @@ fn only_the_corners_of_folding_faces_take_the_tight_swerve_cap() {
             "{}: {capped} vertices capped tight",
             scene.name
         );
+    }
+}
+
+/// Fold samples of hb's own surface (no sharp edges made) over the faces of `mesh`.
+fn own_fold_samples(mesh: &Mesh, p: &Params) -> usize {
+    let surface = build(mesh, p).expect("hb builds");
+    surface
+        .patches
+        .iter()
+        .map(|patch| patch.fold_samples(mesh.face_normal(patch.face)))
+        .sum()
+}
+
+/// Vertices of high valence beside ordinary ones — the poles of a bipyramid, of a UV sphere's
+/// hemisphere, the centre of a cylinder's cap — measured with `Ψ` linear along each edge (HB00
+/// eq. 20): from valence 34 on (a planar fan of 36 needles, a bipyramid of 40, a UV sphere
+/// of 64 segments) `ΨV` turns over in the middle of the edges next to the pole and the
+/// surface folds over both faces (`vertex_rings::PsiRule`). With the harmonic `Ψ(½)` the
+/// same meshes fold nowhere and stay G¹ between faces and C¹ inside them.
+#[test]
+fn vertices_of_high_valence_fold_nowhere() {
+    let linear = params(&SPEC, &[("psi", "linear")]);
+    let cases = [
+        ("bipyramid-40", generate::valence_fan(40).expect("valence")),
+        ("bipyramid-64", generate::valence_fan(64).expect("valence")),
+        ("hemisphere-64", generate::hemisphere(64, 16)),
+        ("capped-cylinder-48", generate::capped_cylinder_with(48, 2)),
+    ];
+    for (name, triangles) in cases {
+        let mesh = mesh(triangles);
+        let folded = own_fold_samples(&mesh, &linear);
+        assert!(folded > 0, "{name}: Ψ linear no longer folds ({folded})");
+        let p = params(&SPEC, &[]);
+        assert_eq!(own_fold_samples(&mesh, &p), 0, "{name}");
+        if mesh.is_closed() {
+            check(name, &mesh, &p, true);
+        }
+        eprintln!("{name}: {folded} fold samples with Ψ linear, 0 with the harmonic Ψ(½)");
     }
 }

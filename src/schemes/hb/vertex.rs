@@ -20,7 +20,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use crate::schemes::vertex_rings::{RingFourier, front_facing_plane, swerve_cap};
+use crate::schemes::vertex_rings::{PsiRule, RingFourier, front_facing_plane, psi0, swerve_cap};
 
 /// The shape parameters of HB00: α (eq. 9), β (eq. 12), γ0, γ1, γ2 (eq. 15, γ0+γ1+γ2 = 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,6 +50,8 @@ pub(crate) struct ShapeRule {
     /// ([`swerve_cap`]): `hb::build` starts with a loose cap and takes
     /// [`HB_SWERVE`](crate::schemes::vertex_rings::HB_SWERVE) at the corners of folding faces.
     pub swerve: f64,
+    /// How `Ψ` runs along each edge (`Ψ(½)`, and so `Ψ'(0)` in eq. 22).
+    pub psi: PsiRule,
 }
 
 /// The tangent plane of the surface at a mesh vertex.
@@ -113,12 +115,18 @@ impl ShapeRule {
         let (fourier, _) = front_facing_plane(v, ring, self.plane.ring_fourier(v, ring));
         let shape = self.at_vertex(v, ring, &fourier);
         let edge_curvature = self.gamma.is_none();
-        half_edges(v, ring, ring_step, &fourier, &shape, edge_curvature, out);
+        let s = psi0(ring.len());
+        let psi_slope: Vec<f64> = ring_step
+            .iter()
+            .map(|t| self.psi.slope(s, t.sin()))
+            .collect();
+        half_edges(v, ring, &psi_slope, &fourier, &shape, edge_curvature, out);
         for ((slot, plus), minus) in out.iter_mut().zip(ring_step).zip(ring_step_minus) {
             if plus != minus {
                 // (21) on the "−" side, t_{i−1} = R_i − Ψ'_− V(0) − Ψ V'_−(0), with (II_T)
                 // t_i + t_{i−1} = 2 R_i and (21) on the "+" side: V'_− = V'_+ + (Ψ'_+ − Ψ'_−) V(0) / Ψ.
-                let shift = (plus.sin() - minus.sin()) * slot.v0 / slot.psi0;
+                let difference = self.psi.slope_difference(s, plus.sin(), minus.sin());
+                let shift = difference * slot.v0 / slot.psi0;
                 slot.minus = Some(CrossSide {
                     v1: slot.v1 + shift / 4.0,
                     ..slot.side(false)
@@ -346,12 +354,12 @@ impl HalfEdgeData {
 }
 
 /// Fills `out[i]` with the data of edge `v → ring[i]` for every neighbour (eqs. 9–23).
-/// `ring_step[i]` is the angle step at `ring[i]`, `2π` over its order (it enters `Ψ'_i(0)`,
-/// eq. 22).
+/// `psi_slope[i]` is `Ψ'_i(0)` of that edge (eq. 22; [`PsiRule::slope`] of `sin(2π/n)` here
+/// and `sin(2π/n_i)` at `ring[i]`).
 pub(crate) fn half_edges(
     v: DVec3,
     ring: &[DVec3],
-    ring_step: &[f64],
+    psi_slope: &[f64],
     fourier: &RingFourier,
     shape: &ShapeParams,
     edge_curvature: bool,
@@ -406,8 +414,8 @@ pub(crate) fn half_edges(
 
         // eq. 19: r¹_{i+1} = Φ⁰ r¹_i + Ψ⁰ V_i(0).
         let v0 = (r1(i + 1) - c * r1_i) / s;
-        // eq. 22 with Ψ'_i(0) = sin(2π/n_i) − sin(2π/n) (Ψ linear over [0,1], eq. 20).
-        let psi_1 = ring_step[i].sin() - s;
+        // eq. 22 with Ψ'_i(0) (sin(2π/n_i) − sin(2π/n) when Ψ is linear over [0,1], eq. 20).
+        let psi_1 = psi_slope[i];
         let v_prime = (twist - phi_1 * r1_i - phi_0 * r2_i - psi_1 * v0) / s;
         out[i] = HalfEdgeData {
             b: [b0, b1, b2],
@@ -575,29 +583,48 @@ mod tests {
         },
     ];
 
+    /// `Ψ'(0)` by `rule` on each edge of a vertex of order `n` whose neighbours have
+    /// `valences`.
+    fn slopes(rule: PsiRule, n: usize, valences: &[usize]) -> Vec<f64> {
+        valences
+            .iter()
+            .map(|&m| rule.slope(psi0(n), psi0(m)))
+            .collect()
+    }
+
     /// The twists solve (II_T) and V satisfies (19) and (21): the three conditions the paper
-    /// derives its formulas from, checked for orders 3..16, several shapes, both tangent planes
-    /// and with and without the per-edge normal heights.
+    /// derives its formulas from, checked for orders 3..16 (and 40, 64 beside neighbours of
+    /// order 3..12), several shapes, both tangent planes, with and without the per-edge normal
+    /// heights, and for both rules of `Ψ` along the edges.
     #[test]
     fn twists_and_cross_boundary_data_satisfy_the_g1_conditions_at_the_vertex() {
-        let cases = SHAPES
-            .iter()
-            .flat_map(|s| [(*s, PlaneRule::Fourier, false), (*s, PlaneRule::Max, true)]);
-        for n in 3..=16 {
-            for (k, (shape, plane, edge_curvature)) in cases.clone().enumerate() {
+        let cases = SHAPES.iter().flat_map(|s| {
+            [PsiRule::Linear, PsiRule::Harmonic]
+                .into_iter()
+                .flat_map(move |psi| {
+                    [
+                        (*s, PlaneRule::Fourier, false, psi),
+                        (*s, PlaneRule::Max, true, psi),
+                    ]
+                })
+        });
+        for n in (3..=16).chain([40, 64]) {
+            for (k, (shape, plane, edge_curvature, psi)) in cases.clone().enumerate() {
                 let v = DVec3::new(0.1, -0.05, 0.3);
                 let p = ring(n, (n * 7 + k) as u64);
                 let valences: Vec<usize> = (0..n).map(|i| 3 + (i * 5 + n) % 10).collect();
-                let steps: Vec<f64> = valences.iter().map(|&m| 2.0 * PI / m as f64).collect();
+                let psi_slope = slopes(psi, n, &valences);
                 let mut he = vec![HalfEdgeData::default(); n];
                 let fourier = plane.ring_fourier(v, &p);
-                half_edges(v, &p, &steps, &fourier, &shape, edge_curvature, &mut he);
+                half_edges(v, &p, &psi_slope, &fourier, &shape, edge_curvature, &mut he);
                 let (phi_0, phi_1) = (phi0(n), 1.0 - 2.0 * phi0(n));
                 let r1 = |i: usize| 6.0 * (he[i % n].b[1] - he[i % n].b[0]);
                 let r2 = |i: usize| 24.0 * (he[i].b[2] - 2.0 * he[i].b[1] + he[i].b[0]);
-                // Twist from (21): t_i = Φ¹ r¹_i + Φ⁰ r²_i + Ψ' V(0) + Ψ⁰ V'(0).
+                // Twist from (21): t_i = Φ¹ r¹_i + Φ⁰ r²_i + Ψ' V(0) + Ψ⁰ V'(0), with Ψ' the
+                // slope of Ψ from Ψ(0) = sin(2π/n) to the rule's Ψ(½).
                 let twist = |i: usize| {
-                    let psi_1 = psi0(valences[i]) - psi0(n);
+                    let middle = psi.middle(psi0(n), psi0(valences[i]));
+                    let psi_1 = 2.0 * (middle - psi0(n));
                     phi_1 * r1(i)
                         + phi_0 * r2(i)
                         + psi_1 * he[i].v0
@@ -687,7 +714,8 @@ mod tests {
                     crate::schemes::vertex_rings::HB_SWERVE,
                 );
                 let mut he = vec![HalfEdgeData::default(); n];
-                half_edges(v, &p, &vec![PI / 3.0; n], &fourier, &shape, true, &mut he);
+                let psi_slope = slopes(PsiRule::Linear, n, &vec![6; n]);
+                half_edges(v, &p, &psi_slope, &fourier, &shape, true, &mut he);
                 let normal = fourier.normal();
                 let samples: Vec<(DVec3, f64)> = he
                     .iter()
@@ -762,7 +790,7 @@ mod tests {
             half_edges(
                 DVec3::ZERO,
                 &p,
-                &vec![PI / 3.0; n],
+                &slopes(PsiRule::Linear, n, &vec![6; n]),
                 &RingFourier::new(&p),
                 &SHAPES[0],
                 false,
@@ -791,7 +819,7 @@ mod tests {
             half_edges(
                 DVec3::ZERO,
                 &p,
-                &[PI / 3.0; 6],
+                &slopes(PsiRule::Harmonic, 6, &[6; 6]),
                 &RingFourier::new(&p),
                 shape,
                 false,
