@@ -1,7 +1,8 @@
 //! Writes `scenes/hostile/`: small meshes with what scanned, modelled and exported meshes carry
 //! and the papers' meshes do not (non-planar quads, n-gons, non-manifold vertices and edges,
 //! slivers and zero-area faces, holes, a flipped face, coordinates far from the origin, a part
-//! with flat faces and 90° creases, an assembly of open parts that touch). Deterministic: the
+//! with flat faces and 90° creases, an assembly of open parts that touch, a UV sphere whose
+//! poles have valence 64). Deterministic: the
 //! jitter is a hash of the vertex index, so the files are the same on every run.
 //!
 //! ```text
@@ -194,6 +195,39 @@ fn revolution(columns: u32, rows: u32, profile: impl Fn(f64) -> (f64, f64)) -> P
         for c in 0..columns {
             mesh.faces
                 .push(vec![at(0, c), at(1, c), at(1, c + 1), at(0, c + 1)]);
+        }
+    }
+    mesh
+}
+
+/// The unit UV sphere of modelling tools: `columns` meridians, `rows` bands of planar quads
+/// between the parallels, and a fan of `columns` triangles round each pole (so each pole has
+/// valence `columns` beside vertices of valence 4 and 5).
+fn uv_sphere(columns: u32, rows: u32) -> Polygons {
+    let mut mesh = Polygons::new();
+    let north = mesh.point(DVec3::Z);
+    for r in 1..rows {
+        let polar = PI * f64::from(r) / f64::from(rows);
+        for c in 0..columns {
+            let a = 2.0 * PI * f64::from(c) / f64::from(columns);
+            mesh.point(DVec3::new(
+                polar.sin() * a.cos(),
+                polar.sin() * a.sin(),
+                polar.cos(),
+            ));
+        }
+    }
+    let south = mesh.point(-DVec3::Z);
+    let at = |r: u32, c: u32| 1 + (r - 1) * columns + c % columns;
+    for c in 0..columns {
+        mesh.faces.push(vec![north, at(1, c), at(1, c + 1)]);
+        mesh.faces
+            .push(vec![south, at(rows - 1, c + 1), at(rows - 1, c)]);
+    }
+    for r in 1..rows - 1 {
+        for c in 0..columns {
+            mesh.faces
+                .push(vec![at(r, c), at(r + 1, c), at(r + 1, c + 1), at(r, c + 1)]);
         }
     }
     mesh
@@ -490,6 +524,12 @@ fn main() -> std::io::Result<()> {
         "An assembly of four open parts that touch: body (open at the top), lid, spout, handle"
             .into(),
         pot,
+    ));
+
+    files.push((
+        "uv-sphere.obj",
+        "A UV sphere of 64 meridians and 32 bands: planar quads, and poles of valence 64".into(),
+        uv_sphere(64, 32),
     ));
 
     for (name, header, mesh) in &files {

@@ -30,6 +30,7 @@ const CORPUS: &[&str] = &[
     "far-blob",
     "u-bracket",
     "teapot-parts",
+    "uv-sphere",
 ];
 
 fn corpus(name: &str) -> PathBuf {
@@ -126,6 +127,47 @@ fn every_scheme_builds_what_it_claims_or_refuses_by_its_own_limit() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The UV sphere's poles of valence 64 next to vertices of valence 4 and 5: every scheme
+/// builds it with no edge made sharp, except loop94, whose single sextic per face takes `Ψ`
+/// linear over the whole edge and folds beside the poles (its fold rounds then make edges
+/// sharp there). hb made 1,792 edges sharp with `Ψ` linear (HB00 eq. 20, `psi=linear`); its
+/// default harmonic `Ψ(½)` needs none (`vertex_rings::PsiRule`).
+#[test]
+fn poles_of_high_valence_need_no_sharp_edge() {
+    let dir = common::scratch("hostile_corpus", "uv_sphere");
+    let path = corpus("uv-sphere");
+    let edges_made_sharp = |scheme: &str, params: &[&str]| -> u64 {
+        let json = dir.join(format!("{scheme}-{}.json", params.len()));
+        let mut args = vec![
+            "metrics",
+            common::path_str(&path),
+            "--scheme",
+            scheme,
+            "--json",
+            common::path_str(&json),
+        ];
+        for p in params {
+            args.extend(["--param", p]);
+        }
+        let out = common::smoothlab(&args);
+        assert!(out.status.success(), "{scheme}: {}", common::stderr(&out));
+        let m = record(&json);
+        assert_eq!(m["folds"].as_u64(), Some(0), "{scheme}");
+        m["spike_edges"].as_u64().expect("spike_edges")
+    };
+    for spec in SCHEMES {
+        let edges = edges_made_sharp(spec.name, &[]);
+        println!("{}: {edges} edges made sharp", spec.name);
+        if spec.name == "loop94" {
+            assert!(edges > 0, "loop94 no longer folds beside the poles");
+        } else {
+            assert_eq!(edges, 0, "{}", spec.name);
+        }
+    }
+    let linear = edges_made_sharp("hb", &["psi=linear"]);
+    assert!(linear > 0, "hb with Ψ linear: {linear} edges made sharp");
 }
 
 /// The octahedron with one face written the wrong way round loads outward and renders convex:

@@ -5,8 +5,10 @@
 //! 1. per vertex ([`vertex`]): boundary-curve control points `b0, b1, b2` of every edge leaving
 //!    the vertex (eqs. 9–15), the twists (eq. 17) and `v⁰, v¹` of the cross-boundary function
 //!    (eqs. 19–23) — from the one-ring alone;
-//! 2. per edge: the curve midpoint `b3 = (b2 + b̃2)/2` (eq. 16) and `v²`, chosen so that `V` is C¹
-//!    at the midpoint (HB00 §7, the choice of §9);
+//! 2. per edge: the curve midpoint `b3 = (b2 + b̃2)/2` (eq. 16), `v²`, chosen so that `V` is C¹
+//!    at the midpoint (HB00 §7, the choice of §9), and `Ψ(½)`: by default the harmonic mean of
+//!    the ends' `Ψ(0)`, not eq. 20's arithmetic mean, so that `V` need not bend without bound
+//!    beside a vertex of high valence (`psi`, [`PsiRule`]);
 //! 3. per face ([`mod@macro_patch`]): the four quintic nets (eqs. 24–33 and the fill of Fig. 13).
 //!
 //! Open meshes follow [`boundary`]; sharp edges (`--crease-angle`) [`crease`]: each sector of
