@@ -25,17 +25,19 @@ use crate::mesh::front_facing::{FrontFacing, front_facing_by, min_cosine};
 /// follows from continuity at `u = ½`), so `Ψ(½)` is free.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum PsiRule {
-    /// HB00 eq. 20 (and Loop94, whose patches span the whole edge): linear over the edge,
-    /// `Ψ(½)` the mean of its ends.
+    /// HB00 eq. 20 and Loop94 eq. 4: linear over the edge, `Ψ(½)` the mean of its ends.
     Linear,
-    /// Linear on each half of the edge, `Ψ(½)` the harmonic mean `2ab/(a + b)` of the ends:
-    /// `|Ψ'(0)/Ψ(0)| = 2|a − b|/(a + b) < 2` at either end for any valences, and the same `Ψ`
-    /// as [`PsiRule::Linear`] where the two ends have the same valence.
+    /// `Ψ(½)` the harmonic mean `2ab/(a + b)` of the ends: for hb linear on each half of the
+    /// edge, for loop94 the quadratic with that middle Bernstein coefficient (Loop94's `ΨV`
+    /// may be quintic, eq. 3, and is a quartic with `Ψ` linear). Either way
+    /// `|Ψ'(0)/Ψ(0)| = 2|a − b|/(a + b) < 2` at both ends for any valences, and `Ψ` is
+    /// [`PsiRule::Linear`]'s where the two ends have the same valence.
     Harmonic,
 }
 
 impl PsiRule {
-    /// `Ψ(½)` of an edge whose ends have `Ψ(0) = near` and `Ψ(1) = far`.
+    /// `Ψ(½)` of an edge whose ends have `Ψ(0) = near` and `Ψ(1) = far` (for a quadratic `Ψ`,
+    /// its middle Bernstein coefficient).
     pub(crate) fn middle(self, near: f64, far: f64) -> f64 {
         match self {
             PsiRule::Linear => 0.5 * (near + far),

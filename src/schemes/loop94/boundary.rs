@@ -58,6 +58,7 @@ pub(crate) fn boundary_half_edges(fan: &Fan, shape: &LoopShape, out: &mut [LoopH
         alpha,
         beta,
         swerve,
+        psi,
     } = *shape;
     // β is the upper limit: f¹ − f⁰ = β (A cos jθ + B sin jθ)/2 swerves off no edge.
     let normal = a.cross(b).normalize_or_zero();
@@ -77,7 +78,11 @@ pub(crate) fn boundary_half_edges(fan: &Fan, shape: &LoopShape, out: &mut [LoopH
         r1.push(r1_j);
         r2.push(12.0 * (f2 - 2.0 * f1 + f0));
     }
-    let psi_slope: Vec<f64> = fan.ring_step.iter().map(|t| t.sin() - s).collect();
+    let psi_slope: Vec<f64> = fan
+        .ring_step
+        .iter()
+        .map(|t| psi.slope(s, t.sin()))
+        .collect();
     // Φ quadratic with Φ(½) = ½ (eq. 1): Φ'(0) = 1 − 2 cos θ.
     let cross = open_fan_cross_data(&r1, &r2, &psi_slope, (c, s, 1.0 - 2.0 * c));
     for (slot, (v0, v_prime)) in out.iter_mut().zip(cross) {

@@ -25,9 +25,7 @@
 use glam::DVec3;
 
 use super::vertex::{LoopCross, LoopHalfEdge, LoopShape};
-use crate::schemes::vertex_rings::{
-    Fan, PsiRule, Sector, open_fan_cross_data, open_loop_point, swerve_cap,
-};
+use crate::schemes::vertex_rings::{Fan, Sector, open_fan_cross_data, open_loop_point, swerve_cap};
 
 /// Fills `out[j]` with the data of edge `v → p_j` at the vertex of `fan`, cut into `sectors`
 /// (see the module doc).
@@ -43,6 +41,7 @@ pub(crate) fn sector_half_edges(
         alpha,
         beta,
         swerve,
+        psi,
     } = *shape;
     let f0 = alpha * v + (1.0 - alpha) * ring.iter().sum::<DVec3>() / n as f64;
     let sector_points = |sector: &Sector| -> Vec<DVec3> {
@@ -82,7 +81,7 @@ pub(crate) fn sector_half_edges(
             .map(|f| 12.0 * (f[2] - 2.0 * f[1] + f[0]))
             .collect();
         let (s, c) = sector.step.sin_cos();
-        let psi_slope = fan.sector_psi_slope(sector, PsiRule::Linear);
+        let psi_slope = fan.sector_psi_slope(sector, psi);
         // Φ quadratic with Φ(½) = ½ (eq. 1): Φ'(0) = 1 − 2 cos θ.
         let cross = open_fan_cross_data(&r1, &r2, &psi_slope, (c, s, 1.0 - 2.0 * c));
         for (j, (v0, v_prime)) in cross.into_iter().enumerate() {

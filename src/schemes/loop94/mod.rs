@@ -1,7 +1,10 @@
 //! Loop's 1994 sextic G¹ spline, as HB00 §3 summarises it [HB00 eqs. 1–4]: one sextic Bézier
 //! triangle per mesh face, quartic boundary curves with `f⁰, f¹, f²` (eq. 2), quadratic `Φ` and
-//! constant `ν = μ = ½` (eq. 1), cross-boundary tangents `Φ E' ± Ψ V` with linear `Ψ` and cubic
-//! `V` (eqs. 3, 4), and the middle point chosen for quintic precision.
+//! constant `ν = μ = ½` (eq. 1), cross-boundary tangents `Φ E' ± Ψ V` with cubic `V` (eqs. 3,
+//! 4), and the middle point chosen for quintic precision. `Ψ` is by default quadratic, its
+//! middle coefficient the harmonic mean of its ends, not eq. 4's linear `Ψ`, whose `V` has to
+//! bend without bound beside a vertex of high valence and folds there (`psi`,
+//! [`PsiRule`]; `ΨV` is then quintic, the degree eq. 3 allows).
 //!
 //! Passes, each parallel: per vertex ([`vertex`]) the data that vertex determines alone; per
 //! face ([`patch`]) the three edges from both ends and the sextic. Every patch has degree 6:
@@ -32,7 +35,7 @@ use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::mesh::Mesh;
-use crate::schemes::vertex_rings::{HalfEdgeTable, LOOP_SWERVE, MeshSectors};
+use crate::schemes::vertex_rings::{HalfEdgeTable, LOOP_SWERVE, MeshSectors, PsiRule};
 use crate::schemes::{ParamSpec, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 use patch::{edge_curves, sextic};
@@ -53,6 +56,11 @@ pub(crate) const SPEC: SchemeSpec = SchemeSpec {
             default: "0.8",
             help: "β of eq. 2 (> 0): tangent magnitude, an upper limit: capped per vertex so that no boundary curve swerves off its edge (docs/folds.md; default chosen by accuracy on analytic meshes; 0.5 gives linear precision)",
         },
+        ParamSpec {
+            name: "psi",
+            default: "harmonic",
+            help: "Ψ along an edge: harmonic (quadratic, middle coefficient the harmonic mean of its ends: no fold at vertices of high valence) | linear (eq. 4)",
+        },
     ],
     needs_closed_mesh: false,
     bytes_per_face: 1400.0,
@@ -63,10 +71,15 @@ pub(crate) const SPEC: SchemeSpec = SchemeSpec {
 fn shape(params: &Params) -> Result<LoopShape> {
     let alpha = params.number("alpha")?;
     let beta = params.positive_number("beta", "tangents vanish or flip")?;
+    let psi = match params.choice("psi", &["harmonic", "linear"])? {
+        "linear" => PsiRule::Linear,
+        _ => PsiRule::Harmonic,
+    };
     Ok(LoopShape {
         alpha,
         beta,
         swerve: LOOP_SWERVE,
+        psi,
     })
 }
 
@@ -96,10 +109,11 @@ fn face_edges(
     table: &HalfEdgeTable<LoopHalfEdge>,
     face: [u32; 3],
     f: usize,
+    psi: PsiRule,
 ) -> [(crate::bezier::CurveBezier, crate::bezier::CurveBezier); 3] {
     table
         .corner_edges(face, f)
-        .map(|[xy, yx, _, _]| edge_curves(table.get(xy), table.get(yx)))
+        .map(|[xy, yx, _, _]| edge_curves(table.get(xy), table.get(yx), psi))
 }
 
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
@@ -124,19 +138,19 @@ fn table_and_patches(
     let mut table = table(mesh, shape)?;
     let mut patches: Vec<Patch> = (0..mesh.face_count())
         .into_par_iter()
-        .map(|f| face_patch(mesh, &table, f))
+        .map(|f| face_patch(mesh, &table, f, shape.psi))
         .collect();
     loosen_where_folding(mesh, shape, &mut table, &mut patches)?;
     Ok((table, patches))
 }
 
-/// The sextic patch over face `f` from the per-vertex data `table`.
-fn face_patch(mesh: &Mesh, table: &HalfEdgeTable<LoopHalfEdge>, f: usize) -> Patch {
+/// The sextic patch over face `f` from the per-vertex data `table`, `Ψ` by `psi`.
+fn face_patch(mesh: &Mesh, table: &HalfEdgeTable<LoopHalfEdge>, f: usize, psi: PsiRule) -> Patch {
     Patch {
         face: f as u32,
         piece: 0,
         domain: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
-        geometry: PatchGeometry::Bezier(sextic(&face_edges(table, mesh.faces()[f], f))),
+        geometry: PatchGeometry::Bezier(sextic(&face_edges(table, mesh.faces()[f], f, psi))),
     }
 }
 
@@ -196,12 +210,12 @@ fn loosen_where_folding(
         let before = count(patches);
         table.adopt(&loose, &newly);
         for &f in &around {
-            patches[f] = face_patch(mesh, table, f);
+            patches[f] = face_patch(mesh, table, f, shape.psi);
         }
         if count(patches) >= before {
             table.adopt(&capped, &newly);
             for &f in &around {
-                patches[f] = face_patch(mesh, table, f);
+                patches[f] = face_patch(mesh, table, f, shape.psi);
             }
         }
         folding = around
@@ -257,13 +271,15 @@ pub(crate) mod test_support {
     /// Largest disagreement of the twist points computed from either edge, and of Loop's middle
     /// boundary point `f²` computed from either end, over all faces (for tests and diagnostics).
     pub(crate) fn max_consistency_defect(mesh: &Mesh, params: &Params) -> Result<f64> {
-        let table = table(mesh, &shape(params)?)?;
+        let shape = shape(params)?;
+        let table = table(mesh, &shape)?;
         Ok(mesh
             .faces()
             .iter()
             .enumerate()
             .map(|(f, face)| {
-                let twist = patch::test_support::twist_mismatch(&face_edges(&table, *face, f));
+                let twist =
+                    patch::test_support::twist_mismatch(&face_edges(&table, *face, f, shape.psi));
                 let f2 = table
                     .corner_edges(*face, f)
                     .iter()
@@ -303,6 +319,40 @@ mod tests {
         }
         let defect = max_consistency_defect(mesh, p).unwrap() / mesh.bounds().diagonal();
         assert!(defect <= 1e-12, "twist/f² defect {defect} on {label}");
+    }
+
+    /// Vertices of high valence beside ordinary ones (bipyramid poles of valence 40 and 64, a
+    /// hemisphere's pole of 64, a cylinder cap's centre of 48): with `Ψ` linear (eq. 4) the
+    /// surface folds beside them (as hb's with eq. 20, `vertex_rings::PsiRule`); with the
+    /// harmonic middle coefficient of a quadratic `Ψ` it folds nowhere and stays G¹.
+    #[test]
+    fn vertices_of_high_valence_fold_nowhere() {
+        use crate::mesh::generate;
+        let own_folds = |mesh: &Mesh, p: &Params| -> usize {
+            let surface = build(mesh, p).expect("loop94 builds");
+            surface
+                .patches
+                .iter()
+                .map(|patch| patch.fold_samples(mesh.face_normal(patch.face)))
+                .sum()
+        };
+        let linear = params(&SPEC, &[("psi", "linear")]);
+        for (name, triangles) in [
+            ("bipyramid-40", generate::valence_fan(40).expect("valence")),
+            ("bipyramid-64", generate::valence_fan(64).expect("valence")),
+            ("hemisphere-64", generate::hemisphere(64, 16)),
+            ("capped-cylinder-48", generate::capped_cylinder_with(48, 2)),
+        ] {
+            let mesh = crate::testing::mesh(triangles);
+            let folded = own_folds(&mesh, &linear);
+            assert!(folded > 0, "{name}: Ψ linear no longer folds");
+            let p = params(&SPEC, &[]);
+            assert_eq!(own_folds(&mesh, &p), 0, "{name}");
+            if mesh.is_closed() {
+                check(name, &mesh, &p, true);
+            }
+            eprintln!("{name}: {folded} fold samples with Ψ linear, 0 with the harmonic Ψ");
+        }
     }
 
     #[test]
@@ -401,7 +451,9 @@ mod tests {
         let shape = shape(&p).unwrap();
         let capped = table(&mesh, &shape).unwrap();
         let capped_folds: usize = (0..mesh.face_count())
-            .map(|f| face_patch(&mesh, &capped, f).fold_samples(mesh.face_normal(f as u32)))
+            .map(|f| {
+                face_patch(&mesh, &capped, f, shape.psi).fold_samples(mesh.face_normal(f as u32))
+            })
             .sum();
         assert!(capped_folds > 0);
         check("ngon-prism", &mesh, &p, true);

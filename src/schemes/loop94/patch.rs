@@ -16,6 +16,7 @@ use crate::bezier::gram::{bernstein_gram, elevation_matrix};
 use crate::bezier::triangle::{index, point_count};
 use crate::bezier::{CurveBezier, TriangleBezier};
 use crate::linalg::{Matrix, invert, multiply, transpose};
+use crate::schemes::vertex_rings::PsiRule;
 
 /// Degree of Loop's patches.
 pub(crate) const DEGREE: usize = 6;
@@ -31,8 +32,14 @@ fn rot(k: usize, w: [usize; 3]) -> usize {
 
 /// The boundary curve of edge `X → Y` (quartic, eq. 2) and the cross-boundary derivative
 /// towards the third corner of the face on its "+" side (quintic, eq. 3), from the data of both
-/// ends (that face is on the "−" side of `Y → X`).
-pub(crate) fn edge_curves(here: &LoopHalfEdge, there: &LoopHalfEdge) -> (CurveBezier, CurveBezier) {
+/// ends (that face is on the "−" side of `Y → X`), `Ψ` by `psi`: linear (eq. 4, `ΨV` a
+/// quartic elevated to a quintic) or quadratic with the rule's middle coefficient (`ΨV` a
+/// quintic, the degree eq. 3 allows).
+pub(crate) fn edge_curves(
+    here: &LoopHalfEdge,
+    there: &LoopHalfEdge,
+    psi: PsiRule,
+) -> (CurveBezier, CurveBezier) {
     let boundary = CurveBezier::new(vec![
         here.f[0], here.f[1], here.f[2], there.f[1], there.f[0],
     ]);
@@ -40,9 +47,13 @@ pub(crate) fn edge_curves(here: &LoopHalfEdge, there: &LoopHalfEdge) -> (CurveBe
     // V seen from Y is −V(1−u) (as in HB00: Φ̃ = 1 − Φ, Ψ̃ = Ψ), so its cubic, in X's order:
     let v = CurveBezier::new(vec![near.v[0], near.v[1], -far.v[1], -far.v[0]]);
     let phi = [near.phi0, 0.5, 1.0 - far.phi0];
-    let psi = [near.psi0, far.psi0];
     let phi_e = boundary.derivative().times_scalar_polynomial(&phi);
-    let psi_v = v.times_scalar_polynomial(&psi).elevate();
+    let psi_v = match psi {
+        PsiRule::Linear => v.times_scalar_polynomial(&[near.psi0, far.psi0]).elevate(),
+        PsiRule::Harmonic => {
+            v.times_scalar_polynomial(&[near.psi0, psi.middle(near.psi0, far.psi0), far.psi0])
+        }
+    };
     let cross = CurveBezier::new(
         phi_e
             .points()

@@ -16,7 +16,7 @@
 
 use glam::DVec3;
 
-use crate::schemes::vertex_rings::{RingFourier, front_facing_plane, swerve_cap};
+use crate::schemes::vertex_rings::{PsiRule, RingFourier, front_facing_plane, swerve_cap};
 use crate::schemes::vertex_rings::{phi0, psi0};
 
 /// Loop's shape parameters α and β (eq. 2).
@@ -30,6 +30,9 @@ pub(crate) struct LoopShape {
     /// vertex by it; `LOOP_SWERVE` by default, infinite where the cap made a face fold
     /// (`super::build`).
     pub swerve: f64,
+    /// How `Ψ` runs along each edge: linear (eq. 4), or quadratic with its middle Bernstein
+    /// coefficient the harmonic mean of the ends ([`PsiRule`]; `ΨV` stays quintic).
+    pub psi: PsiRule,
 }
 
 /// Data of the directed edge `p → p_i` that `p` determines alone.
@@ -121,6 +124,7 @@ pub(crate) fn half_edges(
         alpha,
         beta,
         swerve,
+        psi,
     } = *shape;
     // β is the upper limit: f¹ − f⁰ = β cos_sum(i)/n swerves off no edge.
     let beta = beta.min(swerve_cap(p, ring, fourier.normal(), swerve, true, |i| {
@@ -149,11 +153,11 @@ pub(crate) fn half_edges(
         let along = phi_1 * r1_i + phi_0 * r2_i;
         // (19): r¹_{i+1} = Φ(0) r¹_i + Ψ(0) V(0).
         let v0 = (r1(i + 1) - c * r1_i) / s;
-        // Ψ linear over [0, 1] (eq. 4): Ψ'(0) = sin(2π/n_i) − sin(2π/n).
-        let psi_1 = steps.step[i].sin() - s;
+        // Ψ'(0): sin(2π/n_i) − sin(2π/n) when Ψ is linear over [0, 1] (eq. 4).
+        let psi_1 = psi.slope(s, steps.step[i].sin());
         let v_prime = (twist(i) - along - psi_1 * v0) / s;
         let minus = steps.sharp[i].then(|| {
-            let psi_1 = steps.step_minus[i].sin() - s;
+            let psi_1 = psi.slope(s, steps.step_minus[i].sin());
             let v_prime = (along - psi_1 * v0 - twist((i + n - 1) % n)) / s;
             LoopCross {
                 v: [v0, v0 + v_prime / 3.0],
@@ -192,22 +196,30 @@ mod tests {
             .collect()
     }
 
-    /// (19), (21) and (II_T) hold for orders 3..16.
+    /// (19), (21) and (II_T) hold for orders 3..16, 40 and 64, with `Ψ` linear and with the
+    /// harmonic middle coefficient.
     #[test]
     fn twists_and_cross_boundary_data_satisfy_the_g1_conditions_at_the_vertex() {
-        for n in 3..=16 {
-            for shape in [
-                LoopShape {
-                    alpha: 1.0,
-                    beta: 0.1,
-                    swerve: LOOP_SWERVE,
-                },
-                LoopShape {
-                    alpha: 0.4,
-                    beta: 0.7,
-                    swerve: LOOP_SWERVE,
-                },
-            ] {
+        for n in (3..=16).chain([40, 64]) {
+            for shape in [PsiRule::Linear, PsiRule::Harmonic]
+                .into_iter()
+                .flat_map(|psi| {
+                    [
+                        LoopShape {
+                            alpha: 1.0,
+                            beta: 0.1,
+                            swerve: LOOP_SWERVE,
+                            psi,
+                        },
+                        LoopShape {
+                            alpha: 0.4,
+                            beta: 0.7,
+                            swerve: LOOP_SWERVE,
+                            psi,
+                        },
+                    ]
+                })
+            {
                 let p = ring(n);
                 let valences: Vec<usize> = (0..n).map(|i| 3 + (i * 7 + n) % 11).collect();
                 let step: Vec<f64> = valences.iter().map(|&m| 2.0 * PI / m as f64).collect();
@@ -221,8 +233,9 @@ mod tests {
                 let (phi_0, phi_1) = (phi0(n), 1.0 - 2.0 * phi0(n));
                 let r1 = |i: usize| 4.0 * (he[i % n].f[1] - he[i % n].f[0]);
                 let r2 = |i: usize| 12.0 * (he[i].f[2] - 2.0 * he[i].f[1] + he[i].f[0]);
+                // Ψ'(0) from Ψ(0) = sin(2π/n) and the middle coefficient of the quadratic Ψ.
                 let twist = |i: usize| {
-                    let psi_1 = psi0(valences[i]) - psi0(n);
+                    let psi_1 = 2.0 * (shape.psi.middle(psi0(n), psi0(valences[i])) - psi0(n));
                     phi_1 * r1(i)
                         + phi_0 * r2(i)
                         + psi_1 * he[i].v[0]
