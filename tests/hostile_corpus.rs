@@ -78,6 +78,22 @@ fn record(path: &Path) -> serde_json::Value {
     }
 }
 
+/// `smoothlab metrics MESH --scheme SCHEME [--param P]... --json JSON`.
+fn metrics(mesh: &Path, scheme: &str, params: &[&str], json: &Path) -> std::process::Output {
+    let mut args = vec![
+        "metrics",
+        common::path_str(mesh),
+        "--scheme",
+        scheme,
+        "--json",
+        common::path_str(json),
+    ];
+    for p in params {
+        args.extend(["--param", p]);
+    }
+    common::smoothlab(&args)
+}
+
 #[test]
 fn every_scheme_builds_what_it_claims_or_refuses_by_its_own_limit() {
     let dir = common::scratch("hostile_corpus", "every_scheme");
@@ -88,14 +104,7 @@ fn every_scheme_builds_what_it_claims_or_refuses_by_its_own_limit() {
         for spec in SCHEMES {
             let scheme = spec.name;
             let json = dir.join(format!("{mesh}-{scheme}.json"));
-            let out = common::smoothlab(&[
-                "metrics",
-                common::path_str(&path),
-                "--scheme",
-                scheme,
-                "--json",
-                common::path_str(&json),
-            ]);
+            let out = metrics(&path, scheme, &[], &json);
             let err = common::stderr(&out);
             assert!(!err.contains("panicked"), "{mesh}/{scheme}: {err}");
             let label = format!("{mesh}/{scheme}");
@@ -139,18 +148,7 @@ fn poles_of_high_valence_need_no_sharp_edge() {
     let path = corpus("uv-sphere");
     let edges_made_sharp = |scheme: &str, params: &[&str]| -> u64 {
         let json = dir.join(format!("{scheme}-{}.json", params.len()));
-        let mut args = vec![
-            "metrics",
-            common::path_str(&path),
-            "--scheme",
-            scheme,
-            "--json",
-            common::path_str(&json),
-        ];
-        for p in params {
-            args.extend(["--param", p]);
-        }
-        let out = common::smoothlab(&args);
+        let out = metrics(&path, scheme, params, &json);
         assert!(out.status.success(), "{scheme}: {}", common::stderr(&out));
         let m = record(&json);
         assert_eq!(m["folds"].as_u64(), Some(0), "{scheme}");

@@ -9,8 +9,8 @@ use super::*;
 use crate::mesh::generate;
 use crate::metrics::Metrics;
 use crate::testing::{
-    JointFigures, Rng, assert_g1_joints, closed_test_meshes, max_smoothness_defect_inside_faces,
-    mesh, params,
+    JointFigures, Rng, assert_g1_joints, closed_test_meshes, fold_samples, high_valence_meshes,
+    max_smoothness_defect_inside_faces, mesh, params,
 };
 use crate::tolerance::POSITION_REL;
 
@@ -433,16 +433,6 @@ fn only_the_corners_of_folding_faces_take_the_tight_swerve_cap() {
     }
 }
 
-/// Fold samples of hb's own surface (no sharp edges made) over the faces of `mesh`.
-fn own_fold_samples(mesh: &Mesh, p: &Params) -> usize {
-    let surface = build(mesh, p).expect("hb builds");
-    surface
-        .patches
-        .iter()
-        .map(|patch| patch.fold_samples(mesh.face_normal(patch.face)))
-        .sum()
-}
-
 /// Vertices of high valence beside ordinary ones — the poles of a bipyramid, of a UV sphere's
 /// hemisphere, the centre of a cylinder's cap — measured with `Ψ` linear along each edge (HB00
 /// eq. 20): from valence 34 on (a planar fan of 36 needles, a bipyramid of 40, a UV sphere
@@ -451,19 +441,15 @@ fn own_fold_samples(mesh: &Mesh, p: &Params) -> usize {
 /// same meshes fold nowhere and stay G¹ between faces and C¹ inside them.
 #[test]
 fn vertices_of_high_valence_fold_nowhere() {
-    let linear = params(&SPEC, &[("psi", "linear")]);
-    let cases = [
-        ("bipyramid-40", generate::valence_fan(40).expect("valence")),
-        ("bipyramid-64", generate::valence_fan(64).expect("valence")),
-        ("hemisphere-64", generate::hemisphere(64, 16)),
-        ("capped-cylinder-48", generate::capped_cylinder_with(48, 2)),
-    ];
-    for (name, triangles) in cases {
-        let mesh = mesh(triangles);
-        let folded = own_fold_samples(&mesh, &linear);
+    let (linear, p) = (params(&SPEC, &[("psi", "linear")]), params(&SPEC, &[]));
+    for (name, mesh) in high_valence_meshes() {
+        let folded = fold_samples(&build(&mesh, &linear).expect("builds"), &mesh);
         assert!(folded > 0, "{name}: Ψ linear no longer folds ({folded})");
-        let p = params(&SPEC, &[]);
-        assert_eq!(own_fold_samples(&mesh, &p), 0, "{name}");
+        assert_eq!(
+            fold_samples(&build(&mesh, &p).expect("builds"), &mesh),
+            0,
+            "{name}"
+        );
         if mesh.is_closed() {
             check(name, &mesh, &p, true);
         }

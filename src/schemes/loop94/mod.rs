@@ -327,27 +327,16 @@ mod tests {
     /// harmonic middle coefficient of a quadratic `Ψ` it folds nowhere and stays G¹.
     #[test]
     fn vertices_of_high_valence_fold_nowhere() {
-        use crate::mesh::generate;
-        let own_folds = |mesh: &Mesh, p: &Params| -> usize {
-            let surface = build(mesh, p).expect("loop94 builds");
-            surface
-                .patches
-                .iter()
-                .map(|patch| patch.fold_samples(mesh.face_normal(patch.face)))
-                .sum()
-        };
-        let linear = params(&SPEC, &[("psi", "linear")]);
-        for (name, triangles) in [
-            ("bipyramid-40", generate::valence_fan(40).expect("valence")),
-            ("bipyramid-64", generate::valence_fan(64).expect("valence")),
-            ("hemisphere-64", generate::hemisphere(64, 16)),
-            ("capped-cylinder-48", generate::capped_cylinder_with(48, 2)),
-        ] {
-            let mesh = crate::testing::mesh(triangles);
-            let folded = own_folds(&mesh, &linear);
+        use crate::testing::{fold_samples, high_valence_meshes};
+        let (linear, p) = (params(&SPEC, &[("psi", "linear")]), params(&SPEC, &[]));
+        for (name, mesh) in high_valence_meshes() {
+            let folded = fold_samples(&build(&mesh, &linear).expect("builds"), &mesh);
             assert!(folded > 0, "{name}: Ψ linear no longer folds");
-            let p = params(&SPEC, &[]);
-            assert_eq!(own_folds(&mesh, &p), 0, "{name}");
+            assert_eq!(
+                fold_samples(&build(&mesh, &p).expect("builds"), &mesh),
+                0,
+                "{name}"
+            );
             if mesh.is_closed() {
                 check(name, &mesh, &p, true);
             }
