@@ -17,7 +17,8 @@ use crate::mesh::front_facing::{FrontFacing, front_facing_by, min_cosine};
 /// Along the edge the product `ΨV` is what the surface sees, and `V'(0)` is solved from it
 /// (eq. 22: `Ψ(0) V'(0) = … − Ψ'(0) V(0)`), so `V` bends by about `Ψ'(0)/Ψ(0)` per unit of
 /// the edge to keep `ΨV` on course. Linear `Ψ` makes that ratio `sin(2π/n_i)/sin(2π/n) − 1`,
-/// unbounded as the valence `n` grows: at a pole of valence 64 beside valence 6 it is 7.8, the
+/// unbounded as the valence `n` grows (or as the angle step of a sector narrows, whose `Ψ(0)`
+/// is the sine of that step): at a pole of valence 64 beside valence 6 it is 7.8, the
 /// quadratic `V` cannot follow `1/Ψ`, and `ΨV` turns over in the middle of the edge (the
 /// surface folds over both faces; measured on a bipyramid of valence 40 and a UV sphere of 64
 /// segments). HB00's 4-split needs `Ψ` only continuous at the edge midpoint (§7: `Ψ` and `V`
