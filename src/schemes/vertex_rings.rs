@@ -1068,6 +1068,50 @@ mod tests {
     use super::*;
     use crate::mesh::generate;
 
+    /// Vertices of high valence beside ordinary ones — bipyramid poles of valence 40 and 64, a
+    /// hemisphere's pole of 64 (open), the centre of a cylinder's cap of 48 — for both schemes
+    /// whose cross-boundary derivative is `Φ E' ± Ψ V`, their own surfaces (no sharp edges
+    /// made). With `Ψ` linear (HB00 eq. 20, Loop94 eq. 4: `psi=linear`) `ΨV` turns over in the
+    /// middle of the edges beside the pole and the surface folds over both faces (measured: hb
+    /// 1,440 / 5,888 / 2,880 / 2,496 samples, loop94 640 / 1,536 / 736 / 960); with the
+    /// harmonic `Ψ(½)` it folds nowhere, interpolates the vertices and is G¹ between faces
+    /// (and, for hb, between the pieces of each face).
+    #[test]
+    fn vertices_of_high_valence_fold_nowhere_with_the_harmonic_psi() {
+        use crate::metrics::Metrics;
+        use crate::testing::{mesh, params};
+        use crate::tolerance::NORMAL_RAD;
+        let meshes = [
+            ("bipyramid-40", generate::valence_fan(40).expect("valence")),
+            ("bipyramid-64", generate::valence_fan(64).expect("valence")),
+            ("hemisphere-64", generate::hemisphere(64, 16)),
+            ("capped-cylinder-48", generate::capped_cylinder_with(48, 2)),
+        ];
+        for (name, triangles) in meshes {
+            let mesh = mesh(triangles);
+            for spec in [crate::schemes::hb::SPEC, crate::schemes::loop94::SPEC] {
+                let label = format!("{name} {}", spec.name);
+                let measure = |psi: &str| {
+                    let surface =
+                        (spec.build)(&mesh, &params(&spec, &[("psi", psi)])).expect("builds");
+                    Metrics::measure(&surface, &mesh, 0.0)
+                };
+                let linear = measure("linear").folds;
+                assert!(linear > 0, "{label}: Ψ linear no longer folds");
+                let m = measure("harmonic");
+                assert_eq!(m.folds, 0, "{label}");
+                assert_eq!(m.singular_samples, 0, "{label}");
+                let g1 = m.g1_between_faces_max_rad.expect("joints between faces");
+                assert!(g1 <= NORMAL_RAD, "{label}: G1 {g1} rad");
+                let inside = m.g1_inside_faces_max_rad.unwrap_or(0.0);
+                assert!(inside <= NORMAL_RAD, "{label}: inside {inside} rad");
+                let interpolation = m.interp_max_rel.expect("vertices measured");
+                assert!(interpolation <= 1e-12, "{label}: {interpolation}");
+                eprintln!("{label}: {linear} fold samples with Ψ linear, 0 harmonic, G1 {g1:.1e}");
+            }
+        }
+    }
+
     /// The rotated sums equal the direct sums, and the twist preimage satisfies
     /// ½(x_i + x_{i−1}) = cos-sum_i.
     #[test]

@@ -10,7 +10,7 @@ pub mod surfaces;
 
 pub use rng::Rng;
 pub use schemes::{
-    JointFigures, assert_g1_joints, closed_test_meshes, creased, fold_samples, high_valence_meshes,
+    JointFigures, assert_g1_joints, closed_test_meshes, creased,
     max_smoothness_defect_inside_faces, mesh, open_bunny, open_test_meshes, params, scene,
     sharp_vertex_kinds, unit_icosphere_accuracy,
 };

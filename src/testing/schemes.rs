@@ -52,38 +52,6 @@ pub fn closed_test_meshes() -> Vec<(String, Mesh)> {
     out
 }
 
-/// Meshes with a vertex of high valence beside ordinary ones, where a `Ψ` linear along the
-/// edges folds (`schemes::vertex_rings::PsiRule`): bipyramids whose poles have valence 40
-/// and 64, the unit hemisphere with a pole of valence 64 (open), a cylinder whose caps are
-/// fans of 48.
-pub fn high_valence_meshes() -> Vec<(&'static str, Mesh)> {
-    vec![
-        (
-            "bipyramid-40",
-            mesh(generate::valence_fan(40).expect("valence")),
-        ),
-        (
-            "bipyramid-64",
-            mesh(generate::valence_fan(64).expect("valence")),
-        ),
-        ("hemisphere-64", mesh(generate::hemisphere(64, 16))),
-        (
-            "capped-cylinder-48",
-            mesh(generate::capped_cylinder_with(48, 2)),
-        ),
-    ]
-}
-
-/// Samples at which a patch of `surface` turns over its face of `mesh` ([`Metrics`]'
-/// `folds`, counted patch by patch).
-pub fn fold_samples(surface: &crate::surface::Surface, mesh: &Mesh) -> usize {
-    surface
-        .patches
-        .iter()
-        .map(|patch| patch.fold_samples(mesh.face_normal(patch.face)))
-        .sum()
-}
-
 /// Open meshes (with boundaries) for the schemes that take them: the lifted hexagonal disk, the
 /// unit hemisphere, a cylinder open at both ends, the scanned bunny with its base cut open
 /// (`scenes/bunny-open.obj`, boundary valences 2 to 8), half fans whose centre is a boundary

@@ -9,8 +9,8 @@ use super::*;
 use crate::mesh::generate;
 use crate::metrics::Metrics;
 use crate::testing::{
-    JointFigures, Rng, assert_g1_joints, closed_test_meshes, fold_samples, high_valence_meshes,
-    max_smoothness_defect_inside_faces, mesh, params,
+    JointFigures, Rng, assert_g1_joints, closed_test_meshes, max_smoothness_defect_inside_faces,
+    mesh, params,
 };
 use crate::tolerance::POSITION_REL;
 
@@ -430,29 +430,5 @@ fn only_the_corners_of_folding_faces_take_the_tight_swerve_cap() {
             "{}: {capped} vertices capped tight",
             scene.name
         );
-    }
-}
-
-/// Vertices of high valence beside ordinary ones — the poles of a bipyramid, of a UV sphere's
-/// hemisphere, the centre of a cylinder's cap — measured with `Ψ` linear along each edge (HB00
-/// eq. 20): from valence 34 on (a planar fan of 36 needles, a bipyramid of 40, a UV sphere
-/// of 64 segments) `ΨV` turns over in the middle of the edges next to the pole and the
-/// surface folds over both faces (`vertex_rings::PsiRule`). With the harmonic `Ψ(½)` the
-/// same meshes fold nowhere and stay G¹ between faces and C¹ inside them.
-#[test]
-fn vertices_of_high_valence_fold_nowhere() {
-    let (linear, p) = (params(&SPEC, &[("psi", "linear")]), params(&SPEC, &[]));
-    for (name, mesh) in high_valence_meshes() {
-        let folded = fold_samples(&build(&mesh, &linear).expect("builds"), &mesh);
-        assert!(folded > 0, "{name}: Ψ linear no longer folds ({folded})");
-        assert_eq!(
-            fold_samples(&build(&mesh, &p).expect("builds"), &mesh),
-            0,
-            "{name}"
-        );
-        if mesh.is_closed() {
-            check(name, &mesh, &p, true);
-        }
-        eprintln!("{name}: {folded} fold samples with Ψ linear, 0 with the harmonic Ψ(½)");
     }
 }

@@ -321,29 +321,6 @@ mod tests {
         assert!(defect <= 1e-12, "twist/f² defect {defect} on {label}");
     }
 
-    /// Vertices of high valence beside ordinary ones (bipyramid poles of valence 40 and 64, a
-    /// hemisphere's pole of 64, a cylinder cap's centre of 48): with `Ψ` linear (eq. 4) the
-    /// surface folds beside them (as hb's with eq. 20, `vertex_rings::PsiRule`); with the
-    /// harmonic middle coefficient of a quadratic `Ψ` it folds nowhere and stays G¹.
-    #[test]
-    fn vertices_of_high_valence_fold_nowhere() {
-        use crate::testing::{fold_samples, high_valence_meshes};
-        let (linear, p) = (params(&SPEC, &[("psi", "linear")]), params(&SPEC, &[]));
-        for (name, mesh) in high_valence_meshes() {
-            let folded = fold_samples(&build(&mesh, &linear).expect("builds"), &mesh);
-            assert!(folded > 0, "{name}: Ψ linear no longer folds");
-            assert_eq!(
-                fold_samples(&build(&mesh, &p).expect("builds"), &mesh),
-                0,
-                "{name}"
-            );
-            if mesh.is_closed() {
-                check(name, &mesh, &p, true);
-            }
-            eprintln!("{name}: {folded} fold samples with Ψ linear, 0 with the harmonic Ψ");
-        }
-    }
-
     #[test]
     fn g1_and_interpolation_on_closed_meshes() {
         for (name, mesh) in closed_test_meshes() {
