@@ -392,6 +392,73 @@ fn scaled_meshes_render_the_same_image() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// One vertex of the icosahedron moved 1e8 away (a stray vertex, as a corrupted file has):
+/// the surface spans eight orders of magnitude, and the model's patches are below the f32
+/// resolution of the tracer's bounds where they lie. The render warns, naming the first such
+/// patch's face and the bounding box; each of those patches is one leaf (it was 16,384 of
+/// them, 970k leaves and 5 s for the whole view, and two minutes for 32² pixels close up),
+/// and a close view of the model still hits it.
+#[test]
+fn a_stray_far_vertex_is_named_and_does_not_multiply_leaves() {
+    let dir = common::scratch("render", "stray");
+    let text = std::fs::read_to_string(scene_mesh("icosahedron.obj")).expect("read mesh");
+    let mut moved = false;
+    let stray: String = text
+        .lines()
+        .map(|line| {
+            if line.starts_with("v ") && !moved {
+                moved = true;
+                "v 100000000 0 0\n".to_string()
+            } else {
+                format!("{line}\n")
+            }
+        })
+        .collect();
+    let obj = dir.join("stray.obj");
+    std::fs::write(&obj, stray).expect("write mesh");
+    let render = |name: &str, view: &[&str]| {
+        let out = dir.join(name);
+        let stats = dir.join(format!("{name}.json"));
+        let mut args = vec![
+            "render",
+            common::path_str(&obj),
+            "--scheme",
+            "hb",
+            "--size",
+            "24x24",
+            "--no-exr",
+            "-o",
+            common::path_str(&out),
+            "--stats",
+            common::path_str(&stats),
+        ];
+        args.extend_from_slice(view);
+        let run = common::smoothlab(&args);
+        assert!(run.status.success(), "{}", common::stderr(&run));
+        let stats: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&stats).expect("stats")).expect("json");
+        (common::stderr(&run), stats)
+    };
+    let (warnings, stats) = render("whole", &[]);
+    assert!(
+        warnings.contains("44 of 72 patches (first: patch 28, of face 8")
+            && warnings.contains("below the exact renderer's resolution")
+            && warnings.contains("runs from (-9.795e-1, -1.001e0, -9.819e-1) to (1.000e8"),
+        "{warnings}"
+    );
+    assert!(
+        stats["leaves"].as_u64().expect("leaves") <= 4 * 72,
+        "{stats}"
+    );
+    let (_, close) = render("close", &["--eye", "0,0,4", "--target", "0,0,0"]);
+    let (hits, rays) = (close["hits"].as_u64(), close["rays"].as_u64());
+    assert!(
+        hits.zip(rays).is_some_and(|(h, r)| h > r / 2),
+        "the model fills the close view: {close}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 fn scene_mesh(name: &str) -> String {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")

@@ -567,6 +567,7 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
     let (mesh, mut report) = Mesh::load_with(&mesh_path, &load_options)?;
     let surface = schemes::build(&scheme, &mesh, &scene.scheme_params())?;
     report.warnings.extend(surface.warnings.iter().cloned());
+    report.warnings.extend(resolution_warning(&surface, &mesh));
     let job = job.for_mesh(&mesh);
     let stats = match (animation, frames) {
         (Some(animation), Some((pngs, gif))) => match (args.shard, &part) {
@@ -592,6 +593,37 @@ pub fn render_command(args: &RenderArgs) -> Result<(RenderStats, Vec<String>)> {
         stats.write_json(path)?;
     }
     Ok((stats, report.warnings))
+}
+
+/// The warning for patches the exact tracer cannot resolve where they lie
+/// ([`crate::render::intersect::unresolved_patches`]: the surface spans about seven orders of
+/// magnitude or more), naming the first one's input face and the surface's bounding box, where
+/// a stray far vertex shows; None when there are none.
+pub(crate) fn resolution_warning(surface: &crate::surface::Surface, mesh: &Mesh) -> Option<String> {
+    let unresolved = crate::render::intersect::unresolved_patches(surface);
+    let &first = unresolved.first()?;
+    let patch = &surface.patches[first as usize];
+    let bounds = surface.bounds();
+    let size = patch.full_bounds().diagonal();
+    Some(format!(
+        "{}: {} of {} patches (first: patch {first}, of face {}, {size:.3e} across) are below \
+         the exact renderer's resolution where they lie: the surface's bounding box runs from \
+         {} to {} (diagonal {:.3e}), beyond the f32 precision of the tracer's bounds; their \
+         hits are accurate to 1e-9 of that diagonal only, and slow to find when seen close \
+         up. Look for stray vertices far from the model",
+        surface.scheme,
+        unresolved.len(),
+        surface.patches.len(),
+        mesh.input_face(patch.face),
+        fmt_point(bounds.min),
+        fmt_point(bounds.max),
+        bounds.diagonal(),
+    ))
+}
+
+/// A point as `(x, y, z)` with four significant digits.
+fn fmt_point(p: glam::DVec3) -> String {
+    format!("({:.3e}, {:.3e}, {:.3e})", p.x, p.y, p.z)
 }
 
 /// One line about a finished render, for the terminal: what a user needs first (hits, rays

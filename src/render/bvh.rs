@@ -821,8 +821,11 @@ fn subdivide_patch(
             && *known_tilt.insert(piece_tilt()) <= criterion.max_tilt;
         let mut shortfall = None;
         let mut stalls = stalls;
+        // Below the resolution of the stored corners the leaf's plane is rounding, and no
+        // split makes it better (a feature 1e-8 of the scene far from its centre).
+        let unresolved = !passes && Stall::below_stored_resolution(&piece, stored);
         let mut stalled = false;
-        if !passes && depth < criterion.max_depth {
+        if !passes && !unresolved && depth < criterion.max_depth {
             let here = Shortfall::of(&piece, stored);
             if let Some(parent) = parent {
                 stalls = if here.stalled_from(&parent, criterion) {
@@ -834,7 +837,7 @@ fn subdivide_patch(
             }
             shortfall = Some(here);
         }
-        if passes || stalled || depth >= criterion.max_depth {
+        if passes || stalled || unresolved || depth >= criterion.max_depth {
             let mut leaf = Leaf::new(patch, tri, corners, &[&piece]);
             leaf.tilt = f32_up(known_tilt.unwrap_or_else(piece_tilt));
             leaf.second_bound = second_derivative_bounds(&piece, leaf.normal()).map(f32_up);
@@ -893,6 +896,36 @@ impl Stall {
     /// A control-net normal this far (degrees) from the corner plane's normal: the net turns
     /// over.
     pub(crate) const FOLD_CONE_DEG: f64 = 90.0;
+
+    /// Units of f32 rounding of its corners below which a piece is smaller than the
+    /// resolution of the plane a leaf stores ([`Stall::below_stored_resolution`]).
+    pub(crate) const STORED_RESOLUTION_ULPS: f64 = 8.0;
+
+    /// True when the corner triangle of the piece `net` is no higher than
+    /// [`Stall::STORED_RESOLUTION_ULPS`] f32 roundings of its corners' coordinates (`stored`,
+    /// as a leaf keeps them): the plane a leaf stores is then mostly rounding, the tilt
+    /// measured against it fails at every depth, and splitting only multiplies the pieces (a
+    /// mesh spanning eight orders of magnitude — one stray vertex 1e8 away from a model of
+    /// unit size — made 16,384 leaves of every patch, 5.4 million for 382 patches). Such a
+    /// piece becomes a leaf as it is, searched as deep as a leaf at `max_depth` would be. In
+    /// the unit frame (coordinates up to about 1) that is a piece less than 1e-6 high: below
+    /// any leaf of a clean mesh of a million faces.
+    ///
+    /// A corner triangle of height exactly zero (corners that coincide, as at a collapsed
+    /// corner of a patch) is not rounding: its children have planes, so it is split as before
+    /// unless the whole piece is that small.
+    pub(crate) fn below_stored_resolution(net: &TriangleBezier, stored: [DVec3; 3]) -> bool {
+        let d = net.degree();
+        let [a, b, c] = [net.point(d, 0), net.point(0, d), net.point(0, 0)];
+        let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+        let height = (b - a).cross(c - a).length() / longest;
+        let magnitude = stored
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0, f64::max);
+        let resolution = Stall::STORED_RESOLUTION_ULPS * f64::from(f32::EPSILON) * magnitude;
+        net.control_bounds().diagonal() <= resolution || (height > 0.0 && height <= resolution)
+    }
 }
 
 /// The measures of [`SubdivisionCriterion`] of one Bézier piece, against its corner plane.
@@ -1403,6 +1436,44 @@ mod tests {
             ..criterion
         };
         assert!(leaves_of(&net, &deeper).len() <= 2 * leaves.len());
+    }
+
+    /// A curved patch far smaller than the f32 resolution of where it lies (1e-9 across, half
+    /// a unit from the frame's centre: a model of unit size beside a stray vertex 1e9 away)
+    /// is one leaf: its stored corners cannot describe its plane, so the tilt fails at every
+    /// depth and splitting would make 4^7 pieces of it. The same patch at unit size is split
+    /// as usual, and one just above the resolution too.
+    #[test]
+    fn a_piece_below_the_stored_resolution_is_one_leaf() {
+        let d = 5;
+        let bump = |scale: f64, offset: DVec3| {
+            TriangleBezier::from_fn(d, |_, j, k| {
+                let (s, t) = (j as f64 / d as f64, k as f64 / d as f64);
+                let (x, y) = (s + 0.3 * t, t);
+                offset + DVec3::new(x, y, -0.8 * (x * x + y * y)) * scale
+            })
+        };
+        let criterion = SubdivisionCriterion::default();
+        let far = DVec3::splat(0.5);
+        let unit = leaves_of(&bump(1.0, far), &criterion);
+        assert!(unit.len() > 4, "{} leaves at unit size", unit.len());
+        let tiny = bump(1e-9, far);
+        let stored = [tiny.point(d, 0), tiny.point(0, d), tiny.point(0, 0)];
+        assert!(Stall::below_stored_resolution(
+            &tiny,
+            stored.map(|p| p.as_vec3().as_dvec3())
+        ));
+        let leaves = leaves_of(&tiny, &criterion);
+        assert_eq!(leaves.len(), 1, "one leaf below the resolution");
+        assert_eq!(leaves[0].extra_search, 0);
+        // 1e-4 across is 1,000 f32 roundings of its place: above the resolution, split.
+        let small = bump(1e-4, far);
+        let stored = [small.point(d, 0), small.point(0, d), small.point(0, 0)];
+        assert!(!Stall::below_stored_resolution(
+            &small,
+            stored.map(|p| p.as_vec3().as_dvec3())
+        ));
+        assert!(leaves_of(&small, &criterion).len() > 4);
     }
 
     /// A regular curved patch (a paraboloid cap, normals within 60° of each other) never

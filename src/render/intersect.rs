@@ -28,7 +28,7 @@ use crate::bezier::triangle::point_count;
 use crate::blend::BlendPatch;
 use crate::geom::Aabb;
 use crate::render::bundle::{self, BundleRay, BundleScratch, Candidate, Cone};
-use crate::render::bvh::{Leaf, PatchBvh, SubdivisionCriterion, UnitFrame};
+use crate::render::bvh::{Leaf, PatchBvh, Stall, SubdivisionCriterion, UnitFrame};
 use crate::render::evaluate::{
     MAX_STACK_DEGREE, local_point_and_tangents, net_point_and_tangents, point_and_tangents,
     power_index, projected_net,
@@ -706,6 +706,38 @@ impl<'s> Tracer<'s> {
             v: uv.y,
         })
     }
+}
+
+/// The patches of `surface` that the exact tracer cannot resolve where they lie: in the
+/// tracer's unit frame (the one [`crate::render::Tracer`] maps the surface into), the whole
+/// patch is smaller than [`Stall::STORED_RESOLUTION_ULPS`] f32 roundings of its coordinates,
+/// so each is one leaf whose stored plane and box are mostly rounding
+/// ([`Stall::below_stored_resolution`]). That happens only when the surface spans about seven
+/// orders of magnitude or more (a stray vertex far from the model); such patches are traced
+/// to the root tolerance of the whole scene and slowly when seen close up. Indices in
+/// [`Surface::patches`], in order.
+pub fn unresolved_patches(surface: &Surface) -> Vec<u32> {
+    let world = surface.bounds();
+    let frame = UnitFrame {
+        centre: world.center(),
+        scale: unit_scale(world.diagonal()),
+    };
+    if !(frame.centre.is_finite() && frame.scale.is_finite()) {
+        return Vec::new();
+    }
+    let resolution = Stall::STORED_RESOLUTION_ULPS * f64::from(f32::EPSILON);
+    surface
+        .patches
+        .iter()
+        .enumerate()
+        .filter(|(_, patch)| {
+            let bounds = patch.full_bounds();
+            let (lo, hi) = (frame.map(bounds.min), frame.map(bounds.max));
+            let magnitude = lo.abs().max(hi.abs()).max_element();
+            (hi - lo).length() <= resolution * magnitude
+        })
+        .map(|(i, _)| i as u32)
+        .collect()
 }
 
 /// The power of two that brings a box diagonal `diagonal` into `[1, 2)`: exact to apply.

@@ -350,6 +350,7 @@ impl FigureSpec {
             let surface = schemes::build(&entry.name, &mesh, &params)
                 .map_err(|e| e.within(format!("schemes[{k}] ({})", entry.name)))?;
             warnings.extend(surface.warnings.iter().cloned());
+            warnings.extend(crate::app::render::resolution_warning(&surface, &mesh));
             let label = entry.label.clone().unwrap_or_else(|| {
                 let mut l = entry.name.clone();
                 for (n, v) in &params {
