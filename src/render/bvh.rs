@@ -907,9 +907,10 @@ impl Stall {
     /// measured against it fails at every depth, and splitting only multiplies the pieces (a
     /// mesh spanning eight orders of magnitude — one stray vertex 1e8 away from a model of
     /// unit size — made 16,384 leaves of every patch, 5.4 million for 382 patches). Such a
-    /// piece becomes a leaf as it is, searched as deep as a leaf at `max_depth` would be. In
-    /// the unit frame (coordinates up to about 1) that is a piece less than 1e-6 high: below
-    /// any leaf of a clean mesh of a million faces.
+    /// piece becomes a leaf as it is, searched to the default depth only (deeper, as for a
+    /// folded piece, made a close view of such a model take minutes). In the unit frame
+    /// (coordinates up to about 1) that is a piece less than 1e-6 high: below any leaf of a
+    /// clean mesh of a million faces.
     ///
     /// A corner triangle of height exactly zero (corners that coincide, as at a collapsed
     /// corner of a patch) is not rounding: its children have planes, so it is split as before
@@ -1466,7 +1467,7 @@ mod tests {
         let leaves = leaves_of(&tiny, &criterion);
         assert_eq!(leaves.len(), 1, "one leaf below the resolution");
         assert_eq!(leaves[0].extra_search, 0);
-        // 1e-4 across is 1,000 f32 roundings of its place: above the resolution, split.
+        // 1e-4 across is over a thousand f32 roundings of its place: resolved, and split.
         let small = bump(1e-4, far);
         let stored = [small.point(d, 0), small.point(0, d), small.point(0, 0)];
         assert!(!Stall::below_stored_resolution(
