@@ -298,9 +298,10 @@ pub fn build_timed_in_frame(
 }
 
 /// How far (in mesh bounding-box diagonals) a built surface may reach beyond the mesh's
-/// bounding box. Every scheme with sane parameters stays within a fraction of a diagonal; a
-/// surface beyond this comes from an absurd parameter and would break the BVH (f32 boxes),
-/// the metrics and the exports.
+/// bounding box. Every scheme with sane parameters stays within a fraction of a diagonal on a
+/// sane mesh; a surface beyond this comes from an absurd parameter, or from needle faces of
+/// the mesh (a vertex 3e5 diagonals of the rest away: the error then names the needle), and
+/// would break the BVH (f32 boxes), the metrics and the exports.
 pub const MAX_SURFACE_REACH: f64 = 1e3;
 
 /// Checks a freshly built surface once, before anything uses it: every control point
@@ -342,11 +343,33 @@ pub fn check_surface(surface: &Surface, mesh: &Mesh, user: &[(String, String)]) 
             patch,
             format!(
                 "reaches {r:.3e} mesh diagonals beyond the mesh's bounding box \
-                 (limit {MAX_SURFACE_REACH:e})"
+                 (limit {MAX_SURFACE_REACH:e}){}",
+                needle_hint(mesh, surface.patches[patch].face, user)
             ),
         )),
         _ => Ok(()),
     }
+}
+
+/// Faces this many times longer than high are needles, where a surface with default
+/// parameters can run far off (a mesh with one vertex 3e5 away from a model of unit size).
+const NEEDLE_ASPECT: f64 = 1e3;
+
+/// For a surface built with default parameters (`user` empty) that runs off at face `face`:
+/// `; the face is a needle …` when that face's longest edge is more than [`NEEDLE_ASPECT`]
+/// times its height (the mesh, not a parameter, is then the cause), else nothing.
+fn needle_hint(mesh: &Mesh, face: u32, user: &[(String, String)]) -> String {
+    let [a, b, c] = mesh.faces()[face as usize].map(|v| mesh.positions()[v as usize]);
+    let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+    let aspect = longest * longest / (b - a).cross(c - a).length();
+    if !user.is_empty() || aspect.is_nan() || aspect <= NEEDLE_ASPECT {
+        return String::new();
+    }
+    format!(
+        "; that face is a needle, its longest edge {aspect:.3e} times its height: repair or \
+         remove it (a vertex far from the others, as a stray vertex of a corrupted file, makes \
+         such faces)"
+    )
 }
 
 /// A scheme's parameters with defaults filled in.
@@ -627,6 +650,36 @@ mod tests {
     /// pn keeps its normal there and warns; every scheme that keeps sharp edges makes the
     /// sheet's rim sharp instead ([`super::spikes`]), so each side is a smooth sector that
     /// does not fold; both name vertices in the file's numbering.
+    /// A surface that runs off over a needle face of the mesh (the icosahedron with one vertex
+    /// moved 3e5 away) is refused naming the face as the cause and the remedy; with a
+    /// parameter set by the user the message stays about the parameter.
+    #[test]
+    fn a_surface_running_off_over_a_needle_names_the_needle() {
+        let (mut positions, faces) = crate::mesh::generate::icosahedron();
+        positions[0] = DVec3::new(3e5, 0.0, 0.0);
+        let mesh = crate::testing::mesh((positions, faces));
+        let message = match super::build("hb", &mesh, &[]) {
+            Err(e @ crate::Error::UnusableSurface { .. }) => e.to_string(),
+            other => panic!("hb: {:?}", other.map(|s| s.warnings)),
+        };
+        assert!(
+            message.contains("mesh diagonals beyond")
+                && message.contains("that face is a needle, its longest edge")
+                && message.contains("repair or remove it"),
+            "{message}"
+        );
+        let needles: Vec<u32> = (0..mesh.face_count() as u32)
+            .filter(|&f| !super::needle_hint(&mesh, f, &[]).is_empty())
+            .collect();
+        assert_eq!(needles.len(), 5, "the far vertex's five faces: {needles:?}");
+        let user = [("alpha".to_string(), "1".to_string())];
+        assert!(
+            needles
+                .iter()
+                .all(|&f| super::needle_hint(&mesh, f, &user).is_empty())
+        );
+    }
+
     #[test]
     fn a_folded_vertex_is_named_in_the_files_numbering() {
         let mesh = flat_sheet_after_an_unused_vertex();
