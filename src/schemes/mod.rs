@@ -300,7 +300,7 @@ pub fn build_timed_in_frame(
 /// How far (in mesh bounding-box diagonals) a built surface may reach beyond the mesh's
 /// bounding box. Every scheme with sane parameters stays within a fraction of a diagonal on a
 /// sane mesh; a surface beyond this comes from an absurd parameter, or from needle faces of
-/// the mesh (a vertex 3e5 diagonals of the rest away: the error then names the needle), and
+/// the mesh (one vertex 3e5 times the model's size away: the error then names the needle), and
 /// would break the BVH (f32 boxes), the metrics and the exports.
 pub const MAX_SURFACE_REACH: f64 = 1e3;
 
@@ -356,7 +356,7 @@ pub fn check_surface(surface: &Surface, mesh: &Mesh, user: &[(String, String)]) 
 const NEEDLE_ASPECT: f64 = 1e3;
 
 /// For a surface built with default parameters (`user` empty) that runs off at face `face`:
-/// `; the face is a needle …` when that face's longest edge is more than [`NEEDLE_ASPECT`]
+/// `; that face is a needle, …` when that face's longest edge is more than [`NEEDLE_ASPECT`]
 /// times its height (the mesh, not a parameter, is then the cause), else nothing.
 fn needle_hint(mesh: &Mesh, face: u32, user: &[(String, String)]) -> String {
     let [a, b, c] = mesh.faces()[face as usize].map(|v| mesh.positions()[v as usize]);
@@ -647,9 +647,6 @@ mod tests {
         );
     }
 
-    /// pn keeps its normal there and warns; every scheme that keeps sharp edges makes the
-    /// sheet's rim sharp instead ([`super::spikes`]), so each side is a smooth sector that
-    /// does not fold; both name vertices in the file's numbering.
     /// A surface that runs off over a needle face of the mesh (the icosahedron with one vertex
     /// moved 3e5 away) is refused naming the face as the cause and the remedy; with a
     /// parameter set by the user the message stays about the parameter.
@@ -680,6 +677,9 @@ mod tests {
         );
     }
 
+    /// pn keeps its normal there and warns; every scheme that keeps sharp edges makes the
+    /// sheet's rim sharp instead ([`super::spikes`]), so each side is a smooth sector that
+    /// does not fold; both name vertices in the file's numbering.
     #[test]
     fn a_folded_vertex_is_named_in_the_files_numbering() {
         let mesh = flat_sheet_after_an_unused_vertex();
