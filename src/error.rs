@@ -232,6 +232,29 @@ pub enum Error {
         /// The vertex (the first such one).
         vertex: usize,
     },
+    /// With default parameters, the surface still folds over faces of the mesh after the fold
+    /// rounds (a mesh with needle faces): a scheme that keeps sharp edges builds its default
+    /// surface with no fold or not at all.
+    #[error(
+        "scheme '{scheme}' with default parameters cannot build a surface without a fold: it \
+         folds over {faces} faces ({samples} samples; among them face {face}, at vertex {vertex}) \
+         and no round of sharp edges round them unfolds it{remedy}"
+    )]
+    FoldedSurface {
+        /// The scheme.
+        scheme: String,
+        /// Faces the surface folds over.
+        faces: usize,
+        /// Fold samples of the surface (the metrics' `folds`).
+        samples: usize,
+        /// The face named, in the input's numbering.
+        face: usize,
+        /// A corner of that face where the surface folds.
+        vertex: usize,
+        /// What to do: `; that face is a needle, …` where the mesh, not a parameter, is the
+        /// cause, else to repair the mesh at the vertex; and the scheme that cannot fold.
+        remedy: String,
+    },
     /// The scheme name is not registered.
     #[error("unknown scheme '{name}' (known: {known})")]
     UnknownScheme {
@@ -552,6 +575,21 @@ impl Error {
             Error::FoldedVertex { scheme, vertex } => Error::FoldedVertex {
                 scheme,
                 vertex: input(vertex),
+            },
+            Error::FoldedSurface {
+                scheme,
+                faces,
+                samples,
+                face,
+                vertex,
+                remedy,
+            } => Error::FoldedSurface {
+                scheme,
+                faces,
+                samples,
+                face,
+                vertex: input(vertex),
+                remedy,
             },
             Error::UndefinedNormal { vertex } => Error::UndefinedNormal {
                 vertex: input(vertex),

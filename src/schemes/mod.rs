@@ -162,7 +162,7 @@ fn build_in_frame_numbered(
     ));
     let frame = LocalFrame::of_points(mesh.positions());
     let local = mesh.framed(frame.centre, frame.scale);
-    let surface = build_sharpening_spikes(spec, &local, &params)?;
+    let surface = build_sharpening_spikes(spec, &local, &params, user)?;
     check_surface(&surface, &local, user)?;
     Ok((surface, frame))
 }
@@ -177,9 +177,15 @@ const SPIKE_ROUNDS: usize = 4;
 /// sharp edges is kept only if the surface then folds less. Where it still folds, or the
 /// scheme still refuses a folded ring or an edge, the edges of the faces that fold (then
 /// every edge at their corners) and every edge at the refused rings and edges become sharp,
-/// round by round, until nothing folds ([`fold_corners`], one more warning); a refusal
-/// stands if that does not end in a surface that folds nowhere.
-fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> Result<Surface> {
+/// round by round, until nothing folds ([`fold_corners`], one more warning). A surface that
+/// still folds is refused: the scheme's own refusal of a folded ring stands, or else
+/// [`Error::FoldedSurface`] names where it folds (`user`: the parameters the user set).
+fn build_sharpening_spikes(
+    spec: &SchemeSpec,
+    mesh: &Mesh,
+    params: &Params,
+    user: &[(String, String)],
+) -> Result<Surface> {
     if spec.sharp_edges != SharpEdgeSupport::Builds {
         let mut surface = (spec.build)(mesh, params)?;
         let (faces, samples) = fold_corners::folding_faces(mesh, &surface);
@@ -250,6 +256,40 @@ fn build_sharpening_spikes(spec: &SchemeSpec, mesh: &Mesh, params: &Params) -> R
         return Err(refusal);
     }
     let mut surface = rounds.built?;
+    // `usize::MAX` counts an unusable surface, which the caller's check names.
+    // With parameters the user set, a folded surface is theirs to study: it is built, and
+    // said; with the defaults it is refused.
+    if rounds.samples > 0 && rounds.samples != usize::MAX {
+        let mesh = &rounds.mesh;
+        let site = fold_site(mesh, &surface);
+        if user.is_empty() {
+            let hint = needle_hint(mesh, site.face, user);
+            return Err(Error::FoldedSurface {
+                scheme: spec.name.to_string(),
+                faces: site.faces,
+                samples: site.samples,
+                face: mesh.input_face(site.face),
+                vertex: site.vertex as usize,
+                remedy: if hint.is_empty() {
+                    "; repair the mesh at that vertex, or use the flat scheme".to_string()
+                } else {
+                    format!("{hint}; or use the flat scheme")
+                },
+            });
+        }
+        surface.warnings.push(format!(
+            "{}: the surface {} folds over {} faces ({} samples; among them face {}, at vertex \
+             {}) and no round of sharp edges round them unfolds it; the metrics count the \
+             samples in `folds` (with the scheme's default parameters it is built without a \
+             fold or refused)",
+            spec.name,
+            user_params(user),
+            site.faces,
+            site.samples,
+            mesh.input_face(site.face),
+            mesh.input_vertex(site.vertex),
+        ));
+    }
     if !added.is_empty() {
         surface
             .warnings
@@ -308,20 +348,13 @@ pub const MAX_SURFACE_REACH: f64 = 1e3;
 /// finite, and the control net within [`MAX_SURFACE_REACH`] diagonals of the mesh's bounding
 /// box. The error names the scheme, the parameters the user set (`user`) and the patch.
 pub fn check_surface(surface: &Surface, mesh: &Mesh, user: &[(String, String)]) -> Result<()> {
-    let unusable = |patch: usize, what: String| {
-        let set: Vec<String> = user.iter().map(|(n, v)| format!("{n}={v}")).collect();
-        Error::UnusableSurface {
-            scheme: surface.scheme.clone(),
-            params: if set.is_empty() {
-                "with default parameters".to_string()
-            } else {
-                format!("with {}", set.join(", "))
-            },
-            reason: format!(
-                "patch {patch} (face {}) {what}",
-                mesh.input_face(surface.patches[patch].face)
-            ),
-        }
+    let unusable = |patch: usize, what: String| Error::UnusableSurface {
+        scheme: surface.scheme.clone(),
+        params: user_params(user),
+        reason: format!(
+            "patch {patch} (face {}) {what}",
+            mesh.input_face(surface.patches[patch].face)
+        ),
     };
     if let Some(patch) = surface.first_non_finite_patch() {
         return Err(unusable(patch, "has a non-finite control point".into()));
@@ -351,6 +384,67 @@ pub fn check_surface(surface: &Surface, mesh: &Mesh, user: &[(String, String)]) 
     }
 }
 
+/// Where a surface that still folds after the fold rounds folds.
+struct FoldSite {
+    /// Faces the surface folds over.
+    faces: usize,
+    /// Its fold samples.
+    samples: usize,
+    /// The folding face named: the thinnest needle among them.
+    face: u32,
+    /// Its corner named: the needle's tip (opposite its shortest edge; where a stray vertex
+    /// made the needles, that vertex) for a needle ([`NEEDLE_ASPECT`]), else its corner where
+    /// the faces fold over themselves ([`fold_corners::folded_rings`]), else the corner most
+    /// of the folding faces share.
+    vertex: u32,
+}
+
+/// The [`FoldSite`] of `surface` on `mesh`, which folds.
+fn fold_site(mesh: &Mesh, surface: &Surface) -> FoldSite {
+    let (faces, samples) = fold_corners::folding_faces(mesh, surface);
+    let face = faces
+        .iter()
+        .copied()
+        .max_by(|&f, &g| face_aspect(mesh, f).total_cmp(&face_aspect(mesh, g)))
+        .unwrap_or(0);
+    let corners = mesh.faces()[face as usize];
+    let tip = || {
+        let at = corners.map(|v| mesh.positions()[v as usize]);
+        let opposite = |i: usize| (at[(i + 1) % 3] - at[(i + 2) % 3]).length();
+        (0..3)
+            .min_by(|&i, &j| opposite(i).total_cmp(&opposite(j)))
+            .map(|i| corners[i])
+    };
+    let rings = fold_corners::folded_rings(mesh);
+    let shared = |v: u32| {
+        faces
+            .iter()
+            .filter(|&&f| mesh.faces()[f as usize].contains(&v))
+            .count()
+    };
+    let vertex = (face_aspect(mesh, face) > NEEDLE_ASPECT)
+        .then(tip)
+        .flatten()
+        .or_else(|| corners.iter().copied().find(|v| rings.contains(v)))
+        .or_else(|| corners.iter().copied().max_by_key(|&v| shared(v)))
+        .unwrap_or(corners[0]);
+    FoldSite {
+        faces: faces.len(),
+        samples,
+        face,
+        vertex,
+    }
+}
+
+/// The parameters the user set, as `with a=1, b=2`, or `with default parameters`.
+fn user_params(user: &[(String, String)]) -> String {
+    if user.is_empty() {
+        return "with default parameters".to_string();
+    }
+    let set: Vec<String> = user.iter().map(|(n, v)| format!("{n}={v}")).collect();
+    format!("with {}", set.join(", "))
+}
+
 /// Faces this many times longer than high are needles, where a surface with default
 /// parameters can run far off (a mesh with one vertex 3e5 away from a model of unit size).
 const NEEDLE_ASPECT: f64 = 1e3;
@@ -359,9 +453,7 @@ const NEEDLE_ASPECT: f64 = 1e3;
 /// `; that face is a needle, …` when that face's longest edge is more than [`NEEDLE_ASPECT`]
 /// times its height (the mesh, not a parameter, is then the cause), else nothing.
 fn needle_hint(mesh: &Mesh, face: u32, user: &[(String, String)]) -> String {
-    let [a, b, c] = mesh.faces()[face as usize].map(|v| mesh.positions()[v as usize]);
-    let longest = (b - a).length().max((c - b).length()).max((a - c).length());
-    let aspect = longest * longest / (b - a).cross(c - a).length();
+    let aspect = face_aspect(mesh, face);
     if !user.is_empty() || aspect.is_nan() || aspect <= NEEDLE_ASPECT {
         return String::new();
     }
@@ -370,6 +462,13 @@ fn needle_hint(mesh: &Mesh, face: u32, user: &[(String, String)]) -> String {
          remove it (a vertex far from the others, as a stray vertex of a corrupted file, makes \
          such faces)"
     )
+}
+
+/// The longest edge of `face` over its height (NaN or infinite for a face of zero area).
+fn face_aspect(mesh: &Mesh, face: u32) -> f64 {
+    let [a, b, c] = mesh.faces()[face as usize].map(|v| mesh.positions()[v as usize]);
+    let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+    longest * longest / (b - a).cross(c - a).length()
 }
 
 /// A scheme's parameters with defaults filled in.
@@ -623,6 +722,74 @@ mod tests {
             }
         }
         Mesh::from_triangles(positions, faces).expect("loads").0
+    }
+
+    /// The icosahedron with one vertex moved to distance `far` (a stray vertex): its five
+    /// faces are needles. At 3e3 hb and loop94 build it with no fold (20 and 23 edges made
+    /// sharp at the spike); at 3e4 hb's, and at 1e6 both surfaces still fold where no round of sharp
+    /// edges unfolds them (267 and 455 / 107 samples, which they were built with before), and
+    /// they are refused naming a needle and its tip, the stray vertex, with the remedy.
+    /// With a parameter the user set, a surface that folds is built with a warning.
+    #[test]
+    fn a_default_surface_that_still_folds_is_refused_naming_the_needle_tip() {
+        let moved = |far: f64| {
+            let (mut positions, faces) = crate::mesh::generate::icosahedron();
+            positions[0] = DVec3::new(far, 0.0, 0.0);
+            crate::testing::mesh((positions, faces))
+        };
+        for scheme in ["hb", "loop94"] {
+            let mesh = moved(3e3);
+            let surface = super::build(scheme, &mesh, &[]).expect("builds");
+            let m = crate::metrics::Metrics::measure(&surface, &mesh, 0.0);
+            assert_eq!(m.folds, 0, "{scheme} at 3e3");
+            assert!(m.spike_edges > 0, "{scheme} at 3e3");
+        }
+        for (scheme, far) in [("hb", 3e4), ("hb", 1e6), ("loop94", 1e6)] {
+            let mesh = moved(far);
+            match super::build(scheme, &mesh, &[]) {
+                Err(e @ crate::Error::FoldedSurface { .. }) => {
+                    let crate::Error::FoldedSurface {
+                        face,
+                        vertex,
+                        samples,
+                        ..
+                    } = &e
+                    else {
+                        unreachable!()
+                    };
+                    assert_eq!(*vertex, 0, "{scheme} at {far:e}: {e}");
+                    assert!(mesh.faces()[*face].contains(&0), "{scheme} at {far:e}: {e}");
+                    assert!(*samples > 0, "{e}");
+                    let message = e.to_string();
+                    assert!(
+                        message.contains(
+                            "with default parameters cannot build a surface without a fold"
+                        ) && message.contains("that face is a needle")
+                            && message.ends_with("; or use the flat scheme"),
+                        "{message}"
+                    );
+                }
+                other => panic!("{scheme} at {far:e}: {:?}", other.map(|s| s.warnings)),
+            }
+        }
+        // A parameter the user set is theirs to study: HB00 with `alpha=0.5` (no longer
+        // interpolating) folds on the cube, more with sharp edges, and is built and said.
+        let cube = crate::testing::scene("cube");
+        let alpha = [("alpha".to_string(), "0.5".to_string())];
+        let surface = super::build("hb", &cube, &alpha).expect("builds with the user's alpha");
+        let m = crate::metrics::Metrics::measure(&surface, &cube, 0.0);
+        assert!(m.folds > 0, "{m:?}");
+        let warned: Vec<&String> = surface
+            .warnings
+            .iter()
+            .filter(|w| w.starts_with("hb: the surface with alpha=0.5 folds over"))
+            .collect();
+        assert_eq!(warned.len(), 1, "{:?}", surface.warnings);
+        assert!(
+            warned[0].contains(&format!("({} samples; among them face ", m.folds)),
+            "{}",
+            warned[0]
+        );
     }
 
     /// gk approximates: over a thin twisted tube its surface turns more than 90° away from a
