@@ -53,8 +53,11 @@ pub(super) fn fully_sharp_vertices(mesh: &Mesh) -> Vec<bool> {
     fully
 }
 
-/// Rounds of [`fold_rounds`] at most; each makes at least one more edge sharp.
-const FOLD_ROUNDS: usize = 64;
+/// Rounds of [`fold_rounds`] at most; each makes at least one more edge sharp. A scheme that
+/// fails at edges names those of one stage of its construction per build, so a folded scan
+/// can take many: Nielson on the 109k-face face scan of results/public-models.md ends with 0
+/// folds after 78 rounds (and was refused at a cap of 64).
+const FOLD_ROUNDS: usize = 256;
 
 /// What [`fold_rounds`] ends in: the surface with the fewest fold samples met (or the scheme's
 /// error, where no round built one), the mesh it was built on, and what was done to get it.

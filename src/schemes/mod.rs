@@ -644,8 +644,9 @@ pub fn scheme_normals(
         }
         warnings.push(format!(
             "{scheme}: the faces around {} vertices fold over themselves (first: vertex {}): \
-             no normal sees them all from the front, so the surface folds there; repair the \
-             mesh at that vertex",
+             no normal sees them all from the front, so a surface there folds or parts along \
+             sharp edges (the metrics count any fold in `folds`); repair the mesh at that \
+             vertex",
             front.folded.len(),
             mesh.input_vertex(v)
         ));

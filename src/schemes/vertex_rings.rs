@@ -392,8 +392,9 @@ pub(crate) fn plane_warnings(
     if let Some(&v) = folded.first() {
         warnings.push(format!(
             "{scheme}: the faces around {} vertices fold over themselves (first: vertex {}): no \
-             tangent plane sees them all from the front, so the surface folds there; repair the \
-             mesh at that vertex",
+             tangent plane sees them all from the front, so a surface there folds or parts \
+             along sharp edges (the metrics count any fold in `folds`); repair the mesh at that \
+             vertex",
             folded.len(),
             mesh.input_vertex(v)
         ));
