@@ -2,7 +2,7 @@
 //! and the papers' meshes do not (non-planar quads, n-gons, non-manifold vertices and edges,
 //! slivers and zero-area faces, holes, a flipped face, coordinates far from the origin, a part
 //! with flat faces and 90° creases, an assembly of open parts that touch, a UV sphere whose
-//! poles have valence 64). Deterministic: the
+//! poles have valence 64, a stray vertex far from the rest). Deterministic: the
 //! jitter is a hash of the vertex index, so the files are the same on every run.
 //!
 //! ```text
@@ -524,6 +524,21 @@ fn main() -> std::io::Result<()> {
         "An assembly of four open parts that touch: body (open at the top), lid, spout, handle"
             .into(),
         pot,
+    ));
+
+    // A stray vertex, as a corrupted file has: the icosahedron with its first vertex moved
+    // 1e6 away, so that its five faces are needles.
+    let (mut positions, faces) = smoothlab::mesh::generate::icosahedron();
+    positions[0] = DVec3::new(1e6, 0.0, 0.0);
+    files.push((
+        "stray-vertex.obj",
+        "The regular icosahedron with its first vertex moved to (1e6, 0, 0): a stray vertex \
+         whose five faces are needles"
+            .into(),
+        Polygons {
+            positions,
+            faces: faces.iter().map(|f| f.to_vec()).collect(),
+        },
     ));
 
     files.push((

@@ -213,8 +213,13 @@ pub enum Error {
         /// Why the file's normals cannot be used.
         reason: String,
     },
-    /// The angle-weighted face normals around a vertex cancel, so it has no normal.
-    #[error("vertex {vertex} has no defined normal: the normals of the faces around it cancel")]
+    /// The angle-weighted face normals around a vertex cancel, so it has no normal: its ring
+    /// is folded flat, or its faces are needles round a vertex far from the others.
+    #[error(
+        "vertex {vertex} has no defined normal: the normals of the faces around it cancel (its \
+         faces fold flat onto each other, or are needles, as a vertex far from the others \
+         makes); repair the mesh at that vertex, or use the flat scheme"
+    )]
     UndefinedNormal {
         /// Vertex index.
         vertex: usize,
@@ -233,12 +238,12 @@ pub enum Error {
         vertex: usize,
     },
     /// With default parameters, the surface still folds over faces of the mesh after the fold
-    /// rounds (a mesh with needle faces): a scheme that keeps sharp edges builds its default
-    /// surface with no fold or not at all.
+    /// rounds (a mesh with needle faces), or an approximating surface turns away from needle
+    /// faces: a scheme builds its default surface with no fold or not at all.
     #[error(
         "scheme '{scheme}' with default parameters cannot build a surface without a fold: it \
          folds over {faces} faces ({samples} samples; among them face {face}, at vertex {vertex}) \
-         and no round of sharp edges round them unfolds it{remedy}"
+         and {after}{remedy}"
     )]
     FoldedSurface {
         /// The scheme.
@@ -251,6 +256,8 @@ pub enum Error {
         face: usize,
         /// A corner of that face where the surface folds.
         vertex: usize,
+        /// Why no sharp edge settles it.
+        after: String,
         /// What to do: `; that face is a needle, …` where the mesh, not a parameter, is the
         /// cause, else to repair the mesh at the vertex; and the scheme that cannot fold.
         remedy: String,
@@ -582,6 +589,7 @@ impl Error {
                 samples,
                 face,
                 vertex,
+                after,
                 remedy,
             } => Error::FoldedSurface {
                 scheme,
@@ -589,6 +597,7 @@ impl Error {
                 samples,
                 face,
                 vertex: input(vertex),
+                after,
                 remedy,
             },
             Error::UndefinedNormal { vertex } => Error::UndefinedNormal {
