@@ -618,12 +618,7 @@ mod tests {
                 m.spike_edges > 0 && m.sharp_joints >= m.spike_edges,
                 "{label}: {m:?}"
             );
-            let warned: Vec<&String> = surface
-                .warnings
-                .iter()
-                .filter(|w| w.contains("over which the surface folded"))
-                .collect();
-            assert_eq!(warned.len(), 1, "{label}: {:?}", surface.warnings);
+            testing::the_warning(&surface, "over which the surface folded");
             println!(
                 "{label}: {own_folds} fold samples -> 0, {} edges sharp",
                 m.spike_edges

@@ -805,16 +805,10 @@ mod tests {
         let surface = super::build("hb", &cube, &alpha).expect("builds with the user's alpha");
         let m = crate::metrics::Metrics::measure(&surface, &cube, 0.0);
         assert!(m.folds > 0, "{m:?}");
-        let warned: Vec<&String> = surface
-            .warnings
-            .iter()
-            .filter(|w| w.starts_with("hb: the surface with alpha=0.5 folds over"))
-            .collect();
-        assert_eq!(warned.len(), 1, "{:?}", surface.warnings);
+        let warned = crate::testing::the_warning(&surface, "hb: the surface with alpha=0.5 folds");
         assert!(
-            warned[0].contains(&format!("({} samples; among them face ", m.folds)),
-            "{}",
-            warned[0]
+            warned.contains(&format!("({} samples; among them face ", m.folds)),
+            "{warned}"
         );
     }
 
@@ -827,16 +821,10 @@ mod tests {
         let surface = super::build("gk", &mesh, &[]).expect("gk builds a closed tube");
         let m = crate::metrics::Metrics::measure(&surface, &mesh, 0.0);
         assert!(m.folds > 0, "{m:?}");
-        let warned: Vec<&String> = surface
-            .warnings
-            .iter()
-            .filter(|w| w.contains("turns more than 90° away from the normals of"))
-            .collect();
-        assert_eq!(warned.len(), 1, "{:?}", surface.warnings);
+        let warned = crate::testing::the_warning(&surface, "turns more than 90° away from");
         assert!(
-            warned[0].contains(&format!("({} samples; first: face ", m.folds)),
-            "{}",
-            warned[0]
+            warned.contains(&format!("({} samples; first: face ", m.folds)),
+            "{warned}"
         );
     }
 

@@ -12,7 +12,7 @@ pub use rng::Rng;
 pub use schemes::{
     JointFigures, assert_g1_joints, closed_test_meshes, creased,
     max_smoothness_defect_inside_faces, mesh, open_bunny, open_test_meshes, params, scene,
-    sharp_vertex_kinds, unit_icosphere_accuracy,
+    sharp_vertex_kinds, the_warning, unit_icosphere_accuracy,
 };
 
 /// The command layer's functions that end-to-end tests and benchmarks call directly.

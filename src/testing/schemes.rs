@@ -76,6 +76,18 @@ pub fn open_test_meshes() -> Vec<(String, Mesh)> {
     out
 }
 
+/// The one warning of `surface` that contains `fragment` (panics unless there is exactly
+/// one).
+pub fn the_warning<'a>(surface: &'a crate::surface::Surface, fragment: &str) -> &'a str {
+    let warned: Vec<&String> = surface
+        .warnings
+        .iter()
+        .filter(|w| w.contains(fragment))
+        .collect();
+    assert_eq!(warned.len(), 1, "'{fragment}' in {:?}", surface.warnings);
+    warned[0]
+}
+
 /// The scene `name` as a mesh: a generated one of [`crate::mesh::generate::SCENES`] or a
 /// scanned one of [`crate::mesh::generate::SCANNED_SCENES`] (`scenes/<name>.obj`).
 pub fn scene(name: &str) -> Mesh {
