@@ -59,9 +59,9 @@ fn expect(mesh: &str, scheme: &str) -> Expect {
     match (mesh, scheme) {
         // The paper's scope: gk needs a closed mesh.
         (_, "gk") if open => Expect::Refuses(&["gk", "needs a closed mesh"]),
-        // A stray vertex 1e6 away: the normals of its needles cancel, and the surfaces of the
-        // schemes that need no vertex normal fold over them (or, gk's, turn away from them)
-        // however many edges are made sharp. Each refusal names the vertex and the remedy.
+        // A stray vertex 1e6 away: the normals of its needles cancel at it; hb's and loop94's
+        // surfaces fold over them however many edges are made sharp, and gk's turns away from
+        // them. Each refusal names the vertex and the remedy.
         ("stray-vertex", "pn" | "piper" | "nielson" | "fang-mann") => Expect::Refuses(&[
             "vertex 0 has no defined normal",
             "repair the mesh at that vertex",

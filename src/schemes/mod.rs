@@ -388,7 +388,7 @@ pub fn check_surface(surface: &Surface, mesh: &Mesh, user: &[(String, String)]) 
     }
 }
 
-/// Where a surface that still folds after the fold rounds folds.
+/// Where a built surface folds (after the fold rounds, for a scheme that makes them).
 struct FoldSite {
     /// Faces the surface folds over.
     faces: usize,
@@ -750,9 +750,9 @@ mod tests {
 
     /// The icosahedron with one vertex moved to distance `far` (a stray vertex): its five
     /// faces are needles. At 3e3 hb and loop94 build it with no fold (20 and 23 edges made
-    /// sharp at the spike); at 3e4 hb's, and at 1e6 both surfaces still fold where no round of sharp
-    /// edges unfolds them (267 and 455 / 107 samples, which they were built with before), and
-    /// they are refused naming a needle and its tip, the stray vertex, with the remedy; so is
+    /// sharp at the spike); at 3e4 hb's, and at 1e6 both surfaces still fold where no round
+    /// of sharp edges unfolds them (267 and 455 / 107 samples, which they were built with
+    /// before), and they are refused naming a needle and its tip, the stray vertex, with the remedy; so is
     /// gk's at 1e6, which turns away from 17 faces with no sharp edges to make (over faces
     /// that are not needles, as on VTK's ant, it is built with a warning). With a parameter
     /// the user set, a surface that folds is built with a warning.
