@@ -316,3 +316,38 @@ fn the_cad_part_keeps_its_planar_faces_planar_with_a_crease_angle() {
         }
     }
 }
+
+/// The UV sphere with one vertex moved 1e8 away (vertex 1930, beside the south pole): gk's
+/// second Loop refinement of its needles merges vertices and faces in f64. It is refused,
+/// naming the refinement level and the remedy; it panicked on a refined net with holes.
+#[test]
+fn gk_refuses_a_refinement_that_would_need_repair() {
+    let dir = common::scratch("hostile_corpus", "gk_stray");
+    let text = std::fs::read_to_string(corpus("uv-sphere")).expect("corpus mesh");
+    let mut vertex = 0;
+    let moved: String = text
+        .lines()
+        .map(|line| {
+            if !line.starts_with("v ") {
+                return format!("{line}\n");
+            }
+            vertex += 1;
+            if vertex == 1931 {
+                "v 0.062181415557999 0.07576827408347282 -1e8\n".to_string()
+            } else {
+                format!("{line}\n")
+            }
+        })
+        .collect();
+    let path = dir.join("uv-sphere-stray.obj");
+    std::fs::write(&path, moved).expect("write mesh");
+    let out = metrics(&path, "gk", &[], &dir.join("gk.json"));
+    let err = common::stderr(&out);
+    assert!(!out.status.success() && !err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("gk: Loop refinement level 2 produced a net that is not a clean closed mesh")
+            && err.contains("repair the mesh, or use another scheme"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -23,7 +23,7 @@ use std::collections::{HashMap, VecDeque};
 use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::mesh::Mesh;
+use crate::mesh::{LoadOptions, Mesh};
 
 /// Most refinement levels tried before the mesh is refused (4⁵ = 1024 faces per input face).
 pub(crate) const MAX_LEVELS: usize = 5;
@@ -159,7 +159,22 @@ pub(crate) fn prepare(mesh: &Mesh, k: usize) -> Result<RefinedNet> {
         }
         let (positions, faces, origin, domain) = loop_step(&net.mesh, &net.origin, &net.domain);
         let expected = positions.len();
-        let (refined, _) = Mesh::from_triangles(positions, faces)?;
+        // The refined net of a closed manifold mesh needs no repair; one that would (faces
+        // collapsed to needles of zero area in f64, as a stray vertex far from the rest makes)
+        // would leave holes and faces out of step with their ancestry.
+        let strict = LoadOptions {
+            strict: true,
+            ..LoadOptions::default()
+        };
+        let (refined, _) = Mesh::from_triangles_with(positions, faces, &strict).map_err(|_| {
+            Error::Invalid(format!(
+                "gk: Loop refinement level {} produced a net that is not a clean closed mesh \
+                 (its vertices or faces coincide in f64): the mesh has faces too thin for Loop's \
+                 rule, as a vertex far from the others makes; repair the mesh, or use another \
+                 scheme",
+                net.levels + 1
+            ))
+        })?;
         if refined.vertex_count() != expected {
             return Err(Error::Invalid(format!(
                 "gk: Loop refinement level {} produced coinciding vertices",
