@@ -324,21 +324,8 @@ fn the_cad_part_keeps_its_planar_faces_planar_with_a_crease_angle() {
 fn gk_refuses_a_refinement_that_would_need_repair() {
     let dir = common::scratch("hostile_corpus", "gk_stray");
     let text = std::fs::read_to_string(corpus("uv-sphere")).expect("corpus mesh");
-    let mut vertex = 0;
-    let moved: String = text
-        .lines()
-        .map(|line| {
-            if !line.starts_with("v ") {
-                return format!("{line}\n");
-            }
-            vertex += 1;
-            if vertex == 1931 {
-                "v 0.062181415557999 0.07576827408347282 -1e8\n".to_string()
-            } else {
-                format!("{line}\n")
-            }
-        })
-        .collect();
+    let moved =
+        common::with_vertex_moved(&text, 1931, "0.062181415557999 0.07576827408347282 -1e8");
     let path = dir.join("uv-sphere-stray.obj");
     std::fs::write(&path, moved).expect("write mesh");
     let out = metrics(&path, "gk", &[], &dir.join("gk.json"));

@@ -403,18 +403,7 @@ fn scaled_meshes_render_the_same_image() {
 fn a_stray_far_vertex_is_named_and_does_not_multiply_leaves() {
     let dir = common::scratch("render", "stray");
     let text = std::fs::read_to_string(scene_mesh("hostile/pinched-pair.obj")).expect("read mesh");
-    let mut moved = false;
-    let stray: String = text
-        .lines()
-        .map(|line| {
-            if line.starts_with("v ") && !moved {
-                moved = true;
-                "v 100000000 0 0\n".to_string()
-            } else {
-                format!("{line}\n")
-            }
-        })
-        .collect();
+    let stray = common::with_vertex_moved(&text, 1, "100000000 0 0");
     let obj = dir.join("stray.obj");
     std::fs::write(&obj, stray).expect("write mesh");
     let render = |name: &str, view: &[&str]| {

@@ -60,6 +60,23 @@ pub fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// The OBJ `text` with its vertex number `vertex` (1-based, as OBJ counts) written as
+/// `v {position}` instead: a stray vertex, as a corrupted file has.
+pub fn with_vertex_moved(text: &str, vertex: usize, position: &str) -> String {
+    let mut seen = 0;
+    text.lines()
+        .map(|line| {
+            if line.starts_with("v ") {
+                seen += 1;
+                if seen == vertex {
+                    return format!("v {position}\n");
+                }
+            }
+            format!("{line}\n")
+        })
+        .collect()
+}
+
 /// `p` as UTF-8 (every test path is).
 pub fn path_str(p: &Path) -> &str {
     p.to_str().expect("utf-8 path")
