@@ -800,14 +800,29 @@ mod tests {
         }
         // A parameter the user set is theirs to study: HB00 with `alpha=0.5` (no longer
         // interpolating) folds on the cube, more with sharp edges, and is built and said.
-        let cube = crate::testing::scene("cube");
         let alpha = [("alpha".to_string(), "0.5".to_string())];
-        let surface = super::build("hb", &cube, &alpha).expect("builds with the user's alpha");
-        let m = crate::metrics::Metrics::measure(&surface, &cube, 0.0);
-        assert!(m.folds > 0, "{m:?}");
-        let warned = crate::testing::the_warning(&surface, "hb: the surface with alpha=0.5 folds");
+        builds_folding_and_says_so(
+            ("hb", &alpha),
+            &crate::testing::scene("cube"),
+            "hb: the surface with alpha=0.5 folds",
+            "among them face ",
+        );
+    }
+
+    /// Builds `scheme` with `params` on `mesh`, whose surface folds, and checks that its one
+    /// warning containing `fragment` counts the metrics' fold samples, followed by `then`.
+    fn builds_folding_and_says_so(
+        (scheme, params): (&str, &[(String, String)]),
+        mesh: &Mesh,
+        fragment: &str,
+        then: &str,
+    ) {
+        let surface = super::build(scheme, mesh, params).expect("builds");
+        let m = crate::metrics::Metrics::measure(&surface, mesh, 0.0);
+        assert!(m.folds > 0, "{scheme}: {m:?}");
+        let warned = crate::testing::the_warning(&surface, fragment);
         assert!(
-            warned.contains(&format!("({} samples; among them face ", m.folds)),
+            warned.contains(&format!("({} samples; {then}", m.folds)),
             "{warned}"
         );
     }
@@ -817,14 +832,11 @@ mod tests {
     /// metrics count in `folds`.
     #[test]
     fn gk_says_where_its_surface_turns_away_from_the_faces() {
-        let mesh = thin_twisted_tube(6);
-        let surface = super::build("gk", &mesh, &[]).expect("gk builds a closed tube");
-        let m = crate::metrics::Metrics::measure(&surface, &mesh, 0.0);
-        assert!(m.folds > 0, "{m:?}");
-        let warned = crate::testing::the_warning(&surface, "turns more than 90° away from");
-        assert!(
-            warned.contains(&format!("({} samples; first: face ", m.folds)),
-            "{warned}"
+        builds_folding_and_says_so(
+            ("gk", &[]),
+            &thin_twisted_tube(6),
+            "turns more than 90° away from",
+            "first: face ",
         );
     }
 
