@@ -53,7 +53,9 @@ impl Patch {
     /// `Su × Sv` points against the face's normal `face_normal`. A patch is parametrised with
     /// the orientation of its face (the export contract, docs/guide/contracts.md), so a surface
     /// that follows its mesh has none; a fold is where the surface doubles back over the face.
-    /// Samples where `Su × Sv = 0` are not counted. A Bézier patch whose normal's Bézier
+    /// Samples whose normal is zero to the rounding of the derivatives
+    /// ([`Patch::derivative_rounding`]: a singular point, as where a patch corner's two edges
+    /// are in line) have no orientation and are not counted. A Bézier patch whose normal's Bézier
     /// form proves it faces along `face_normal` everywhere ([`TriangleBezier::faces_along`])
     /// has none and is not sampled.
     pub(crate) fn fold_samples(&self, face_normal: DVec3) -> usize {
@@ -68,13 +70,33 @@ impl Patch {
     /// [`Patch::fold_samples`] by evaluating the grid.
     fn sampled_fold_samples(&self, face_normal: DVec3) -> usize {
         let n = PATCH_GRID;
+        let unit = face_normal.normalize_or_zero();
+        let delta = self.derivative_rounding();
         (0..=n)
             .flat_map(|i| (0..=n - i).map(move |j| (i, j)))
             .filter(|&(i, j)| {
                 let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
-                self.jet(u, v).cross().dot(face_normal) < 0.0
+                let jet = self.jet(u, v);
+                // Su × Sv is known to δ(|Su| + |Sv|); a component below that has no sign.
+                jet.cross().dot(unit) < -delta * (jet.du.length() + jet.dv.length())
             })
             .count()
+    }
+
+    /// How far rounding may move the patch's first derivatives (absolute, in its units): its
+    /// control points are stored as f64 offsets up to `R` in magnitude from the patch's origin
+    /// ([`Patch::offset_magnitude`]), each within half an ulp of the construction's exact
+    /// value, and de Casteljau's evaluation adds a rounding of that size per level; the
+    /// derivative of a degree-`d` net multiplies the differences of its points by `d`. So
+    /// `δ = 2·d·ε·R` (`ε = 2⁻⁵²`), an estimate of the rounding of the stored surface and its
+    /// evaluation, not a rigorous bound (the metrics tests check it against pieces of one
+    /// polynomial). A blend is taken at its sub-surfaces' degree.
+    pub fn derivative_rounding(&self) -> f64 {
+        let degree = match &self.geometry {
+            PatchGeometry::Bezier(b) => b.degree(),
+            PatchGeometry::Blend(b) => b.degree(),
+        };
+        2.0 * degree as f64 * f64::EPSILON * self.offset_magnitude()
     }
 
     /// Bit `e` set when edge `e` of the patch (corner e → e+1) lies on an edge of its mesh
@@ -127,12 +149,12 @@ impl Patch {
     }
 
     /// Every control point of the patch (of all sub-surfaces for a blend).
-    pub fn control_points(&self) -> impl Iterator<Item = &DVec3> {
+    pub fn control_points(&self) -> impl Iterator<Item = DVec3> + '_ {
         let nets: &[TriangleBezier] = match &self.geometry {
             PatchGeometry::Bezier(b) => std::slice::from_ref(b),
             PatchGeometry::Blend(b) => b.sub_surfaces(),
         };
-        nets.iter().flat_map(|n| n.points())
+        nets.iter().flat_map(|n| n.control_points())
     }
 
     /// The patch with every control point mapped by `f` (an affine map keeps every patch
@@ -150,9 +172,29 @@ impl Patch {
     }
 
     /// The patch with every control point multiplied by `factor` (the surface scaled about
-    /// the origin; domain and parametrisation unchanged).
+    /// the origin; domain and parametrisation unchanged): each net's origin and offsets
+    /// scaled ([`TriangleBezier::scaled`]), exact for a power of two.
     pub fn scaled(&self, factor: f64) -> Patch {
-        self.mapped(|p| p * factor)
+        let geometry = match &self.geometry {
+            PatchGeometry::Bezier(b) => PatchGeometry::Bezier(b.scaled(factor)),
+            PatchGeometry::Blend(b) => PatchGeometry::Blend(Box::new(BlendPatch::new(
+                b.family(),
+                b.sub_surfaces().each_ref().map(|n| n.scaled(factor)),
+            ))),
+        };
+        Patch { geometry, ..*self }
+    }
+
+    /// The largest coordinate magnitude of the stored offsets of its nets
+    /// ([`TriangleBezier::offset_magnitude`]): the scale the patch is rounded at.
+    pub fn offset_magnitude(&self) -> f64 {
+        let nets: &[TriangleBezier] = match &self.geometry {
+            PatchGeometry::Bezier(b) => std::slice::from_ref(b),
+            PatchGeometry::Blend(b) => b.sub_surfaces(),
+        };
+        nets.iter()
+            .map(TriangleBezier::offset_magnitude)
+            .fold(0.0, f64::max)
     }
 
     /// Bounds of the whole patch.

@@ -138,8 +138,8 @@ mod tests {
         });
         let m = elevation_matrix(4);
         let elevated = patch.elevate();
-        for (row, expected) in m.iter().zip(elevated.points()) {
-            let p: DVec3 = row.iter().zip(patch.points()).map(|(w, p)| *w * *p).sum();
+        for (row, expected) in m.iter().zip(elevated.offsets()) {
+            let p: DVec3 = row.iter().zip(patch.offsets()).map(|(w, p)| *w * *p).sum();
             assert!((p - *expected).length() < 1e-13);
         }
     }

@@ -134,9 +134,17 @@ fn jet_of_degree<const D: usize, const N: usize>(points: &[DVec3], w: DVec3) -> 
 }
 
 /// A triangular Bézier patch `B(w0,w1,w2) = Σ b(i,j,k) d!/(i!j!k!) w0^i w1^j w2^k`.
+///
+/// The control points are stored as offsets from an origin of the patch's own (zero unless the
+/// construction chose one, e.g. a corner of its mesh face): a patch far from the origin of its
+/// frame keeps the precision of its own size, so its derivatives — differences of offsets,
+/// which the continuity measures read — are not rounded at the size of the frame (a face
+/// 1e-7 of the mesh wide keeps 1e-16 of its own width, not of the mesh's). Positions add the
+/// origin; derivatives never see it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TriangleBezier {
     degree: usize,
+    origin: DVec3,
     points: Vec<DVec3>,
 }
 
@@ -150,7 +158,30 @@ impl TriangleBezier {
             "a degree-{degree} triangle has {} control points",
             point_count(degree)
         );
-        TriangleBezier { degree, points }
+        TriangleBezier {
+            degree,
+            origin: DVec3::ZERO,
+            points,
+        }
+    }
+
+    /// A patch whose control points are `origin + offsets[n]` (see [`TriangleBezier`]): the
+    /// offsets are kept as given, so a construction that computes them relative to a point
+    /// near the patch keeps their precision. Panics if the count is wrong.
+    pub fn with_origin(degree: usize, origin: DVec3, offsets: Vec<DVec3>) -> Self {
+        TriangleBezier {
+            origin,
+            ..TriangleBezier::new(degree, offsets)
+        }
+    }
+
+    /// This net moved by `origin`, without touching its stored points: a net built in a face's
+    /// own frame (points relative to the face's origin), placed where the face is.
+    pub fn placed_at(self, origin: DVec3) -> Self {
+        TriangleBezier {
+            origin: self.origin + origin,
+            ..self
+        }
     }
 
     /// A patch from control points read from outside (a file): the count must be
@@ -168,7 +199,11 @@ impl TriangleBezier {
                 "control point {n} of a degree-{degree} triangular patch is not finite"
             )));
         }
-        Ok(TriangleBezier { degree, points })
+        Ok(TriangleBezier {
+            degree,
+            origin: DVec3::ZERO,
+            points,
+        })
     }
 
     /// A patch whose point `b(i,j,k)` is `f(i, j, k)`.
@@ -179,7 +214,7 @@ impl TriangleBezier {
                 points.push(f(i, j, degree - i - j));
             }
         }
-        TriangleBezier { degree, points }
+        TriangleBezier::new(degree, points)
     }
 
     /// Polynomial degree.
@@ -187,13 +222,32 @@ impl TriangleBezier {
         self.degree
     }
 
-    /// Control points in the module's order.
-    pub fn points(&self) -> &[DVec3] {
+    /// The point the control points are stored relative to (see [`TriangleBezier`]).
+    pub fn origin(&self) -> DVec3 {
+        self.origin
+    }
+
+    /// The control points relative to [`TriangleBezier::origin`], in the module's order: what
+    /// differences of control points (derivatives) are computed from.
+    pub fn offsets(&self) -> &[DVec3] {
         &self.points
     }
 
-    /// Control point `b(i,j,k)` (k = d − i − j). Panics if `i + j > d`.
-    pub fn point(&self, i: usize, j: usize) -> DVec3 {
+    /// The control points (origin added), in the module's order.
+    pub fn control_points(&self) -> impl ExactSizeIterator<Item = DVec3> + '_ {
+        self.points.iter().map(|&b| self.origin + b)
+    }
+
+    /// The largest coordinate magnitude of the offsets: the scale at which the stored net,
+    /// and every difference of its points, is rounded.
+    pub fn offset_magnitude(&self) -> f64 {
+        self.points
+            .iter()
+            .fold(0.0, |m, b| m.max(b.abs().max_element()))
+    }
+
+    /// Offset of control point `b(i,j,k)` (k = d − i − j). Panics if `i + j > d`.
+    pub fn offset(&self, i: usize, j: usize) -> DVec3 {
         assert!(
             i + j <= self.degree,
             "b({i},{j},·) of a degree-{} triangle",
@@ -202,14 +256,19 @@ impl TriangleBezier {
         self.points[index(self.degree, i, j)]
     }
 
-    /// Sets control point `b(i,j,k)`. Panics if `i + j > d`.
+    /// Control point `b(i,j,k)` (k = d − i − j), origin added. Panics if `i + j > d`.
+    pub fn point(&self, i: usize, j: usize) -> DVec3 {
+        self.origin + self.offset(i, j)
+    }
+
+    /// Sets control point `b(i,j,k)` to `p` (stored as `p − origin`). Panics if `i + j > d`.
     pub fn set_point(&mut self, i: usize, j: usize, p: DVec3) {
         assert!(
             i + j <= self.degree,
             "b({i},{j},·) of a degree-{} triangle",
             self.degree
         );
-        self.points[index(self.degree, i, j)] = p;
+        self.points[index(self.degree, i, j)] = p - self.origin;
     }
 
     /// Point at barycentric coordinates `bary` by de Casteljau [Piper87 eq. 8]
@@ -220,7 +279,7 @@ impl TriangleBezier {
             for m in (1..=degree).rev() {
                 de_casteljau_step(net, m, bary);
             }
-            net[0]
+            self.origin + net[0]
         })
     }
 
@@ -232,6 +291,14 @@ impl TriangleBezier {
     /// derivatives.
     pub fn jet(&self, u: f64, v: f64) -> Jet {
         let w = DVec3::new(1.0 - u - v, u, v);
+        let mut jet = self.offset_jet(w);
+        jet.p += self.origin;
+        jet
+    }
+
+    /// [`TriangleBezier::jet`] of the offsets at barycentric `w`.
+    #[inline(always)]
+    fn offset_jet(&self, w: DVec3) -> Jet {
         let b = &self.points;
         match self.degree {
             0 => Jet {
@@ -268,12 +335,15 @@ impl TriangleBezier {
             degree,
             "the blossom of a degree-{degree} patch takes {degree} arguments"
         );
+        // The origin is a constant polynomial: its blossom is the product of the arguments'
+        // weight sums (1 at points of the domain, 0 at directions).
+        let origin_weight: f64 = args.iter().map(|w| w.x + w.y + w.z).product();
         with_working_net(&self.points, |net| {
             for (m, &w) in (1..=degree).rev().zip(args) {
                 de_casteljau_step(net, m, w);
             }
             net[0]
-        })
+        }) + origin_weight * self.origin
     }
 
     /// All partial derivatives `∂^{i+j} S / ∂u^i ∂v^j` at `(u, v)` for `i + j ≤ max_order`, by
@@ -303,18 +373,28 @@ impl TriangleBezier {
         out
     }
 
-    /// The patch with every control point mapped by `f` (exact for affine maps).
+    /// The patch with every control point mapped by `f` (exact for affine maps up to the
+    /// rounding of the mapped points): the result has origin zero, its points in `f`'s
+    /// coordinates (the user's, or a renderer's).
     pub fn map_points(&self, f: impl Fn(DVec3) -> DVec3) -> TriangleBezier {
-        TriangleBezier {
-            degree: self.degree,
-            points: self.points.iter().map(|&p| f(p)).collect(),
-        }
+        TriangleBezier::new(self.degree, self.control_points().map(f).collect())
     }
 
     /// [`TriangleBezier::map_points`] in place: no second net.
     pub(crate) fn map_points_in_place(&mut self, f: impl Fn(DVec3) -> DVec3) {
+        let origin = std::mem::take(&mut self.origin);
         for p in &mut self.points {
-            *p = f(*p);
+            *p = f(origin + *p);
+        }
+    }
+
+    /// The patch scaled about the frame's origin by `factor`: origin and offsets each
+    /// multiplied, so a power of two scales it exactly, keeping its own precision.
+    pub fn scaled(&self, factor: f64) -> TriangleBezier {
+        TriangleBezier {
+            degree: self.degree,
+            origin: self.origin * factor,
+            points: self.points.iter().map(|&b| b * factor).collect(),
         }
     }
 }
@@ -354,9 +434,9 @@ mod tests {
             assert_eq!(expected, point_count(d));
             let patch =
                 TriangleBezier::from_fn(d, |i, j, k| DVec3::new(i as f64, j as f64, k as f64));
-            assert_eq!(patch.points()[0], DVec3::new(d as f64, 0.0, 0.0));
+            assert_eq!(patch.offsets()[0], DVec3::new(d as f64, 0.0, 0.0));
             assert_eq!(
-                patch.points()[point_count(d) - 1],
+                patch.offsets()[point_count(d) - 1],
                 DVec3::new(0.0, 0.0, d as f64)
             );
             for i in 0..=d {
@@ -374,9 +454,9 @@ mod tests {
     fn set_point_and_try_new() {
         let mut patch = TriangleBezier::from_fn(3, |_, _, _| DVec3::ZERO);
         patch.set_point(1, 1, DVec3::ONE);
-        assert_eq!(patch.points()[index(3, 1, 1)], DVec3::ONE);
+        assert_eq!(patch.offsets()[index(3, 1, 1)], DVec3::ONE);
         assert_eq!(
-            patch.points().iter().filter(|p| **p == DVec3::ONE).count(),
+            patch.offsets().iter().filter(|p| **p == DVec3::ONE).count(),
             1
         );
         assert!(TriangleBezier::try_new(2, vec![DVec3::ZERO; 6]).is_ok());
@@ -397,7 +477,7 @@ mod tests {
         for d in DEGREES {
             for offset in [0.0, 5.0] {
                 let patch = rng.triangle(d, offset);
-                let scale = scale_of(patch.points());
+                let scale = scale_of(patch.offsets());
                 for (u, v) in sample_params(&mut rng) {
                     let w = DVec3::new(1.0 - u - v, u, v);
                     let err = rel_err(patch.eval(w), bernstein_sum(&patch, w), scale);
@@ -439,7 +519,7 @@ mod tests {
         for d in DEGREES {
             let patch = rng.triangle(d, 1.0);
             // Derivatives grow like d(d−1)·|b|: measure relative to that.
-            let scale = scale_of(patch.points()) * (d * d).max(1) as f64;
+            let scale = scale_of(patch.offsets()) * (d * d).max(1) as f64;
             for (u, v) in sample_params(&mut rng) {
                 let jet = patch.jet(u, v);
                 let exact = exact_jet(&patch, u, v);
@@ -477,7 +557,7 @@ mod tests {
         let h = 1e-2;
         for d in DEGREES {
             let patch = rng.triangle(d, 0.0);
-            let scale = scale_of(patch.points()) * (d * d).max(1) as f64;
+            let scale = scale_of(patch.offsets()) * (d * d).max(1) as f64;
             for (u, v) in sample_params(&mut rng) {
                 let jet = patch.jet(u, v);
                 let coarse = central(&patch, u, v, h);
@@ -524,7 +604,7 @@ mod tests {
         let mut rng = Rng::new(4);
         for d in DEGREES {
             let patch = rng.triangle(d, 2.0);
-            let scale = scale_of(patch.points());
+            let scale = scale_of(patch.offsets());
             for _ in 0..8 {
                 let w = rng.bary_inside();
                 let err = rel_err(patch.blossom(&vec![w; d]), patch.eval(w), scale);
@@ -538,7 +618,7 @@ mod tests {
         let mut rng = Rng::new(5);
         for d in DEGREES.into_iter().filter(|&d| d >= 2) {
             let patch = rng.triangle(d, 0.0);
-            let scale = scale_of(patch.points());
+            let scale = scale_of(patch.offsets());
             for _ in 0..8 {
                 let args = random_args(&mut rng, d);
                 let value = patch.blossom(&args);
@@ -567,7 +647,7 @@ mod tests {
         let mut rng = Rng::new(6);
         for d in DEGREES.into_iter().filter(|&d| d >= 1) {
             let patch = rng.triangle(d, 1.0);
-            let scale = scale_of(patch.points());
+            let scale = scale_of(patch.offsets());
             for slot in 0..d {
                 let mut args = random_args(&mut rng, d);
                 let (x, y) = (random_args(&mut rng, 1)[0], random_args(&mut rng, 1)[0]);

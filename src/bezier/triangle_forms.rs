@@ -42,7 +42,7 @@ impl TriangleBezier {
             let [a, b, c] = &mut buffers;
             self.blossom_net(corners, [a, b, c], &mut points);
         }
-        TriangleBezier::new(self.degree(), points)
+        TriangleBezier::with_origin(self.degree(), self.origin(), points)
     }
 
     /// The net of [`TriangleBezier::subdivide`] into `points`, with three working nets
@@ -55,7 +55,7 @@ impl TriangleBezier {
         points: &mut [DVec3],
     ) {
         let d = self.degree();
-        after_c0[..point_count(d)].copy_from_slice(self.points());
+        after_c0[..point_count(d)].copy_from_slice(self.offsets());
         for i in 0..=d {
             if i > 0 {
                 de_casteljau_step(after_c0, d - i + 1, c0);
@@ -82,19 +82,20 @@ impl TriangleBezier {
         // Weights i/(d+1) rather than a common factor 1/(d+1): at the corners the weight is
         // exactly one, so the elevated net interpolates the corners bit for bit.
         let weight = |n: usize| n as f64 / (d + 1) as f64;
-        TriangleBezier::from_fn(d + 1, |i, j, k| {
+        let offsets = TriangleBezier::from_fn(d + 1, |i, j, k| {
             let mut sum = DVec3::ZERO;
             if i > 0 {
-                sum += weight(i) * self.point(i - 1, j);
+                sum += weight(i) * self.offset(i - 1, j);
             }
             if j > 0 {
-                sum += weight(j) * self.point(i, j - 1);
+                sum += weight(j) * self.offset(i, j - 1);
             }
             if k > 0 {
-                sum += weight(k) * self.point(i, j);
+                sum += weight(k) * self.offset(i, j);
             }
             sum
-        })
+        });
+        TriangleBezier::with_origin(d + 1, self.origin(), offsets.offsets().to_vec())
     }
 
     /// Boundary curve `edge` (0: corner 0 → corner 1, where k = 0; 1: corner 1 → corner 2,
@@ -116,7 +117,8 @@ impl TriangleBezier {
 
     /// Bounding box of the control points (contains the patch: convex-hull property).
     pub fn control_bounds(&self) -> Aabb {
-        Aabb::from_points(self.points())
+        self.control_points()
+            .fold(Aabb::EMPTY, |b, p| b.union_point(p))
     }
 
     /// A box that contains the patch over the sub-triangle with barycentric `corners` (inside
@@ -129,8 +131,7 @@ impl TriangleBezier {
     pub fn sub_triangle_bounds(&self, corners: [DVec3; 3]) -> Aabb {
         let bounds = self.subdivide(corners).control_bounds();
         let magnitude = self
-            .points()
-            .iter()
+            .control_points()
             .fold(0.0_f64, |m, p| m.max(p.abs().max_element()));
         let margin = 8.0 * (self.degree() + 1) as f64 * f64::EPSILON * magnitude;
         Aabb {
@@ -187,8 +188,8 @@ impl TriangleBezier {
         for i in 0..=m {
             for j in 0..=m - i {
                 let p = index(m, i, j);
-                let base = self.point(i + 1, j);
-                let (ap, c) = (self.point(i, j + 1) - base, self.point(i, j) - base);
+                let base = self.offset(i + 1, j);
+                let (ap, c) = (self.offset(i, j + 1) - base, self.offset(i, j) - base);
                 let weight = multinomial(m, i, j);
                 a[p] = weight * ap;
                 c_across_n[p] = weight * c.cross(n);
@@ -234,7 +235,7 @@ mod tests {
         corners: [DVec3; 3],
         rng: &mut Rng,
     ) {
-        let scale = scale_of(patch.points());
+        let scale = scale_of(patch.offsets());
         let mut samples: Vec<DVec3> = (0..10).map(|_| rng.bary_inside()).collect();
         samples.extend([DVec3::X, DVec3::Y, DVec3::Z]);
         for s in samples {
@@ -304,11 +305,11 @@ mod tests {
         for d in DEGREES {
             let patch = rng.triangle(d, 3.0);
             let parent_box = patch.control_bounds();
-            let tol = 1e-14 * scale_of(patch.points());
+            let tol = 1e-14 * scale_of(patch.offsets());
             for corners in pieces {
                 let sub = patch.subdivide(corners);
                 assert_reproduces(&patch, &sub, corners, &mut rng);
-                for p in sub.points() {
+                for p in sub.offsets() {
                     assert!(
                         parent_box.contains(*p, tol),
                         "d={d}: {p} outside the parent hull box"
@@ -327,7 +328,7 @@ mod tests {
             let twice = elevated.elevate();
             assert_eq!(elevated.degree(), d + 1);
             assert_eq!(twice.degree(), d + 2);
-            let scale = scale_of(patch.points());
+            let scale = scale_of(patch.offsets());
             let derivative_scale = scale * ((d + 2) * (d + 2)) as f64;
             for _ in 0..10 {
                 let w = rng.bary_inside();
@@ -360,7 +361,7 @@ mod tests {
         let mut rng = Rng::new(14);
         for d in DEGREES {
             let patch = rng.triangle(d, 1.0);
-            let scale = scale_of(patch.points());
+            let scale = scale_of(patch.offsets());
             for edge in 0..3 {
                 let curve = patch.edge_curve(edge);
                 assert_eq!(curve.degree(), d);

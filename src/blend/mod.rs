@@ -88,7 +88,14 @@ impl BlendPatch {
             s
         });
         let difference = |a: &TriangleBezier, b: &TriangleBezier| {
-            let points = a.points().iter().zip(b.points()).map(|(p, q)| *p - *q);
+            // (o_a + a_n) − (o_b + b_n), the offsets' difference first: exact to their own
+            // rounding where the two share an origin.
+            let shift = a.origin() - b.origin();
+            let points = a
+                .offsets()
+                .iter()
+                .zip(b.offsets())
+                .map(|(p, q)| (*p - *q) + shift);
             TriangleBezier::new(degree, points.collect())
         };
         let differences = std::array::from_fn(|c| {
@@ -269,7 +276,7 @@ impl BlendPatch {
         let magnitude = self
             .sub_surfaces
             .iter()
-            .flat_map(|s| s.points())
+            .flat_map(|s| s.control_points())
             .fold(0.0_f64, |m, p| m.max(p.abs().max_element()));
         let margin = DVec3::splat(16.0 * f64::EPSILON * magnitude);
         Aabb {

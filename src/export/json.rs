@@ -56,7 +56,7 @@ pub(crate) struct PatchRecord {
 impl PatchRecord {}
 
 fn record(face: u32, piece: u8, geometry: &PatchGeometry) -> PatchRecord {
-    let xyz = |b: &TriangleBezier| b.points().iter().map(|p| p.to_array()).collect::<Vec<_>>();
+    let xyz = |b: &TriangleBezier| b.control_points().map(|p| p.to_array()).collect::<Vec<_>>();
     match geometry {
         PatchGeometry::Bezier(b) => PatchRecord {
             face,

@@ -381,7 +381,7 @@ fn bezier_partials(
     let mut along_u = [DVec3::ZERO; STACK_POINTS];
     let mut along_uv = [DVec3::ZERO; STACK_POINTS];
     let mut at_point = [DVec3::ZERO; STACK_POINTS];
-    along_u[..point_count(d)].copy_from_slice(net.points());
+    along_u[..point_count(d)].copy_from_slice(net.offsets());
     for i in 0..=to.min(d) {
         if i > 0 {
             de_casteljau_step(&mut along_u, d - i + 1, du);
@@ -403,6 +403,10 @@ fn bezier_partials(
             let falling: f64 = (d + 1 - m..=d).map(|k| k as f64).product();
             out[term(i, j)] = falling * at_point[0];
         }
+    }
+    if from == 0 {
+        // The position; derivatives do not see the origin.
+        out[term(0, 0)] += net.origin();
     }
 }
 
@@ -600,18 +604,14 @@ fn perturbed_nets(surface: &Surface, joint: &Joint) -> PerturbedNets {
         (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
     };
     let mut perturb = |net: &TriangleBezier| {
-        let ulp = f64::EPSILON
-            * net
-                .points()
-                .iter()
-                .map(|p| p.abs().max_element())
-                .fold(0.0, f64::max);
+        // One ulp of the stored offsets: the rounding the net was stored with.
+        let ulp = f64::EPSILON * net.offset_magnitude();
         let moved = net
-            .points()
+            .offsets()
             .iter()
             .map(|p| *p + ulp * DVec3::new(unit(), unit(), unit()))
             .collect();
-        TriangleBezier::new(net.degree(), moved)
+        TriangleBezier::with_origin(net.degree(), net.origin(), moved)
     };
     Some(
         (0..FLOOR_TRIALS)
@@ -847,10 +847,14 @@ pub(crate) mod test_support {
 
         /// The f64 net `net`, exactly.
         pub fn from_net(net: &TriangleBezier) -> Self {
+            let origin = net.origin().to_array().map(DoubleDouble::from_f64);
             let points = net
-                .points()
+                .offsets()
                 .iter()
-                .map(|p| p.to_array().map(DoubleDouble::from_f64))
+                .map(|p| {
+                    let p = p.to_array().map(DoubleDouble::from_f64);
+                    std::array::from_fn(|c| origin[c] + p[c])
+                })
                 .collect();
             PreciseNet::new(net.degree(), points)
         }

@@ -12,7 +12,7 @@
 use glam::DVec3;
 
 use crate::geom::Jet;
-use crate::surface::{Joint, Patch, PatchGeometry, Surface, edge_uv};
+use crate::surface::{Joint, Surface, edge_uv};
 
 pub(crate) use crate::surface::joint_fractions;
 
@@ -79,7 +79,7 @@ pub(crate) fn measure_joint(surface: &Surface, joint: &Joint, floor: CurvatureFl
         ..JointStats::default()
     };
     let [rounding_a, rounding_b] =
-        [joint.a.patch, joint.b.patch].map(|p| derivative_rounding(&surface.patches[p as usize]));
+        [joint.a.patch, joint.b.patch].map(|p| surface.patches[p as usize].derivative_rounding());
     for s in joint_fractions() {
         let [jet_a, jet_b] = sides_at(surface, joint, s);
         stats.gap_max = stats.gap_max.max((jet_a.p - jet_b.p).length());
@@ -102,24 +102,7 @@ pub(crate) fn measure_joint(surface: &Surface, joint: &Joint, floor: CurvatureFl
     stats
 }
 
-/// How far rounding may move a patch's first derivatives (absolute, in its units): its
-/// control points are f64 numbers up to `R` in magnitude, each within half an ulp of the
-/// construction's exact value, and de Casteljau's evaluation adds a rounding of that size per
-/// level; the derivative of a degree-`d` net multiplies the differences of its points by `d`.
-/// So `δ = 2·d·ε·R` (`ε = 2⁻⁵²`), an estimate of the rounding of the stored surface and its
-/// evaluation, not a rigorous bound (the metrics tests check it against pieces of one
-/// polynomial). A blend is taken at its sub-surfaces' degree.
-pub(crate) fn derivative_rounding(patch: &Patch) -> f64 {
-    let degree = match &patch.geometry {
-        PatchGeometry::Bezier(b) => b.degree(),
-        PatchGeometry::Blend(b) => b.degree(),
-    };
-    let bounds = patch.full_bounds();
-    let magnitude = bounds.min.abs().max(bounds.max.abs()).max_element();
-    2.0 * degree as f64 * f64::EPSILON * magnitude
-}
-
-/// The angle (rad) by which derivatives off by `delta` (from [`derivative_rounding`]) may turn
+/// The angle (rad) by which derivatives off by `delta` (from [`crate::surface::Patch::derivative_rounding`]) may turn
 /// the normal `Su × Sv` of `jet`: `δ(|Su| + |Sv|) / |Su × Sv|` to first order. Small where the
 /// parametrisation is regular; large near a singular point, where `Su` and `Sv` are nearly
 /// parallel and the normal is only as well defined as their rounding allows (e.g. at the

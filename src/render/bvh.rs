@@ -132,7 +132,7 @@ impl Leaf {
     ///
     /// Its tilt is left infinite (no bound); the BVH build sets it for Bézier pieces.
     pub fn new(patch: u32, tri: [DVec2; 3], corners: [DVec3; 3], nets: &[&TriangleBezier]) -> Leaf {
-        let points = || nets.iter().flat_map(|n| n.points().iter().copied());
+        let points = || nets.iter().flat_map(|n| n.control_points());
         let stored = corners.map(|p| p.as_vec3());
         let affine_radius = f32_up(affine_radius(stored.map(|p| p.as_dvec3()), nets));
         let origin = corners[0].as_vec3().as_dvec3();
@@ -482,9 +482,8 @@ impl PatchBvh {
         }
         let unit_bounds = |patch: &Patch| match &patch.geometry {
             PatchGeometry::Bezier(net) => net
-                .points()
-                .iter()
-                .fold(Aabb::EMPTY, |b, &p| b.union_point(frame.map(p))),
+                .control_points()
+                .fold(Aabb::EMPTY, |b, p| b.union_point(frame.map(p))),
             PatchGeometry::Blend(_) => patch.mapped(|p| frame.map(p)).full_bounds(),
         };
         let scene = surface
@@ -966,9 +965,8 @@ impl Shortfall {
         }
         let normal = plane / plane_len;
         let flatness = net
-            .points()
-            .iter()
-            .map(|&b| (b - p0).dot(normal).abs())
+            .control_points()
+            .map(|b| (b - p0).dot(normal).abs())
             .fold(0.0, f64::max)
             / size;
         let mut cos = 1.0_f64;
@@ -1271,9 +1269,8 @@ pub(crate) fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) ->
     let normal = plane / plane_len;
     let flat_limit = criterion.flatness * size;
     if net
-        .points()
-        .iter()
-        .any(|&b| (b - p0).dot(normal).abs() > flat_limit)
+        .control_points()
+        .any(|b| (b - p0).dot(normal).abs() > flat_limit)
     {
         return false;
     }
@@ -1489,8 +1486,7 @@ mod tests {
         // Lift the control points onto the paraboloid's blossom approximately: a bump.
         let bumped = TriangleBezier::new(
             d,
-            net.points()
-                .iter()
+            net.control_points()
                 .map(|p| DVec3::new(p.x, p.y, -0.8 * (p.x * p.x + p.y * p.y)))
                 .collect(),
         );

@@ -12,7 +12,6 @@
 
 use glam::DVec3;
 
-use crate::bezier::triangle::index;
 use crate::mesh::{Mesh, MeshEdge};
 use crate::render::tubes::{CurveKind, Polyline};
 use crate::surface::{Patch, Surface};
@@ -115,8 +114,7 @@ pub(crate) fn boundary_curve(
 fn patch_edge_points(patch: &Patch, e: usize) -> Option<Vec<DVec3>> {
     let b = patch.as_bezier()?;
     let d = b.degree();
-    let points = b.points();
-    let at = |i: usize, j: usize| points[index(d, i, j)];
+    let at = |i: usize, j: usize| b.point(i, j);
     Some(
         (0..=d)
             .map(|s| match e {

@@ -52,7 +52,7 @@ pub(crate) fn net_point_and_tangents(
     //   b'[T(r−1)+s] = w0 b[T(r−1)+s] + w1 b[T(r)+s] + w2 b[T(r)+s+1],
     // so it runs in place with r ascending and streams through memory. The first step reads
     // the net directly (no copy).
-    let src = net.points();
+    let src = net.offsets();
     if d == 1 {
         b[..3].copy_from_slice(src);
     } else {
@@ -76,7 +76,7 @@ pub(crate) fn net_point_and_tangents(
     let (b100, b010, b001) = (b[index(1, 1, 0)], b[index(1, 0, 1)], b[index(1, 0, 0)]);
     let scale = d as f64;
     (
-        w.x * b100 + w.y * b010 + w.z * b001,
+        net.origin() + (w.x * b100 + w.y * b010 + w.z * b001),
         (b010 - b100) * scale,
         (b001 - b100) * scale,
     )

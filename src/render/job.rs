@@ -127,7 +127,7 @@ fn hull_points(patch: &Patch) -> impl Iterator<Item = DVec3> + '_ {
         PatchGeometry::Bezier(net) => std::slice::from_ref(net),
         PatchGeometry::Blend(blend) => blend.sub_surfaces(),
     };
-    nets.iter().flat_map(|n| n.points().iter().copied())
+    nets.iter().flat_map(|n| n.control_points())
 }
 
 /// Patches tested together by the automatic framing before they are tested one by one.
@@ -622,9 +622,8 @@ fn relative_flatness(net: &TriangleBezier) -> f64 {
         return 1.0;
     }
     let far = net
-        .points()
-        .iter()
-        .map(|p| (*p - a).dot(normal).abs())
+        .control_points()
+        .map(|p| (p - a).dot(normal).abs())
         .fold(0.0, f64::max);
     far / size
 }

@@ -126,8 +126,9 @@ impl SurfaceTracer for Tracer<'_> {
             .patches
             .iter()
             .map(|p| {
-                p.as_bezier()
-                    .map_or(0, |b| std::mem::size_of_val(b.points()))
+                p.as_bezier().map_or(0, |b| {
+                    std::mem::size_of_val(b.offsets()) + std::mem::size_of_val(&b.origin())
+                })
             })
             .sum();
         self.bvh.memory_bytes() + control_points + self.face_edges.len()

@@ -671,7 +671,7 @@ mod tests {
                 let normal = mesh.face_normal(patch.face);
                 let off = patch
                     .control_points()
-                    .map(|p| (*p - positions[face[0] as usize]).dot(normal).abs())
+                    .map(|p| (p - positions[face[0] as usize]).dot(normal).abs())
                     .fold(0.0, f64::max);
                 assert!(
                     off <= POSITION_REL * diagonal,

@@ -402,7 +402,33 @@ pub(crate) fn plane_warnings(
     warnings
 }
 
-/// Per-directed-edge data of a mesh, computed vertex by vertex.
+/// A face's own frame: the origin at its first corner, where the patches of the face are
+/// stored ([`crate::bezier::TriangleBezier::with_origin`]), and its corners relative to it,
+/// which the per-vertex data of a [`HalfEdgeTable`] (offsets from their vertex) are added to.
+/// Every point of the face's construction is then a sum of terms of the face's size.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FaceFrame {
+    /// The position of the face's first corner.
+    pub origin: DVec3,
+    /// The corners' positions minus `origin` (the first is zero).
+    pub corners: [DVec3; 3],
+}
+
+impl FaceFrame {
+    /// The frame of `face` over `positions`.
+    pub(crate) fn of(positions: &[DVec3], face: [u32; 3]) -> FaceFrame {
+        let origin = positions[face[0] as usize];
+        FaceFrame {
+            origin,
+            corners: face.map(|v| positions[v as usize] - origin),
+        }
+    }
+}
+
+/// Per-directed-edge data of a mesh, computed vertex by vertex, each vertex in its own frame:
+/// the vertex at the origin and its one-ring relative to it, so that points of the data are
+/// offsets from their vertex, with the precision of the ring's size wherever the vertex lies
+/// (a consumer adds the vertex, relative to a point near it: [`FaceFrame`]).
 pub(crate) struct HalfEdgeTable<T> {
     /// `offsets[v] + i` is the edge `v → one_ring(v)[i]`.
     offsets: Vec<usize>,
@@ -412,8 +438,9 @@ pub(crate) struct HalfEdgeTable<T> {
 }
 
 impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
-    /// Runs `per_vertex(v, ring positions, ring valences, out)` for every vertex in parallel;
-    /// `out[i]` is the entry of edge `v → ring[i]`.
+    /// Runs `per_vertex(v, ring positions, ring valences, out)` for every vertex in parallel,
+    /// `v` at the origin and the ring relative to it (see [`HalfEdgeTable`]); `out[i]` is the
+    /// entry of edge `v → ring[i]`.
     pub(crate) fn build(
         mesh: &Mesh,
         per_vertex: impl Fn(DVec3, &[DVec3], &[usize], &mut [T]) + Sync,
@@ -424,17 +451,17 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
             |(ring_points, ring_valence): &mut (Vec<DVec3>, Vec<usize>), v, out| {
                 let ring = mesh.one_ring(v as u32);
                 ring_points.clear();
-                ring_points.extend(ring.iter().map(|&p| positions[p as usize]));
+                ring_points.extend(ring.iter().map(|&p| positions[p as usize] - positions[v]));
                 ring_valence.clear();
                 ring_valence.extend(ring.iter().map(|&p| mesh.valence(p)));
-                per_vertex(positions[v], ring_points, ring_valence, out);
+                per_vertex(DVec3::ZERO, ring_points, ring_valence, out);
             },
         )
     }
 
     /// As [`HalfEdgeTable::build`] for a mesh that may have boundaries and sharp edges
     /// (`sectors`, [`MeshSectors::new`]): `per_vertex` gets each vertex's [`Fan`] (boundary
-    /// flag, angle steps of the vertex and its neighbours, sectors).
+    /// flag, angle steps of the vertex and its neighbours, sectors), in the vertex's own frame.
     pub(crate) fn build_open(
         mesh: &Mesh,
         sectors: &MeshSectors,
@@ -456,7 +483,10 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
                 let k = faces[f].iter().position(|&x| x == ring[j]).unwrap_or(0);
                 sectors.corner_step[3 * f + k]
             };
-            let ring_points: Vec<DVec3> = ring.iter().map(|&p| positions[p as usize]).collect();
+            let ring_points: Vec<DVec3> = ring
+                .iter()
+                .map(|&p| positions[p as usize] - positions[v])
+                .collect();
             let ring_step: Vec<f64> = (0..n)
                 .map(|j| far_step(j, if j < nf { j } else { j - 1 }))
                 .collect();
@@ -466,7 +496,7 @@ impl<T: Clone + Default + Send + Sync> HalfEdgeTable<T> {
             let mut ring_sharp = vec![false; n];
             mesh.sharp_cuts(v as u32).for_each(|j| ring_sharp[j] = true);
             let fan = Fan {
-                position: positions[v],
+                position: DVec3::ZERO,
                 boundary,
                 step: steps[v],
                 ring: &ring_points,
@@ -607,7 +637,8 @@ pub(crate) fn fan_order(mesh: &Mesh, v: u32) -> usize {
 /// The fan of one vertex of a mesh that may be open, as [`HalfEdgeTable::build_open`] hands it
 /// to the per-vertex rule.
 pub(crate) struct Fan<'a> {
-    /// Position of the vertex.
+    /// Position of the vertex (the origin in [`HalfEdgeTable::build_open`], which hands out
+    /// every fan in its vertex's own frame).
     pub position: DVec3,
     /// True on the boundary: `(v, ring[0])` and `(v, ring[n−1])` are boundary edges and
     /// `(v, ring[j], ring[j+1])`, `j < n − 1`, the faces.

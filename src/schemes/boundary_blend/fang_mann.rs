@@ -98,12 +98,13 @@ pub(crate) fn cross_curvature(frame: &EdgeFrame) -> DVec3 {
     }
 }
 
-/// `E(s, h)` with cross term `q`.
+/// `E(s, h)` with cross term `q`, relative to the frame's origin (`P_a`).
 pub(crate) fn edge_surface(frame: &EdgeFrame, q: DVec3, x: DVec2) -> DVec3 {
     edge_surface_blossom(frame, q, [x, x, x])
 }
 
-/// The blossom of `E` (symmetric, affine in each argument, `E` on the diagonal):
+/// The blossom of `E` (symmetric, affine in each argument, `E` on the diagonal), relative to
+/// the frame's origin:
 /// `c[s₁,s₂,s₃] + D_a (Σh)/3 + (D_b − D_a) Σ_{i≠j} h_i s_j / 6 + Q Σ_{i<j} h_i h_j / 3`,
 /// the cubic blossoms of `C(s)`, `h`, `h·s` and `h²`.
 pub(crate) fn edge_surface_blossom(frame: &EdgeFrame, q: DVec3, x: [DVec2; 3]) -> DVec3 {
@@ -117,7 +118,7 @@ pub(crate) fn edge_surface_blossom(frame: &EdgeFrame, q: DVec3, x: [DVec2; 3]) -
 }
 
 /// The sub-surface of face `f` owning the edge opposite corner `c`: the edge surface over the
-/// face's triangle in the edge plane, as a cubic net in the face's corner order.
+/// face's triangle in the edge plane, as a cubic net in the face's corner order and frame.
 pub(crate) fn sub_surface(
     frames: &EdgeFrames,
     faces: &[[u32; 3]],
@@ -130,6 +131,7 @@ pub(crate) fn sub_surface(
     corners[(c + 1) % 3] = if forward { DVec2::ZERO } else { DVec2::X };
     corners[(c + 2) % 3] = if forward { DVec2::X } else { DVec2::ZERO };
     corners[c] = frame.apex_point(forward);
+    let shift = frames.to_face(frame, f);
     TriangleBezier::from_fn(3, |i, j, _| {
         let mut args = [DVec2::ZERO; 3];
         for (n, arg) in args.iter_mut().enumerate() {
@@ -141,6 +143,6 @@ pub(crate) fn sub_surface(
                 corners[2]
             };
         }
-        edge_surface_blossom(frame, q, args)
+        shift + edge_surface_blossom(frame, q, args)
     })
 }

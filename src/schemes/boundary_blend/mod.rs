@@ -34,6 +34,7 @@ use crate::bezier::TriangleBezier;
 use crate::blend::{BlendPatch, WeightFamily};
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, crease_tangent};
+use crate::schemes::vertex_rings::FaceFrame;
 use crate::schemes::{AtFoldedVertex, NORMALS_PARAM, ParamSpec, Params};
 use crate::surface::{Patch, PatchGeometry, Surface};
 
@@ -49,7 +50,10 @@ pub(crate) struct EdgeFrame {
     pub a: u32,
     /// Second vertex.
     pub b: u32,
-    /// The boundary curve from `P_a` to `P_b` (cubic).
+    /// `P_a`: the curve's points and the apexes are stored relative to it, so that they keep
+    /// the precision of the edge's size wherever the edge lies.
+    pub origin: DVec3,
+    /// The boundary curve from `P_a` to `P_b` (cubic), relative to `origin`.
     pub curve: CurveBezier,
     /// The same curve elevated to degree four (computed once, so faces share it bit for bit).
     pub curve_quartic: CurveBezier,
@@ -57,7 +61,7 @@ pub(crate) struct EdgeFrame {
     /// the left of `a → b`.
     pub transversal: [DVec3; 2],
     /// The apex of the face on the left (runs `a → b`; `h > 0`) and on the right (runs
-    /// `b → a`; `h < 0`) in edge coordinates `(σ, h)`, with its vertex.
+    /// `b → a`; `h < 0`) in edge coordinates `(σ, h)`, with its vertex relative to `origin`.
     pub apex: [Option<(DVec2, DVec3)>; 2],
 }
 
@@ -92,9 +96,9 @@ fn edge_frame(
     let project = |n: DVec3, x: DVec3| x - x.dot(n) * n;
     // The apex as (σ, h) and the face's perpendicular f (|f| = |e|, left of a → b).
     let place = |apex: u32, sign: f64| {
-        let p = positions[apex as usize];
-        let sigma = (p - pa).dot(e) / ee;
-        let perp = p - pa - sigma * e;
+        let p = positions[apex as usize] - pa;
+        let sigma = p.dot(e) / ee;
+        let perp = p - sigma * e;
         let h = perp.length() / ee.sqrt();
         (DVec2::new(sigma, sign * h), sign * perp / h, p)
     };
@@ -125,10 +129,16 @@ fn edge_frame(
             });
         }
     }
-    let curve = CurveBezier::new(vec![pa, pa + tangents[0] / 3.0, pb - tangents[1] / 3.0, pb]);
+    let curve = CurveBezier::new(vec![
+        DVec3::ZERO,
+        tangents[0] / 3.0,
+        e - tangents[1] / 3.0,
+        e,
+    ]);
     Ok(EdgeFrame {
         a,
         b,
+        origin: pa,
         curve_quartic: curve.elevate(),
         curve,
         transversal,
@@ -143,6 +153,9 @@ pub(crate) struct EdgeFrames {
     pub frames: Vec<EdgeFrame>,
     /// `face_edges[f][e]`: frame of edge `e` of face `f`.
     pub face_edges: Vec<[usize; 3]>,
+    /// The origin of each face's frame ([`FaceFrame`]): its sub-surfaces are built relative
+    /// to it and stored with it.
+    pub face_origins: Vec<DVec3>,
 }
 
 impl EdgeFrames {
@@ -252,7 +265,20 @@ impl EdgeFrames {
                 })
             })
             .collect();
-        Ok(EdgeFrames { frames, face_edges })
+        let face_origins = faces
+            .iter()
+            .map(|&face| FaceFrame::of(mesh.positions(), face).origin)
+            .collect();
+        Ok(EdgeFrames {
+            frames,
+            face_edges,
+            face_origins,
+        })
+    }
+
+    /// What takes a point relative to `frame`'s origin into face `f`'s frame.
+    pub(crate) fn to_face(&self, frame: &EdgeFrame, f: usize) -> DVec3 {
+        frame.origin - self.face_origins[f]
     }
 
     /// The frame of the edge opposite corner `c` of face `f`, and whether the face runs along
@@ -263,7 +289,8 @@ impl EdgeFrames {
     }
 
     /// The boundary curve of the edge of face `f` from its vertex `from` to its vertex `to`,
-    /// cubic or quartic, in that direction (bit-identical from both faces).
+    /// cubic or quartic, in that direction, in the face's frame (one curve for both faces,
+    /// placed in each face's frame).
     pub(crate) fn curve_between(
         &self,
         faces: &[[u32; 3]],
@@ -280,7 +307,8 @@ impl EdgeFrames {
         } else {
             &frame.curve
         };
-        let mut points = curve.points().to_vec();
+        let shift = self.to_face(frame, f);
+        let mut points: Vec<DVec3> = curve.points().iter().map(|&p| shift + p).collect();
         if fv[from] != frame.a {
             points.reverse();
         }
@@ -303,7 +331,8 @@ pub(crate) const fn blend_params(t_help: &'static str) -> [ParamSpec; 2] {
 
 /// Builds one blend patch per face: the weights `family(t)` for the parameter `t` (an integer
 /// in `orders`) over the three sub-surfaces `sub_surface(frames, faces, face, corner)`, the
-/// one for `corner` owning the edge opposite it.
+/// one for `corner` owning the edge opposite it, each built in the face's frame
+/// ([`EdgeFrames::face_origins`]) and stored with its origin.
 pub(crate) fn build_blend(
     mesh: &Mesh,
     params: &Params,
@@ -320,10 +349,11 @@ pub(crate) fn build_blend(
     let patches = (0..mesh.face_count())
         .into_par_iter()
         .map(|f| {
+            let origin = frames.face_origins[f];
             let subs = [
-                sub_surface(&frames, faces, f, 0)?,
-                sub_surface(&frames, faces, f, 1)?,
-                sub_surface(&frames, faces, f, 2)?,
+                sub_surface(&frames, faces, f, 0)?.placed_at(origin),
+                sub_surface(&frames, faces, f, 1)?.placed_at(origin),
+                sub_surface(&frames, faces, f, 2)?.placed_at(origin),
             ];
             Ok(Patch {
                 face: f as u32,

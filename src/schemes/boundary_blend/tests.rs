@@ -212,28 +212,33 @@ fn normal_in_the_face_plane_is_an_edge_error() {
     }
 }
 
-/// Both faces of an edge see the same boundary curve: the sub-surfaces' edge rows agree bit
-/// for bit (a prerequisite of the exact G0 figures above).
+/// Both faces of an edge see the same boundary curve: the owning sub-surfaces' edge rows
+/// agree to an ulp (each face places the edge's one curve in its own frame; a prerequisite
+/// of the G0 figures above).
 #[test]
-fn boundary_rows_are_shared_bit_for_bit() {
+fn boundary_rows_are_shared() {
     let mesh = mesh(crate::mesh::generate::deformed_icosahedron());
     let surface = build(&fang_mann::SPEC, &mesh, &[]);
+    let row = |pe: crate::surface::PatchEdge, sub: usize| {
+        let blend = surface.patches[pe.patch as usize]
+            .as_blend()
+            .expect("blend patch");
+        blend.sub_surfaces()[sub]
+            .edge_curve(pe.edge as usize)
+            .points()
+            .to_vec()
+    };
     for joint in surface.joints(mesh.faces(), Some(&mesh.edge_ids())) {
-        let side = |pe: crate::surface::PatchEdge| {
-            let blend = surface.patches[pe.patch as usize]
-                .as_blend()
-                .expect("blend patch");
-            let owner = (pe.edge as usize + 2) % 3;
-            blend.sub_surfaces()[owner]
-                .edge_curve(pe.edge as usize)
-                .points()
-                .to_vec()
-        };
-        let (a, mut b) = (side(joint.a), side(joint.b));
+        let owner = |pe: crate::surface::PatchEdge| row(pe, (pe.edge as usize + 2) % 3);
+        let (a, mut b) = (owner(joint.a), owner(joint.b));
         if joint.reversed {
             b.reverse();
         }
-        assert_eq!(a, b, "{joint:?}");
+        for (p, q) in a.iter().zip(&b) {
+            let gap = (*p - *q).abs().max_element();
+            let ulp = f64::EPSILON * p.abs().max_element().max(1.0);
+            assert!(gap <= ulp, "{joint:?}: {p} vs {q}");
+        }
     }
 }
 
@@ -260,8 +265,9 @@ fn continuity_order_is_the_designed_one() {
 }
 
 /// On a cube with its 12 edges sharp, each side gets one frame per face with the face's own
-/// transversal, both sides of a crease share one curve bit for bit, and every blend patch
-/// stays in its face's plane (a corner vertex: three sectors, each flat).
+/// transversal, both sides of a crease share one curve (bit for bit in the edge's frame; each
+/// face places it in its own, to an ulp of the face), and every blend patch stays in its
+/// face's plane (a corner vertex: three sectors, each flat).
 #[test]
 fn sharp_cube_edges_give_one_curve_and_flat_sides() {
     let (positions, faces) = crate::mesh::generate::cube();
@@ -282,7 +288,14 @@ fn sharp_cube_edges_give_one_curve_and_flat_sides() {
                 let mut there =
                     frames.curve_between(mesh.faces(), g as usize, ge, (ge + 1) % 3, false);
                 there.reverse();
-                assert_eq!(here, there, "face {f} edge {e}");
+                let (edge, _) = frames.opposite(mesh.faces(), f, (e + 2) % 3);
+                let (edge_g, _) = frames.opposite(mesh.faces(), g as usize, (ge + 2) % 3);
+                assert_eq!(edge.curve, edge_g.curve, "face {f} edge {e}: one curve");
+                let (o_f, o_g) = (frames.face_origins[f], frames.face_origins[g as usize]);
+                for (p, q) in here.iter().zip(&there) {
+                    let gap = ((o_f + *p) - (o_g + *q)).abs().max_element();
+                    assert!(gap <= 2.0 * f64::EPSILON, "face {f} edge {e}: {gap:e}");
+                }
             }
             let _ = face;
         }

@@ -54,8 +54,8 @@ impl Quadratic {
     /// `q ∘ x` for a planar patch `x` (its z coordinates are ignored): a patch of degree 2d.
     pub(crate) fn compose(&self, x: &TriangleBezier) -> TriangleBezier {
         let d = x.degree();
-        let xs: Vec<f64> = x.points().iter().map(|p| p.x).collect();
-        let ys: Vec<f64> = x.points().iter().map(|p| p.y).collect();
+        let xs: Vec<f64> = x.control_points().map(|p| p.x).collect();
+        let ys: Vec<f64> = x.control_points().map(|p| p.y).collect();
         let [c0, c1, c2, c3, c4, c5] = self.0;
         let linear: Vec<DVec3> = xs
             .iter()

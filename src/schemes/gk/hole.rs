@@ -177,10 +177,9 @@ fn prepare_hole(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Result<P
         .iter()
         .zip(&elevated)
         .map(|(c, e)| {
-            c.points()
-                .iter()
-                .zip(e.points())
-                .map(|(a, b)| *a - *b)
+            c.control_points()
+                .zip(e.control_points())
+                .map(|(a, b)| a - b)
                 .collect()
         })
         .collect();
@@ -223,10 +222,9 @@ pub(crate) fn fill(mesh: &Mesh, control: &ControlNet, k: usize, v: u32) -> Resul
                 .ok_or_else(|| refusal(v, "a ring-2 face is missing"))?;
             let e = &elevated[3 * s + tau];
             let points = e
-                .points()
-                .iter()
+                .control_points()
                 .zip(&corrections[3 * s + tau])
-                .map(|(a, b)| *a + *b)
+                .map(|(a, b)| a + *b)
                 .collect();
             patches.push(HolePatch {
                 face,
@@ -352,8 +350,8 @@ mod tests {
                             match &regular[hp.face as usize] {
                                 Some(p) if k <= 2 => {
                                     let ours = in_face_order(face, hp.corners, ring_patch);
-                                    for (a, b) in ours.points().iter().zip(p.points()) {
-                                        assert!((*a - *b).length() < 1e-13, "{name} k = {k}");
+                                    for (a, b) in ours.control_points().zip(p.control_points()) {
+                                        assert!((a - b).length() < 1e-13, "{name} k = {k}");
                                     }
                                 }
                                 None if k > 2 => {}
@@ -517,8 +515,8 @@ mod tests {
                 let (_, _, x_ring) = charts(&flat, k, v).unwrap();
                 for (rs, xs) in ring.iter().zip(&x_ring) {
                     for (r, x) in rs.iter().zip(xs) {
-                        for (a, b) in r.points().iter().zip(x.points()) {
-                            assert!((*a - *b).length() < 1e-12, "n = {n}, k = {k}: {a} vs {b}");
+                        for (a, b) in r.control_points().zip(x.control_points()) {
+                            assert!((a - b).length() < 1e-12, "n = {n}, k = {k}: {a} vs {b}");
                         }
                     }
                 }

@@ -50,8 +50,7 @@ pub fn derivatives_of_order(
 /// Largest coefficient length of a net (the scale a derivative is compared against).
 fn net_scale(patch: &TriangleBezier) -> f64 {
     patch
-        .points()
-        .iter()
+        .control_points()
         .fold(0.0, |m: f64, p| m.max(p.length()))
 }
 

@@ -579,8 +579,8 @@ mod inner_joint_precision {
         use crate::metrics::double_double::DoubleDouble;
         let dd = DoubleDouble::from_f64;
         let d = x.degree();
-        let xs: Vec<f64> = x.points().iter().map(|p| p.x).collect();
-        let ys: Vec<f64> = x.points().iter().map(|p| p.y).collect();
+        let xs: Vec<f64> = x.control_points().map(|p| p.x).collect();
+        let ys: Vec<f64> = x.control_points().map(|p| p.y).collect();
         let c = q.0.map(|c| c.to_array().map(dd));
         let combine = |terms: &[(usize, f64)]| -> [DoubleDouble; 3] {
             std::array::from_fn(|axis| {
@@ -748,13 +748,12 @@ mod inner_joint_precision {
             let Some(p) = p else { continue };
             let stored = patch.as_bezier().unwrap();
             let size = stored
-                .points()
-                .iter()
+                .control_points()
                 .map(|q| q.abs().max_element())
                 .fold(0.0, f64::max);
-            for (a, b) in p.to_net().points().iter().zip(stored.points()) {
+            for (a, b) in p.to_net().offsets().iter().zip(stored.control_points()) {
                 assert!(
-                    (*a - *b).abs().max_element() <= 8.0 * f64::EPSILON * size,
+                    (*a - b).abs().max_element() <= 8.0 * f64::EPSILON * size,
                     "{label}: the double-double inner patch is not the built one"
                 );
             }
@@ -777,7 +776,7 @@ mod inner_joint_precision {
             let mut index = [(d - 4) / 2; 3];
             index[far] = 4;
             index[(far + 1) % 3] = d - 4 - index[(far + 2) % 3];
-            let size = crate::geom::Aabb::from_points(pa.to_net().points()).diagonal();
+            let size = crate::geom::Aabb::from_points(pa.to_net().offsets()).diagonal();
             broken.displace(
                 index[0],
                 index[1],

@@ -233,7 +233,7 @@ mod tests {
                 let off = surface
                     .patches
                     .iter()
-                    .flat_map(|patch| patch.as_bezier().expect("Bézier").points().to_vec())
+                    .flat_map(|patch| patch.control_points())
                     .map(|x| x.z.abs())
                     .fold(0.0, f64::max);
                 assert_eq!(off, 0.0, "{name} {pairs:?}: off the plane z = 0 by {off}");
@@ -241,7 +241,7 @@ mod tests {
                 let off = surface
                     .patches
                     .iter()
-                    .flat_map(|patch| patch.as_bezier().expect("Bézier").points().to_vec())
+                    .flat_map(|patch| patch.control_points())
                     .map(|x| (x - DVec3::ONE).dot(normal).abs())
                     .fold(0.0, f64::max);
                 assert!(

@@ -286,6 +286,7 @@ mod tests {
 
     use super::*;
     use crate::bezier::TriangleBezier;
+    use crate::schemes::vertex_rings::FaceFrame;
     use crate::testing::{closed_test_meshes, params};
 
     /// Gauss–Legendre nodes and weights of 5 points on [0, 1] (exact to degree 9).
@@ -350,9 +351,10 @@ mod tests {
                 .expect("default parameters");
             let table = super::super::half_edge_table(&mesh, &shape).expect("pass 1");
             for (f, face) in mesh.faces().iter().enumerate().step_by(7) {
-                let corners = super::super::face_corner_curves(&table, *face, f, shape.psi);
+                let frame = FaceFrame::of(mesh.positions(), *face);
+                let corners = super::super::face_corner_curves(&table, *face, f, shape.psi, &frame);
                 let nets = macro_patch(&corners, FreeRule::Energy);
-                let [p0, p1, p2] = face.map(|v| mesh.positions()[v as usize]);
+                let [p0, p1, p2] = frame.corners;
                 let size = p0.distance(p1).max(p1.distance(p2)).max(p2.distance(p0));
                 let twists: [DVec3; 3] = std::array::from_fn(|c| nets[3][mid(c, [3, 1, 1])]);
                 let d: [DVec3; 3] = std::array::from_fn(|k| nets[3][mid(k, [1, 2, 2])]);

@@ -49,7 +49,7 @@ pub(crate) mod vertex;
 
 use rayon::prelude::*;
 
-use crate::schemes::vertex_rings::{HB_SWERVE, HalfEdgeTable, MeshSectors, PsiRule};
+use crate::schemes::vertex_rings::{FaceFrame, HB_SWERVE, HalfEdgeTable, MeshSectors, PsiRule};
 
 use glam::DVec3;
 
@@ -199,15 +199,22 @@ fn half_edge_table(mesh: &Mesh, rule: &ShapeRule) -> Result<HalfEdgeTable<HalfEd
 /// Pass 2 for the edge `X → Y` with its reverse `Y → X`, for the face on the "+" side of
 /// `X → Y` (`minus = false`, the "−" side of `Y → X`) or on its "−" side: the midpoint
 /// (eq. 16), `v²` (C¹ `V`, see the module doc) and `Ψ(½)` (eq. 29, by `psi`) complete the
-/// pass-1 data of `X`.
-fn curve(here: &HalfEdgeData, there: &HalfEdgeData, minus: bool, psi: PsiRule) -> HalfEdgeCurve {
+/// pass-1 data of `X`. `[x, y]` are `X` and `Y` in the face's frame ([`FaceFrame`]): the
+/// curve's points (offsets from their vertex in the table) are placed in that frame.
+fn curve(
+    here: &HalfEdgeData,
+    there: &HalfEdgeData,
+    minus: bool,
+    psi: PsiRule,
+    [x, y]: [DVec3; 2],
+) -> HalfEdgeCurve {
     let (near, far) = (here.side(minus), there.side(!minus));
     HalfEdgeCurve {
         b: [
-            here.b[0],
-            here.b[1],
-            here.b[2],
-            0.5 * (here.b[2] + there.b[2]),
+            x + here.b[0],
+            x + here.b[1],
+            x + here.b[2],
+            0.5 * ((x + here.b[2]) + (y + there.b[2])),
         ],
         v: [near.v0, near.v1, 0.5 * (near.v1 - far.v1)],
         phi0: near.phi0,
@@ -216,17 +223,23 @@ fn curve(here: &HalfEdgeData, there: &HalfEdgeData, minus: bool, psi: PsiRule) -
 }
 
 /// The two half-edge curves leaving each corner of face `f`: `(X→Y, X→Z)` for `X = a_k`
-/// (the face lies on the "+" side of `X → Y` and on the "−" side of `X → Z`), `Ψ` by `psi`.
+/// (the face lies on the "+" side of `X → Y` and on the "−" side of `X → Z`), `Ψ` by `psi`,
+/// in the face's `frame`.
 fn face_corner_curves(
     table: &HalfEdgeTable<HalfEdgeData>,
     face: [u32; 3],
     f: usize,
     psi: PsiRule,
+    frame: &FaceFrame,
 ) -> [(HalfEdgeCurve, HalfEdgeCurve); 3] {
+    let corner = |k: usize| frame.corners[k % 3];
+    let mut k = 0;
     table.corner_edges(face, f).map(|[xy, yx, xz, zx]| {
+        let (x, y, z) = (corner(k), corner(k + 1), corner(k + 2));
+        k += 1;
         (
-            curve(table.get(xy), table.get(yx), false, psi),
-            curve(table.get(xz), table.get(zx), true, psi),
+            curve(table.get(xy), table.get(yx), false, psi, [x, y]),
+            curve(table.get(xz), table.get(zx), true, psi, [x, z]),
         )
     })
 }
@@ -283,17 +296,18 @@ fn macro_patches(
                 .enumerate()
                 .filter(|(f, _)| selected.is_none_or(|s| s[*f]))
                 .for_each(|(f, out)| {
-                    let nets = macro_patch(
-                        &face_corner_curves(table, mesh.faces()[f], f, shape.psi),
-                        free,
-                    );
+                    let face = mesh.faces()[f];
+                    let frame = FaceFrame::of(mesh.positions(), face);
+                    let nets =
+                        macro_patch(&face_corner_curves(table, face, f, shape.psi, &frame), free);
                     for (piece, slot) in out.iter_mut().enumerate() {
                         *slot = Patch {
                             face: f as u32,
                             piece: piece as u8,
                             domain: domains[piece],
-                            geometry: PatchGeometry::Bezier(TriangleBezier::new(
+                            geometry: PatchGeometry::Bezier(TriangleBezier::with_origin(
                                 5,
+                                frame.origin,
                                 nets[piece].to_vec(),
                             )),
                         };
@@ -377,7 +391,10 @@ pub(crate) mod test_support {
             .faces()
             .iter()
             .enumerate()
-            .flat_map(|(f, face)| face_corner_curves(&table, *face, f, shape.psi))
+            .flat_map(|(f, face)| {
+                let frame = FaceFrame::of(mesh.positions(), *face);
+                face_corner_curves(&table, *face, f, shape.psi, &frame)
+            })
             .map(|(to_y, to_z)| macro_patch::test_support::corner_mismatch(&to_y, &to_z))
             .fold(0.0, f64::max))
     }

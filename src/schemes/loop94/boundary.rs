@@ -164,7 +164,7 @@ mod tests {
             let off = surface
                 .patches
                 .iter()
-                .flat_map(|patch| patch.as_bezier().expect("Bézier").points().to_vec())
+                .flat_map(|patch| patch.control_points())
                 .map(|x| x.z.abs())
                 .fold(0.0, f64::max);
             assert_eq!(off, 0.0, "off the plane z = 0 by {off}");

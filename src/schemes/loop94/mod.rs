@@ -35,7 +35,7 @@ use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::mesh::Mesh;
-use crate::schemes::vertex_rings::{HalfEdgeTable, LOOP_SWERVE, MeshSectors, PsiRule};
+use crate::schemes::vertex_rings::{FaceFrame, HalfEdgeTable, LOOP_SWERVE, MeshSectors, PsiRule};
 use crate::schemes::{ParamSpec, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 use patch::{edge_curves, sextic};
@@ -104,16 +104,21 @@ fn table(mesh: &Mesh, shape: &LoopShape) -> Result<HalfEdgeTable<LoopHalfEdge>> 
     Ok(boundary::open_table(mesh, &sectors, shape))
 }
 
-/// The three edges `a_k → a_{k+1}` of face `f` as (boundary curve, cross derivative).
+/// The three edges `a_k → a_{k+1}` of face `f` as (boundary curve, cross derivative), in the
+/// face's `frame`.
 fn face_edges(
     table: &HalfEdgeTable<LoopHalfEdge>,
     face: [u32; 3],
     f: usize,
     psi: PsiRule,
+    frame: &FaceFrame,
 ) -> [(crate::bezier::CurveBezier, crate::bezier::CurveBezier); 3] {
-    table
-        .corner_edges(face, f)
-        .map(|[xy, yx, _, _]| edge_curves(table.get(xy), table.get(yx), psi))
+    let mut k = 0;
+    table.corner_edges(face, f).map(|[xy, yx, _, _]| {
+        let ends = [frame.corners[k], frame.corners[(k + 1) % 3]];
+        k += 1;
+        edge_curves(table.get(xy), table.get(yx), psi, ends)
+    })
 }
 
 fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
@@ -146,11 +151,14 @@ fn table_and_patches(
 
 /// The sextic patch over face `f` from the per-vertex data `table`, `Ψ` by `psi`.
 fn face_patch(mesh: &Mesh, table: &HalfEdgeTable<LoopHalfEdge>, f: usize, psi: PsiRule) -> Patch {
+    let face = mesh.faces()[f];
+    let frame = FaceFrame::of(mesh.positions(), face);
+    let net = sextic(&face_edges(table, face, f, psi, &frame));
     Patch {
         face: f as u32,
         piece: 0,
         domain: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
-        geometry: PatchGeometry::Bezier(sextic(&face_edges(table, mesh.faces()[f], f, psi))),
+        geometry: PatchGeometry::Bezier(net.placed_at(frame.origin)),
     }
 }
 
@@ -278,12 +286,20 @@ pub(crate) mod test_support {
             .iter()
             .enumerate()
             .map(|(f, face)| {
-                let twist =
-                    patch::test_support::twist_mismatch(&face_edges(&table, *face, f, shape.psi));
+                let frame = FaceFrame::of(mesh.positions(), *face);
+                let twist = patch::test_support::twist_mismatch(&face_edges(
+                    &table, *face, f, shape.psi, &frame,
+                ));
+                // f² from each end, both placed in the face's frame.
+                let mut k = 0;
                 let f2 = table
                     .corner_edges(*face, f)
-                    .iter()
-                    .map(|[xy, yx, _, _]| (table.get(*xy).f[2] - table.get(*yx).f[2]).length())
+                    .map(|[xy, yx, _, _]| {
+                        let (x, y) = (frame.corners[k], frame.corners[(k + 1) % 3]);
+                        k += 1;
+                        ((x + table.get(xy).f[2]) - (y + table.get(yx).f[2])).length()
+                    })
+                    .into_iter()
                     .fold(0.0, f64::max);
                 twist.max(f2)
             })

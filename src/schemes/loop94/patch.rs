@@ -34,14 +34,21 @@ fn rot(k: usize, w: [usize; 3]) -> usize {
 /// towards the third corner of the face on its "+" side (quintic, eq. 3), from the data of both
 /// ends (that face is on the "−" side of `Y → X`), `Ψ` by `psi`: linear (eq. 4, `ΨV` a
 /// quartic elevated to a quintic) or quadratic with the rule's middle coefficient (`ΨV` a
-/// quintic, the degree eq. 3 allows).
+/// quintic, the degree eq. 3 allows). `[x, y]` are `X` and `Y` in the face's frame
+/// ([`crate::schemes::vertex_rings::FaceFrame`]): the curve's points, offsets from their vertex
+/// in the table, are placed in it.
 pub(crate) fn edge_curves(
     here: &LoopHalfEdge,
     there: &LoopHalfEdge,
     psi: PsiRule,
+    [x, y]: [DVec3; 2],
 ) -> (CurveBezier, CurveBezier) {
     let boundary = CurveBezier::new(vec![
-        here.f[0], here.f[1], here.f[2], there.f[1], there.f[0],
+        x + here.f[0],
+        x + here.f[1],
+        x + here.f[2],
+        y + there.f[1],
+        y + there.f[0],
     ]);
     let (near, far) = (here.side(false), there.side(true));
     // V seen from Y is −V(1−u) (as in HB00: Φ̃ = 1 − Φ, Ψ̃ = Ψ), so its cubic, in X's order:
@@ -159,7 +166,7 @@ mod tests {
         });
         let sextic = quintic.elevate();
         let c = index(DEGREE, 2, 2);
-        let mut broken = sextic.points().to_vec();
+        let mut broken = sextic.offsets().to_vec();
         broken[c] = DVec3::splat(17.0);
         let recovered: DVec3 = quintic_precision_weights()
             .iter()
@@ -167,9 +174,9 @@ mod tests {
             .map(|(w, p)| *w * *p)
             .sum();
         assert!(
-            (recovered - sextic.points()[c]).length() < 1e-12,
+            (recovered - sextic.offsets()[c]).length() < 1e-12,
             "{recovered} vs {}",
-            sextic.points()[c]
+            sextic.offsets()[c]
         );
         let weight_sum: f64 = quintic_precision_weights().iter().sum();
         assert!((weight_sum - 1.0).abs() < 1e-12, "affine: {weight_sum}");

@@ -76,7 +76,7 @@ mod tests {
         let split = |q: &TriangleBezier| -> [Quartic; 3] {
             std::array::from_fn(|k| {
                 let mut out = [DVec3::ZERO; 15];
-                out.copy_from_slice(q.subdivide(piece_domain(k)).points());
+                out.copy_from_slice(q.subdivide(piece_domain(k)).offsets());
                 out
             })
         };

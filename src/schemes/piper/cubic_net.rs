@@ -166,7 +166,7 @@ pub(crate) fn split_at_centroid(net: &Cubic) -> [Cubic; 3] {
     let patch = TriangleBezier::new(3, net.to_vec());
     let mut pieces = [[DVec3::ZERO; 10]; 3];
     for (k, piece) in pieces.iter_mut().enumerate() {
-        piece.copy_from_slice(patch.subdivide(piece_domain(k)).points());
+        piece.copy_from_slice(patch.subdivide(piece_domain(k)).offsets());
         for (l, &p) in patch.edge_curve(k).points().iter().enumerate() {
             piece[index(3, 3 - l, l)] = p;
         }
@@ -231,7 +231,7 @@ pub(crate) fn coplanar_centres(
 pub(crate) fn elevate(net: &Cubic) -> Quartic {
     let elevated = TriangleBezier::new(3, net.to_vec()).elevate();
     let mut out = [DVec3::ZERO; 15];
-    out.copy_from_slice(elevated.points());
+    out.copy_from_slice(elevated.offsets());
     out
 }
 

@@ -61,12 +61,14 @@ pub(crate) mod c1_restore;
 pub(crate) mod cubic_net;
 pub(crate) mod g1_solve;
 
+use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::bezier::TriangleBezier;
 use crate::bezier::triangle::index;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
+use crate::schemes::vertex_rings::FaceFrame;
 use crate::schemes::{AtFoldedVertex, ParamSpec, Params, SchemeSpec};
 use crate::surface::{Patch, PatchGeometry, Surface};
 use cubic_net::{Cubic, EdgeScaling, Quartic};
@@ -102,21 +104,23 @@ fn edge_scaling(params: &Params) -> Result<EdgeScaling> {
     )
 }
 
-/// The rows of two quartic pieces at their shared outer edge, in P's direction. Piece rows:
-/// `S_i = p(4−i, i, 0)`, `R_i = p(3−i, i, 1)`; Q runs the other way, so
-/// `T_i = Q's R_{3−i} = q(i, 3−i, 1)`.
-fn edge_net(quartic_p: &Quartic, quartic_q: &Quartic) -> EdgeNet {
+/// The rows of two quartic pieces at their shared outer edge, in P's direction and P's frame
+/// (`to_p`: Q's frame origin minus P's). Piece rows: `S_i = p(4−i, i, 0)`,
+/// `R_i = p(3−i, i, 1)`; Q runs the other way, so `T_i = Q's R_{3−i} = q(i, 3−i, 1)`.
+fn edge_net(quartic_p: &Quartic, quartic_q: &Quartic, to_p: DVec3) -> EdgeNet {
     EdgeNet {
         s: std::array::from_fn(|i| quartic_p[index(4, 4 - i, i)]),
         r: std::array::from_fn(|i| quartic_p[index(4, 3 - i, i)]),
-        t: std::array::from_fn(|i| quartic_q[index(4, i, 3 - i)]),
+        t: std::array::from_fn(|i| quartic_q[index(4, i, 3 - i)] + to_p),
     }
 }
 
 /// A piece of a face: `(face, k)`, the piece over the face's edge `k`.
 type PieceId = (usize, usize);
 
-/// The data of steps 3–5: the cubic sub-nets of every face (steps 1–2).
+/// The data of steps 3–5: the cubic sub-nets of every face (steps 1–2), each in its face's
+/// frame ([`FaceFrame`]: points relative to the face's first corner, so that they keep the
+/// precision of the face's size wherever it lies).
 struct Construction<'a> {
     mesh: &'a Mesh,
     cubic_pieces: Vec<[Cubic; 3]>,
@@ -131,9 +135,15 @@ impl Construction<'_> {
         (p[1] - p[0]).cross(p[2] - p[0]).length() / (p[(k + 1) % 3] - p[k]).length()
     }
 
+    /// The origin of face `f`'s frame.
+    fn origin(&self, f: usize) -> DVec3 {
+        self.mesh.positions()[self.mesh.faces()[f][0] as usize]
+    }
+
     /// Steps 3–4 at the edge shared by pieces `p` and `q`: both sub-nets with their centres
-    /// made coplanar, as quartics.
-    fn edge_quartics(&self, p: PieceId, q: PieceId) -> (Quartic, Quartic) {
+    /// made coplanar, as quartics, each in its face's frame; `to_p` takes a point of Q's
+    /// frame into P's, where the two centres are compared.
+    fn edge_quartics(&self, p: PieceId, q: PieceId, to_p: DVec3) -> (Quartic, Quartic) {
         let mut cubic_p = self.cubic_pieces[p.0][p.1];
         let mut cubic_q = self.cubic_pieces[q.0][q.1];
         let centre = index(3, 1, 1);
@@ -141,20 +151,22 @@ impl Construction<'_> {
             cubic_p[index(3, 2, 1)],
             cubic_p[index(3, 1, 2)],
             cubic_p[centre],
-            cubic_q[centre],
+            cubic_q[centre] + to_p,
             self.height(p),
             self.height(q),
         );
         cubic_p[centre] = centre_p;
-        cubic_q[centre] = centre_q;
+        cubic_q[centre] = centre_q - to_p;
         (cubic_net::elevate(&cubic_p), cubic_net::elevate(&cubic_q))
     }
 
     /// Steps 3–5 at the edge shared by pieces `p` and `q` (`p` < `q`, so that both faces get
-    /// the same result bit for bit): the two quartic pieces after the G¹ solve.
+    /// the same result bit for bit): the two quartic pieces after the G¹ solve, each in its
+    /// face's frame (the solve runs in P's).
     fn solve_edge(&self, p: PieceId, q: PieceId) -> Result<(Quartic, Quartic)> {
-        let (mut quartic_p, mut quartic_q) = self.edge_quartics(p, q);
-        let net = edge_net(&quartic_p, &quartic_q);
+        let to_p = self.origin(q.0) - self.origin(p.0);
+        let (mut quartic_p, mut quartic_q) = self.edge_quartics(p, q, to_p);
+        let net = edge_net(&quartic_p, &quartic_q, to_p);
         let face = self.mesh.faces()[p.0];
         let (start, end) = (face[p.1] as usize, face[(p.1 + 1) % 3] as usize);
         let fold = |a: usize, b: usize| Error::DegenerateEdge {
@@ -175,9 +187,9 @@ impl Construction<'_> {
         quartic_p[index(4, 2, 1)] = x.r[0];
         quartic_p[index(4, 1, 2)] = x.r[1];
         quartic_p[index(4, 2, 2)] = x.s2;
-        quartic_q[index(4, 1, 2)] = x.t[0];
-        quartic_q[index(4, 2, 1)] = x.t[1];
-        quartic_q[index(4, 2, 2)] = x.s2;
+        quartic_q[index(4, 1, 2)] = x.t[0] - to_p;
+        quartic_q[index(4, 2, 1)] = x.t[1] - to_p;
+        quartic_q[index(4, 2, 2)] = x.s2 - to_p;
         Ok((quartic_p, quartic_q))
     }
 
@@ -213,6 +225,7 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
         .map(|f| construction.face_nets(f))
         .collect::<Vec<Result<_>>>();
     let nets = crate::error::collect_in_order(nets)?;
+    let (positions, faces) = (mesh.positions(), mesh.faces());
     let patches = nets
         .into_iter()
         .enumerate()
@@ -221,7 +234,11 @@ fn build(mesh: &Mesh, params: &Params) -> Result<Surface> {
                 face: f as u32,
                 piece: k as u8,
                 domain: cubic_net::piece_domain(k),
-                geometry: PatchGeometry::Bezier(TriangleBezier::new(4, net.to_vec())),
+                geometry: PatchGeometry::Bezier(TriangleBezier::with_origin(
+                    4,
+                    positions[faces[f][0] as usize],
+                    net.to_vec(),
+                )),
             })
         })
         .collect();
@@ -242,9 +259,8 @@ fn candidates<'a>(mesh: &'a Mesh, params: &Params) -> Result<Construction<'a>> {
         .into_par_iter()
         .map(|f| {
             let face = mesh.faces()[f];
-            let p = face.map(|v| positions[v as usize]);
             cubic_net::candidate_net(
-                p,
+                FaceFrame::of(positions, face).corners,
                 corner_normals[f],
                 creases(mesh, &corner_normals, f),
                 swerving_legs(mesh, &corner_normals, f),
