@@ -53,7 +53,7 @@ impl Patch {
     /// `Su × Sv` points against the face's normal `face_normal`. A patch is parametrised with
     /// the orientation of its face (the export contract, docs/guide/contracts.md), so a surface
     /// that follows its mesh has none; a fold is where the surface doubles back over the face.
-    /// Samples whose normal is zero to the rounding of the derivatives
+    /// Samples whose normal `Su × Sv` is zero to the rounding of the derivatives
     /// ([`Patch::derivative_rounding`]: a singular point, as where a patch corner's two edges
     /// are in line) have no orientation and are not counted. A Bézier patch whose normal's Bézier
     /// form proves it faces along `face_normal` everywhere ([`TriangleBezier::faces_along`])
@@ -77,8 +77,10 @@ impl Patch {
             .filter(|&(i, j)| {
                 let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
                 let jet = self.jet(u, v);
-                // Su × Sv is known to δ(|Su| + |Sv|); a component below that has no sign.
-                jet.cross().dot(unit) < -delta * (jet.du.length() + jet.dv.length())
+                // Su × Sv is known to δ(|Su| + |Sv|): below that it is no direction at all.
+                let normal = jet.cross();
+                normal.length() > delta * (jet.du.length() + jet.dv.length())
+                    && normal.dot(unit) < 0.0
             })
             .count()
     }
