@@ -55,3 +55,39 @@ fn metrics_are_the_same_for_any_translation_and_power_of_two_scale() {
         }
     }
 }
+
+/// A part far from the rest of its mesh keeps the continuity it has alone: its patches are
+/// stored relative to corners of their own faces, so their derivatives are rounded at the
+/// face's size, not at the part's distance from the mesh's centre. Two copies of a mesh
+/// 2^30 of its diagonals apart (exact integer coordinates) are each 2^-30 of the local frame
+/// wide at 0.5 from its centre; stored as absolute coordinates there, every normal would be
+/// known only to ~1e-7 rad. gk, whose patches are not yet stored that way, is left out.
+#[test]
+fn a_part_far_from_the_rest_measures_as_it_does_alone() {
+    for (name, mesh) in smoothlab::testing::closed_test_meshes().into_iter().take(3) {
+        let base = on_grid(&mesh);
+        let far = DVec3::splat(2f64.powi(50));
+        let pair: Vec<DVec3> = base.iter().chain(&base).copied().collect();
+        let pair: Vec<DVec3> = pair
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| if i < base.len() { p } else { p + far })
+            .collect();
+        let n = base.len() as u32;
+        let faces: Vec<[u32; 3]> = mesh
+            .faces()
+            .iter()
+            .copied()
+            .chain(mesh.faces().iter().map(|f| f.map(|v| v + n)))
+            .collect();
+        for scheme in ["hb", "loop94", "piper", "nielson", "fang-mann"] {
+            let alone = measured(scheme, base.clone(), mesh.faces());
+            let apart = measured(scheme, pair.clone(), &faces);
+            let (g1_alone, g1_apart) = (alone.g1_max_rad.unwrap(), apart.g1_max_rad.unwrap());
+            eprintln!("{name} {scheme}: G1 alone {g1_alone:.2e}, two parts apart {g1_apart:.2e}");
+            // The offsets are the same numbers scaled by a power of two: the same angles.
+            assert_eq!(g1_apart, g1_alone, "{name} {scheme}: G1 apart and alone");
+            assert_eq!(apart.folds, 0, "{name} {scheme}");
+        }
+    }
+}
