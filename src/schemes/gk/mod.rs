@@ -473,17 +473,14 @@ mod inner_joint_resolution {
     use crate::metrics::continuity;
     use crate::testing::{closed_test_meshes, params};
 
-    /// Where the measure stops below G^4 between the inner p-patches of k = 4 (mixed-valence
-    /// and genus2), the order-4 difference of the height coefficients is within the rounding
-    /// floor (so it is no construction error the measure could see) and the floor itself is
-    /// above what the measure may claim; the figures per order are printed. The stored nets
-    /// measured in double-double ([`continuity::test_support::precise_measure`], their points taken as
-    /// exact) differ there by as much as in f64 and also within the floor: the f64 measure
-    /// reads the stored surface correctly, and it is the f64 rounding of the stored control
-    /// points (not the arithmetic of the measure) that leaves order 4 undetermined. (The
-    /// construction itself is G^5 in double-double: `inner_joint_precision`.)
+    /// Between the inner p-patches of k = 4 (mixed-valence and genus2) the f64 measure
+    /// resolves G^4 at every sample: each hole's patches are stored relative to its multiple
+    /// vertex, so the rounding floor of their control points is that of the hole's size. (Stored
+    /// in the mesh's frame, 30 of the 360 samples on mixed-valence stopped at G^3, their order-4
+    /// difference within the floor; the construction itself is G^5 in double-double:
+    /// `inner_joint_precision`.) The worst difference and floor per order are printed.
     #[test]
-    fn inner_joints_stop_at_the_rounding_floor_not_at_a_difference() {
+    fn inner_joints_of_k4_measure_g4_in_f64() {
         for (name, mesh) in closed_test_meshes() {
             if name != "mixed-valence" && name != "genus2" {
                 continue;
@@ -493,7 +490,7 @@ mod inner_joint_resolution {
             let diag = mesh.bounds().diagonal();
             let joints = surface.joints(mesh.faces(), Some(&mesh.edge_ids()));
             let mut worst = [[0.0f64; 2]; continuity::MAX_ORDER];
-            let (mut samples, mut below) = (0, 0);
+            let mut samples = 0;
             for j in &joints {
                 let pieces = (
                     surface.patches[j.a.patch as usize].piece,
@@ -510,54 +507,17 @@ mod inner_joint_resolution {
                         w[0] = w[0].max(diff / scale);
                         w[1] = w[1].max(floor / scale);
                     }
-                    if m.order < k {
-                        below += 1;
-                        let [diff, scale, floor] = terms[m.order as usize];
-                        eprintln!(
-                            "{name} s = {s}: G^{} (unresolved {}), order {}: difference \
-                             {:.1e}, floor {:.1e} of the scale",
-                            m.order,
-                            m.unresolved,
-                            m.order + 1,
-                            diff / scale,
-                            floor / scale
-                        );
-                        assert!(m.unresolved, "{name}: a resolved difference");
-                        assert!(diff <= floor, "{name}: difference above the floor");
-                        let nets = [j.a.patch, j.b.patch].map(|p| {
-                            continuity::test_support::PreciseNet::from_net(
-                                surface.patches[p as usize].as_bezier().unwrap(),
-                            )
-                        });
-                        let exact = continuity::test_support::precise_measure(
-                            [&nets[0], &nets[1]],
-                            j,
-                            s,
-                            diag,
-                        )
-                        .expect("regular");
-                        let exact_diff = exact.terms[m.order as usize].difference;
-                        eprintln!(
-                            "{name} s = {s}: the stored nets in double-double: difference {:.1e} of \
-                             the scale (f64: {:.1e})",
-                            exact_diff / scale,
-                            diff / scale
-                        );
-                        assert!(
-                            exact_diff <= floor,
-                            "{name}: exact difference above the floor"
-                        );
-                    }
+                    assert!(m.order >= k, "{name} s = {s}: G^{} {m:?}", m.order);
                 }
             }
+            assert!(samples > 0, "{name}: no inner joint");
             for (m, [diff, floor]) in worst.iter().enumerate() {
                 eprintln!(
                     "{name}: order {}: worst difference {diff:.1e}, worst floor {floor:.1e} \
-                     of the scale",
+                     of the scale ({samples} inner samples)",
                     m + 1
                 );
             }
-            eprintln!("{name}: {below} of {samples} inner samples below G^{k}");
         }
     }
 }
@@ -746,14 +706,12 @@ mod inner_joint_precision {
         assert_eq!(precise.len(), surface.patches.len(), "{label}");
         for (patch, p) in surface.patches.iter().zip(&precise) {
             let Some(p) = p else { continue };
+            // Both relative to the hole's origin.
             let stored = patch.as_bezier().unwrap();
-            let size = stored
-                .control_points()
-                .map(|q| q.abs().max_element())
-                .fold(0.0, f64::max);
-            for (a, b) in p.to_net().offsets().iter().zip(stored.control_points()) {
+            let size = stored.offset_magnitude();
+            for (a, b) in p.to_net().offsets().iter().zip(stored.offsets()) {
                 assert!(
-                    (*a - b).abs().max_element() <= 8.0 * f64::EPSILON * size,
+                    (*a - *b).abs().max_element() <= 8.0 * f64::EPSILON * size,
                     "{label}: the double-double inner patch is not the built one"
                 );
             }
