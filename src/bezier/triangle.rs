@@ -713,4 +713,63 @@ mod tests {
         );
         assert!(p[10..].iter().all(|x| *x == DVec3::ZERO));
     }
+
+    /// A net stored with an origin is the net of the absolute points: positions add the
+    /// origin, derivatives and directional blossoms do not see it, and subdivision, elevation,
+    /// scaling and bounds carry it along — to the rounding of the absolute points.
+    #[test]
+    fn a_net_with_an_origin_is_the_net_of_its_absolute_points() {
+        let mut rng = Rng::new(0x0f);
+        let origin = DVec3::new(5.0, -3.0, 2.0);
+        for d in DEGREES.into_iter().filter(|&d| d >= 1) {
+            let local = rng.triangle(d, 0.0);
+            let placed = local.clone().placed_at(origin);
+            let absolute = TriangleBezier::new(d, placed.control_points().collect());
+            let scale = scale_of(absolute.offsets()) * (d * d) as f64;
+            let close = |a: DVec3, b: DVec3| rel_err(a, b, scale) <= 1e-14;
+            for (u, v) in sample_params(&mut rng) {
+                let (a, b) = (placed.jet(u, v), absolute.jet(u, v));
+                assert!(
+                    close(a.p, b.p) && close(a.du, b.du) && close(a.duv, b.duv),
+                    "d = {d}"
+                );
+                // Derivatives are those of the offsets alone, bit for bit.
+                assert_eq!(a.du, local.jet(u, v).du, "d = {d}");
+                // Third derivatives grow like d³·|b|.
+                let all = |n: &TriangleBezier| n.partials(u, v, d.min(3));
+                let third = |a: &DVec3, b: DVec3| rel_err(*a, b, scale * d as f64) <= 1e-14;
+                assert!(
+                    all(&placed)
+                        .iter()
+                        .zip(all(&absolute))
+                        .all(|(a, b)| third(a, b))
+                );
+            }
+            let direction = DVec3::new(-1.0, 1.0, 0.0);
+            let args: Vec<DVec3> = std::iter::once(direction)
+                .chain(std::iter::repeat_n(rng.bary_inside(), d - 1))
+                .collect();
+            assert_eq!(placed.blossom(&args), local.blossom(&args), "d = {d}");
+            let corners = [DVec3::X, DVec3::new(0.5, 0.5, 0.0), DVec3::splat(1.0 / 3.0)];
+            let forms = [
+                (
+                    placed.subdivide(corners),
+                    absolute.subdivide(corners),
+                    origin,
+                ),
+                (placed.elevate(), absolute.elevate(), origin),
+                (placed.scaled(0.5), absolute.scaled(0.5), 0.5 * origin),
+            ];
+            for (a, b, kept) in &forms {
+                assert_eq!(a.origin(), *kept, "d = {d}");
+                assert!(
+                    a.control_points()
+                        .zip(b.control_points())
+                        .all(|(p, q)| close(p, q))
+                );
+            }
+            let (a, b) = (placed.control_bounds(), absolute.control_bounds());
+            assert!(close(a.min, b.min) && close(a.max, b.max), "d = {d}");
+        }
+    }
 }

@@ -82,7 +82,7 @@ impl TriangleBezier {
         // Weights i/(d+1) rather than a common factor 1/(d+1): at the corners the weight is
         // exactly one, so the elevated net interpolates the corners bit for bit.
         let weight = |n: usize| n as f64 / (d + 1) as f64;
-        let offsets = TriangleBezier::from_fn(d + 1, |i, j, k| {
+        TriangleBezier::from_fn(d + 1, |i, j, k| {
             let mut sum = DVec3::ZERO;
             if i > 0 {
                 sum += weight(i) * self.offset(i - 1, j);
@@ -94,8 +94,8 @@ impl TriangleBezier {
                 sum += weight(k) * self.offset(i, j);
             }
             sum
-        });
-        TriangleBezier::with_origin(d + 1, self.origin(), offsets.offsets().to_vec())
+        })
+        .placed_at(self.origin())
     }
 
     /// Boundary curve `edge` (0: corner 0 → corner 1, where k = 0; 1: corner 1 → corner 2,
