@@ -55,7 +55,7 @@ pub(crate) struct EdgeFrame {
     pub origin: DVec3,
     /// The boundary curve from `P_a` to `P_b` (cubic), relative to `origin`.
     pub curve: CurveBezier,
-    /// The same curve elevated to degree four (computed once, so faces share it bit for bit).
+    /// The same curve elevated to degree four (computed once for both faces).
     pub curve_quartic: CurveBezier,
     /// Transversal derivative at `a` and at `b` (in the tangent planes there), pointing to
     /// the left of `a → b`.
