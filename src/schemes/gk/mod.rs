@@ -421,8 +421,10 @@ mod tests {
     /// A vertex of valence 200 (both apexes of a 200-gonal bipyramid), k = 1..4: the same
     /// checks as for the test meshes, G1 to rounding included (minutes: the metrics measure
     /// the continuity order of 1600+ hole joints). At k = 4 the metrics' geometric order is
-    /// left out: it measures G^3 there (every inner-joint sample stops below G^4 for lack of
-    /// f64 resolution; at the lattice joints the cause is not established), while C^4 in the
+    /// left out: it measures G^3 there (4,122 of 4,800 inner-joint samples stop below G^4 for
+    /// lack of f64 resolution, with each hole stored relative to its multiple vertex: the
+    /// limit is the tiny patches round a vertex of valence 200, not their position; at the
+    /// lattice joints the cause is not established), while C^4 in the
     /// lattice parametrisation is checked exactly; the inner joints are measured G^4 in
     /// double-double by `inner_joint_precision`.
     #[test]
