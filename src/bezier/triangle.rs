@@ -124,13 +124,29 @@ fn jet_from_quadratic_level(q: &[DVec3], degree: usize, w: DVec3) -> Jet {
 /// steps as the general path, in the same order (so the same bits), with the degree known to
 /// the compiler, which unrolls the rows and drops their index checks. The jet at every ray hit
 /// and every fold-test sample of the schemes runs through here.
+///
+/// The net is walked one coordinate at a time (`x`, `y`, `z` in arrays of their own): each
+/// coordinate of a de Casteljau point is computed by the same operations as a `DVec3` step
+/// would, but a row's points then lie side by side in memory and the compiler packs several
+/// of them into one vector instruction.
 #[inline(always)]
 fn jet_of_degree<const D: usize, const N: usize>(points: &[DVec3], w: DVec3) -> Jet {
-    let mut net: [DVec3; N] = std::array::from_fn(|n| points[n]);
+    let points = &points[..N];
+    let mut coordinates: [[f64; N]; 3] = [
+        std::array::from_fn(|n| points[n].x),
+        std::array::from_fn(|n| points[n].y),
+        std::array::from_fn(|n| points[n].z),
+    ];
     for m in (3..=D).rev() {
-        de_casteljau_step(&mut net, m, w);
+        for net in &mut coordinates {
+            de_casteljau_rows(net, m, |t, b_j, b_k| {
+                *t = w.x * *t + w.y * *b_j + w.z * *b_k;
+            });
+        }
     }
-    jet_from_quadratic_level(&net, D, w)
+    let [x, y, z] = &coordinates;
+    let quadratic: [DVec3; 6] = std::array::from_fn(|n| DVec3::new(x[n], y[n], z[n]));
+    jet_from_quadratic_level(&quadratic, D, w)
 }
 
 /// A triangular Bézier patch `B(w0,w1,w2) = Σ b(i,j,k) d!/(i!j!k!) w0^i w1^j w2^k`.

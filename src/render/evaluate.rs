@@ -134,29 +134,51 @@ pub(crate) const fn power_index(d: usize, j: usize, k: usize) -> usize {
 }
 
 /// `S(s, t)`, `∂S/∂s`, `∂S/∂t` of the degree-`D` power form `c` ([`power_coefficients`]), by
-/// Horner in `t` inside each row and in `s` across rows. `D` is a constant so that every loop
-/// unrolls; `c` must hold `(D+1)(D+2)/2` coefficients.
+/// Horner in `t` inside each row and in `s` across rows; `c` must hold `(D+1)(D+2)/2`
+/// coefficients (`D` ≤ [`MAX_STACK_DEGREE`]).
+///
+/// The rows are written out one by one (from row `MAX_STACK_DEGREE` down, those above `D`
+/// dropped at compile time), so each row's start and length are constants and its Horner
+/// loop unrolls: a loop over the rows would compute their starts and check their bounds at
+/// run time, and the compiler does not unroll it.
 #[inline]
 pub(crate) fn local_point_and_tangents<const D: usize>(
     c: &[DVec3],
     s: f64,
     t: f64,
 ) -> (DVec3, DVec3, DVec3) {
+    const { assert!(D <= MAX_STACK_DEGREE) };
     let c = &c[..point_count(D)];
     let (mut p, mut ps, mut pt) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
-    for j in (0..=D).rev() {
-        let row = &c[power_index(D, j, 0)..power_index(D, j, 0) + D - j + 1];
-        // Row polynomial q_j(t) = Σ_k c_jk t^k and its derivative.
-        let mut q = row[D - j];
-        let mut qt = DVec3::ZERO;
-        for k in (0..D - j).rev() {
-            qt = qt * t + q;
-            q = q * t + row[k];
-        }
-        ps = ps * s + p;
-        p = p * s + q;
-        pt = pt * s + qt;
+    macro_rules! row {
+        ($j:literal) => {
+            if $j <= D {
+                row!(always $j);
+            }
+        };
+        (always $j:literal) => {
+            {
+                let start = power_index(D, $j, 0);
+                // Row polynomial q_j(t) = Σ_k c_jk t^k and its derivative.
+                let mut q = c[start + D - $j];
+                let mut qt = DVec3::ZERO;
+                for k in (0..D - $j).rev() {
+                    qt = qt * t + q;
+                    q = q * t + c[start + k];
+                }
+                ps = ps * s + p;
+                p = p * s + q;
+                pt = pt * s + qt;
+            }
+        };
     }
+    row!(6);
+    row!(5);
+    row!(4);
+    row!(3);
+    row!(2);
+    row!(1);
+    row!(always 0);
     (p, ps, pt)
 }
 
