@@ -9,7 +9,9 @@
 use glam::DVec3;
 
 use crate::bezier::CurveBezier;
-use crate::bezier::triangle::{TriangleBezier, de_casteljau_step, index, point_count};
+use crate::bezier::triangle::{
+    TriangleBezier, de_casteljau_rows, de_casteljau_step, index, point_count,
+};
 use crate::geom::Aabb;
 
 /// Nets of up to this many control points (degree 8) are subdivided on stack buffers.
@@ -28,6 +30,21 @@ impl TriangleBezier {
     pub fn subdivide(&self, corners: [DVec3; 3]) -> TriangleBezier {
         let count = point_count(self.degree());
         let mut points = vec![DVec3::ZERO; count];
+        let offsets = self.offsets();
+        match self.degree() {
+            2 => blossom_net_of_degree::<2, 6>(offsets, corners, &mut points),
+            3 => blossom_net_of_degree::<3, 10>(offsets, corners, &mut points),
+            4 => blossom_net_of_degree::<4, 15>(offsets, corners, &mut points),
+            5 => blossom_net_of_degree::<5, 21>(offsets, corners, &mut points),
+            6 => blossom_net_of_degree::<6, 28>(offsets, corners, &mut points),
+            _ => self.blossom_net_any_degree(corners, &mut points),
+        }
+        TriangleBezier::with_origin(self.degree(), self.origin(), points)
+    }
+
+    /// [`TriangleBezier::subdivide`]'s net into `points`, for any degree.
+    fn blossom_net_any_degree(&self, corners: [DVec3; 3], points: &mut [DVec3]) {
+        let count = point_count(self.degree());
         if count <= STACK_POINTS {
             let mut after_c0 = [DVec3::ZERO; STACK_POINTS];
             let mut after_c1 = [DVec3::ZERO; STACK_POINTS];
@@ -35,14 +52,13 @@ impl TriangleBezier {
             self.blossom_net(
                 corners,
                 [&mut after_c0, &mut after_c1, &mut after_c2],
-                &mut points,
+                points,
             );
         } else {
             let mut buffers = [(); 3].map(|_| vec![DVec3::ZERO; count]);
             let [a, b, c] = &mut buffers;
-            self.blossom_net(corners, [a, b, c], &mut points);
+            self.blossom_net(corners, [a, b, c], points);
         }
-        TriangleBezier::with_origin(self.degree(), self.origin(), points)
     }
 
     /// The net of [`TriangleBezier::subdivide`] into `points`, with three working nets
@@ -215,6 +231,47 @@ impl TriangleBezier {
             && (0..=2 * m)
                 .flat_map(|i| (0..=2 * m - i).map(move |j| (i, j)))
                 .all(|(i, j)| coefficients[index(2 * m, i, j)] > margin * multinomial(2 * m, i, j))
+    }
+}
+
+/// [`TriangleBezier::subdivide`]'s net for a net of degree `D` (`N` points, `D ≥ 1`): the
+/// same de Casteljau steps, in the same order, as the general path (so the same bits), one
+/// coordinate at a time in arrays of their own, with the degree known to the compiler. The
+/// BVH build subdivides every patch down to its leaves through here.
+fn blossom_net_of_degree<const D: usize, const N: usize>(
+    offsets: &[DVec3],
+    [c0, c1, c2]: [DVec3; 3],
+    points: &mut [DVec3],
+) {
+    let offsets = &offsets[..N];
+    let step = |net: &mut [[f64; N]; 3], m: usize, w: DVec3| {
+        for coordinate in net {
+            de_casteljau_rows(coordinate, m, |t, b_j, b_k| {
+                *t = w.x * *t + w.y * *b_j + w.z * *b_k;
+            });
+        }
+    };
+    let mut after_c0: [[f64; N]; 3] = [
+        std::array::from_fn(|n| offsets[n].x),
+        std::array::from_fn(|n| offsets[n].y),
+        std::array::from_fn(|n| offsets[n].z),
+    ];
+    for i in 0..=D {
+        if i > 0 {
+            step(&mut after_c0, D - i + 1, c0);
+        }
+        let mut after_c1 = after_c0;
+        for j in 0..=D - i {
+            if j > 0 {
+                step(&mut after_c1, D - i - j + 1, c1);
+            }
+            let mut after_c2 = after_c1;
+            for m in (1..=D - i - j).rev() {
+                step(&mut after_c2, m, c2);
+            }
+            let [x, y, z] = &after_c2;
+            points[index(D, i, j)] = DVec3::new(x[0], y[0], z[0]);
+        }
     }
 }
 

@@ -224,25 +224,61 @@ pub(crate) fn projected_net<const D: usize>(
         magnitude += q.abs().element_sum();
     }
     q[0] -= offset;
-    // Undo the differences in j along every column k (applied last), then in k along rows.
-    for k in 0..=D {
-        let len = D - k;
-        for order in (1..=len).rev() {
-            for j in order..=len {
-                q[power_index(D, j, k)] += q[power_index(D, j - 1, k)];
-            }
-        }
-    }
-    for j in 0..=D {
-        let row = power_index(D, j, 0);
-        let len = D - j;
-        for order in (1..=len).rev() {
-            for k in order..=len {
-                q[row + k] += q[row + k - 1];
-            }
-        }
+    let (sums, count) = RunningSums::<D>::STEPS;
+    for &(to, from) in &sums[..count] {
+        q[usize::from(to)] += q[usize::from(from)];
     }
     (q, magnitude)
+}
+
+/// The running sums that undo the forward differences of [`power_coefficients`] in degree
+/// `D`, as `(to, from)` index pairs of `q[to] += q[from]` in the order they are applied: the
+/// differences in `j` along every column `k` (applied last) first, then those in `k` along
+/// every row. A table made at compile time, so the loop over it needs no index arithmetic.
+struct RunningSums<const D: usize>;
+
+/// Room for the [`RunningSums`] of [`MAX_STACK_DEGREE`]: `Σ_{l ≤ 6} l(l+1)/2 = 56` per
+/// direction.
+const RUNNING_SUMS_ROOM: usize = 2 * 56;
+
+impl<const D: usize> RunningSums<D> {
+    /// The steps, and how many of them there are.
+    const STEPS: ([(u8, u8); RUNNING_SUMS_ROOM], usize) = {
+        let mut steps = [(0_u8, 0_u8); RUNNING_SUMS_ROOM];
+        let mut n = 0;
+        let mut k = 0;
+        while k <= D {
+            let len = D - k;
+            let mut order = len;
+            while order >= 1 {
+                let mut j = order;
+                while j <= len {
+                    steps[n] = (power_index(D, j, k) as u8, power_index(D, j - 1, k) as u8);
+                    n += 1;
+                    j += 1;
+                }
+                order -= 1;
+            }
+            k += 1;
+        }
+        let mut j = 0;
+        while j <= D {
+            let row = power_index(D, j, 0);
+            let len = D - j;
+            let mut order = len;
+            while order >= 1 {
+                let mut k = order;
+                while k <= len {
+                    steps[n] = ((row + k) as u8, (row + k - 1) as u8);
+                    n += 1;
+                    k += 1;
+                }
+                order -= 1;
+            }
+            j += 1;
+        }
+        (steps, n)
+    };
 }
 
 /// Bounds `[tangential, normal]` on the second derivative of a Bézier triangle in any unit
