@@ -155,9 +155,11 @@ impl Cone {
         let reach = min.abs().max(max.abs()).max_element();
         let widen = 2.0 * error * (1.0 + reach) / (nearest - error) + WIDEN * (1.0 + reach);
         let (min, max) = (min - DVec2::splat(widen), max + DVec2::splat(widen));
+        // Without short-circuits (`&`, not `&&`): no branch per ray, and the compiler
+        // compares several rays per instruction.
         let mut mask = 0;
         for (i, t) in tangents.iter().enumerate().take(64) {
-            let inside = t.x >= min.x && t.x <= max.x && t.y >= min.y && t.y <= max.y;
+            let inside = (t.x >= min.x) & (t.x <= max.x) & (t.y >= min.y) & (t.y <= max.y);
             mask |= u64::from(inside) << i;
         }
         mask
