@@ -120,29 +120,45 @@ fn jet_from_quadratic_level(q: &[DVec3], degree: usize, w: DVec3) -> Jet {
     }
 }
 
+/// The first `N` points split into their coordinates, one array each: the layout of the
+/// de Casteljau steps of [`de_casteljau_step_by_coordinate`].
+#[inline(always)]
+pub(crate) fn by_coordinate<const N: usize>(points: &[DVec3]) -> [[f64; N]; 3] {
+    let points = &points[..N];
+    [
+        std::array::from_fn(|n| points[n].x),
+        std::array::from_fn(|n| points[n].y),
+        std::array::from_fn(|n| points[n].z),
+    ]
+}
+
+/// [`de_casteljau_step`] on a net held one coordinate per array ([`by_coordinate`]): each
+/// coordinate of a new point by the same operations as the `DVec3` step (so the same bits),
+/// but a row's points lie side by side in memory and the compiler packs several of them into
+/// one vector instruction.
+#[inline(always)]
+pub(crate) fn de_casteljau_step_by_coordinate<const N: usize>(
+    net: &mut [[f64; N]; 3],
+    m: usize,
+    w: DVec3,
+) {
+    for coordinate in net {
+        de_casteljau_rows(coordinate, m, |t, b_j, b_k| {
+            *t = w.x * *t + w.y * *b_j + w.z * *b_k;
+        });
+    }
+}
+
 /// [`TriangleBezier::jet`] of a net of degree `D` (`N` points, `2 ≤ D`): the same de Casteljau
 /// steps as the general path, in the same order (so the same bits), with the degree known to
 /// the compiler, which unrolls the rows and drops their index checks. The jet at every ray hit
 /// and every fold-test sample of the schemes runs through here.
-///
-/// The net is walked one coordinate at a time (`x`, `y`, `z` in arrays of their own): each
-/// coordinate of a de Casteljau point is computed by the same operations as a `DVec3` step
-/// would, but a row's points then lie side by side in memory and the compiler packs several
-/// of them into one vector instruction.
+/// The net is walked one coordinate at a time ([`de_casteljau_step_by_coordinate`]).
 #[inline(always)]
 fn jet_of_degree<const D: usize, const N: usize>(points: &[DVec3], w: DVec3) -> Jet {
-    let points = &points[..N];
-    let mut coordinates: [[f64; N]; 3] = [
-        std::array::from_fn(|n| points[n].x),
-        std::array::from_fn(|n| points[n].y),
-        std::array::from_fn(|n| points[n].z),
-    ];
+    let mut coordinates = by_coordinate::<N>(points);
     for m in (3..=D).rev() {
-        for net in &mut coordinates {
-            de_casteljau_rows(net, m, |t, b_j, b_k| {
-                *t = w.x * *t + w.y * *b_j + w.z * *b_k;
-            });
-        }
+        de_casteljau_step_by_coordinate(&mut coordinates, m, w);
     }
     let [x, y, z] = &coordinates;
     let quadratic: [DVec3; 6] = std::array::from_fn(|n| DVec3::new(x[n], y[n], z[n]));

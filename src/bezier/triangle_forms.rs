@@ -10,7 +10,8 @@ use glam::DVec3;
 
 use crate::bezier::CurveBezier;
 use crate::bezier::triangle::{
-    TriangleBezier, de_casteljau_rows, de_casteljau_step, index, point_count,
+    TriangleBezier, by_coordinate, de_casteljau_step, de_casteljau_step_by_coordinate, index,
+    point_count,
 };
 use crate::geom::Aabb;
 
@@ -236,26 +237,16 @@ impl TriangleBezier {
 
 /// [`TriangleBezier::subdivide`]'s net for a net of degree `D` (`N` points, `D ≥ 1`): the
 /// same de Casteljau steps, in the same order, as the general path (so the same bits), one
-/// coordinate at a time in arrays of their own, with the degree known to the compiler. The
+/// coordinate at a time ([`de_casteljau_step_by_coordinate`]), with the degree known to the
+/// compiler. The
 /// BVH build subdivides every patch down to its leaves through here.
 fn blossom_net_of_degree<const D: usize, const N: usize>(
     offsets: &[DVec3],
     [c0, c1, c2]: [DVec3; 3],
     points: &mut [DVec3],
 ) {
-    let offsets = &offsets[..N];
-    let step = |net: &mut [[f64; N]; 3], m: usize, w: DVec3| {
-        for coordinate in net {
-            de_casteljau_rows(coordinate, m, |t, b_j, b_k| {
-                *t = w.x * *t + w.y * *b_j + w.z * *b_k;
-            });
-        }
-    };
-    let mut after_c0: [[f64; N]; 3] = [
-        std::array::from_fn(|n| offsets[n].x),
-        std::array::from_fn(|n| offsets[n].y),
-        std::array::from_fn(|n| offsets[n].z),
-    ];
+    let step = de_casteljau_step_by_coordinate::<N>;
+    let mut after_c0 = by_coordinate::<N>(offsets);
     for i in 0..=D {
         if i > 0 {
             step(&mut after_c0, D - i + 1, c0);
