@@ -14,7 +14,7 @@
 //! unless forced. A timing regresses when `new / old` exceeds the ratio threshold widened by
 //! the recorded spread: `ratio · (1 + spread)`, with `spread` the larger of the two records'
 //! `<timing>_spread_rel` ((slowest − fastest) / median of the runs), 0 when not recorded.
-//! Timings under 1 ms are too noisy to judge and are skipped.
+//! Timings under 1 ms (before or after) are too noisy to judge and are skipped.
 //!
 //! Every change gets a [`Verdict`]: WORSE (a regression), BETTER (an improvement beyond the
 //! same tolerance the other way) or same within tolerance. A change that does not show at the
@@ -268,11 +268,12 @@ pub fn quality_keys() -> impl Iterator<Item = &'static str> {
 }
 
 /// The verdict on a timing moving from `old` to `new` (ms): worse when `new / old` exceeds
-/// `ratio · (1 + spread)`, better when it is below the inverse; the same under 1 ms.
+/// `ratio · (1 + spread)`, better when it is below the inverse; the same when either is under
+/// 1 ms (a sub-millisecond run held up once by the scheduler reads as a tenfold change).
 pub fn judge_timing(old: f64, new: f64, spread: f64, ratio: f64) -> Verdict {
     let allowed = ratio * (1.0 + spread.max(0.0));
     let r = new / old;
-    if old.is_nan() || old < 1.0 || (1.0 / allowed..=allowed).contains(&r) {
+    if old.is_nan() || old < 1.0 || new < 1.0 || (1.0 / allowed..=allowed).contains(&r) {
         Verdict::Same
     } else if r > allowed {
         Verdict::Worse
@@ -619,6 +620,30 @@ mod tests {
         let comparison = compare(&old, &slower, t, TimingCheck::SameMachine);
         assert!(!comparison.failed());
         assert!(comparison.notes[0].contains("no machine fingerprint"));
+    }
+
+    /// A timing under 1 ms on either side is not judged: the baseline's 0.05 ms construction
+    /// held up to 1.4 ms once by a loaded machine is no improvement when it reads 0.05 again.
+    #[test]
+    fn sub_millisecond_timings_are_not_judged() {
+        let t = Thresholds::default();
+        for (a, b) in [(1.4, 0.05), (0.05, 1.4), (0.2, 0.9)] {
+            let old = report(&[("construct_ms", a)]);
+            let new = report(&[("construct_ms", b)]);
+            let comparison = compare(&old, &new, t, TimingCheck::SameMachine);
+            assert!(
+                comparison
+                    .changes
+                    .iter()
+                    .all(|c| c.verdict == Verdict::Same),
+                "{a} → {b}: {comparison:?}"
+            );
+        }
+        // Both at 1 ms or more are judged.
+        let old = report(&[("construct_ms", 1.0)]);
+        let new = report(&[("construct_ms", 3.0)]);
+        let comparison = compare(&old, &new, t, TimingCheck::SameMachine);
+        assert_eq!(flagged(&comparison), ["construct_ms"]);
     }
 
     #[test]
