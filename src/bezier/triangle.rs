@@ -152,8 +152,8 @@ pub(crate) fn de_casteljau_step_by_coordinate<const N: usize>(
 /// [`TriangleBezier::jet`] of a net of degree `D` (`N` points, `2 ≤ D`): the same de Casteljau
 /// steps as the general path, in the same order (so the same bits), with the degree known to
 /// the compiler, which unrolls the rows and drops their index checks. The jet at every ray hit
-/// and every fold-test sample of the schemes runs through here.
-/// The net is walked one coordinate at a time ([`de_casteljau_step_by_coordinate`]).
+/// and every fold-test sample of the schemes runs through here. The net is walked one
+/// coordinate at a time ([`de_casteljau_step_by_coordinate`]).
 #[inline(always)]
 fn jet_of_degree<const D: usize, const N: usize>(points: &[DVec3], w: DVec3) -> Jet {
     let mut coordinates = by_coordinate::<N>(points);

@@ -238,8 +238,7 @@ impl TriangleBezier {
 /// [`TriangleBezier::subdivide`]'s net for a net of degree `D` (`N` points, `D ≥ 1`): the
 /// same de Casteljau steps, in the same order, as the general path (so the same bits), one
 /// coordinate at a time ([`de_casteljau_step_by_coordinate`]), with the degree known to the
-/// compiler. The
-/// BVH build subdivides every patch down to its leaves through here.
+/// compiler. The BVH build subdivides every patch down to its leaves through here.
 fn blossom_net_of_degree<const D: usize, const N: usize>(
     offsets: &[DVec3],
     [c0, c1, c2]: [DVec3; 3],
