@@ -209,7 +209,7 @@ pub(crate) struct Candidate {
     pub rays: u64,
     /// The bundle's origin in the frame of the leaf's oriented box
     /// ([`Leaf::box_coordinates`]), shared by its rays' box tests
-    /// ([`Leaf::ray_meets_box_from`]).
+    /// ([`BoxFromOrigin`](crate::render::bvh::BoxFromOrigin)).
     pub origin_in_box: DVec3,
 }
 

@@ -252,54 +252,100 @@ impl Leaf {
         t_min: f64,
         t_max: f64,
     ) -> bool {
-        let (mut near, mut far) = (t_min, t_max);
-        let mut local_dir = DVec3::ZERO;
-        for axis in 0..3 {
-            let a = self.axes[axis].as_dvec3();
-            let (o, d) = (local_origin[axis], a.dot(dir));
-            local_dir[axis] = d;
-            let (lo, hi) = (f64::from(self.lo[axis]), f64::from(self.hi[axis]));
-            if d == 0.0 {
-                if o < lo || o > hi {
-                    return false;
-                }
-                continue;
-            }
-            let inv = 1.0 / d;
-            let (t0, t1) = ((lo - o) * inv, (hi - o) * inv);
-            near = near.max(t0.min(t1));
-            far = far.min(t0.max(t1));
-            if near > far {
-                return false;
-            }
-        }
-        // The prism's three edge half-planes n · (x, y) ≤ h.
-        for e in 0..3 {
-            let n = DVec2::new(
-                f64::from(self.edge_normals[e][0]),
-                f64::from(self.edge_normals[e][1]),
-            );
-            let h = f64::from(self.edge_hi[e]);
-            let o = n.x * local_origin.x + n.y * local_origin.y;
-            let d = n.x * local_dir.x + n.y * local_dir.y;
-            if d == 0.0 {
-                if o > h {
-                    return false;
-                }
-                continue;
-            }
-            let reach = (h - o) / d;
-            if d > 0.0 {
-                far = far.min(reach);
-            } else {
-                near = near.max(reach);
-            }
-            if near > far {
-                return false;
-            }
-        }
-        true
+        BoxFromOrigin::new(self, local_origin).meets(dir, t_min, t_max)
     }
+}
+
+/// A leaf's oriented box and edge prism seen from one origin: what the box test
+/// ([`Leaf::ray_meets_box`]) computes of the origin alone — the slab offsets `lo − o`,
+/// `hi − o` and the prism's `h − n·o` — made once, so that the rays of a bundle (which share
+/// their origin) pay only for their directions. The same test, bit for bit.
+#[derive(Clone, Copy, Debug)]
+pub struct BoxFromOrigin {
+    /// The box frame's rows in f64.
+    axes: [DVec3; 3],
+    /// Per axis, `(lo − o, hi − o)` for the origin's coordinate `o` in the box frame.
+    slabs: [(f64, f64); 3],
+    /// The prism's outward edge normals in f64.
+    edge_normals: [DVec2; 3],
+    /// Per edge, `h − n·o`: how far the origin lies inside the edge's half-plane.
+    edge_room: [f64; 3],
+}
+
+impl BoxFromOrigin {
+    /// The box and prism of `leaf` seen from the point with box coordinates `local_origin`
+    /// ([`Leaf::box_coordinates`]).
+    pub fn new(leaf: &Leaf, local_origin: DVec3) -> BoxFromOrigin {
+        let slabs = [0, 1, 2].map(|axis| {
+            let o = local_origin[axis];
+            (f64::from(leaf.lo[axis]) - o, f64::from(leaf.hi[axis]) - o)
+        });
+        let edge_normals = leaf
+            .edge_normals
+            .map(|n| DVec2::new(f64::from(n[0]), f64::from(n[1])));
+        let edge_room = [0, 1, 2].map(|e| {
+            let n = edge_normals[e];
+            f64::from(leaf.edge_hi[e]) - (n.x * local_origin.x + n.y * local_origin.y)
+        });
+        BoxFromOrigin {
+            axes: leaf.axes.map(|a| a.as_dvec3()),
+            slabs,
+            edge_normals,
+            edge_room,
+        }
+    }
+
+    /// True if the ray from the origin along `dir`, `t ∈ [t_min, t_max]`, meets the oriented
+    /// box and the edge prism (a conservative test: false means the ray cannot meet the
+    /// sub-patch). Slab by slab, then the prism's three edge half-planes `n · (x, y) ≤ h`.
+    pub fn meets(&self, dir: DVec3, t_min: f64, t_max: f64) -> bool {
+        let [x, y, z] = self.axes;
+        let local_dir = [x.dot(dir), y.dot(dir), z.dot(dir)];
+        let mut interval = (t_min, t_max);
+        // Written out slab by slab and edge by edge: as a loop the compiler kept it rolled.
+        clip_to_slab(&mut interval, local_dir[0], self.slabs[0])
+            && clip_to_slab(&mut interval, local_dir[1], self.slabs[1])
+            && clip_to_slab(&mut interval, local_dir[2], self.slabs[2])
+            && (0..3).all(|e| {
+                let n = self.edge_normals[e];
+                let d = n.x * local_dir[0] + n.y * local_dir[1];
+                clip_to_half_plane(&mut interval, d, self.edge_room[e])
+            })
+    }
+}
+
+/// Clips the ray interval `(near, far)` to a slab whose sides lie `lo`, `hi` (offsets from
+/// the origin) along an axis on which the ray's direction is `d`; false when nothing is left.
+/// Parallel to the slab (`d = 0`), the ray lies in it or not at all (`o < lo` is `lo − o > 0`).
+#[inline(always)]
+fn clip_to_slab(interval: &mut (f64, f64), d: f64, (lo, hi): (f64, f64)) -> bool {
+    if d == 0.0 {
+        return !(lo > 0.0 || hi < 0.0);
+    }
+    let inv = 1.0 / d;
+    let (t0, t1) = (lo * inv, hi * inv);
+    let (near, far) = interval;
+    *near = near.max(t0.min(t1));
+    *far = far.min(t0.max(t1));
+    !(*near > *far)
+}
+
+/// Clips the ray interval `(near, far)` to the half-plane `n · (x, y) ≤ h` whose boundary lies
+/// `room = h − n · o` from the origin, for a direction with `n · (dx, dy) = d`; false when
+/// nothing is left.
+#[inline(always)]
+fn clip_to_half_plane(interval: &mut (f64, f64), d: f64, room: f64) -> bool {
+    if d == 0.0 {
+        return !(room < 0.0);
+    }
+    let reach = room / d;
+    let (near, far) = interval;
+    if d > 0.0 {
+        *far = far.min(reach);
+    } else {
+        *near = near.max(reach);
+    }
+    !(*near > *far)
 }
 
 /// The largest f32 not above `x`.

@@ -28,7 +28,7 @@ use crate::bezier::triangle::point_count;
 use crate::blend::BlendPatch;
 use crate::geom::Aabb;
 use crate::render::bundle::{self, BundleRay, BundleScratch, Candidate, Cone};
-use crate::render::bvh::{Leaf, PatchBvh, Stall, SubdivisionCriterion, UnitFrame};
+use crate::render::bvh::{BoxFromOrigin, Leaf, PatchBvh, Stall, SubdivisionCriterion, UnitFrame};
 use crate::render::evaluate::{
     MAX_STACK_DEGREE, local_point_and_tangents, net_point_and_tangents, point_and_tangents,
     power_index, projected_net,
@@ -255,8 +255,8 @@ impl<'s> Tracer<'s> {
     /// tested for every ray with its bit whose closest hit so far does not lie before it. A ray
     /// stops at the first candidate beyond its closest hit (padding included): the candidates
     /// after it lie further still. So each ray tests the same leaves in the same order, with
-    /// the same interval, as it would alone, and finds the same hit; the leaf's bounds are
-    /// made once for all its rays.
+    /// the same interval, as it would alone, and finds the same hit; the leaf's box seen from
+    /// the shared origin ([`BoxFromOrigin`]) and its bounds are made once for all its rays.
     fn closest_among(
         &self,
         candidates: &[Candidate],
@@ -269,6 +269,7 @@ impl<'s> Tracer<'s> {
         for candidate in candidates {
             let mut bits = candidate.rays & active;
             let leaf = &self.bvh.leaves[candidate.leaf as usize];
+            let mut seen = None;
             let mut bounds = None;
             while bits != 0 {
                 let i = bits.trailing_zeros() as usize;
@@ -278,12 +279,9 @@ impl<'s> Tracer<'s> {
                     active &= !(1 << i);
                     continue;
                 }
-                if !leaf.ray_meets_box_from(
-                    candidate.origin_in_box,
-                    ray.ray.dir,
-                    ray.t_min,
-                    ray.best_t,
-                ) {
+                let seen =
+                    seen.get_or_insert_with(|| BoxFromOrigin::new(leaf, candidate.origin_in_box));
+                if !seen.meets(ray.ray.dir, ray.t_min, ray.best_t) {
                     continue;
                 }
                 let bounds = bounds.get_or_insert_with(|| self.piece_bounds(leaf));
