@@ -303,40 +303,40 @@ impl BoxFromOrigin {
         let local_dir = [x.dot(dir), y.dot(dir), z.dot(dir)];
         let mut interval = (t_min, t_max);
         // Written out slab by slab and edge by edge: as a loop the compiler kept it rolled.
-        clip_to_slab(&mut interval, local_dir[0], self.slabs[0])
-            && clip_to_slab(&mut interval, local_dir[1], self.slabs[1])
-            && clip_to_slab(&mut interval, local_dir[2], self.slabs[2])
-            && (0..3).all(|e| {
+        !(clip_to_slab_empties(&mut interval, local_dir[0], self.slabs[0])
+            || clip_to_slab_empties(&mut interval, local_dir[1], self.slabs[1])
+            || clip_to_slab_empties(&mut interval, local_dir[2], self.slabs[2])
+            || (0..3).any(|e| {
                 let n = self.edge_normals[e];
                 let d = n.x * local_dir[0] + n.y * local_dir[1];
-                clip_to_half_plane(&mut interval, d, self.edge_room[e])
-            })
+                clip_to_half_plane_empties(&mut interval, d, self.edge_room[e])
+            }))
     }
 }
 
 /// Clips the ray interval `(near, far)` to a slab whose sides lie `lo`, `hi` (offsets from
-/// the origin) along an axis on which the ray's direction is `d`; false when nothing is left.
+/// the origin) along an axis on which the ray's direction is `d`; true when nothing is left.
 /// Parallel to the slab (`d = 0`), the ray lies in it or not at all (`o < lo` is `lo − o > 0`).
 #[inline(always)]
-fn clip_to_slab(interval: &mut (f64, f64), d: f64, (lo, hi): (f64, f64)) -> bool {
+fn clip_to_slab_empties(interval: &mut (f64, f64), d: f64, (lo, hi): (f64, f64)) -> bool {
     if d == 0.0 {
-        return !(lo > 0.0 || hi < 0.0);
+        return lo > 0.0 || hi < 0.0;
     }
     let inv = 1.0 / d;
     let (t0, t1) = (lo * inv, hi * inv);
     let (near, far) = interval;
     *near = near.max(t0.min(t1));
     *far = far.min(t0.max(t1));
-    !(*near > *far)
+    *near > *far
 }
 
 /// Clips the ray interval `(near, far)` to the half-plane `n · (x, y) ≤ h` whose boundary lies
-/// `room = h − n · o` from the origin, for a direction with `n · (dx, dy) = d`; false when
+/// `room = h − n · o` from the origin, for a direction with `n · (dx, dy) = d`; true when
 /// nothing is left.
 #[inline(always)]
-fn clip_to_half_plane(interval: &mut (f64, f64), d: f64, room: f64) -> bool {
+fn clip_to_half_plane_empties(interval: &mut (f64, f64), d: f64, room: f64) -> bool {
     if d == 0.0 {
-        return !(room < 0.0);
+        return room < 0.0;
     }
     let reach = room / d;
     let (near, far) = interval;
@@ -345,7 +345,7 @@ fn clip_to_half_plane(interval: &mut (f64, f64), d: f64, room: f64) -> bool {
     } else {
         *near = near.max(reach);
     }
-    !(*near > *far)
+    *near > *far
 }
 
 /// The largest f32 not above `x`.
@@ -1642,6 +1642,156 @@ mod tests {
         assert!(
             (b - DVec3::splat(1.0 / 3.0)).abs().max_element() < 1e-15,
             "{b}"
+        );
+    }
+
+    /// The box test as written directly, slab by slab from the origin's own coordinates (the
+    /// form [`BoxFromOrigin`] rearranges): `o < lo` where it tests `lo − o > 0`.
+    fn direct_box_test(leaf: &Leaf, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64) -> bool {
+        let local_origin = leaf.box_coordinates(origin);
+        let (mut near, mut far) = (t_min, t_max);
+        let mut local_dir = DVec3::ZERO;
+        for axis in 0..3 {
+            let (o, d) = (local_origin[axis], leaf.axes[axis].as_dvec3().dot(dir));
+            local_dir[axis] = d;
+            let (lo, hi) = (f64::from(leaf.lo[axis]), f64::from(leaf.hi[axis]));
+            if d == 0.0 {
+                if o < lo || o > hi {
+                    return false;
+                }
+                continue;
+            }
+            let inv = 1.0 / d;
+            let (t0, t1) = ((lo - o) * inv, (hi - o) * inv);
+            near = near.max(t0.min(t1));
+            far = far.min(t0.max(t1));
+            if near > far {
+                return false;
+            }
+        }
+        for e in 0..3 {
+            let n = DVec2::from(leaf.edge_normals[e].map(f64::from));
+            let h = f64::from(leaf.edge_hi[e]);
+            let o = n.x * local_origin.x + n.y * local_origin.y;
+            let d = n.x * local_dir.x + n.y * local_dir.y;
+            if d == 0.0 {
+                if o > h {
+                    return false;
+                }
+                continue;
+            }
+            let reach = (h - o) / d;
+            if d > 0.0 {
+                far = far.min(reach);
+            } else {
+                near = near.max(reach);
+            }
+            if near > far {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The box seen from an origin ([`BoxFromOrigin`], what bundles and single rays use) gives
+    /// the direct slab test's answer for every ray: random ones, rays parallel to the box's
+    /// sides and the prism's edge planes (a direction coordinate exactly 0) from origins
+    /// inside, outside and exactly on them, and intervals that end before, inside and beyond
+    /// the box.
+    #[test]
+    fn the_box_seen_from_an_origin_is_the_direct_box_test() {
+        // Corners on the x and y axes: the box frame is exactly the coordinate frame, so
+        // directions along the axes meet slabs and edges at exactly zero.
+        let net = TriangleBezier::from_fn(3, |i, j, k| {
+            let (s, t) = (j as f64 / 3.0, k as f64 / 3.0);
+            let bump = if i > 0 && j > 0 && k > 0 { 0.2 } else { 0.0 };
+            DVec3::new(s, t, bump - 0.05 * (j * k) as f64)
+        });
+        let corners = [net.point(3, 0), net.point(0, 3), net.point(0, 0)];
+        let leaf = Leaf::new(0, UV_CORNERS, corners, &[&net]);
+        assert_eq!(leaf.axes, [Vec3::X, Vec3::Y, Vec3::Z]);
+        let mut rng = crate::testing::Rng::new(17);
+        let mut origins: Vec<DVec3> = (0..300)
+            .map(|_| {
+                DVec3::new(
+                    rng.range(-1.0, 2.0),
+                    rng.range(-1.0, 2.0),
+                    rng.range(-1.0, 1.0),
+                )
+            })
+            .collect();
+        // Origins on the box's faces and on the prism's slanted side.
+        let (lo, hi) = (leaf.lo.as_dvec3(), leaf.hi.as_dvec3());
+        for axis in 0..3 {
+            for face in [lo[axis], hi[axis]] {
+                let mut o = (lo + hi) * 0.5;
+                o[axis] = face;
+                origins.push(o);
+            }
+        }
+        let edge_normals = leaf.edge_normals.map(|n| DVec2::from(n.map(f64::from)));
+        for (n, h) in edge_normals.into_iter().zip(leaf.edge_hi.map(f64::from)) {
+            // On the edge's plane: `n · (x, y) = h` exactly, nudged by ulps until so
+            // (alternately in x and y: one ulp of one coordinate can step over `h`).
+            let centre = (lo + hi) * 0.5;
+            let mut o = centre + (n * (h - n.dot(centre.truncate()))).extend(0.0);
+            for _ in 0..4 {
+                o += (n * (h - (n.x * o.x + n.y * o.y))).extend(0.0);
+            }
+            for step in 0..256 {
+                let v = n.x * o.x + n.y * o.y;
+                if v == h {
+                    break;
+                }
+                let (coordinate, along) = if step % 2 == 0 {
+                    (&mut o.x, n.x)
+                } else {
+                    (&mut o.y, n.y)
+                };
+                if along != 0.0 {
+                    *coordinate = if (v < h) == (along > 0.0) {
+                        coordinate.next_up()
+                    } else {
+                        coordinate.next_down()
+                    };
+                }
+            }
+            origins.push(o);
+        }
+        let mut directions: Vec<DVec3> = (0..300)
+            .map(|_| {
+                DVec3::new(
+                    rng.range(-1.0, 1.0),
+                    rng.range(-1.0, 1.0),
+                    rng.range(-1.0, 1.0),
+                )
+                .normalize()
+            })
+            .collect();
+        for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+            directions.extend([axis, -axis]);
+        }
+        // Along each edge of the prism: `n · (dx, dy)` is exactly 0.
+        directions.extend(edge_normals.map(|n| DVec3::new(-n.y, n.x, 0.0)));
+        let intervals = [(0.0, f64::INFINITY), (0.0, 0.5), (0.5, 3.0), (-3.0, 0.0)];
+        let (mut met, mut missed) = (0, 0);
+        for &origin in &origins {
+            for &dir in &directions {
+                for (t_min, t_max) in intervals {
+                    let direct = direct_box_test(&leaf, origin, dir, t_min, t_max);
+                    assert_eq!(
+                        leaf.ray_meets_box(origin, dir, t_min, t_max),
+                        direct,
+                        "origin {origin}, direction {dir}, interval ({t_min}, {t_max})"
+                    );
+                    if direct { met += 1 } else { missed += 1 }
+                }
+            }
+        }
+        // Both answers occur often: the comparison is not between two constant answers.
+        assert!(
+            met > 10_000 && missed > 100_000,
+            "{met} met, {missed} missed"
         );
     }
 
