@@ -1711,16 +1711,19 @@ mod tests {
         let leaf = Leaf::new(0, UV_CORNERS, corners, &[&net]);
         assert_eq!(leaf.axes, [Vec3::X, Vec3::Y, Vec3::Z]);
         let mut rng = crate::testing::Rng::new(17);
-        let mut origins: Vec<DVec3> = (0..300)
-            .map(|_| {
-                DVec3::new(
-                    rng.range(-1.0, 2.0),
-                    rng.range(-1.0, 2.0),
-                    rng.range(-1.0, 1.0),
-                )
-            })
+        let mut point_in = |lo: DVec3, hi: DVec3| {
+            DVec3::new(
+                rng.range(lo.x, hi.x),
+                rng.range(lo.y, hi.y),
+                rng.range(lo.z, hi.z),
+            )
+        };
+        let around = (DVec3::new(-1.0, -1.0, -1.0), DVec3::new(2.0, 2.0, 1.0));
+        let mut origins: Vec<DVec3> = (0..300).map(|_| point_in(around.0, around.1)).collect();
+        let mut directions: Vec<DVec3> = (0..300)
+            .map(|_| point_in(-DVec3::ONE, DVec3::ONE).normalize())
             .collect();
-        // Origins on the box's faces and on the prism's slanted side.
+        // Origins on the box's faces and on the prism's edge planes.
         let (lo, hi) = (leaf.lo.as_dvec3(), leaf.hi.as_dvec3());
         for axis in 0..3 {
             for face in [lo[axis], hi[axis]] {
@@ -1758,16 +1761,6 @@ mod tests {
             }
             origins.push(o);
         }
-        let mut directions: Vec<DVec3> = (0..300)
-            .map(|_| {
-                DVec3::new(
-                    rng.range(-1.0, 1.0),
-                    rng.range(-1.0, 1.0),
-                    rng.range(-1.0, 1.0),
-                )
-                .normalize()
-            })
-            .collect();
         for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
             directions.extend([axis, -axis]);
         }
