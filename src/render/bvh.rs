@@ -244,7 +244,9 @@ impl Leaf {
     }
 
     /// [`Leaf::ray_meets_box`] for the ray whose origin has box coordinates `local_origin`
-    /// ([`Leaf::box_coordinates`]): the same test, bit for bit.
+    /// ([`Leaf::box_coordinates`]): the test of [`BoxFromOrigin::meets`], bit for bit, with
+    /// each slab's and edge's offsets from the origin made only when the test gets to it
+    /// (a single ray's test mostly ends at a slab).
     pub fn ray_meets_box_from(
         &self,
         local_origin: DVec3,
@@ -252,7 +254,23 @@ impl Leaf {
         t_min: f64,
         t_max: f64,
     ) -> bool {
-        BoxFromOrigin::new(self, local_origin).meets(dir, t_min, t_max)
+        let o = local_origin;
+        box_and_prism_test(
+            |axis| self.axes[axis].as_dvec3(),
+            |axis| {
+                let (lo, hi) = (self.lo[axis], self.hi[axis]);
+                (f64::from(lo) - o[axis], f64::from(hi) - o[axis])
+            },
+            |e| {
+                let n = DVec2::new(
+                    f64::from(self.edge_normals[e][0]),
+                    f64::from(self.edge_normals[e][1]),
+                );
+                (n, f64::from(self.edge_hi[e]) - (n.x * o.x + n.y * o.y))
+            },
+            dir,
+            (t_min, t_max),
+        )
     }
 }
 
@@ -299,19 +317,44 @@ impl BoxFromOrigin {
     /// box and the edge prism (a conservative test: false means the ray cannot meet the
     /// sub-patch). Slab by slab, then the prism's three edge half-planes `n · (x, y) ≤ h`.
     pub fn meets(&self, dir: DVec3, t_min: f64, t_max: f64) -> bool {
-        let [x, y, z] = self.axes;
-        let local_dir = [x.dot(dir), y.dot(dir), z.dot(dir)];
-        let mut interval = (t_min, t_max);
-        // Written out slab by slab and edge by edge: as a loop the compiler kept it rolled.
-        !(clip_to_slab_empties(&mut interval, local_dir[0], self.slabs[0])
-            || clip_to_slab_empties(&mut interval, local_dir[1], self.slabs[1])
-            || clip_to_slab_empties(&mut interval, local_dir[2], self.slabs[2])
-            || (0..3).any(|e| {
-                let n = self.edge_normals[e];
-                let d = n.x * local_dir[0] + n.y * local_dir[1];
-                clip_to_half_plane_empties(&mut interval, d, self.edge_room[e])
-            }))
+        box_and_prism_test(
+            |axis| self.axes[axis],
+            |axis| self.slabs[axis],
+            |e| (self.edge_normals[e], self.edge_room[e]),
+            dir,
+            (t_min, t_max),
+        )
     }
+}
+
+/// The oriented box and edge prism test of the ray along `dir` over `interval`, from the
+/// box frame's rows `axis(i)`, the slab offsets `slab(i) = (lo − o, hi − o)` and the edges
+/// `edge(e) = (n, h − n · o)` of the origin `o`, each asked for only when the test gets to
+/// it: slab by slab (written out: as a loop the compiler kept it rolled), then the prism's
+/// three edge half-planes `n · (x, y) ≤ h`. True when some part of the interval is left.
+#[inline(always)]
+fn box_and_prism_test(
+    axis: impl Fn(usize) -> DVec3,
+    slab: impl Fn(usize) -> (f64, f64),
+    edge: impl Fn(usize) -> (DVec2, f64),
+    dir: DVec3,
+    mut interval: (f64, f64),
+) -> bool {
+    let dx = axis(0).dot(dir);
+    if clip_to_slab_empties(&mut interval, dx, slab(0)) {
+        return false;
+    }
+    let dy = axis(1).dot(dir);
+    if clip_to_slab_empties(&mut interval, dy, slab(1)) {
+        return false;
+    }
+    if clip_to_slab_empties(&mut interval, axis(2).dot(dir), slab(2)) {
+        return false;
+    }
+    !(0..3).any(|e| {
+        let (n, room) = edge(e);
+        clip_to_half_plane_empties(&mut interval, n.x * dx + n.y * dy, room)
+    })
 }
 
 /// Clips the ray interval `(near, far)` to a slab whose sides lie `lo`, `hi` (offsets from
@@ -1693,13 +1736,13 @@ mod tests {
         true
     }
 
-    /// The box seen from an origin ([`BoxFromOrigin`], what bundles and single rays use) gives
-    /// the direct slab test's answer for every ray: random ones, rays parallel to the box's
+    /// The box test of single rays ([`Leaf::ray_meets_box`]) and of bundles ([`BoxFromOrigin`])
+    /// gives the direct slab test's answer for every ray: random ones, rays parallel to the box's
     /// sides and the prism's edge planes (a direction coordinate exactly 0) from origins
     /// inside, outside and exactly on them, and intervals that end before, inside and beyond
     /// the box.
     #[test]
-    fn the_box_seen_from_an_origin_is_the_direct_box_test() {
+    fn single_ray_and_bundle_box_tests_are_the_direct_slab_test() {
         // Corners on the x and y axes: the box frame is exactly the coordinate frame, so
         // directions along the axes meet slabs and edges at exactly zero.
         let net = TriangleBezier::from_fn(3, |i, j, k| {
@@ -1772,11 +1815,16 @@ mod tests {
             for &dir in &directions {
                 for (t_min, t_max) in intervals {
                     let direct = direct_box_test(&leaf, origin, dir, t_min, t_max);
-                    assert_eq!(
-                        leaf.ray_meets_box(origin, dir, t_min, t_max),
-                        direct,
-                        "origin {origin}, direction {dir}, interval ({t_min}, {t_max})"
-                    );
+                    let seen = BoxFromOrigin::new(&leaf, leaf.box_coordinates(origin));
+                    for (path, answer) in [
+                        ("single ray", leaf.ray_meets_box(origin, dir, t_min, t_max)),
+                        ("bundle", seen.meets(dir, t_min, t_max)),
+                    ] {
+                        assert_eq!(
+                            answer, direct,
+                            "{path}: origin {origin}, direction {dir}, interval ({t_min}, {t_max})"
+                        );
+                    }
                     if direct { met += 1 } else { missed += 1 }
                 }
             }
