@@ -254,23 +254,30 @@ impl Leaf {
         t_min: f64,
         t_max: f64,
     ) -> bool {
-        let o = local_origin;
         box_and_prism_test(
             |axis| self.axes[axis].as_dvec3(),
-            |axis| {
-                let (lo, hi) = (self.lo[axis], self.hi[axis]);
-                (f64::from(lo) - o[axis], f64::from(hi) - o[axis])
-            },
-            |e| {
-                let n = DVec2::new(
-                    f64::from(self.edge_normals[e][0]),
-                    f64::from(self.edge_normals[e][1]),
-                );
-                (n, f64::from(self.edge_hi[e]) - (n.x * o.x + n.y * o.y))
-            },
+            |axis| self.slab_from(local_origin, axis),
+            |e| self.edge_from(local_origin, e),
             dir,
             (t_min, t_max),
         )
+    }
+
+    /// The box's slab along `axis` as offsets from the point with box coordinates `o`:
+    /// `(lo − o, hi − o)`.
+    #[inline(always)]
+    fn slab_from(&self, o: DVec3, axis: usize) -> (f64, f64) {
+        let (lo, hi) = (self.lo[axis], self.hi[axis]);
+        (f64::from(lo) - o[axis], f64::from(hi) - o[axis])
+    }
+
+    /// The prism's edge `e` seen from the point with box coordinates `o`: its outward normal
+    /// `n` in f64 and `h − n · o`, how far `o` lies inside its half-plane.
+    #[inline(always)]
+    fn edge_from(&self, o: DVec3, e: usize) -> (DVec2, f64) {
+        let [nx, ny] = self.edge_normals[e].map(f64::from);
+        let n = DVec2::new(nx, ny);
+        (n, f64::from(self.edge_hi[e]) - (n.x * o.x + n.y * o.y))
     }
 }
 
@@ -284,32 +291,19 @@ pub struct BoxFromOrigin {
     axes: [DVec3; 3],
     /// Per axis, `(lo − o, hi − o)` for the origin's coordinate `o` in the box frame.
     slabs: [(f64, f64); 3],
-    /// The prism's outward edge normals in f64.
-    edge_normals: [DVec2; 3],
-    /// Per edge, `h − n·o`: how far the origin lies inside the edge's half-plane.
-    edge_room: [f64; 3],
+    /// Per edge of the prism, its outward normal in f64 and `h − n·o`: how far the origin
+    /// lies inside the edge's half-plane.
+    edges: [(DVec2, f64); 3],
 }
 
 impl BoxFromOrigin {
     /// The box and prism of `leaf` seen from the point with box coordinates `local_origin`
     /// ([`Leaf::box_coordinates`]).
     pub fn new(leaf: &Leaf, local_origin: DVec3) -> BoxFromOrigin {
-        let slabs = [0, 1, 2].map(|axis| {
-            let o = local_origin[axis];
-            (f64::from(leaf.lo[axis]) - o, f64::from(leaf.hi[axis]) - o)
-        });
-        let edge_normals = leaf
-            .edge_normals
-            .map(|n| DVec2::new(f64::from(n[0]), f64::from(n[1])));
-        let edge_room = [0, 1, 2].map(|e| {
-            let n = edge_normals[e];
-            f64::from(leaf.edge_hi[e]) - (n.x * local_origin.x + n.y * local_origin.y)
-        });
         BoxFromOrigin {
             axes: leaf.axes.map(|a| a.as_dvec3()),
-            slabs,
-            edge_normals,
-            edge_room,
+            slabs: [0, 1, 2].map(|axis| leaf.slab_from(local_origin, axis)),
+            edges: [0, 1, 2].map(|e| leaf.edge_from(local_origin, e)),
         }
     }
 
@@ -320,7 +314,7 @@ impl BoxFromOrigin {
         box_and_prism_test(
             |axis| self.axes[axis],
             |axis| self.slabs[axis],
-            |e| (self.edge_normals[e], self.edge_room[e]),
+            |e| self.edges[e],
             dir,
             (t_min, t_max),
         )
