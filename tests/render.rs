@@ -110,6 +110,19 @@ fn render_command_writes_png_exr_and_stats() {
     ] {
         assert!(json.get(key).is_some(), "stats lack '{key}': {json}");
     }
+    // Where the memory goes: the parts sum to `memory_bytes`; hb's quintic patches hold 21
+    // control points and an origin each, and each leaf a quintic power form of 21 points.
+    let parts = json["memory_parts"].as_object().expect("memory_parts");
+    let part = |name: &str| {
+        parts[name]
+            .as_u64()
+            .unwrap_or_else(|| panic!("{name}: {json}"))
+    };
+    let total: u64 = parts.values().map(|v| v.as_u64().expect("bytes")).sum();
+    assert_eq!(json["memory_bytes"].as_u64(), Some(total), "{json}");
+    assert_eq!(part("control_points"), 22 * 24 * stats.patches, "{json}");
+    assert_eq!(part("power_forms"), 21 * 24 * stats.leaves, "{json}");
+    assert!(part("leaves") > 0 && part("bvh_nodes") > 0, "{json}");
     // 40 × 30 pixels; the rates follow from the counts.
     assert_eq!(json["pixels"], 1200);
     let rays = json["rays"].as_f64().expect("rays");

@@ -224,6 +224,7 @@ fn accumulate(total: &mut RenderStats, frame: &RenderStats) {
     total.bvh_build_ms = frame.bvh_build_ms;
     total.leaves = frame.leaves;
     total.memory_bytes = frame.memory_bytes;
+    total.memory_parts = frame.memory_parts.clone();
     total.patches = frame.patches;
     total.curvature_half_range = frame.curvature_half_range;
     total.zebra_stripes = total.zebra_stripes.or(frame.zebra_stripes);

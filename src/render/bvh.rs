@@ -679,19 +679,34 @@ impl PatchBvh {
         })
     }
 
-    /// Bytes held by the BVH nodes, its index list, the leaves and their evaluation data.
-    pub fn memory_bytes(&self) -> usize {
-        std::mem::size_of_val(self.bvh.nodes.as_slice())
-            + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
-            + std::mem::size_of_val(self.leaves.as_slice())
-            + std::mem::size_of_val(self.power.as_slice())
-            + std::mem::size_of_val(self.blend_second_bounds.as_slice())
-            + std::mem::size_of_val(self.whole_index.as_slice())
+    /// Bytes held by the BVH, by part: its nodes with their index list, the leaves, their
+    /// power forms, the blend leaves' bounds and the patches evaluated whole (with their index).
+    pub fn memory_parts(&self) -> [(&'static str, usize); 5] {
+        let whole = std::mem::size_of_val(self.whole_index.as_slice())
             + self
                 .whole
                 .iter()
                 .map(|p| std::mem::size_of::<Patch>() + p.control_points().count() * 24)
-                .sum::<usize>()
+                .sum::<usize>();
+        [
+            (
+                "bvh_nodes",
+                std::mem::size_of_val(self.bvh.nodes.as_slice())
+                    + std::mem::size_of_val(self.bvh.primitive_indices.as_slice()),
+            ),
+            ("leaves", std::mem::size_of_val(self.leaves.as_slice())),
+            ("power_forms", std::mem::size_of_val(self.power.as_slice())),
+            (
+                "blend_bounds",
+                std::mem::size_of_val(self.blend_second_bounds.as_slice()),
+            ),
+            ("whole_patches", whole),
+        ]
+    }
+
+    /// Bytes held by the BVH: the sum of [`PatchBvh::memory_parts`].
+    pub fn memory_bytes(&self) -> usize {
+        self.memory_parts().iter().map(|(_, bytes)| bytes).sum()
     }
 
     /// The patch `patch` in the BVH's frame, if its leaves evaluate it whole (no power form).

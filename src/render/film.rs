@@ -18,7 +18,7 @@ use crate::render::interaction::ShadingPoint;
 use crate::render::intersect::{Hit, IntersectCounters, Ray64};
 use crate::render::modes::{Footprint, Mode, Overlay, Sample, Setup};
 use crate::render::sampler::pixel_offset;
-use crate::render::stats::RenderStats;
+use crate::render::stats::{MemoryParts, RenderStats};
 use crate::render::theme::{Legend, LegendStyle, Theme};
 use crate::render::trace::SurfaceTracer;
 use crate::render::tubes::Tubes;
@@ -301,7 +301,14 @@ pub(crate) fn render_cancellable<T: SurfaceTracer>(
     stats.set_rates();
     stats.bvh_build_ms = tracer.build_ms();
     stats.leaves = tracer.leaf_count() as u64;
-    stats.memory_bytes = tracer.memory_bytes() as u64;
+    stats.memory_parts = MemoryParts(
+        tracer
+            .memory_parts()
+            .into_iter()
+            .map(|(name, bytes)| (name, bytes as u64))
+            .collect(),
+    );
+    stats.memory_bytes = stats.memory_parts.total();
     stats.patches = tracer.surface().patches.len() as u64;
     Ok(Some((frame, stats)))
 }

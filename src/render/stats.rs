@@ -55,6 +55,11 @@ pub struct RenderStats {
     pub newton_boundary_cleared: u64,
     /// Number of patches.
     pub patches: u64,
+    /// Where `memory_bytes` goes: bytes by part of the traced representation (exact path:
+    /// `bvh_nodes`, `leaves`, `power_forms`, `blend_bounds`, `whole_patches`, `control_points`,
+    /// `face_edges`; tessellated path: `vertices`, `triangles`, `bvh_nodes`), summing to it.
+    #[serde(skip_serializing_if = "MemoryParts::is_empty")]
+    pub memory_parts: MemoryParts,
     /// Half-range of the curvature colour map, when in curvature mode.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub curvature_half_range: Option<f64>,
@@ -62,6 +67,36 @@ pub struct RenderStats {
     /// count), when in zebra mode without a given count.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub zebra_stripes: Option<f64>,
+}
+
+/// Bytes by named part, written as a JSON object in the parts' order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MemoryParts(pub Vec<(&'static str, u64)>);
+
+impl MemoryParts {
+    /// True when no part is known (no render).
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// Bytes of all parts together.
+    pub fn total(&self) -> u64 {
+        self.0.iter().map(|(_, bytes)| bytes).sum()
+    }
+}
+
+impl Serialize for MemoryParts {
+    fn serialize<S: serde::Serializer>(
+        &self,
+        serializer: S,
+    ) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = serializer.serialize_map(Some(self.0.len()))?;
+        for (name, bytes) in &self.0 {
+            map.serialize_entry(name, bytes)?;
+        }
+        map.end()
+    }
 }
 
 impl RenderStats {

@@ -255,11 +255,19 @@ impl SurfaceTracer for TessellatedTracer<'_> {
         self.triangles.len()
     }
 
-    fn memory_bytes(&self) -> usize {
-        std::mem::size_of_val(self.vertices.as_slice())
-            + std::mem::size_of_val(self.triangles.as_slice())
-            + std::mem::size_of_val(self.bvh.nodes.as_slice())
-            + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
+    fn memory_parts(&self) -> Vec<(&'static str, usize)> {
+        vec![
+            ("vertices", std::mem::size_of_val(self.vertices.as_slice())),
+            (
+                "triangles",
+                std::mem::size_of_val(self.triangles.as_slice()),
+            ),
+            (
+                "bvh_nodes",
+                std::mem::size_of_val(self.bvh.nodes.as_slice())
+                    + std::mem::size_of_val(self.bvh.primitive_indices.as_slice()),
+            ),
+        ]
     }
 }
 

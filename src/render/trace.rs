@@ -58,8 +58,14 @@ pub trait SurfaceTracer: Sync {
     fn build_ms(&self) -> f64;
     /// Number of BVH primitives.
     fn leaf_count(&self) -> usize;
-    /// Bytes of geometry plus acceleration structure.
-    fn memory_bytes(&self) -> usize;
+    /// Bytes of geometry plus acceleration structure, by part (named as in the stats'
+    /// `memory_parts`).
+    fn memory_parts(&self) -> Vec<(&'static str, usize)>;
+    /// Bytes of geometry plus acceleration structure: the sum of
+    /// [`SurfaceTracer::memory_parts`].
+    fn memory_bytes(&self) -> usize {
+        self.memory_parts().iter().map(|(_, bytes)| bytes).sum()
+    }
 }
 
 impl SurfaceTracer for Tracer<'_> {
@@ -120,7 +126,7 @@ impl SurfaceTracer for Tracer<'_> {
         self.bvh.leaves.len()
     }
 
-    fn memory_bytes(&self) -> usize {
+    fn memory_parts(&self) -> Vec<(&'static str, usize)> {
         let control_points: usize = self
             .surface
             .patches
@@ -131,6 +137,9 @@ impl SurfaceTracer for Tracer<'_> {
                 })
             })
             .sum();
-        self.bvh.memory_bytes() + control_points + self.face_edges.len()
+        let mut parts = self.bvh.memory_parts().to_vec();
+        parts.push(("control_points", control_points));
+        parts.push(("face_edges", self.face_edges.len()));
+        parts
     }
 }
