@@ -3,10 +3,12 @@
 //! (a ray steeper than it meets the piece at most once), and an obvhs
 //! compressed wide BVH (PLOC build + reinsertion) is built over the pieces' conservative boxes.
 //!
-//! A leaf is `(patch, sub-triangle of the patch's (u, v) domain)`. Each Bézier leaf also keeps
-//! its sub-patch in power form over the leaf's own domain (built once here, see
-//! [`power_coefficients`]), so that Newton evaluates a cheap local polynomial instead of running
-//! de Casteljau on the whole patch, together with a second-derivative bound valid on the leaf.
+//! A leaf is `(patch, sub-triangle of the patch's (u, v) domain)`. Each Bézier patch with
+//! leaves also keeps its power form over its domain (built once here, one per patch, see
+//! [`power_coefficients`]), which its leaves evaluate through their domain maps
+//! ([`LeafMap`](crate::render::evaluate::LeafMap)), so that Newton evaluates a cheap polynomial
+//! instead of running de Casteljau on the patch; each leaf keeps a second-derivative bound
+//! valid on it.
 //! Its box is the box of the
 //! sub-patch's Bézier control net (convex-hull property: it contains the sub-patch), rounded
 //! outward to f32 and padded by a small fraction of the scene size so that the f32 traversal ray,
@@ -102,8 +104,9 @@ pub struct Leaf {
     /// Largest `edge_normals[e] · (x, y)` over the control points (and so the sub-patch), grown
     /// by [`PRISM_PAD`].
     pub edge_hi: [f32; 3],
-    /// Start of the leaf's power-form coefficients in [`PatchBvh::power`]; for a blend leaf
-    /// (no power form), its entry in [`PatchBvh::blend_second_bounds`].
+    /// Start of the power-form coefficients of the leaf's patch in [`PatchBvh::power`]
+    /// (shared by the patch's leaves); for a blend leaf (no power form), its entry in
+    /// [`PatchBvh::blend_second_bounds`].
     pub power: u32,
     /// Degree of the power form; 0 when the leaf has none (the patch is then evaluated whole).
     pub degree: u8,
@@ -397,17 +400,6 @@ fn f32_up(x: f64) -> f32 {
     if f64::from(f) < x { f.next_up() } else { f }
 }
 
-/// Barycentric coordinates of `p` in the triangle `tri` (non-degenerate).
-pub(crate) fn barycentric_in(tri: [DVec2; 3], p: DVec2) -> DVec3 {
-    let e1 = tri[1] - tri[0];
-    let e2 = tri[2] - tri[0];
-    let q = p - tri[0];
-    let det = e1.perp_dot(e2);
-    let b1 = q.perp_dot(e2) / det;
-    let b2 = e1.perp_dot(q) / det;
-    DVec3::new(1.0 - b1 - b2, b1, b2)
-}
-
 /// The four sub-triangles of `tri` split at its edge midpoints, all counter-clockwise like
 /// `tri`; the middle one last.
 pub(crate) fn split4(tri: [DVec2; 3]) -> [[DVec2; 3]; 4] {
@@ -423,7 +415,7 @@ pub(crate) fn split4(tri: [DVec2; 3]) -> [[DVec2; 3]; 4] {
 }
 
 /// The barycentric corners (in a parent's domain) of the four children of [`split4`].
-const CHILD_CORNERS: [[DVec3; 3]; 4] = {
+pub(crate) const CHILD_CORNERS: [[DVec3; 3]; 4] = {
     let c0 = DVec3::new(1.0, 0.0, 0.0);
     let c1 = DVec3::new(0.0, 1.0, 0.0);
     let c2 = DVec3::new(0.0, 0.0, 1.0);
@@ -493,7 +485,8 @@ pub struct PatchBvh {
     pub padding: f64,
     /// Bounds of the surface's control points in the BVH's frame.
     pub scene: Aabb,
-    /// Power-form coefficients of all leaves, each leaf's run starting at [`Leaf::power`].
+    /// Power-form coefficients of the patches evaluated by their leaves, each patch's run
+    /// starting at its leaves' [`Leaf::power`].
     pub power: Vec<DVec3>,
     /// Per blend leaf (at [`Leaf::power`]): a proved bound on `|D²S_i(δ, δ)|` over the leaf
     /// for unit leaf-local directions δ and each of the blend's three polynomial sub-surfaces
@@ -742,121 +735,51 @@ fn traversal_order(leaves: Vec<Leaf>, blend: &[f64], order: &[u32]) -> (Vec<Leaf
 /// Leaves per work item when the power forms are made.
 const POWER_CHUNK: usize = 1024;
 
-/// The power forms of `leaves` (in their order; each leaf's [`Leaf::power`] is set to the
-/// start of its run), made in parallel straight into one array: each leaf's sub-net is
-/// rebuilt from its patch in `frame` by the same splits as [`subdivide_patch`], bit for bit.
-///
-/// Within a work item the leaves are visited by patch and in depth-first order of their
-/// [`SplitPath`]s, keeping the pieces of the path walked last: a leaf splits only from where
-/// its path leaves the previous one, so each piece is made about once per work item instead
-/// of once per leaf below it.
+/// The power forms of the patches that `leaves` evaluate by one: every Bézier patch with a
+/// leaf of degree `1..=MAX_POWER_DEGREE`, its net in `frame` ([`power_coefficients`] over the
+/// patch's whole domain), in patch order, made in parallel straight into one array; each such
+/// leaf's [`Leaf::power`] is set to the start of its patch's run. One form per patch, not per
+/// leaf: a leaf evaluates its patch's form through its domain map
+/// ([`LeafMap`](crate::render::evaluate::LeafMap)).
 fn power_forms(surface: &Surface, frame: UnitFrame, leaves: &mut [Leaf]) -> Vec<DVec3> {
-    let size = |leaf: &Leaf| {
-        if leaf.degree > 0 {
-            point_count(usize::from(leaf.degree))
-        } else {
-            0
-        }
-    };
+    let mut start = vec![u32::MAX; surface.patches.len()];
+    for leaf in leaves.iter().filter(|leaf| leaf.degree > 0) {
+        start[leaf.patch as usize] = 0;
+    }
+    let mut patches = Vec::new();
     let mut total = 0;
+    for (patch, at) in start.iter_mut().enumerate() {
+        if *at == u32::MAX {
+            continue;
+        }
+        let Some(net) = surface.patches[patch].as_bezier() else {
+            continue;
+        };
+        *at = total as u32;
+        total += point_count(net.degree());
+        patches.push((patch, net));
+    }
     for leaf in leaves.iter_mut().filter(|leaf| leaf.degree > 0) {
-        leaf.power = total as u32;
-        total += size(leaf);
+        leaf.power = start[leaf.patch as usize];
     }
     let mut power = vec![DVec3::ZERO; total];
     let mut work = Vec::new();
     let mut rest = power.as_mut_slice();
-    for chunk in leaves.chunks(POWER_CHUNK) {
-        let (head, tail) = rest.split_at_mut(chunk.iter().map(size).sum());
+    for chunk in patches.chunks(POWER_CHUNK) {
+        let size = chunk.iter().map(|(_, net)| point_count(net.degree())).sum();
+        let (head, tail) = rest.split_at_mut(size);
         work.push((chunk, head));
         rest = tail;
     }
     work.into_par_iter().for_each(|(chunk, out)| {
-        let base = chunk
-            .iter()
-            .find(|leaf| leaf.degree > 0)
-            .map_or(0, |l| l.power);
-        let mut visits: Vec<(u32, SplitPath, &Leaf)> = chunk
-            .iter()
-            .filter(|leaf| leaf.degree > 0)
-            .map(|leaf| (leaf.patch, SplitPath::to(leaf.tri()), leaf))
-            .collect();
-        visits.sort_unstable_by_key(|&(patch, path, _)| (patch, path));
-        // pieces[k]: the piece after the first k splits of `walked`, a path of `patch`.
-        let mut pieces: Vec<TriangleBezier> = Vec::with_capacity(SplitPath::MAX_SPLITS + 1);
-        let mut walked = (u32::MAX, SplitPath::WHOLE);
-        for (patch, path, leaf) in visits {
-            let PatchGeometry::Bezier(net) = &surface.patches[patch as usize].geometry else {
-                continue;
-            };
-            if walked.0 != patch {
-                pieces.clear();
-                pieces.push(net.map_points(|p| frame.map(p)));
-                walked = (patch, SplitPath::WHOLE);
-            }
-            pieces.truncate(walked.1.common_prefix(path) + 1);
-            for level in pieces.len() - 1..path.len() {
-                let piece = pieces[level].subdivide(CHILD_CORNERS[path.child(level)]);
-                pieces.push(piece);
-            }
-            walked.1 = path;
-            let form = power_coefficients(&pieces[path.len()]);
-            let at = (leaf.power - base) as usize;
+        let mut at = 0;
+        for (_, net) in chunk {
+            let form = power_coefficients(&net.map_points(|p| frame.map(p)));
             out[at..at + form.len()].copy_from_slice(&form);
+            at += form.len();
         }
     });
     power
-}
-
-/// The [`split4`] children taken from the whole domain down to a leaf's sub-triangle, as
-/// base-4 digits from the most significant end of a `u64`, so that paths sort depth-first
-/// (a path before the paths that extend it).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-struct SplitPath {
-    digits: u64,
-    len: u8,
-}
-
-impl SplitPath {
-    /// A leaf is at most this many splits deep (its corners are stored in f32).
-    const MAX_SPLITS: usize = 24;
-    /// The path of the whole domain.
-    const WHOLE: SplitPath = SplitPath { digits: 0, len: 0 };
-
-    /// The path to the sub-triangle `target`: at each level the child holding its centroid,
-    /// until the sub-triangle is reached (or no child holds the centroid, or
-    /// [`SplitPath::MAX_SPLITS`] splits).
-    fn to(target: [DVec2; 3]) -> SplitPath {
-        let centroid = (target[0] + target[1] + target[2]) / 3.0;
-        let (mut tri, mut path) = (UV_CORNERS, SplitPath::WHOLE);
-        while path.len() < Self::MAX_SPLITS && tri != target {
-            let children = split4(tri);
-            let Some(c) =
-                (0..4).find(|&c| barycentric_in(children[c], centroid).min_element() > 0.0)
-            else {
-                break;
-            };
-            path.digits |= (c as u64) << (62 - 2 * path.len());
-            path.len += 1;
-            tri = children[c];
-        }
-        path
-    }
-
-    fn len(self) -> usize {
-        usize::from(self.len)
-    }
-
-    /// The child taken at split `level` (0 first).
-    fn child(self, level: usize) -> usize {
-        ((self.digits >> (62 - 2 * level)) & 3) as usize
-    }
-
-    /// How many first splits the two paths share.
-    fn common_prefix(self, other: SplitPath) -> usize {
-        let shared = ((self.digits ^ other.digits).leading_zeros() / 2) as usize;
-        shared.min(self.len()).min(other.len())
-    }
 }
 
 /// Rearranges `data`, blocks of `block` items, in place so that block `i` becomes the old
@@ -1604,11 +1527,11 @@ mod tests {
         );
     }
 
-    /// Every leaf's power form, made by the shared-prefix walk of [`power_forms`], is bit for
-    /// bit the form of its piece retraced alone from the whole patch, and its [`SplitPath`]
-    /// leads to its sub-triangle.
+    /// One power form per patch, shared by its leaves: each Bézier leaf's run is its patch's
+    /// net in the BVH's frame in power form, bit for bit, and the forms hold one run per patch
+    /// with leaves, however many leaves it has.
     #[test]
-    fn power_forms_equal_each_leaf_retraced_alone() {
+    fn each_patch_has_one_power_form_shared_by_its_leaves() {
         let surface = crate::testing::surfaces::octahedron_sphere(5, 3.0, 1);
         let frame = UnitFrame {
             centre: DVec3::new(0.25, -0.5, 1.0),
@@ -1619,54 +1542,27 @@ mod tests {
             ..SubdivisionCriterion::default()
         };
         let bvh = PatchBvh::build_in(&surface, frame, &criterion).expect("bvh");
-        let mut deepest = 0;
+        let mut patches = std::collections::BTreeSet::new();
         for leaf in bvh.leaves.iter().filter(|leaf| leaf.degree > 0) {
             let PatchGeometry::Bezier(net) = &surface.patches[leaf.patch as usize].geometry else {
                 panic!("octahedron patches are Bézier nets");
             };
-            let path = SplitPath::to(leaf.tri());
-            let (mut tri, mut piece) = (UV_CORNERS, net.map_points(|p| frame.map(p)));
-            for level in 0..path.len() {
-                tri = split4(tri)[path.child(level)];
-                piece = piece.subdivide(CHILD_CORNERS[path.child(level)]);
-            }
-            assert_eq!(tri, leaf.tri(), "the path of leaf {leaf:?}");
-            let form = power_coefficients(&piece);
+            let form = power_coefficients(&net.map_points(|p| frame.map(p)));
             let at = leaf.power as usize;
             assert_eq!(
                 &bvh.power[at..at + form.len()],
                 form.as_slice(),
                 "leaf {leaf:?}"
             );
-            deepest = deepest.max(path.len());
+            patches.insert(leaf.patch);
         }
+        assert_eq!(bvh.power.len(), patches.len() * point_count(5));
         assert!(
-            deepest >= 3,
-            "the leaves should be several splits deep, got {deepest}"
+            bvh.leaves.len() >= 8 * patches.len(),
+            "the patches should be split into many leaves: {} leaves, {} patches",
+            bvh.leaves.len(),
+            patches.len()
         );
-    }
-
-    #[test]
-    fn split_paths_sort_depth_first_and_share_prefixes() {
-        let root = SplitPath::WHOLE;
-        let down = |path: SplitPath, c: u64| SplitPath {
-            digits: path.digits | (c << (62 - 2 * path.len())),
-            len: path.len + 1,
-        };
-        let (a, a0, a3, b) = (
-            down(root, 1),
-            down(down(root, 1), 0),
-            down(down(root, 1), 3),
-            down(root, 2),
-        );
-        let mut paths = vec![b, a3, a0, a, root];
-        paths.sort();
-        assert_eq!(paths, vec![root, a, a0, a3, b]);
-        assert_eq!(a0.common_prefix(a3), 1);
-        assert_eq!(a0.common_prefix(a), 1);
-        assert_eq!(a.common_prefix(b), 0);
-        assert_eq!(a3.common_prefix(a3), 2);
-        assert_eq!((a3.child(0), a3.child(1)), (1, 3));
     }
 
     #[test]
@@ -1679,22 +1575,6 @@ mod tests {
         for c in children {
             assert!(area(c) > 0.0, "child {c:?} keeps the orientation");
         }
-    }
-
-    #[test]
-    fn barycentric_of_corners_and_centroid() {
-        let tri = [
-            DVec2::new(0.25, 0.0),
-            DVec2::new(0.5, 0.0),
-            DVec2::new(0.25, 0.25),
-        ];
-        assert_eq!(barycentric_in(tri, tri[1]), DVec3::new(0.0, 1.0, 0.0));
-        let c = (tri[0] + tri[1] + tri[2]) / 3.0;
-        let b = barycentric_in(tri, c);
-        assert!(
-            (b - DVec3::splat(1.0 / 3.0)).abs().max_element() < 1e-15,
-            "{b}"
-        );
     }
 
     /// The box test as written directly, slab by slab from the origin's own coordinates (the

@@ -4,11 +4,13 @@
 //! - [`point_and_tangents`]: a whole patch at `(u, v)`, by de Casteljau down to the linear level
 //!   on a stack copy of the net (no allocation, no second derivatives). Falls back to
 //!   [`Patch::jet`] for degrees above [`MAX_STACK_DEGREE`] and for non-polynomial patch kinds.
-//! - [`local_point_and_tangents`]: a BVH leaf's sub-patch in power form over the leaf's own
-//!   domain, `S(s, t) = Σ c_jk s^j t^k` with `(s, t)` the leaf-local barycentrics of its second
-//!   and third corner ([`power_coefficients`], computed once at BVH build). Nested Horner with
-//!   the degree as a constant needs about a third of de Casteljau's arithmetic; over the small
-//!   leaf domain the high-order coefficients are tiny, so the form is well conditioned.
+//! - [`local_point_and_tangents`]: a patch in power form over its domain,
+//!   `S(s, t) = Σ c_jk s^j t^k` with `(s, t)` the barycentrics of its second and third corner
+//!   ([`power_coefficients`], computed once per patch at BVH build), which a BVH leaf evaluates
+//!   in its own coordinates through its domain map ([`leaf_point_and_tangents`], [`LeafMap`]).
+//!   Nested Horner with the degree as a constant needs about a third of de Casteljau's
+//!   arithmetic. Its rounding is a few ulps of the coefficients' sizes, which for a patch in the
+//!   tracer's unit frame are those of its position: far below the root tolerance.
 
 use glam::{DVec2, DVec3};
 
@@ -180,6 +182,166 @@ pub(crate) fn local_point_and_tangents<const D: usize>(
     row!(1);
     row!(always 0);
     (p, ps, pt)
+}
+
+/// A leaf's domain in its patch: the affine map `(u, v) = origin + e1 s + e2 t` from the
+/// leaf-local barycentrics `(1−s−t, s, t)` to the patch's, read off the leaf's sub-triangle
+/// (corners `origin`, `origin + e1`, `origin + e2`). The corners are dyadic fractions (repeated
+/// halving of the unit triangle), so `e1`, `e2` hold ±2⁻ᵏ or 0 and their products are exact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct LeafMap {
+    /// The sub-triangle's first corner.
+    pub origin: DVec2,
+    /// Its second corner minus the first.
+    pub e1: DVec2,
+    /// Its third corner minus the first.
+    pub e2: DVec2,
+    /// True when the sub-triangle is the whole domain: the leaf's own coordinates are the
+    /// patch's, and the patch's form is evaluated as it is.
+    pub whole: bool,
+}
+
+impl LeafMap {
+    /// The map of the sub-triangle `tri`.
+    pub fn of(tri: [DVec2; 3]) -> LeafMap {
+        LeafMap {
+            origin: tri[0],
+            e1: tri[1] - tri[0],
+            e2: tri[2] - tri[0],
+            whole: tri == crate::surface::UV_CORNERS,
+        }
+    }
+
+    /// The patch coordinates of the leaf-local point `x`.
+    pub fn apply(&self, x: DVec2) -> DVec2 {
+        self.origin + self.e1 * x.x + self.e2 * x.y
+    }
+}
+
+/// `S`, `∂S/∂s`, `∂S/∂t` at the leaf-local point `x` of the leaf with domain map `map`, from
+/// its patch's degree-`D` power form `c` ([`power_coefficients`] over the patch's domain): the
+/// form at `map.apply(x)` and the chain rule, `∂S/∂s = e1.x ∂S/∂u + e1.y ∂S/∂v` (likewise
+/// `t` with `e2`). A leaf over the whole domain evaluates the form directly.
+#[inline]
+pub(crate) fn leaf_point_and_tangents<const D: usize>(
+    c: &[DVec3],
+    map: &LeafMap,
+    x: DVec2,
+) -> (DVec3, DVec3, DVec3) {
+    if map.whole {
+        return local_point_and_tangents::<D>(c, x.x, x.y);
+    }
+    let uv = map.apply(x);
+    let (p, pu, pv) = local_point_and_tangents::<D>(c, uv.x, uv.y);
+    (
+        p,
+        pu * map.e1.x + pv * map.e1.y,
+        pu * map.e2.x + pv * map.e2.y,
+    )
+}
+
+/// The projected Bézier net of a leaf ([`projected_net`] of the leaf's own power form) from
+/// its patch's degree-`D` power form `c` and its domain map `map`, without the leaf's form
+/// stored: the projected coefficients are re-expanded about the leaf's first corner (a
+/// Taylor shift in `u`, then in `v`) and in the leaf's coordinates (`u − u₀ = e1.x s + e2.x t`,
+/// `v − v₀ = e1.y s + e2.y t`), then turned into the net as [`projected_net`] does.
+///
+/// Returns the net, its magnitude (as [`projected_net`]'s) and a bound on what the
+/// re-expansion adds to every entry's error: each re-expanded coefficient is a sum of
+/// products whose absolute values, summed over all coefficients, are at most
+/// `A = Σ_jk |c_jk|₁ R_u^j R_v^k + |offset|₁` (`R_u = |u₀| + |e1.x| + |e2.x|`, likewise
+/// `R_v`; the projection's rows are unit vectors), and along no coefficient are there more than
+/// 128 roundings (two shifts of at most `2D` each, the products, a sum of at most `(D+1)²`
+/// terms), so the coefficients' errors sum to at most `128 ε A`; the net's entries weigh
+/// each coefficient by at most 1 ([`projected_net`]), so that bounds each entry's added error.
+/// A leaf over the whole domain is [`projected_net`] itself (added error 0).
+pub(crate) fn projected_leaf_net<const D: usize>(
+    c: &[DVec3],
+    map: &LeafMap,
+    project: impl Fn(DVec3) -> DVec2,
+    offset: DVec2,
+) -> ([DVec2; point_count(MAX_STACK_DEGREE)], f64, f64) {
+    if map.whole {
+        let (net, magnitude) = projected_net::<D>(c, project, offset);
+        return (net, magnitude, 0.0);
+    }
+    let at = |j: usize, k: usize| power_index(D, j, k);
+    let reach = map.origin.abs() + map.e1.abs() + map.e2.abs();
+    let mut q = [DVec2::ZERO; point_count(MAX_STACK_DEGREE)];
+    let mut absolute = offset.abs().element_sum();
+    let mut reach_u = 1.0;
+    for j in 0..=D {
+        let mut weight = reach_u;
+        for k in 0..=D - j {
+            let i = at(j, k);
+            q[i] = project(c[i]);
+            absolute += c[i].abs().element_sum() * weight;
+            weight *= reach.y;
+        }
+        reach_u *= reach.x;
+    }
+    q[0] -= offset;
+    // Taylor shift in u about u₀: for each power k of v, the row polynomial in u (entries
+    // (j, k), j = 0..=D−k) becomes that of u − u₀, by repeated synthetic division.
+    for k in 0..D {
+        let n = D - k;
+        for i in 0..n {
+            for j in (i..n).rev() {
+                let next = q[at(j + 1, k)];
+                q[at(j, k)] += next * map.origin.x;
+            }
+        }
+    }
+    // Then in v about v₀, for each power j of u (entries (j, k), k = 0..=D−j).
+    for j in 0..D {
+        let n = D - j;
+        for i in 0..n {
+            for k in (i..n).rev() {
+                let next = q[at(j, k + 1)];
+                q[at(j, k)] += next * map.origin.y;
+            }
+        }
+    }
+    // Powers of x = e1.x s + e2.x t and y = e1.y s + e2.y t: entry a of power n is the
+    // coefficient of s^a t^(n−a).
+    const ROOM: usize = MAX_STACK_DEGREE + 1;
+    let powers = |a: f64, b: f64| {
+        let mut p = [[0.0; ROOM]; ROOM];
+        p[0][0] = 1.0;
+        for n in 1..=D {
+            for m in 0..=n {
+                let from_s = if m > 0 { p[n - 1][m - 1] * a } else { 0.0 };
+                let from_t = if m < n { p[n - 1][m] * b } else { 0.0 };
+                p[n][m] = from_s + from_t;
+            }
+        }
+        p
+    };
+    let (xp, yp) = (powers(map.e1.x, map.e2.x), powers(map.e1.y, map.e2.y));
+    let mut r = [DVec2::ZERO; point_count(MAX_STACK_DEGREE)];
+    for j in 0..=D {
+        for k in 0..=D - j {
+            let d = q[at(j, k)];
+            let n = j + k;
+            for a in 0..=n {
+                let mut w = 0.0;
+                for a1 in a.saturating_sub(k)..=a.min(j) {
+                    w += xp[j][a1] * yp[k][a - a1];
+                }
+                r[at(a, n - a)] += d * w;
+            }
+        }
+    }
+    let mut magnitude = offset.abs().element_sum();
+    for (i, r) in r.iter_mut().take(point_count(D)).enumerate() {
+        *r *= InverseMultinomials::<D>::TABLE[i];
+        magnitude += r.abs().element_sum();
+    }
+    let (sums, count) = RunningSums::<D>::STEPS;
+    for &(to, from) in &sums[..count] {
+        r[usize::from(to)] += r[usize::from(from)];
+    }
+    (r, magnitude, 128.0 * f64::EPSILON * absolute)
 }
 
 /// `1 / multinomial(D; j, k) = j! k! (D−j−k)! / D!` in [`power_index`] order: the factors that
@@ -420,6 +582,70 @@ mod tests {
                         err <= 64.0 * f64::EPSILON * magnitude,
                         "degree {D} b({j},{k}): {err:e}"
                     );
+                }
+            }
+        }
+        every_power_degree!(check);
+    }
+
+    /// A leaf evaluated through its domain map on its patch's power form gives the point and
+    /// tangents of its own sub-patch (the patch split down to it, in power form) to rounding,
+    /// and its projected net ([`projected_leaf_net`]) is the sub-patch's within the bound it
+    /// states, for every degree and for leaves down every child of the 4-split (the middle
+    /// child turns the leaf's coordinates) to five splits deep.
+    #[test]
+    fn leaf_maps_give_the_sub_patch() {
+        use crate::render::bvh::{CHILD_CORNERS, split4};
+        use crate::surface::UV_CORNERS;
+        fn check<const D: usize>() {
+            let net = wavy_net(D);
+            let c = power_coefficients(&net);
+            let project = |v: DVec3| DVec2::new(v.x + 0.5 * v.z, v.y - 0.25 * v.x);
+            let offset = DVec2::new(0.3, -1.2);
+            let abs_sum = |c: &[DVec3]| c.iter().map(|v| v.abs().element_sum()).sum::<f64>();
+            let paths: [[usize; 5]; 5] = [
+                [0, 0, 0, 0, 0],
+                [3, 3, 3, 3, 3],
+                [1, 3, 2, 3, 0],
+                [2, 1, 3, 1, 3],
+                [3, 0, 3, 2, 1],
+            ];
+            for path in paths {
+                for depth in 0..=path.len() {
+                    let (mut tri, mut piece) = (UV_CORNERS, net.clone());
+                    for &child in &path[..depth] {
+                        tri = split4(tri)[child];
+                        piece = piece.subdivide(CHILD_CORNERS[child]);
+                    }
+                    let own = power_coefficients(&piece);
+                    let map = LeafMap::of(tri);
+                    assert_eq!(map.whole, depth == 0);
+                    let scale = abs_sum(&c) + abs_sum(&own);
+                    for (s, t) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (0.2, 0.3), (0.7, 0.25)] {
+                        let (p, ps, pt) = leaf_point_and_tangents::<D>(&c, &map, DVec2::new(s, t));
+                        let (q, qs, qt) = local_point_and_tangents::<D>(&own, s, t);
+                        let err = (p - q)
+                            .abs()
+                            .max_element()
+                            .max((ps - qs).abs().max_element() / D as f64)
+                            .max((pt - qt).abs().max_element() / D as f64);
+                        assert!(
+                            err <= 64.0 * f64::EPSILON * scale,
+                            "degree {D}, path {:?} at ({s}, {t}): {err:e}",
+                            &path[..depth]
+                        );
+                    }
+                    let (a, ma, reexpansion) = projected_leaf_net::<D>(&c, &map, project, offset);
+                    let (b, mb) = projected_net::<D>(&own, project, offset);
+                    assert_eq!(reexpansion == 0.0, depth == 0);
+                    for i in 0..point_count(D) {
+                        let err = (a[i] - b[i]).abs().max_element();
+                        assert!(
+                            err <= 64.0 * f64::EPSILON * (ma + mb) + reexpansion,
+                            "degree {D}, path {:?}, net entry {i}: {err:e}",
+                            &path[..depth]
+                        );
+                    }
                 }
             }
         }

@@ -3,9 +3,9 @@
 //! The ray `o + t d` is written as the intersection of two planes `n1·x = n1·o`,
 //! `n2·x = n2·o` with `n1, n2 ⟂ d`, so a hit is a root of the 2×2 system
 //! `F(u, v) = (n1·(S(u,v) − o), n2·(S(u,v) − o)) = 0` and `t = (S − o)·d` follows. Newton
-//! runs in the leaf's own barycentrics `(s, t)` on the leaf's power form (see
-//! [`crate::render::evaluate::local_point_and_tangents`]), specialised to the patch degree, and
-//! starts where the ray meets the plane of the leaf's corners.
+//! runs in the leaf's own barycentrics `(s, t)` on its patch's power form through the leaf's
+//! domain map (see [`crate::render::evaluate::leaf_point_and_tangents`]), specialised to the
+//! patch degree, and starts where the ray meets the plane of the leaf's corners.
 //!
 //! **Watertightness.** A leaf is dismissed only when its box misses the ray or
 //! [`crate::render::newton`] *proves* that it holds no root (affine bound of the start, Newton's
@@ -30,8 +30,8 @@ use crate::geom::Aabb;
 use crate::render::bundle::{self, BundleRay, BundleScratch, Candidate, Cone};
 use crate::render::bvh::{BoxFromOrigin, Leaf, PatchBvh, Stall, SubdivisionCriterion, UnitFrame};
 use crate::render::evaluate::{
-    MAX_STACK_DEGREE, local_point_and_tangents, net_point_and_tangents, point_and_tangents,
-    power_index, projected_net,
+    LeafMap, MAX_STACK_DEGREE, leaf_point_and_tangents, net_point_and_tangents, point_and_tangents,
+    power_index, projected_leaf_net,
 };
 pub use crate::render::newton::NewtonSettings;
 use crate::render::newton::{
@@ -437,8 +437,9 @@ impl<'s> Tracer<'s> {
     }
 
     /// The closest root of `ray` in `leaf` (certified Newton, then the in-leaf search when
-    /// Newton is undecided), on the leaf's power form when it has one (degree dispatched once
-    /// per leaf, not per evaluation), else on the patch through the leaf's domain map.
+    /// Newton is undecided), on its patch's power form through the leaf's domain map when the
+    /// patch has one (degree dispatched once per leaf, not per evaluation), else on the patch
+    /// itself.
     #[allow(clippy::too_many_arguments)]
     fn solve_leaf(
         &self,
@@ -474,15 +475,18 @@ impl<'s> Tracer<'s> {
                 )
             };
         }
-        // A Bézier leaf of degree D: its power form, and its projected net to clear the ray,
+        // A Bézier leaf of degree D: its patch's power form through the leaf's domain map, and
+        // the leaf's projected net to clear the ray,
         // as a whole or, for a ray that meets the leaf at most once, by its boundary.
         // The projected net is made once, when the first of the two asks for it.
         macro_rules! solve_power_form {
             ($d:literal) => {{
+                let map = LeafMap::of(leaf.tri());
                 let projected = std::cell::OnceCell::new();
-                let net = || projected.get_or_init(|| self.projected_net::<$d>(c, query.planes));
+                let net =
+                    || projected.get_or_init(|| self.projected_net::<$d>(c, &map, query.planes));
                 solve_with!(
-                    |x| local_point_and_tangents::<$d>(c, x.x, x.y),
+                    |x| leaf_point_and_tangents::<$d>(c, &map, x),
                     |_| false,
                     || Tracer::net_clears::<$d>(net()),
                     || Tracer::boundary_clears::<$d>(net(), bounds, start)
@@ -520,13 +524,23 @@ impl<'s> Tracer<'s> {
         }
     }
 
-    /// The leaf's Bézier net, given by its degree-`D` power form `c`, projected onto the ray's
-    /// planes with the ray at the origin ([`projected_net`]), and the distance from the ray
-    /// that clears it: the root tolerance grown by the rounding of the net's computation.
-    fn projected_net<const D: usize>(&self, c: &[DVec3], planes: &RayPlanes) -> ProjectedNet {
+    /// The Bézier net of the leaf with domain map `map` on the patch whose degree-`D` power
+    /// form is `c`, projected onto the ray's planes with the ray at the origin
+    /// ([`projected_leaf_net`]), and the distance from the ray that clears it: the root
+    /// tolerance grown by the rounding of the net's computation (its conversion from the
+    /// form, and the form's re-expansion in the leaf's coordinates).
+    fn projected_net<const D: usize>(
+        &self,
+        c: &[DVec3],
+        map: &LeafMap,
+        planes: &RayPlanes,
+    ) -> ProjectedNet {
         let offset = -planes.residual(DVec3::ZERO);
-        let (net, magnitude) = projected_net::<D>(c, |v| planes.project(v), offset);
-        let limit = crate::tolerance::inflate(self.tolerance) + 64.0 * f64::EPSILON * magnitude;
+        let (net, magnitude, reexpansion) =
+            projected_leaf_net::<D>(c, map, |v| planes.project(v), offset);
+        let limit = crate::tolerance::inflate(self.tolerance)
+            + 64.0 * f64::EPSILON * magnitude
+            + reexpansion;
         ProjectedNet {
             net,
             magnitude,
@@ -1341,6 +1355,7 @@ mod tests {
         for (n, leaf) in tracer.bvh.leaves.iter().enumerate() {
             assert_eq!(leaf.degree, 5, "leaf {n}");
             let c = &tracer.bvh.power[leaf.power as usize..];
+            let map = LeafMap::of(leaf.tri());
             let bounds = tracer.piece_bounds(leaf);
             let normal = leaf.normal();
             for k in 0..24u64 {
@@ -1354,7 +1369,7 @@ mod tests {
                     2 => DVec2::new(a, -beyond),
                     _ => DVec2::new(0.3 * a, 0.5 * (1.0 - a)),
                 };
-                let (p, _, _) = local_point_and_tangents::<5>(c, x.x, x.y);
+                let (p, _, _) = leaf_point_and_tangents::<5>(c, &map, x);
                 let tilt = DVec3::new(
                     uniform(11, n as u64 * 24 + k, 0, 1) - 0.5,
                     uniform(11, n as u64 * 24 + k, 0, 2) - 0.5,
@@ -1366,9 +1381,9 @@ mod tests {
                 let evaluations = Cell::new(0u64);
                 let eval = |x: DVec2| {
                     evaluations.set(evaluations.get() + 1);
-                    local_point_and_tangents::<5>(c, x.x, x.y)
+                    leaf_point_and_tangents::<5>(c, &map, x)
                 };
-                let projected = tracer.projected_net::<5>(c, &planes);
+                let projected = tracer.projected_net::<5>(c, &map, &planes);
                 let clears = || Tracer::net_clears::<5>(&projected);
                 let settings = &tracer.newton;
                 let late = newton(&eval, &bounds, start, &planes, tracer.tolerance, settings);
@@ -1427,6 +1442,7 @@ mod tests {
                 continue;
             }
             let c = &tracer.bvh.power[leaf.power as usize..];
+            let map = LeafMap::of(leaf.tri());
             let bounds = tracer.piece_bounds(leaf);
             let normal = leaf.normal();
             let x_axis = (leaf.corners[1] - leaf.corners[0]).as_dvec3().normalize();
@@ -1443,7 +1459,7 @@ mod tests {
                     1 => DVec2::new(-beyond, a),
                     _ => DVec2::new(a, -beyond),
                 };
-                let (p, _, _) = local_point_and_tangents::<5>(c, x.x, x.y);
+                let (p, _, _) = leaf_point_and_tangents::<5>(c, &map, x);
                 // Directions between the normal and the steepest angle the tilt allows.
                 let sine = (f64::from(leaf.tilt) * 1.01 + 0.02).min(0.999);
                 let lean = (1.0 - sine * sine).sqrt() * uniform(29, key, 0, 1);
@@ -1459,14 +1475,14 @@ mod tests {
                 tried += 1;
                 let far = !inside && level <= 4;
                 beyond_far += u64::from(far);
-                let projected = tracer.projected_net::<5>(c, &planes);
+                let projected = tracer.projected_net::<5>(c, &map, &planes);
                 if !Tracer::boundary_clears::<5>(&projected, &bounds, start) {
                     continue;
                 }
                 assert!(!inside, "leaf {n}, ray {k}: a ray aimed inside was cleared");
                 cleared += 1;
                 cleared_far += u64::from(far);
-                let eval = |x: DVec2| local_point_and_tangents::<5>(c, x.x, x.y);
+                let eval = |x: DVec2| leaf_point_and_tangents::<5>(c, &map, x);
                 let mut roots = 0;
                 let undecided = search(
                     eval,
@@ -1486,7 +1502,7 @@ mod tests {
                 for i in 0..=16 {
                     for j in 0..=16 - i {
                         let (s, t) = (f64::from(i) / 16.0, f64::from(j) / 16.0);
-                        let (q, _, _) = local_point_and_tangents::<5>(c, s, t);
+                        let (q, _, _) = leaf_point_and_tangents::<5>(c, &map, DVec2::new(s, t));
                         assert!(
                             planes.residual(q).length() > tracer.tolerance,
                             "leaf {n}, ray {k}: ({s}, {t}) is on the ray"
