@@ -244,7 +244,8 @@ pub(crate) fn leaf_point_and_tangents<const D: usize>(
 /// its patch's degree-`D` power form `c` and its domain map `map`, without the leaf's form
 /// stored: the projected coefficients are re-expanded about the leaf's first corner (a
 /// Taylor shift in `u`, then in `v`) and in the leaf's coordinates (`u − u₀ = e1.x s + e2.x t`,
-/// `v − v₀ = e1.y s + e2.y t`), then turned into the net as [`projected_net`] does.
+/// `v − v₀ = e1.y s + e2.y t`; for a corner child's map, `e1.y = e2.x = 0`, a scaling of each
+/// coefficient by powers of two), then turned into the net as [`projected_net`] does.
 ///
 /// Returns the net, its magnitude (as [`projected_net`]'s) and a bound on what the
 /// re-expansion adds to every entry's error: each re-expanded coefficient is a sum of
@@ -281,9 +282,9 @@ pub(crate) fn projected_leaf_net<const D: usize>(
         reach_u *= reach.x;
     }
     q[0] -= offset;
-    // Taylor shift in u about u₀: for each power k of v, the row polynomial in u (entries
-    // (j, k), j = 0..=D−k) becomes that of u − u₀, by repeated synthetic division.
-    for k in 0..D {
+    // Taylor shift in u about u₀ (none at u₀ = 0): for each power k of v, the row polynomial
+    // in u (entries (j, k), j = 0..=D−k) becomes that of u − u₀, by synthetic division.
+    for k in (0..D).filter(|_| map.origin.x != 0.0) {
         let n = D - k;
         for i in 0..n {
             for j in (i..n).rev() {
@@ -293,7 +294,7 @@ pub(crate) fn projected_leaf_net<const D: usize>(
         }
     }
     // Then in v about v₀, for each power j of u (entries (j, k), k = 0..=D−j).
-    for j in 0..D {
+    for j in (0..D).filter(|_| map.origin.y != 0.0) {
         let n = D - j;
         for i in 0..n {
             for k in (i..n).rev() {
@@ -302,6 +303,39 @@ pub(crate) fn projected_leaf_net<const D: usize>(
             }
         }
     }
+    let mut r = [DVec2::ZERO; point_count(MAX_STACK_DEGREE)];
+    if map.e1.y == 0.0 && map.e2.x == 0.0 {
+        // A corner child's map (u − u₀ = e1.x s, v − v₀ = e2.y t): each coefficient scales by
+        // powers of two, exactly.
+        let mut scale_j = 1.0;
+        for j in 0..=D {
+            let mut scale = scale_j;
+            for k in 0..=D - j {
+                r[at(j, k)] = q[at(j, k)] * scale;
+                scale *= map.e2.y;
+            }
+            scale_j *= map.e1.x;
+        }
+    } else {
+        substitute::<D>(&q, map.e1, map.e2, &mut r);
+    }
+    let mut magnitude = offset.abs().element_sum();
+    for (i, r) in r.iter_mut().take(point_count(D)).enumerate() {
+        *r *= InverseMultinomials::<D>::TABLE[i];
+        magnitude += r.abs().element_sum();
+    }
+    let (sums, count) = RunningSums::<D>::STEPS;
+    for &(to, from) in &sums[..count] {
+        r[usize::from(to)] += r[usize::from(from)];
+    }
+    (r, magnitude, 128.0 * f64::EPSILON * absolute)
+}
+
+/// The coefficients `r` (zero to start with) of `Σ q_jk x^j y^k` in `s`, `t` for
+/// `x = e1.x s + e2.x t`, `y = e1.y s + e2.y t` (degree `D`, [`power_index`] order): each term
+/// expanded through the powers of `x` and `y`.
+fn substitute<const D: usize>(q: &[DVec2], e1: DVec2, e2: DVec2, r: &mut [DVec2]) {
+    let at = |j: usize, k: usize| power_index(D, j, k);
     // Powers of x = e1.x s + e2.x t and y = e1.y s + e2.y t: entry a of power n is the
     // coefficient of s^a t^(n−a).
     const ROOM: usize = MAX_STACK_DEGREE + 1;
@@ -317,8 +351,7 @@ pub(crate) fn projected_leaf_net<const D: usize>(
         }
         p
     };
-    let (xp, yp) = (powers(map.e1.x, map.e2.x), powers(map.e1.y, map.e2.y));
-    let mut r = [DVec2::ZERO; point_count(MAX_STACK_DEGREE)];
+    let (xp, yp) = (powers(e1.x, e2.x), powers(e1.y, e2.y));
     for j in 0..=D {
         for k in 0..=D - j {
             let d = q[at(j, k)];
@@ -332,16 +365,6 @@ pub(crate) fn projected_leaf_net<const D: usize>(
             }
         }
     }
-    let mut magnitude = offset.abs().element_sum();
-    for (i, r) in r.iter_mut().take(point_count(D)).enumerate() {
-        *r *= InverseMultinomials::<D>::TABLE[i];
-        magnitude += r.abs().element_sum();
-    }
-    let (sums, count) = RunningSums::<D>::STEPS;
-    for &(to, from) in &sums[..count] {
-        r[usize::from(to)] += r[usize::from(from)];
-    }
-    (r, magnitude, 128.0 * f64::EPSILON * absolute)
 }
 
 /// `1 / multinomial(D; j, k) = j! k! (D−j−k)! / D!` in [`power_index`] order: the factors that

@@ -764,7 +764,7 @@ pub(crate) fn unit_scale(diagonal: f64) -> f64 {
 
 /// A leaf's Bézier net projected onto a ray's planes ([`Tracer::projected_net`]).
 struct ProjectedNet {
-    /// The projected control points, in [`projected_net`] order.
+    /// The projected control points, in [`projected_net`](crate::render::evaluate::projected_net) order.
     net: [DVec2; point_count(MAX_STACK_DEGREE)],
     /// The sum of the projected coefficients' absolute coordinates (for rounding).
     magnitude: f64,
