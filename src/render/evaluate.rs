@@ -586,6 +586,12 @@ mod tests {
         every_power_degree!(check);
     }
 
+    /// An affine map onto a plane for the projected-net tests, and the offset they subtract.
+    fn project(v: DVec3) -> DVec2 {
+        DVec2::new(v.x + 0.5 * v.z, v.y - 0.25 * v.x)
+    }
+    const OFFSET: DVec2 = DVec2::new(0.3, -1.2);
+
     /// The projected net recovers the Bézier net from its power form: each entry is the
     /// affine map of the control point it stands for, to rounding.
     #[test]
@@ -593,13 +599,11 @@ mod tests {
         fn check<const D: usize>() {
             let net = wavy_net(D);
             let c = power_coefficients(&net);
-            let project = |v: DVec3| DVec2::new(v.x + 0.5 * v.z, v.y - 0.25 * v.x);
-            let offset = DVec2::new(0.3, -1.2);
-            let (q, magnitude) = projected_net::<D>(&c, project, offset);
+            let (q, magnitude) = projected_net::<D>(&c, project, OFFSET);
             assert!(magnitude > 0.0);
             for j in 0..=D {
                 for k in 0..=D - j {
-                    let expected = project(net.point(D - j - k, j)) - offset;
+                    let expected = project(net.point(D - j - k, j)) - OFFSET;
                     let err = (q[power_index(D, j, k)] - expected).length();
                     assert!(
                         err <= 64.0 * f64::EPSILON * magnitude,
@@ -623,8 +627,6 @@ mod tests {
         fn check<const D: usize>() {
             let net = wavy_net(D);
             let c = power_coefficients(&net);
-            let project = |v: DVec3| DVec2::new(v.x + 0.5 * v.z, v.y - 0.25 * v.x);
-            let offset = DVec2::new(0.3, -1.2);
             let abs_sum = |c: &[DVec3]| c.iter().map(|v| v.abs().element_sum()).sum::<f64>();
             let paths: [[usize; 5]; 5] = [
                 [0, 0, 0, 0, 0],
@@ -658,8 +660,8 @@ mod tests {
                             &path[..depth]
                         );
                     }
-                    let (a, ma, reexpansion) = projected_leaf_net::<D>(&c, &map, project, offset);
-                    let (b, mb) = projected_net::<D>(&own, project, offset);
+                    let (a, ma, reexpansion) = projected_leaf_net::<D>(&c, &map, project, OFFSET);
+                    let (b, mb) = projected_net::<D>(&own, project, OFFSET);
                     assert_eq!(reexpansion == 0.0, depth == 0);
                     for i in 0..point_count(D) {
                         let err = (a[i] - b[i]).abs().max_element();
