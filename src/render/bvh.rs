@@ -774,9 +774,13 @@ fn power_forms(surface: &Surface, frame: UnitFrame, leaves: &mut [Leaf]) -> Vec<
     work.into_par_iter().for_each(|(chunk, out)| {
         let mut at = 0;
         for (_, net) in chunk {
-            let form = power_coefficients(&net.map_points(|p| frame.map(p)));
-            out[at..at + form.len()].copy_from_slice(&form);
-            at += form.len();
+            // The net's points mapped as `TriangleBezier::map_points` maps them (to a net
+            // with origin zero), straight into the form: no net or vector per patch, which
+            // at millions of patches cost more than the forms themselves.
+            let len = point_count(net.degree());
+            let point = |i, j| DVec3::ZERO + frame.map(net.point(i, j));
+            power_coefficients(net.degree(), point, &mut out[at..at + len]);
+            at += len;
         }
     });
     power
@@ -1316,6 +1320,7 @@ pub(crate) fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::evaluate::power_form_of;
 
     /// No chord of a curved, unevenly parametrised net is steeper against the corner plane
     /// than its tilt, and on a paraboloid with an affine parametrisation the tilt is the
@@ -1547,7 +1552,7 @@ mod tests {
             let PatchGeometry::Bezier(net) = &surface.patches[leaf.patch as usize].geometry else {
                 panic!("octahedron patches are Bézier nets");
             };
-            let form = power_coefficients(&net.map_points(|p| frame.map(p)));
+            let form = power_form_of(&net.map_points(|p| frame.map(p)));
             let at = leaf.power as usize;
             assert_eq!(
                 &bvh.power[at..at + form.len()],

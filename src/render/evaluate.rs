@@ -91,12 +91,14 @@ pub(crate) fn net_point_and_tangents(
 /// With `f(j, k) = b(d−j−k, j, k)` and forward differences Δ₁ in `j`, Δ₂ in `k`, the Taylor
 /// coefficients at the first corner are `c_jk = d! / (j! k! (d−j−k)!) · Δ₁^j Δ₂^k f(0, 0)`, the
 /// triangular form of the univariate `c_j = C(d, j) Δ^j b_0` [Farin, CAGD §17.3].
-pub(crate) fn power_coefficients(net: &TriangleBezier) -> Vec<DVec3> {
-    let d = net.degree();
-    let mut c: Vec<DVec3> = Vec::with_capacity(point_count(d));
+///
+/// The net is given by `point(i, j)`, its control point `b(i, j, ·)`, and the form written
+/// into `c` (`point_count(d)` entries): no net or vector is made, so the BVH build makes one
+/// form per patch straight into its array.
+pub(crate) fn power_coefficients(d: usize, point: impl Fn(usize, usize) -> DVec3, c: &mut [DVec3]) {
     for j in 0..=d {
         for k in 0..=d - j {
-            c.push(net.point(d - j - k, j));
+            c[power_index(d, j, k)] = point(d - j - k, j);
         }
     }
     // Differences in k along every row j, in place: row[k] becomes Δ₂^k f(j, 0).
@@ -105,7 +107,7 @@ pub(crate) fn power_coefficients(net: &TriangleBezier) -> Vec<DVec3> {
         let len = d - j;
         for order in 1..=len {
             for k in (order..=len).rev() {
-                c[row + k] = c[row + k] - c[row + k - 1];
+                c[row + k] -= c[row + k - 1];
             }
         }
     }
@@ -115,7 +117,7 @@ pub(crate) fn power_coefficients(net: &TriangleBezier) -> Vec<DVec3> {
         for order in 1..=len {
             for j in (order..=len).rev() {
                 let (at, below) = (power_index(d, j, k), power_index(d, j - 1, k));
-                c[at] = c[at] - c[below];
+                c[at] -= c[below];
             }
         }
     }
@@ -126,6 +128,13 @@ pub(crate) fn power_coefficients(net: &TriangleBezier) -> Vec<DVec3> {
             c[power_index(d, j, k)] *= multinomial;
         }
     }
+}
+
+/// [`power_coefficients`] of the net `net`, as a vector (for the tests).
+#[cfg(test)]
+pub(crate) fn power_form_of(net: &TriangleBezier) -> Vec<DVec3> {
+    let mut c = vec![DVec3::ZERO; point_count(net.degree())];
+    power_coefficients(net.degree(), |i, j| net.point(i, j), &mut c);
     c
 }
 
@@ -570,7 +579,7 @@ mod tests {
     fn power_form_matches_the_jet() {
         fn check<const D: usize>() {
             let net = wavy_net(D);
-            let c = power_coefficients(&net);
+            let c = power_form_of(&net);
             assert_eq!(c.len(), point_count(D));
             let scale = net.control_bounds().diagonal();
             for (u, v) in [(0.0, 0.0), (0.2, 0.3), (0.7, 0.1), (0.0, 1.0), (1.0, 0.0)] {
@@ -598,7 +607,7 @@ mod tests {
     fn projected_net_inverts_the_power_form() {
         fn check<const D: usize>() {
             let net = wavy_net(D);
-            let c = power_coefficients(&net);
+            let c = power_form_of(&net);
             let (q, magnitude) = projected_net::<D>(&c, project, OFFSET);
             assert!(magnitude > 0.0);
             for j in 0..=D {
@@ -626,7 +635,7 @@ mod tests {
         use crate::surface::UV_CORNERS;
         fn check<const D: usize>() {
             let net = wavy_net(D);
-            let c = power_coefficients(&net);
+            let c = power_form_of(&net);
             let abs_sum = |c: &[DVec3]| c.iter().map(|v| v.abs().element_sum()).sum::<f64>();
             let paths: [[usize; 5]; 5] = [
                 [0, 0, 0, 0, 0],
@@ -642,7 +651,7 @@ mod tests {
                         tri = split4(tri)[child];
                         piece = piece.subdivide(CHILD_CORNERS[child]);
                     }
-                    let own = power_coefficients(&piece);
+                    let own = power_form_of(&piece);
                     let map = LeafMap::of(tri);
                     assert_eq!(map.whole, depth == 0);
                     let scale = abs_sum(&c) + abs_sum(&own);
