@@ -1320,7 +1320,6 @@ pub(crate) fn is_leaf(net: &TriangleBezier, criterion: &SubdivisionCriterion) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::evaluate::power_form_of;
 
     /// No chord of a curved, unevenly parametrised net is steeper against the corner plane
     /// than its tilt, and on a paraboloid with an affine parametrisation the tilt is the
@@ -1552,7 +1551,9 @@ mod tests {
             let PatchGeometry::Bezier(net) = &surface.patches[leaf.patch as usize].geometry else {
                 panic!("octahedron patches are Bézier nets");
             };
-            let form = power_form_of(&net.map_points(|p| frame.map(p)));
+            let mapped = net.map_points(|p| frame.map(p));
+            let mut form = vec![DVec3::ZERO; point_count(5)];
+            power_coefficients(5, |i, j| mapped.point(i, j), &mut form);
             let at = leaf.power as usize;
             assert_eq!(
                 &bvh.power[at..at + form.len()],

@@ -130,14 +130,6 @@ pub(crate) fn power_coefficients(d: usize, point: impl Fn(usize, usize) -> DVec3
     }
 }
 
-/// [`power_coefficients`] of the net `net`, as a vector (for the tests).
-#[cfg(test)]
-pub(crate) fn power_form_of(net: &TriangleBezier) -> Vec<DVec3> {
-    let mut c = vec![DVec3::ZERO; point_count(net.degree())];
-    power_coefficients(net.degree(), |i, j| net.point(i, j), &mut c);
-    c
-}
-
 /// Position of `c_jk` in [`power_coefficients`] of degree `d`: rows `0..j` hold
 /// `(d+1) + d + … + (d−j+2)` entries.
 pub(crate) const fn power_index(d: usize, j: usize, k: usize) -> usize {
@@ -593,6 +585,13 @@ mod tests {
             }
         }
         every_power_degree!(check);
+    }
+
+    /// [`power_coefficients`] of the net `net`, as a vector.
+    fn power_form_of(net: &TriangleBezier) -> Vec<DVec3> {
+        let mut c = vec![DVec3::ZERO; point_count(net.degree())];
+        power_coefficients(net.degree(), |i, j| net.point(i, j), &mut c);
+        c
     }
 
     /// An affine map onto a plane for the projected-net tests, and the offset they subtract.
